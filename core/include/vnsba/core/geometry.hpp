@@ -1,0 +1,35 @@
+// Cells, points and heading math: the one place for each.
+//
+// Units: a Cell is an integer grid coordinate (x = column, y = row, row 0 at the map origin).
+// A Point2 is a continuous position in *cell units*: cell (x, y) covers [x, x+1) x [y, y+1) and
+// its centre is (x + 0.5, y + 0.5). World coordinates (metres) exist only in GridMap, which
+// converts between the two (see grid_map.hpp).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace vnsba::core {
+
+struct Cell {
+  int32_t x = 0;
+  int32_t y = 0;
+  friend bool operator==(const Cell& a, const Cell& b) { return a.x == b.x && a.y == b.y; }
+  friend bool operator!=(const Cell& a, const Cell& b) { return !(a == b); }
+};
+
+using Point2 = Eigen::Vector2d;
+
+// Centre of a cell in continuous cell coordinates.
+inline Point2 cell_centre(const Cell& c) { return {c.x + 0.5, c.y + 0.5}; }
+
+// Signed heading change in radians, in (-pi, pi], when going a -> b -> c. Zero-length legs give 0.
+double heading_change(const Point2& a, const Point2& b, const Point2& c);
+
+// Euclidean length of a polyline (same units as the points).
+double polyline_length(const std::vector<Point2>& points);
+
+std::vector<Point2> cell_centres(const std::vector<Cell>& cells);
+
+}  // namespace vnsba::core

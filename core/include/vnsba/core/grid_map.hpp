@@ -1,0 +1,117 @@
+// The planning grid: occupancy values in, blocked/free cells plus a summed-area table out.
+//
+// ALGORITHM.md section 1. A GridMap is built once per incoming map and is immutable afterwards,
+// so any number of planners may share it (std::shared_ptr<const GridMap>) while a newer map is
+// being built elsewhere.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/geometry.hpp"
+#include "vnsba/core/status.hpp"
+
+namespace vnsba::core {
+
+// Occupancy values as ROS nav_msgs/OccupancyGrid carries them: 0..100 = probability of being
+// occupied in percent, -1 = unknown. Row-major, row 0 at the origin (bottom-left in the world).
+struct OccupancyGrid {
+  int32_t width = 0;           // cells
+  int32_t height = 0;          // cells
+  double resolution = 1.0;     // metres per cell
+  double origin_x = 0.0;       // metres, world position of the corner of cell (0, 0)
+  double origin_y = 0.0;       // metres
+  std::vector<int8_t> data;    // width * height values
+
+  int8_t at(int32_t x, int32_t y) const { return data[static_cast<size_t>(y) * width + x]; }
+};
+
+constexpr int8_t kOccupancyUnknown = -1;
+constexpr int8_t kOccupancyFree = 0;
+constexpr int8_t kOccupancyOccupied = 100;
+
+struct GridBuildOptions {
+  int occupied_threshold = 65;  // values >= this are blocked (1..100)
+  bool allow_unknown = false;   // unknown (-1) cells are free when true, blocked otherwise
+  double robot_radius = 0.0;    // metres; cells whose centre is within this of a blocked centre
+                                // are blocked too (0 = no inflation)
+  int64_t max_cells = int64_t{1} << 28;  // refuse larger maps (memory guard), cells
+};
+
+// Checks an OccupancyGrid and build options; the message names the field at fault.
+Status validate(const OccupancyGrid& grid, const GridBuildOptions& options = {});
+
+class GridMap {
+ public:
+  // Validates, thresholds, inflates and builds the summed-area table. O(cells + inflation).
+  static Expected<GridMap> build(const OccupancyGrid& grid, const GridBuildOptions& options = {});
+
+  // Test and tool convenience: '#' '@' 'O' 'T' 'W' are blocked, anything else free. The first
+  // string is the *top* row (as the text reads), so it becomes row height-1.
+  static Expected<GridMap> from_rows(const std::vector<std::string>& rows_top_first,
+                                     double resolution = 1.0);
+
+  int32_t width() const { return width_; }
+  int32_t height() const { return height_; }
+  int64_t cell_count() const { return int64_t{width_} * height_; }
+  double resolution() const { return resolution_; }
+  double origin_x() const { return origin_x_; }
+  double origin_y() const { return origin_y_; }
+
+  bool in_bounds(int32_t x, int32_t y) const {
+    return x >= 0 && y >= 0 && x < width_ && y < height_;
+  }
+  bool in_bounds(const Cell& c) const { return in_bounds(c.x, c.y); }
+  // Out-of-map cells count as blocked.
+  bool blocked(int32_t x, int32_t y) const { return !in_bounds(x, y) || blocked_[padded_index(x, y)]; }
+  bool blocked(const Cell& c) const { return blocked(c.x, c.y); }
+  bool free(const Cell& c) const { return !blocked(c); }
+
+  // Number of blocked cells in the inclusive rectangle spanned by a and b (any corner order),
+  // O(1) from the summed-area table. Both cells must be in the map.
+  int64_t blocked_in_rect(const Cell& a, const Cell& b) const;
+  // blocked_in_rect / cells in the rectangle, in [0, 1].
+  double density(const Cell& a, const Cell& b) const;
+  int64_t blocked_count() const { return blocked_total_; }
+
+  // --- Grid conversion: the one implementation (metres <-> cells). ---
+  // World point (metres) -> cell containing it; nullopt when outside the map or not finite.
+  std::optional<Cell> world_to_cell(double wx, double wy) const;
+  // World point (metres) -> continuous cell coordinates (no bounds check).
+  Point2 world_to_grid(double wx, double wy) const;
+  // Continuous cell coordinates -> world point (metres).
+  Eigen::Vector2d grid_to_world(const Point2& p) const;
+  Eigen::Vector2d cell_centre_world(const Cell& c) const { return grid_to_world(cell_centre(c)); }
+
+  // --- Padded layout for the search hot loops. ---
+  // The blocked array has a one-cell border of blocked cells around the map, so neighbour
+  // lookups at distance 1 never need a bounds check (and distance 2 from any cell whose 8
+  // neighbours are inside the map stays inside the padding).
+  int32_t stride() const { return width_ + 2; }
+  size_t padded_size() const { return blocked_.size(); }
+  uint32_t padded_index(int32_t x, int32_t y) const {
+    return static_cast<uint32_t>((y + 1) * (width_ + 2) + (x + 1));
+  }
+  uint32_t padded_index(const Cell& c) const { return padded_index(c.x, c.y); }
+  Cell cell_of(uint32_t padded) const {
+    return {static_cast<int32_t>(padded % stride()) - 1, static_cast<int32_t>(padded / stride()) - 1};
+  }
+  const uint8_t* blocked_data() const { return blocked_.data(); }
+
+ private:
+  GridMap() = default;
+  void build_summed_area_table();
+
+  int32_t width_ = 0;
+  int32_t height_ = 0;
+  double resolution_ = 1.0;
+  double origin_x_ = 0.0;
+  double origin_y_ = 0.0;
+  std::vector<uint8_t> blocked_;       // padded, 1 = blocked
+  std::vector<int32_t> summed_area_;   // (width+1) x (height+1) blocked counts
+  int64_t blocked_total_ = 0;
+};
+
+}  // namespace vnsba::core
