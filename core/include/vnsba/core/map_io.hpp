@@ -26,6 +26,9 @@ struct MovingAiScenario {
   Cell start;            // converted to our rows: y = height - 1 - file_y
   Cell goal;
   double optimal_length = 0.0;  // octile, no corner cutting, as printed in the file
+  // One unit of the last printed digit of optimal_length (the files print 2 to 8 decimals, and
+  // round or truncate to that): compare path costs to the optimum within this.
+  double optimal_resolution = 1e-8;
   int line = 0;          // 1-based line in the .scen file
 };
 
@@ -40,7 +43,7 @@ Expected<std::vector<MovingAiScenario>> load_movingai_scenarios(const std::strin
 Expected<OccupancyGrid> load_map_server(const std::string& yaml_path);
 
 // Writes `<stem>.pgm` (P5) and `<stem>.yaml` in trinary mode as map_saver does: occupied
-// (>= occupied_threshold) black 0, free (< free threshold 25) white 254, unknown 205. Returns
+// (>= occupied_threshold) black 0, free (0..25) white 254, unknown 205. Returns
 // the YAML path.
 Expected<std::string> save_map_server(const OccupancyGrid& grid, const std::string& stem,
                                       int occupied_threshold = 65);

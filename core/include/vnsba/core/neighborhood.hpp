@@ -49,7 +49,7 @@ struct MoveList {
   const Move* end() const { return moves.data() + count; }
 };
 
-// The moves available from `from` when expanding toward `guide`:
+// Calls visit(dx, dy, cost) for each move available from `from` when expanding toward `guide`:
 // 1. the 8 neighbours that are in the map and free, diagonals subject to `policy`;
 // 2. with kEightElevenThirteen and all 8 neighbours in the map and free, the extra cells at
 //    Chebyshev distance 2 in the guide's direction (3 on an axis, 5 in a quadrant, none when
@@ -59,55 +59,62 @@ struct MoveList {
 // same corner policy as every other corner, so that every move has line of sight.
 // `from` must be free and in the map.
 //
-// Works on the map's padded layout (no bounds checks: the border is blocked); inline because it
-// is the innermost loop of every search.
-inline MoveList generate_moves(const GridMap& map, const Cell& from, const Cell& guide,
-                               Neighborhood neighborhood, CornerPolicy policy) {
+// Works on the map's padded layout (no bounds checks: the border is blocked). A template that
+// calls back rather than returning a list because it is the innermost loop of every search.
+template <class Visit>
+inline void for_each_move(const GridMap& map, const Cell& from, const Cell& guide,
+                          Neighborhood neighborhood, CornerPolicy policy, Visit&& visit) {
   using detail::corner_passable;
   const uint8_t* blocked = map.blocked_data();
   const int32_t stride = map.stride();
   const uint32_t at = map.padded_index(from);
   auto is_blocked = [&](int dx, int dy) -> bool { return blocked[at + dy * stride + dx] != 0; };
 
-  MoveList out;
   const bool east = is_blocked(1, 0), west = is_blocked(-1, 0);
   const bool north = is_blocked(0, 1), south = is_blocked(0, -1);
-  if (!east) out.moves[out.count++] = {1, 0, 1.0};
-  if (!west) out.moves[out.count++] = {-1, 0, 1.0};
-  if (!north) out.moves[out.count++] = {0, 1, 1.0};
-  if (!south) out.moves[out.count++] = {0, -1, 1.0};
   const bool ne = is_blocked(1, 1), nw = is_blocked(-1, 1);
   const bool se = is_blocked(1, -1), sw = is_blocked(-1, -1);
-  if (!ne && corner_passable(east, north, policy)) out.moves[out.count++] = {1, 1, detail::kSqrt2};
-  if (!nw && corner_passable(west, north, policy)) out.moves[out.count++] = {-1, 1, detail::kSqrt2};
-  if (!se && corner_passable(east, south, policy)) out.moves[out.count++] = {1, -1, detail::kSqrt2};
-  if (!sw && corner_passable(west, south, policy)) out.moves[out.count++] = {-1, -1, detail::kSqrt2};
+  if (!east) visit(1, 0, 1.0);
+  if (!west) visit(-1, 0, 1.0);
+  if (!north) visit(0, 1, 1.0);
+  if (!south) visit(0, -1, 1.0);
+  if (!ne && corner_passable(east, north, policy)) visit(1, 1, detail::kSqrt2);
+  if (!nw && corner_passable(west, north, policy)) visit(-1, 1, detail::kSqrt2);
+  if (!se && corner_passable(east, south, policy)) visit(1, -1, detail::kSqrt2);
+  if (!sw && corner_passable(west, south, policy)) visit(-1, -1, detail::kSqrt2);
 
-  if (neighborhood == Neighborhood::kEight || out.count != 8) return out;
+  if (neighborhood == Neighborhood::kEight) return;
+  if (east | west | north | south | ne | nw | se | sw) return;  // an obstacle near: 8 only
   const int sx = detail::sign(guide.x - from.x);
   const int sy = detail::sign(guide.y - from.y);
-  if (sx == 0 && sy == 0) return out;
+  if (sx == 0 && sy == 0) return;
   if (sy == 0 || sx == 0) {
     // 11-neighbourhood: 3 cells two steps along the axis, e.g. for +x: (2,-1), (2,0), (2,1).
-    const int ax = sx, ay = sy;      // unit axis
-    const int px = -ay, py = ax;     // perpendicular
-    const int cx = 2 * ax, cy = 2 * ay;
-    if (!is_blocked(cx, cy)) out.moves[out.count++] = {int8_t(cx), int8_t(cy), 2.0};
-    if (!is_blocked(cx + px, cy + py)) out.moves[out.count++] = {int8_t(cx + px), int8_t(cy + py), detail::kSqrt5};
-    if (!is_blocked(cx - px, cy - py)) out.moves[out.count++] = {int8_t(cx - px), int8_t(cy - py), detail::kSqrt5};
-    return out;
+    const int px = -sy, py = sx;  // perpendicular to the axis
+    const int cx = 2 * sx, cy = 2 * sy;
+    if (!is_blocked(cx, cy)) visit(cx, cy, 2.0);
+    if (!is_blocked(cx + px, cy + py)) visit(cx + px, cy + py, detail::kSqrt5);
+    if (!is_blocked(cx - px, cy - py)) visit(cx - px, cy - py, detail::kSqrt5);
+    return;
   }
   // 13-neighbourhood: (2sx,0), (2sx,sy), (2sx,2sy), (sx,2sy), (0,2sy).
   const bool b_2x_0 = is_blocked(2 * sx, 0), b_2x_1 = is_blocked(2 * sx, sy);
   const bool b_2x_2 = is_blocked(2 * sx, 2 * sy);
   const bool b_1_2y = is_blocked(sx, 2 * sy), b_0_2y = is_blocked(0, 2 * sy);
-  if (!b_2x_0) out.moves[out.count++] = {int8_t(2 * sx), 0, 2.0};
-  if (!b_2x_1) out.moves[out.count++] = {int8_t(2 * sx), int8_t(sy), detail::kSqrt5};
-  if (!b_2x_2 && corner_passable(b_2x_1, b_1_2y, policy)) {
-    out.moves[out.count++] = {int8_t(2 * sx), int8_t(2 * sy), 2.0 * detail::kSqrt2};
-  }
-  if (!b_1_2y) out.moves[out.count++] = {int8_t(sx), int8_t(2 * sy), detail::kSqrt5};
-  if (!b_0_2y) out.moves[out.count++] = {0, int8_t(2 * sy), 2.0};
+  if (!b_2x_0) visit(2 * sx, 0, 2.0);
+  if (!b_2x_1) visit(2 * sx, sy, detail::kSqrt5);
+  if (!b_2x_2 && corner_passable(b_2x_1, b_1_2y, policy)) visit(2 * sx, 2 * sy, 2.0 * detail::kSqrt2);
+  if (!b_1_2y) visit(sx, 2 * sy, detail::kSqrt5);
+  if (!b_0_2y) visit(0, 2 * sy, 2.0);
+}
+
+// The same moves as a list (for tests and tools; the searches use for_each_move).
+inline MoveList generate_moves(const GridMap& map, const Cell& from, const Cell& guide,
+                               Neighborhood neighborhood, CornerPolicy policy) {
+  MoveList out;
+  for_each_move(map, from, guide, neighborhood, policy, [&](int dx, int dy, double cost) {
+    out.moves[out.count++] = {static_cast<int8_t>(dx), static_cast<int8_t>(dy), cost};
+  });
   return out;
 }
 

@@ -1,0 +1,168 @@
+#include "vnsba/core/grid_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace vnsba::core {
+
+namespace {
+
+bool is_blocked_char(char c) { return c == '#' || c == '@' || c == 'O' || c == 'T' || c == 'W'; }
+
+// Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre.
+// Uses a precomputed disc of offsets; cost O(blocked boundary cells x disc area).
+void inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, double radius_cells) {
+  const int32_t reach = static_cast<int32_t>(std::floor(radius_cells));
+  if (reach < 1) return;  // no other centre is within less than one cell
+  const double r2 = radius_cells * radius_cells;
+  std::vector<std::pair<int32_t, int32_t>> disc;
+  for (int32_t dy = -reach; dy <= reach; ++dy)
+    for (int32_t dx = -reach; dx <= reach; ++dx)
+      if ((dx != 0 || dy != 0) && double(dx) * dx + double(dy) * dy <= r2) disc.emplace_back(dx, dy);
+
+  const int32_t stride = width + 2;
+  const std::vector<uint8_t> source = blocked;
+  auto src = [&](int32_t x, int32_t y) { return source[(y + 1) * stride + (x + 1)] != 0; };
+  for (int32_t y = 0; y < height; ++y) {
+    for (int32_t x = 0; x < width; ++x) {
+      if (!src(x, y)) continue;
+      // Interior obstacle cells (all 4 neighbours blocked) add nothing their boundary does not.
+      if (x > 0 && y > 0 && x + 1 < width && y + 1 < height && src(x - 1, y) && src(x + 1, y) &&
+          src(x, y - 1) && src(x, y + 1)) {
+        continue;
+      }
+      for (const auto& [dx, dy] : disc) {
+        const int32_t nx = x + dx, ny = y + dy;
+        if (nx >= 0 && ny >= 0 && nx < width && ny < height) blocked[(ny + 1) * stride + nx + 1] = 1;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+Status validate(const OccupancyGrid& grid, const GridBuildOptions& options) {
+  std::ostringstream err;
+  if (grid.width <= 0) err << "width must be > 0 (got " << grid.width << "); ";
+  if (grid.height <= 0) err << "height must be > 0 (got " << grid.height << "); ";
+  if (grid.width > 0 && grid.height > 0) {
+    const int64_t cells = int64_t{grid.width} * grid.height;
+    if (cells > options.max_cells) {
+      err << "width x height = " << cells << " cells exceeds the limit of " << options.max_cells
+          << "; ";
+    } else if (grid.data.size() != static_cast<size_t>(cells)) {
+      err << "data has " << grid.data.size() << " values, expected width x height = " << cells
+          << "; ";
+    }
+  }
+  if (!std::isfinite(grid.resolution) || grid.resolution <= 0.0)
+    err << "resolution must be finite and > 0 (got " << grid.resolution << "); ";
+  if (!std::isfinite(grid.origin_x)) err << "origin x must be finite; ";
+  if (!std::isfinite(grid.origin_y)) err << "origin y must be finite; ";
+  if (options.occupied_threshold < 1 || options.occupied_threshold > 100)
+    err << "occupied_threshold must be in 1..100 (got " << options.occupied_threshold << "); ";
+  if (!std::isfinite(options.robot_radius) || options.robot_radius < 0.0)
+    err << "robot_radius must be finite and >= 0 (got " << options.robot_radius << "); ";
+  std::string message = err.str();
+  if (message.empty()) return Status::ok();
+  message.resize(message.size() - 2);  // drop the last "; "
+  return Status::error(StatusCode::kInvalidMap, "invalid map: " + message);
+}
+
+Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptions& options) {
+  if (Status status = validate(grid, options); !status.is_ok()) return status;
+  for (size_t i = 0; i < grid.data.size(); ++i) {
+    if (grid.data[i] < -1 || grid.data[i] > 100) {
+      return Status::error(StatusCode::kInvalidMap,
+                           "invalid map: data[" + std::to_string(i) + "] = " +
+                               std::to_string(int{grid.data[i]}) + ", expected -1..100");
+    }
+  }
+  GridMap map;
+  map.width_ = grid.width;
+  map.height_ = grid.height;
+  map.resolution_ = grid.resolution;
+  map.origin_x_ = grid.origin_x;
+  map.origin_y_ = grid.origin_y;
+  map.blocked_.assign(static_cast<size_t>(grid.width + 2) * (grid.height + 2), 1);
+  for (int32_t y = 0; y < grid.height; ++y) {
+    for (int32_t x = 0; x < grid.width; ++x) {
+      const int8_t v = grid.at(x, y);
+      const bool blocked = v == kOccupancyUnknown ? !options.allow_unknown
+                                                  : v >= options.occupied_threshold;
+      map.blocked_[map.padded_index(x, y)] = blocked ? 1 : 0;
+    }
+  }
+  inflate(map.blocked_, map.width_, map.height_, options.robot_radius / grid.resolution);
+  map.build_summed_area_table();
+  return map;
+}
+
+Expected<GridMap> GridMap::from_rows(const std::vector<std::string>& rows_top_first,
+                                     double resolution) {
+  OccupancyGrid grid;
+  grid.height = static_cast<int32_t>(rows_top_first.size());
+  grid.width = rows_top_first.empty() ? 0 : static_cast<int32_t>(rows_top_first.front().size());
+  grid.resolution = resolution;
+  grid.data.assign(static_cast<size_t>(std::max(grid.width, 0)) * grid.height, kOccupancyFree);
+  for (int32_t row = 0; row < grid.height; ++row) {
+    const std::string& text = rows_top_first[row];
+    if (static_cast<int32_t>(text.size()) != grid.width) {
+      return Status::error(StatusCode::kInvalidMap,
+                           "invalid map: row " + std::to_string(row) + " has " +
+                               std::to_string(text.size()) + " cells, expected " +
+                               std::to_string(grid.width));
+    }
+    const int32_t y = grid.height - 1 - row;
+    for (int32_t x = 0; x < grid.width; ++x) {
+      if (is_blocked_char(text[x])) grid.data[static_cast<size_t>(y) * grid.width + x] = kOccupancyOccupied;
+    }
+  }
+  return build(grid);
+}
+
+void GridMap::build_summed_area_table() {
+  const int32_t w1 = width_ + 1;
+  summed_area_.assign(static_cast<size_t>(w1) * (height_ + 1), 0);
+  for (int32_t y = 0; y < height_; ++y) {
+    int32_t row_sum = 0;
+    for (int32_t x = 0; x < width_; ++x) {
+      row_sum += blocked_[padded_index(x, y)];
+      summed_area_[static_cast<size_t>(y + 1) * w1 + (x + 1)] =
+          summed_area_[static_cast<size_t>(y) * w1 + (x + 1)] + row_sum;
+    }
+  }
+  blocked_total_ = summed_area_.back();
+}
+
+int64_t GridMap::blocked_in_rect(const Cell& a, const Cell& b) const {
+  const int32_t x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x) + 1;
+  const int32_t y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y) + 1;
+  const size_t w1 = static_cast<size_t>(width_) + 1;
+  return int64_t{summed_area_[y1 * w1 + x1]} - summed_area_[y0 * w1 + x1] -
+         summed_area_[y1 * w1 + x0] + summed_area_[y0 * w1 + x0];
+}
+
+double GridMap::density(const Cell& a, const Cell& b) const {
+  const int64_t cells = (int64_t{std::abs(a.x - b.x)} + 1) * (int64_t{std::abs(a.y - b.y)} + 1);
+  return static_cast<double>(blocked_in_rect(a, b)) / static_cast<double>(cells);
+}
+
+Point2 GridMap::world_to_grid(double wx, double wy) const {
+  return {(wx - origin_x_) / resolution_, (wy - origin_y_) / resolution_};
+}
+
+std::optional<Cell> GridMap::world_to_cell(double wx, double wy) const {
+  if (!std::isfinite(wx) || !std::isfinite(wy)) return std::nullopt;
+  const Point2 g = world_to_grid(wx, wy);
+  const double fx = std::floor(g.x()), fy = std::floor(g.y());
+  if (fx < 0.0 || fy < 0.0 || fx >= width_ || fy >= height_) return std::nullopt;
+  return Cell{static_cast<int32_t>(fx), static_cast<int32_t>(fy)};
+}
+
+Eigen::Vector2d GridMap::grid_to_world(const Point2& p) const {
+  return {origin_x_ + p.x() * resolution_, origin_y_ + p.y() * resolution_};
+}
+
+}  // namespace vnsba::core

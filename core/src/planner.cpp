@@ -1,0 +1,455 @@
+#include "vnsba/core/planner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "search_space.hpp"
+#include "vnsba/core/heuristics.hpp"
+#include "vnsba/core/postprocess.hpp"
+
+namespace vnsba::core {
+
+namespace {
+
+using detail::SearchSpace;
+using Clock = std::chrono::steady_clock;
+
+struct PlannerName {
+  PlannerKind kind;
+  std::string_view name;
+};
+constexpr PlannerName kPlannerNames[] = {
+    {PlannerKind::kAStar, "astar"},
+    {PlannerKind::kWeightedAStar, "weighted_astar"},
+    {PlannerKind::kBidirectionalAStar, "bidirectional_astar"},
+    {PlannerKind::kAlternatingBidirectionalAStar, "alternating_bidirectional_astar"},
+    {PlannerKind::kVnsBaStar, "vns_bastar"},
+};
+
+// ---------------------------------------------------------------------------------------------
+// Heuristic functors over heuristics.hpp.
+
+// Octile distance to a fixed target: classic A* and BA*. Admissible and consistent for the
+// 8-neighbourhood (not for 8-11-13, whose knight moves are shorter than their octile distance).
+struct OctileHeuristic {
+  const Cell* target;
+  double operator()(const Cell& n) const { return octile(n, *target); }
+};
+
+// density_weighted_heuristic against the opposite search's current node of the moment (read
+// through a pointer, as the search moves it). Evaluated when a node is pushed or its g improves, with the opposite current node of that
+// moment; it is not re-evaluated when the opposite current node moves later (the paper's open
+// list is keyed on f at insertion).
+struct DensityWeightedHeuristic {
+  const GridMap* map;
+  const Cell* opposite_current;
+  Cell opposite_start;
+  double omega;
+  double eta;
+  CornerPolicy policy;
+
+  double operator()(const Cell& n) const {
+    return density_weighted_heuristic(*map, n, *opposite_current, opposite_start, omega, eta,
+                                      policy);
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+// Search engines.
+
+// Polls the cancel flag and the clock every kPollInterval expansions: cheap enough to be
+// invisible, frequent enough (a few hundred microseconds at most) for preemption.
+class Deadline {
+ public:
+  Deadline(Clock::time_point start, std::chrono::microseconds budget,
+           const std::atomic<bool>* cancel)
+      : cancel_(cancel), has_budget_(budget.count() > 0), end_(start + budget) {}
+
+  // kOk to go on, else kTimeout or kCanceled.
+  StatusCode poll() {
+    if (++count_ % kPollInterval != 0) return StatusCode::kOk;
+    if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) return StatusCode::kCanceled;
+    if (has_budget_ && Clock::now() >= end_) return StatusCode::kTimeout;
+    return StatusCode::kOk;
+  }
+
+ private:
+  static constexpr uint32_t kPollInterval = 256;
+  const std::atomic<bool>* cancel_;
+  bool has_budget_;
+  Clock::time_point end_;
+  uint32_t count_ = kPollInterval - 1;  // the first call polls: a pre-raised flag stops at once
+};
+
+struct SearchConfig {
+  Neighborhood neighborhood;
+  CornerPolicy policy;
+  bool record;
+};
+
+struct SearchOutcome {
+  StatusCode code = StatusCode::kNoValidPath;
+  std::vector<Cell> path;
+  std::optional<Cell> meeting;
+  int64_t expanded = 0;
+};
+
+// Follows parents from `node` to the search's root; returns the cells root-first when
+// `root_first`, else node-first.
+std::vector<Cell> trace(const GridMap& map, const SearchSpace& space, uint32_t node,
+                        bool root_first) {
+  std::vector<Cell> cells;
+  for (uint32_t n = node; n != SearchSpace::kNoParent; n = space.parent(n)) cells.push_back(map.cell_of(n));
+  if (root_first) std::reverse(cells.begin(), cells.end());
+  return cells;
+}
+
+// Relaxes the move n -> m in `space`: opens m or lowers its g. Returns nothing; closed nodes
+// are skipped by the caller.
+template <class Heuristic>
+inline void relax(SearchSpace& space, uint32_t n, uint32_t m, const Cell& m_cell, double cost,
+                  const Heuristic& h) {
+  const double g = space.g(n) + cost;
+  if (!space.seen(m)) {
+    space.push(m, g, g + h(m_cell), n);
+  } else if (g < space.g(m)) {
+    space.decrease(m, g, g + h(m_cell), n);
+  }
+}
+
+// A unidirectional best-first search from start to goal; the neighbourhood's guide is the goal.
+template <class Heuristic>
+SearchOutcome search_unidirectional(const GridMap& map, SearchSpace& space, const Cell& start,
+                                    const Cell& goal, const Heuristic& h, const SearchConfig& cfg,
+                                    Deadline& deadline, std::vector<Cell>* expanded_cells) {
+  SearchOutcome out;
+  space.begin_query(map.padded_size());
+  const uint32_t goal_index = map.padded_index(goal);
+  const int32_t stride = map.stride();
+  space.push(map.padded_index(start), 0.0, h(start), SearchSpace::kNoParent);
+  while (!space.empty()) {
+    if (StatusCode code = deadline.poll(); code != StatusCode::kOk) {
+      out.code = code;
+      return out;
+    }
+    const uint32_t n = space.pop();
+    ++out.expanded;
+    const Cell nc = map.cell_of(n);
+    if (cfg.record) expanded_cells->push_back(nc);
+    if (n == goal_index) {
+      out.code = StatusCode::kOk;
+      out.path = trace(map, space, n, /*root_first=*/true);
+      return out;
+    }
+    for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
+      const uint32_t m = n + dy * stride + dx;
+      if (!space.closed(m)) relax(space, n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
+    });
+  }
+  return out;
+}
+
+// How a bidirectional search decides that its two halves have met.
+enum class MeetingRule {
+  // ALGORITHM.md section 3: a search generates a neighbour the other search has closed.
+  kGenerateClosedByOther,
+  // The improved BA* of Li et al.: a search closes a node the other has closed (which includes
+  // the case of both current nodes coinciding).
+  kCloseClosedByOther,
+};
+
+// Two searches in strict alternation, one expansion each. `current[0]` / `current[1]` are the
+// forward / backward current nodes (the last expanded), which the heuristics read through
+// pointers, and which guide the 8-11-13 neighbourhood when `guide_by_current` is set (else each
+// search is guided by the other's start).
+template <class ForwardH, class BackwardH>
+SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, SearchSpace& backward,
+                                   const Cell& start, const Cell& goal, Cell (&current)[2],
+                                   const ForwardH& h_forward, const BackwardH& h_backward,
+                                   MeetingRule rule, bool guide_by_current,
+                                   const SearchConfig& cfg, Deadline& deadline,
+                                   std::vector<Cell>* expanded_forward,
+                                   std::vector<Cell>* expanded_backward) {
+  SearchOutcome out;
+  const int32_t stride = map.stride();
+  current[0] = start;
+  current[1] = goal;
+  forward.begin_query(map.padded_size());
+  backward.begin_query(map.padded_size());
+  forward.push(map.padded_index(start), 0.0, h_forward(start), SearchSpace::kNoParent);
+  backward.push(map.padded_index(goal), 0.0, h_backward(goal), SearchSpace::kNoParent);
+
+  // The path through the move a -> b where a was reached by `a_space` and b by the other.
+  auto join = [&](bool a_is_forward, uint32_t a, uint32_t b) {
+    const uint32_t f = a_is_forward ? a : b;
+    const uint32_t r = a_is_forward ? b : a;
+    out.path = trace(map, forward, f, /*root_first=*/true);
+    const std::vector<Cell> tail = trace(map, backward, r, /*root_first=*/false);
+    if (f == r) {
+      out.path.insert(out.path.end(), tail.begin() + 1, tail.end());
+    } else {
+      out.path.insert(out.path.end(), tail.begin(), tail.end());
+    }
+    out.code = StatusCode::kOk;
+  };
+
+  // One expansion of side `s` (0 forward, 1 backward). Returns true when the search is over.
+  auto step = [&](int s, SearchSpace& self, const SearchSpace& other, const auto& h,
+                  std::vector<Cell>* record) -> bool {
+    if (self.empty()) {
+      out.code = StatusCode::kNoValidPath;
+      return true;
+    }
+    const uint32_t n = self.pop();
+    ++out.expanded;
+    const Cell nc = map.cell_of(n);
+    current[s] = nc;
+    if (cfg.record) record->push_back(nc);
+    if (rule == MeetingRule::kCloseClosedByOther && other.closed(n)) {
+      out.meeting = nc;
+      join(s == 0, n, n);
+      return true;
+    }
+    const Cell& guide = guide_by_current ? current[1 - s] : (s == 0 ? goal : start);
+    bool met = false;
+    for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
+      const uint32_t m = n + dy * stride + dx;
+      if (met || self.closed(m)) return;
+      const Cell mc{nc.x + dx, nc.y + dy};
+      if (rule == MeetingRule::kGenerateClosedByOther && other.closed(m)) {
+        out.meeting = mc;
+        join(s == 0, n, m);
+        met = true;
+        return;
+      }
+      relax(self, n, m, mc, cost, h);
+    });
+    return met;
+  };
+
+  for (;;) {
+    if (StatusCode code = deadline.poll(); code != StatusCode::kOk) {
+      out.code = code;
+      return out;
+    }
+    if (step(0, forward, backward, h_forward, expanded_forward)) return out;
+    if (step(1, backward, forward, h_backward, expanded_backward)) return out;
+  }
+}
+
+std::string describe(const Cell& c) {
+  return "(" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")";
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Names, defaults, validation.
+
+std::string_view to_string(PlannerKind kind) {
+  for (const auto& entry : kPlannerNames)
+    if (entry.kind == kind) return entry.name;
+  return "unknown";
+}
+
+std::optional<PlannerKind> planner_kind_from_string(std::string_view name) {
+  for (const auto& entry : kPlannerNames)
+    if (entry.name == name) return entry.kind;
+  return std::nullopt;
+}
+
+const std::vector<PlannerKind>& all_planner_kinds() {
+  static const std::vector<PlannerKind> kinds = [] {
+    std::vector<PlannerKind> out;
+    for (const auto& entry : kPlannerNames) out.push_back(entry.kind);
+    return out;
+  }();
+  return kinds;
+}
+
+PlannerOptions default_options(PlannerKind kind) {
+  PlannerOptions options;
+  options.planner = kind;
+  const bool paper_method = kind == PlannerKind::kVnsBaStar;
+  options.neighborhood = paper_method ? Neighborhood::kEightElevenThirteen : Neighborhood::kEight;
+  options.prune = paper_method;
+  options.smooth = paper_method;
+  return options;
+}
+
+Status validate(const PlannerOptions& o) {
+  std::ostringstream err;
+  auto weight_ok = [](double w) { return std::isfinite(w) && w >= 0.0 && w <= 1e6; };
+  if (!weight_ok(o.omega)) err << "omega must be finite and in [0, 1e6] (got " << o.omega << "); ";
+  if (!weight_ok(o.eta)) err << "eta must be finite and in [0, 1e6] (got " << o.eta << "); ";
+  if (o.planner == PlannerKind::kVnsBaStar && weight_ok(o.omega) && weight_ok(o.eta) &&
+      o.omega == 0.0 && o.eta == 0.0) {
+    err << "omega and eta must not both be 0 (the heuristic would vanish); ";
+  }
+  if (!std::isfinite(o.smoothing_distance) || o.smoothing_distance <= 0.0)
+    err << "smoothing_distance must be finite and > 0 cells (got " << o.smoothing_distance << "); ";
+  if (!std::isfinite(o.sample_step) || o.sample_step <= 0.0 || o.sample_step > 10.0)
+    err << "sample_step must be in (0, 10] cells (got " << o.sample_step << "); ";
+  if (!planner_kind_from_string(to_string(o.planner))) err << "planner is not a known planner; ";
+  std::string message = err.str();
+  if (message.empty()) return Status::ok();
+  message.resize(message.size() - 2);
+  return Status::error(StatusCode::kInvalidRequest, "invalid options: " + message);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Planner.
+
+struct Planner::Impl {
+  SearchSpace forward;
+  SearchSpace backward;
+  size_t peak_direction_bytes = 0;
+  Cell current[2];
+
+  void note_peak() {
+    peak_direction_bytes = std::max({peak_direction_bytes, forward.bytes(), backward.bytes()});
+  }
+
+  SearchOutcome run(const GridMap& map, const PlanQuery& q, const PlannerOptions& o,
+                    Deadline& deadline, std::vector<Cell>* rec_f, std::vector<Cell>* rec_b) {
+    const SearchConfig cfg{o.neighborhood, o.corner_policy, o.record_expansions};
+    switch (o.planner) {
+      case PlannerKind::kAStar:
+        return search_unidirectional(map, forward, q.start, q.goal, OctileHeuristic{&q.goal}, cfg,
+                                     deadline, rec_f);
+      case PlannerKind::kWeightedAStar: {
+        const DensityWeightedHeuristic h{&map, &q.goal, q.goal, 1.0, 0.0, o.corner_policy};
+        return search_unidirectional(map, forward, q.start, q.goal, h, cfg, deadline, rec_f);
+      }
+      case PlannerKind::kBidirectionalAStar:
+        return search_bidirectional(map, forward, backward, q.start, q.goal, current,
+                                    OctileHeuristic{&q.goal}, OctileHeuristic{&q.start},
+                                    MeetingRule::kGenerateClosedByOther, /*guide_by_current=*/false,
+                                    cfg, deadline, rec_f, rec_b);
+      case PlannerKind::kAlternatingBidirectionalAStar: {
+        const DensityWeightedHeuristic hf{&map, &current[1], q.goal, 1.0, 0.0, o.corner_policy};
+        const DensityWeightedHeuristic hb{&map, &current[0], q.start, 1.0, 0.0, o.corner_policy};
+        return search_bidirectional(map, forward, backward, q.start, q.goal, current, hf, hb,
+                                    MeetingRule::kCloseClosedByOther, /*guide_by_current=*/true,
+                                    cfg, deadline, rec_f, rec_b);
+      }
+      case PlannerKind::kVnsBaStar: {
+        const DensityWeightedHeuristic hf{&map, &current[1], q.goal, o.omega, o.eta,
+                                          o.corner_policy};
+        const DensityWeightedHeuristic hb{&map, &current[0], q.start, o.omega, o.eta,
+                                          o.corner_policy};
+        return search_bidirectional(map, forward, backward, q.start, q.goal, current, hf, hb,
+                                    MeetingRule::kGenerateClosedByOther, /*guide_by_current=*/true,
+                                    cfg, deadline, rec_f, rec_b);
+      }
+    }
+    SearchOutcome broken;
+    broken.code = StatusCode::kInternalError;
+    return broken;
+  }
+};
+
+Planner::Planner(std::shared_ptr<const GridMap> map)
+    : map_(std::move(map)), impl_(std::make_unique<Impl>()) {}
+Planner::~Planner() = default;
+Planner::Planner(Planner&&) noexcept = default;
+Planner& Planner::operator=(Planner&&) noexcept = default;
+
+size_t Planner::search_state_bytes() const { return impl_->forward.bytes() + impl_->backward.bytes(); }
+
+double Planner::peak_bytes_per_cell_per_direction() const {
+  if (!map_ || map_->cell_count() == 0) return 0.0;
+  return static_cast<double>(impl_->peak_direction_bytes) / static_cast<double>(map_->cell_count());
+}
+
+PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
+                         const std::atomic<bool>* cancel) {
+  const Clock::time_point started = Clock::now();
+  PlanResult result;
+  result.planner = options.planner;
+  auto fail = [&](StatusCode code, std::string message) {
+    result.status = Status::error(code, std::move(message));
+    return result;
+  };
+  if (!map_ || map_->cell_count() == 0) return fail(StatusCode::kInvalidMap, "no map to plan on");
+  const GridMap& map = *map_;
+  if (Status s = validate(options); !s.is_ok()) return fail(s.code, s.message);
+  const std::string bounds = " is outside the map (" + std::to_string(map.width()) + " x " +
+                             std::to_string(map.height()) + " cells)";
+  if (!map.in_bounds(query.start))
+    return fail(StatusCode::kStartOutsideMap, "start " + describe(query.start) + bounds);
+  if (!map.in_bounds(query.goal))
+    return fail(StatusCode::kGoalOutsideMap, "goal " + describe(query.goal) + bounds);
+  if (map.blocked(query.start))
+    return fail(StatusCode::kStartOccupied, "start " + describe(query.start) + " is in a blocked cell");
+  if (map.blocked(query.goal))
+    return fail(StatusCode::kGoalOccupied, "goal " + describe(query.goal) + " is in a blocked cell");
+
+  SearchOutcome outcome;
+  if (query.start == query.goal) {
+    outcome.code = StatusCode::kOk;
+    outcome.path = {query.start};
+  } else {
+    Deadline deadline(started, options.max_planning_time, cancel);
+    outcome = impl_->run(map, query, options, deadline, &result.expanded_forward,
+                         &result.expanded_backward);
+    impl_->note_peak();
+  }
+  result.metrics.expanded = outcome.expanded;
+  result.meeting_cell = outcome.meeting;
+  switch (outcome.code) {
+    case StatusCode::kOk: break;
+    case StatusCode::kNoValidPath:
+      return fail(outcome.code, "no path from start " + describe(query.start) + " to goal " +
+                                    describe(query.goal) + ": they are not connected");
+    case StatusCode::kTimeout:
+      return fail(outcome.code, "no path found within max_planning_time of " +
+                                    std::to_string(options.max_planning_time.count()) + " us");
+    case StatusCode::kCanceled: return fail(outcome.code, "planning canceled");
+    default: return fail(StatusCode::kInternalError, "search ended in an unexpected state");
+  }
+
+  result.raw_path = std::move(outcome.path);
+  result.metrics.raw_cost_cells = polyline_length(cell_centres(result.raw_path));
+  result.waypoints = options.prune ? prune_path(map, result.raw_path, options.corner_policy)
+                                   : cell_centres(result.raw_path);
+  const TurnStats turns = turn_stats(result.waypoints);
+  result.metrics.turns = turns.turns;
+  result.metrics.turn_angle_deg = turns.total_angle_deg;
+  if (options.smooth) {
+    SmoothingOptions smoothing;
+    smoothing.smoothing_distance = options.smoothing_distance;
+    smoothing.sample_step = options.sample_step;
+    smoothing.corner_policy = options.corner_policy;
+    result.path = smooth_path(map, result.waypoints, smoothing);
+  } else {
+    result.path = result.waypoints;
+  }
+  result.world_path.reserve(result.path.size());
+  for (const Point2& p : result.path) result.world_path.push_back(map.grid_to_world(p));
+  result.metrics.length_cells = polyline_length(result.path);
+  result.metrics.length_m = result.metrics.length_cells * map.resolution();
+  result.metrics.planning_time_us =
+      std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - started).count();
+
+  if (options.compute_length_ratio) {
+    PlannerOptions optimal = default_options(PlannerKind::kAStar);
+    optimal.corner_policy = options.corner_policy;
+    Deadline unlimited(Clock::now(), std::chrono::microseconds{0}, nullptr);
+    const SearchOutcome best = impl_->run(map, query, optimal, unlimited, nullptr, nullptr);
+    const double best_cost = polyline_length(cell_centres(best.path));
+    result.metrics.length_ratio =
+        best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;
+  }
+  result.status = Status::ok();
+  return result;
+}
+
+PlanResult plan_once(std::shared_ptr<const GridMap> map, const PlanQuery& query,
+                     const PlannerOptions& options) {
+  Planner planner(std::move(map));
+  return planner.plan(query, options);
+}
+
+}  // namespace vnsba::core

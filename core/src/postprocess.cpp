@@ -1,0 +1,185 @@
+// Polyline pruning (ALGORITHM.md section 4, paper 3.3) and local cubic-spline smoothing at turns
+// (ALGORITHM.md section 5, paper 3.4). Every visibility check goes through line_of_sight().
+#include "vnsba/core/postprocess.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+namespace vnsba::core {
+
+std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path,
+                               CornerPolicy policy) {
+  std::vector<Point2> out;
+  if (path.empty()) return out;
+  out.push_back(cell_centre(path.front()));
+  size_t anchor = 0;  // index into path
+  size_t i = 1;
+  while (i < path.size()) {
+    if (line_of_sight(map, path[anchor], path[i], policy)) {
+      ++i;
+    } else if (anchor + 1 == i) {
+      // Only an invalid input (a step without line of sight, e.g. through a wall or from a
+      // blocked cell) gets here. Keep the step as it is rather than loop forever.
+      anchor = i++;
+      out.push_back(cell_centre(path[anchor]));
+    } else {
+      // P[i] is the first point the anchor cannot see: P[i-1] is a turning point. P[i] is
+      // re-tested against the new anchor on the next iteration.
+      anchor = i - 1;
+      out.push_back(cell_centre(path[anchor]));
+    }
+  }
+  // The last point, unless the fallback above already appended it (or the path is one cell).
+  if (anchor + 1 != path.size()) out.push_back(cell_centre(path.back()));
+  return out;
+}
+
+namespace {
+
+constexpr double kCollinearRad = 1e-6;  // corners turning less than this are left alone
+
+// A parametric cubic spline x(s), y(s) through four points with chord-length knots, clamped
+// end derivatives, C1 and C2 at the two inner knots: three cubic pieces per coordinate.
+//
+// Parametric, not the paper's y = S(x): a vertical leg has the same x at several points, which
+// y = S(x) cannot represent; x(s), y(s) does not care about the orientation of the corner.
+// With chord-length s, |d/ds| is close to 1, so unit tangents are the right clamped derivatives.
+struct CornerSpline {
+  std::array<Point2, 4> p;
+  std::array<double, 3> h{};      // knot spacings (chord lengths)
+  Eigen::Matrix<double, 4, 2> m;  // second derivatives d2/ds2 at the knots, columns x and y
+
+  // nullopt when a chord is degenerate (e.g. a full reversal, P2 == P3) or the solve is not
+  // finite.
+  static std::optional<CornerSpline> fit(const std::array<Point2, 4>& points,
+                                         const Point2& start_tangent, const Point2& end_tangent) {
+    CornerSpline spline;
+    spline.p = points;
+    double total = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      spline.h[i] = (points[i + 1] - points[i]).norm();
+      total += spline.h[i];
+    }
+    for (double hi : spline.h) {
+      if (!(hi > 1e-9 * total)) return std::nullopt;
+    }
+    const auto& h = spline.h;
+    // The classic clamped-spline system for the knot second derivatives (moments) M0..M3:
+    // the two clamped ends plus C2 continuity at P2 and P3, solved for x and y together.
+    Eigen::Matrix4d a = Eigen::Matrix4d::Zero();
+    Eigen::Matrix<double, 4, 2> rhs;
+    const Point2 slope0 = (points[1] - points[0]) / h[0];
+    const Point2 slope1 = (points[2] - points[1]) / h[1];
+    const Point2 slope2 = (points[3] - points[2]) / h[2];
+    a.row(0) << 2 * h[0], h[0], 0, 0;
+    a.row(1) << h[0], 2 * (h[0] + h[1]), h[1], 0;
+    a.row(2) << 0, h[1], 2 * (h[1] + h[2]), h[2];
+    a.row(3) << 0, 0, h[2], 2 * h[2];
+    rhs.row(0) = 6.0 * (slope0 - start_tangent).transpose();
+    rhs.row(1) = 6.0 * (slope1 - slope0).transpose();
+    rhs.row(2) = 6.0 * (slope2 - slope1).transpose();
+    rhs.row(3) = 6.0 * (end_tangent - slope2).transpose();
+    spline.m = a.partialPivLu().solve(rhs);
+    if (!spline.m.allFinite()) return std::nullopt;
+    return spline;
+  }
+
+  // The point at parameter u in [0, h[piece]] measured from the start of `piece` (0, 1 or 2).
+  Point2 at(int piece, double u) const {
+    const double hi = h[piece];
+    const double v = hi - u;
+    const Point2 m0 = m.row(piece).transpose(), m1 = m.row(piece + 1).transpose();
+    return (m0 * (v * v * v) + m1 * (u * u * u)) / (6.0 * hi) +
+           (p[piece] / hi - m0 * (hi / 6.0)) * v + (p[piece + 1] / hi - m1 * (hi / 6.0)) * u;
+  }
+};
+
+// Appends the samples of one piece (excluding its start knot, ending exactly on its end knot)
+// at most `step` apart. The first guess assumes the arc is at most 1.5 x the chord; the gaps are
+// then measured and the count doubled until they all fit (the bound is not a theorem).
+void sample_piece(const CornerSpline& spline, int piece, double step, std::vector<Point2>& out) {
+  const double hi = spline.h[piece];
+  int n = std::max(1, static_cast<int>(std::ceil(1.5 * hi / step)));
+  std::vector<Point2> samples;
+  for (int attempt = 0; attempt < 16; ++attempt, n *= 2) {
+    samples.clear();
+    Point2 last = spline.p[piece];
+    bool fits = true;
+    for (int j = 1; j <= n; ++j) {
+      const Point2 q = j == n ? spline.p[piece + 1] : spline.at(piece, hi * j / n);
+      fits = fits && (q - last).norm() <= step;
+      samples.push_back(q);
+      last = q;
+    }
+    if (fits) break;
+  }
+  out.insert(out.end(), samples.begin(), samples.end());
+}
+
+// The replacement P1, samples..., P4 of corner T (neighbours A and B) at distance d, or nullopt
+// when the spline cannot be fitted or any of its segments, or the joins prev -> P1 and P4 -> B,
+// lacks line of sight.
+std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point2& prev,
+                                                 const Point2& a, const Point2& t, const Point2& b,
+                                                 double d, const SmoothingOptions& options) {
+  const Point2 to_a = (a - t).normalized(), to_b = (b - t).normalized();
+  // T itself is not a control point: a curve forced through the corner would bulge outside it,
+  // towards the obstacle the path turned around (the paper's reason for P1..P4).
+  const std::array<Point2, 4> points = {t + 2 * d * to_a, t + d * to_a, t + d * to_b,
+                                        t + 2 * d * to_b};
+  const auto spline = CornerSpline::fit(points, -to_a, to_b);
+  if (!spline) return std::nullopt;
+  std::vector<Point2> curve = {points[0]};
+  for (int piece = 0; piece < 3; ++piece) sample_piece(*spline, piece, options.sample_step, curve);
+
+  const CornerPolicy policy = options.corner_policy;
+  if (!line_of_sight(map, prev, curve.front(), policy)) return std::nullopt;
+  for (size_t i = 1; i < curve.size(); ++i) {
+    if (!line_of_sight(map, curve[i - 1], curve[i], policy)) return std::nullopt;
+  }
+  if (!line_of_sight(map, curve.back(), b, policy)) return std::nullopt;
+  return curve;
+}
+
+}  // namespace
+
+std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& waypoints,
+                                const SmoothingOptions& options) {
+  // Nothing to smooth, or no usable sampling (a non-positive step would never terminate).
+  if (waypoints.size() < 3 || !std::isfinite(options.sample_step) || options.sample_step <= 0.0) {
+    return waypoints;
+  }
+  std::vector<Point2> out = {waypoints.front()};
+  for (size_t i = 1; i + 1 < waypoints.size(); ++i) {
+    // A and B come from the input, not from the already-smoothed output.
+    const Point2& a = waypoints[i - 1];
+    const Point2& t = waypoints[i];
+    const Point2& b = waypoints[i + 1];
+    // Zero-length legs (repeated points) also give 0 here and keep T: no division by zero.
+    const bool straight = !(std::abs(heading_change(a, t, b)) > kCollinearRad);
+    // Capping d at a quarter of each leg puts P1 and P4 at most half-way along it, so the
+    // smoothings of two neighbouring corners never overlap (they may at most touch).
+    double d = std::min({options.smoothing_distance, (t - a).norm() / 4, (b - t).norm() / 4});
+    std::optional<std::vector<Point2>> curve;
+    if (!straight && std::isfinite(d) && d > 0.0) {
+      for (int attempt = 0; attempt <= std::max(0, options.max_halvings); ++attempt, d /= 2) {
+        curve = smooth_corner(map, out.back(), a, t, b, d, options);
+        if (curve) break;
+      }
+    }
+    if (!curve) {
+      out.push_back(t);  // collinear, degenerate, or no collision-free curve: keep T sharp
+      continue;
+    }
+    // P1 may coincide with the previous corner's P4 when both sit half-way along a leg.
+    const bool skip_first = (curve->front() - out.back()).norm() <= 1e-12;
+    out.insert(out.end(), curve->begin() + (skip_first ? 1 : 0), curve->end());
+  }
+  out.push_back(waypoints.back());
+  return out;
+}
+
+}  // namespace vnsba::core

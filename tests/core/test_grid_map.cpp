@@ -1,0 +1,169 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/test_support.hpp"
+#include "vnsba/core/grid_map.hpp"
+
+namespace vnsba::test {
+namespace {
+
+using core::GridBuildOptions;
+using core::OccupancyGrid;
+using core::StatusCode;
+
+OccupancyGrid grid_of(int w, int h, int8_t fill = 0) {
+  OccupancyGrid g;
+  g.width = w;
+  g.height = h;
+  g.data.assign(static_cast<size_t>(std::max(w, 0)) * std::max(h, 0), fill);
+  return g;
+}
+
+TEST(GridMap, ThresholdAndUnknownHandling) {
+  OccupancyGrid g = grid_of(4, 1);
+  g.data = {0, 64, 65, -1};
+  auto strict = GridMap::build(g);
+  ASSERT_TRUE(strict) << strict.error().message;
+  EXPECT_FALSE(strict->blocked(0, 0));
+  EXPECT_FALSE(strict->blocked(1, 0));  // just under the default threshold 65
+  EXPECT_TRUE(strict->blocked(2, 0));
+  EXPECT_TRUE(strict->blocked(3, 0));   // unknown is blocked by default
+  GridBuildOptions lenient;
+  lenient.allow_unknown = true;
+  lenient.occupied_threshold = 50;
+  auto open = GridMap::build(g, lenient);
+  ASSERT_TRUE(open);
+  EXPECT_TRUE(open->blocked(1, 0));
+  EXPECT_FALSE(open->blocked(3, 0));
+}
+
+TEST(GridMap, RowsReadTopFirst) {
+  auto map = GridMap::from_rows({"#..", "...", "..#"});
+  ASSERT_TRUE(map);
+  EXPECT_TRUE(map->blocked(0, 2));   // top-left character is the top row
+  EXPECT_TRUE(map->blocked(2, 0));
+  EXPECT_FALSE(map->blocked(0, 0));
+  EXPECT_TRUE(map->blocked(-1, 0));  // outside counts as blocked
+  EXPECT_TRUE(map->blocked(3, 0));
+}
+
+TEST(GridMap, InvalidMapsNameTheField) {
+  struct Case {
+    OccupancyGrid grid;
+    GridBuildOptions options;
+    std::string field;
+  };
+  std::vector<Case> cases;
+  cases.push_back({grid_of(0, 3), {}, "width"});
+  cases.push_back({grid_of(3, -1), {}, "height"});
+  OccupancyGrid short_data = grid_of(3, 3);
+  short_data.data.pop_back();
+  cases.push_back({short_data, {}, "data has 8 values"});
+  OccupancyGrid bad_res = grid_of(2, 2);
+  bad_res.resolution = std::nan("");
+  cases.push_back({bad_res, {}, "resolution"});
+  OccupancyGrid zero_res = grid_of(2, 2);
+  zero_res.resolution = 0.0;
+  cases.push_back({zero_res, {}, "resolution"});
+  OccupancyGrid bad_origin = grid_of(2, 2);
+  bad_origin.origin_y = INFINITY;
+  cases.push_back({bad_origin, {}, "origin y"});
+  OccupancyGrid bad_value = grid_of(2, 2);
+  bad_value.data[3] = 101;
+  cases.push_back({bad_value, {}, "data[3] = 101"});
+  GridBuildOptions big_limit;
+  big_limit.max_cells = 3;
+  cases.push_back({grid_of(2, 2), big_limit, "exceeds the limit"});
+  GridBuildOptions bad_threshold;
+  bad_threshold.occupied_threshold = 0;
+  cases.push_back({grid_of(2, 2), bad_threshold, "occupied_threshold"});
+  GridBuildOptions bad_radius;
+  bad_radius.robot_radius = -1;
+  cases.push_back({grid_of(2, 2), bad_radius, "robot_radius"});
+  for (const Case& c : cases) {
+    auto map = GridMap::build(c.grid, c.options);
+    ASSERT_FALSE(map) << c.field;
+    EXPECT_EQ(map.error().code, StatusCode::kInvalidMap);
+    EXPECT_NE(map.error().message.find(c.field), std::string::npos)
+        << "message '" << map.error().message << "' should name " << c.field;
+  }
+}
+
+TEST(GridMap, ReportsEveryErrorAtOnce) {
+  OccupancyGrid g = grid_of(0, 0);
+  g.resolution = -1;
+  auto map = GridMap::build(g);
+  ASSERT_FALSE(map);
+  for (const char* field : {"width", "height", "resolution"})
+    EXPECT_NE(map.error().message.find(field), std::string::npos) << field;
+}
+
+// Inflation equals the brute-force definition: blocked iff some originally blocked centre lies
+// within the radius.
+TEST(GridMap, InflationMatchesBruteForce) {
+  std::mt19937 rng(7);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int w = 5 + trial % 17, h = 4 + (trial * 7) % 19;
+    OccupancyGrid g = grid_of(w, h);
+    g.resolution = 0.05 + 0.05 * (trial % 4);
+    std::bernoulli_distribution blocked(0.05 + 0.01 * (trial % 10));
+    for (auto& v : g.data) v = blocked(rng) ? 100 : 0;
+    GridBuildOptions options;
+    options.robot_radius = g.resolution * (0.5 + 0.37 * (trial % 9));
+    auto map = GridMap::build(g, options);
+    ASSERT_TRUE(map);
+    const double r = options.robot_radius / g.resolution;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        bool expect = false;
+        for (int oy = 0; oy < h && !expect; ++oy)
+          for (int ox = 0; ox < w && !expect; ++ox)
+            expect = g.at(ox, oy) == 100 && (ox - x) * (ox - x) + (oy - y) * (oy - y) <= r * r;
+        ASSERT_EQ(map->blocked(x, y), expect) << "cell " << x << "," << y << " trial " << trial;
+      }
+    }
+  }
+}
+
+TEST(GridMap, SummedAreaDensityEqualsBruteForce) {
+  std::mt19937 rng(11);
+  auto map = GridMap::from_rows(random_rows(rng, 37, 23, 0.3));
+  ASSERT_TRUE(map);
+  std::uniform_int_distribution<int> rx(0, 36), ry(0, 22);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Cell a{rx(rng), ry(rng)}, b{rx(rng), ry(rng)};
+    int64_t count = 0;
+    for (int y = std::min(a.y, b.y); y <= std::max(a.y, b.y); ++y)
+      for (int x = std::min(a.x, b.x); x <= std::max(a.x, b.x); ++x) count += map->blocked(x, y);
+    ASSERT_EQ(map->blocked_in_rect(a, b), count);
+    const double area = (std::abs(a.x - b.x) + 1.0) * (std::abs(a.y - b.y) + 1.0);
+    ASSERT_DOUBLE_EQ(map->density(a, b), count / area);
+  }
+}
+
+TEST(GridMap, WorldCellConversionRoundTrips) {
+  OccupancyGrid g = grid_of(10, 8);
+  g.resolution = 0.25;
+  g.origin_x = -1.0;
+  g.origin_y = 2.0;
+  auto map = GridMap::build(g);
+  ASSERT_TRUE(map);
+  for (int y = 0; y < 8; ++y) {
+    for (int x = 0; x < 10; ++x) {
+      const Eigen::Vector2d w = map->cell_centre_world({x, y});
+      EXPECT_NEAR(w.x(), -1.0 + (x + 0.5) * 0.25, 1e-12);
+      EXPECT_NEAR(w.y(), 2.0 + (y + 0.5) * 0.25, 1e-12);
+      auto back = map->world_to_cell(w.x(), w.y());
+      ASSERT_TRUE(back);
+      EXPECT_EQ(*back, (Cell{x, y}));
+    }
+  }
+  EXPECT_FALSE(map->world_to_cell(-1.01, 2.1));
+  EXPECT_FALSE(map->world_to_cell(-1.0 + 2.5, 2.1));  // x = width exactly is outside
+  EXPECT_FALSE(map->world_to_cell(std::nan(""), 2.1));
+  EXPECT_FALSE(map->world_to_cell(0, INFINITY));
+}
+
+}  // namespace
+}  // namespace vnsba::test

@@ -1,0 +1,257 @@
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <random>
+
+#include "core/test_support.hpp"
+#include "vnsba/core/planner.hpp"
+
+namespace vnsba::test {
+namespace {
+
+using core::default_options;
+using core::PlannerKind;
+using core::PlannerOptions;
+using core::PlanResult;
+using core::StatusCode;
+
+std::shared_ptr<const GridMap> shared(const std::vector<std::string>& rows) {
+  auto map = GridMap::from_rows(rows);
+  EXPECT_TRUE(map) << map.error().message;
+  return std::make_shared<const GridMap>(std::move(map).value());
+}
+
+std::shared_ptr<const GridMap> open_map(int w, int h) {
+  return shared(std::vector<std::string>(h, std::string(w, '.')));
+}
+
+// A wall down the middle with a gap at the top: from (0, 0) to (w-1, 0) every planner must
+// explore thousands of cells, far more than the 256 expansions between two clock polls.
+std::shared_ptr<const GridMap> detour_map(int size) {
+  std::vector<std::string> rows(size, std::string(size, '.'));
+  for (int row = 1; row < size; ++row) rows[row][size / 2] = '#';
+  return shared(rows);
+}
+
+const std::vector<std::string> kWallMap = {
+    "..........",
+    "..........",
+    "....#.....",
+    "....#.....",
+    "....#.....",
+    "....#.....",
+    "....#.....",
+    "..........",
+};
+
+class EveryPlanner : public ::testing::TestWithParam<PlannerKind> {};
+
+TEST_P(EveryPlanner, ErrorStatusesNameTheProblem) {
+  auto map = shared(kWallMap);
+  core::Planner planner(map);
+  const PlannerOptions o = default_options(GetParam());
+  auto expect = [&](core::PlanQuery q, StatusCode code, const std::string& words) {
+    const PlanResult r = planner.plan(q, o);
+    EXPECT_EQ(r.status.code, code) << r.status.message;
+    EXPECT_NE(r.status.message.find(words), std::string::npos) << r.status.message;
+    EXPECT_TRUE(r.raw_path.empty());
+    EXPECT_TRUE(r.world_path.empty());
+  };
+  expect({{-1, 0}, {9, 0}}, StatusCode::kStartOutsideMap, "start (-1, 0)");
+  expect({{0, 0}, {10, 0}}, StatusCode::kGoalOutsideMap, "goal (10, 0)");
+  expect({{4, 3}, {9, 0}}, StatusCode::kStartOccupied, "start (4, 3)");
+  expect({{0, 0}, {4, 5}}, StatusCode::kGoalOccupied, "goal (4, 5)");
+  // Outside wins over occupied for the start, and start is reported before goal.
+  expect({{-5, -5}, {4, 5}}, StatusCode::kStartOutsideMap, "start");
+}
+
+TEST_P(EveryPlanner, NoPathBetweenComponents) {
+  auto map = shared({"...#...", "...#...", "...#...", "...#..."});
+  core::Planner planner(map);
+  const PlanResult r = planner.plan({{0, 0}, {6, 3}}, default_options(GetParam()));
+  EXPECT_EQ(r.status.code, StatusCode::kNoValidPath);
+  EXPECT_NE(r.status.message.find("not connected"), std::string::npos);
+  EXPECT_GT(r.metrics.expanded, 0);
+}
+
+TEST_P(EveryPlanner, StartEqualsGoalIsTheOneCellPath) {
+  auto map = shared(kWallMap);
+  core::Planner planner(map);
+  const PlanResult r = planner.plan({{2, 2}, {2, 2}}, default_options(GetParam()));
+  ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+  ASSERT_EQ(r.raw_path.size(), 1u);
+  EXPECT_EQ(r.raw_path[0], (Cell{2, 2}));
+  ASSERT_EQ(r.world_path.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.metrics.length_cells, 0.0);
+  EXPECT_EQ(r.metrics.turns, 0);
+}
+
+TEST_P(EveryPlanner, TimeoutWhenTheBudgetIsTooSmall) {
+  auto map = detour_map(400);
+  core::Planner planner(map);
+  PlannerOptions o = default_options(GetParam());
+  o.max_planning_time = std::chrono::microseconds(1);
+  const PlanResult r = planner.plan({{0, 0}, {399, 0}}, o);
+  EXPECT_EQ(r.status.code, StatusCode::kTimeout) << r.status.message;
+  EXPECT_NE(r.status.message.find("max_planning_time"), std::string::npos);
+  // The planner is still usable afterwards, with the budget lifted.
+  o.max_planning_time = std::chrono::microseconds(0);
+  EXPECT_TRUE(planner.plan({{0, 0}, {399, 0}}, o).status.is_ok());
+}
+
+TEST_P(EveryPlanner, CancelFlagStopsTheSearch) {
+  auto map = detour_map(400);
+  core::Planner planner(map);
+  std::atomic<bool> cancel{true};
+  const PlanResult r = planner.plan({{0, 0}, {399, 399}}, default_options(GetParam()), &cancel);
+  EXPECT_EQ(r.status.code, StatusCode::kCanceled);
+  cancel = false;
+  EXPECT_TRUE(planner.plan({{0, 0}, {399, 399}}, default_options(GetParam()), &cancel).status.is_ok());
+}
+
+TEST_P(EveryPlanner, InvalidOptionsAreRejectedByName) {
+  auto map = shared(kWallMap);
+  core::Planner planner(map);
+  struct Case {
+    void (*mutate)(PlannerOptions&);
+    const char* field;
+  };
+  const Case cases[] = {
+      {[](PlannerOptions& o) { o.omega = std::nan(""); }, "omega"},
+      {[](PlannerOptions& o) { o.eta = -1; }, "eta"},
+      {[](PlannerOptions& o) { o.smoothing_distance = 0; }, "smoothing_distance"},
+      {[](PlannerOptions& o) { o.sample_step = INFINITY; }, "sample_step"},
+      {[](PlannerOptions& o) { o.planner = static_cast<PlannerKind>(99); }, "planner"},
+  };
+  for (const Case& c : cases) {
+    PlannerOptions o = default_options(GetParam());
+    c.mutate(o);
+    const PlanResult r = planner.plan({{0, 0}, {9, 0}}, o);
+    EXPECT_EQ(r.status.code, StatusCode::kInvalidRequest) << c.field;
+    EXPECT_NE(r.status.message.find(c.field), std::string::npos) << r.status.message;
+  }
+}
+
+TEST_P(EveryPlanner, RecordsExpansionsOfEachSearch) {
+  auto map = shared(kWallMap);
+  core::Planner planner(map);
+  PlannerOptions o = default_options(GetParam());
+  o.record_expansions = true;
+  const PlanResult r = planner.plan({{0, 3}, {9, 3}}, o);
+  ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+  EXPECT_EQ(static_cast<int64_t>(r.expanded_forward.size() + r.expanded_backward.size()),
+            r.metrics.expanded);
+  const bool bidirectional = GetParam() != PlannerKind::kAStar && GetParam() != PlannerKind::kWeightedAStar;
+  EXPECT_EQ(!r.expanded_backward.empty(), bidirectional);
+  EXPECT_EQ(r.meeting_cell.has_value(), bidirectional);
+  if (r.meeting_cell) {
+    EXPECT_NE(std::find(r.raw_path.begin(), r.raw_path.end(), *r.meeting_cell), r.raw_path.end());
+  }
+  EXPECT_EQ(r.expanded_forward.front(), (Cell{0, 3}));
+  if (bidirectional) { EXPECT_EQ(r.expanded_backward.front(), (Cell{9, 3})); }
+}
+
+TEST_P(EveryPlanner, ReusedPlannerMatchesFreshPlanner) {
+  std::mt19937 rng(17);
+  auto map = shared(random_rows(rng, 60, 45, 0.2));
+  core::Planner reused(map);
+  const auto cells = free_cells(*map);
+  std::uniform_int_distribution<size_t> pick(0, cells.size() - 1);
+  for (int q = 0; q < 40; ++q) {
+    const core::PlanQuery query{cells[pick(rng)], cells[pick(rng)]};
+    const PlanResult a = reused.plan(query, default_options(GetParam()));
+    const PlanResult b = core::plan_once(map, query, default_options(GetParam()));
+    ASSERT_EQ(a.status.code, b.status.code);
+    ASSERT_EQ(a.raw_path, b.raw_path);
+    ASSERT_EQ(a.metrics.expanded, b.metrics.expanded);
+  }
+}
+
+TEST_P(EveryPlanner, LengthRatioIsAgainstOptimalAStar) {
+  auto map = shared(kWallMap);
+  PlannerOptions o = default_options(GetParam());
+  o.compute_length_ratio = true;
+  const PlanResult r = core::plan_once(map, {{0, 2}, {9, 5}}, o);
+  ASSERT_TRUE(r.status.is_ok());
+  const double optimal = reference_shortest_cost(*map, {0, 2}, {9, 5}, o.corner_policy);
+  EXPECT_NEAR(r.metrics.length_ratio, r.metrics.length_cells / optimal, 1e-12);
+  o.compute_length_ratio = false;
+  EXPECT_TRUE(std::isnan(core::plan_once(map, {{0, 2}, {9, 5}}, o).metrics.length_ratio));
+}
+
+INSTANTIATE_TEST_SUITE_P(Planners, EveryPlanner, ::testing::ValuesIn(core::all_planner_kinds()),
+                         [](const auto& info) { return std::string(core::to_string(info.param)); });
+
+TEST(Planner, NoMapIsInvalidMap) {
+  core::Planner planner(nullptr);
+  const PlanResult r = planner.plan({{0, 0}, {1, 1}}, default_options(PlannerKind::kVnsBaStar));
+  EXPECT_EQ(r.status.code, StatusCode::kInvalidMap);
+}
+
+TEST(Planner, NamesRoundTrip) {
+  for (PlannerKind k : core::all_planner_kinds())
+    EXPECT_EQ(core::planner_kind_from_string(core::to_string(k)), k);
+  EXPECT_FALSE(core::planner_kind_from_string("dijkstra"));
+  EXPECT_EQ(core::all_planner_kinds().size(), 5u);
+}
+
+TEST(Planner, StatusNames) {
+  EXPECT_EQ(core::to_string(StatusCode::kStartOccupied), "START_OCCUPIED");
+  EXPECT_EQ(core::to_string(StatusCode::kNoValidPath), "NO_VALID_PATH");
+}
+
+TEST(Planner, VnsOnOpenGroundIsOneStraightSegment) {
+  auto map = open_map(40, 30);
+  const PlanResult r = core::plan_once(map, {{1, 2}, {37, 25}}, default_options(PlannerKind::kVnsBaStar));
+  ASSERT_TRUE(r.status.is_ok());
+  ASSERT_EQ(r.waypoints.size(), 2u);
+  EXPECT_EQ(r.metrics.turns, 0);
+  EXPECT_NEAR(r.metrics.length_cells, std::hypot(36.0, 23.0), 1e-9);
+  // World coordinates follow the map's resolution and origin.
+  EXPECT_NEAR(r.metrics.length_m, r.metrics.length_cells * map->resolution(), 1e-12);
+  EXPECT_NEAR(r.world_path.front().x(), 1.5, 1e-12);
+  EXPECT_NEAR(r.world_path.back().y(), 25.5, 1e-12);
+}
+
+TEST(Planner, SmoothingRoundsTheCornersOfTheWaypoints) {
+  auto map = shared(kWallMap);
+  PlannerOptions o = default_options(PlannerKind::kVnsBaStar);
+  const PlanResult smooth = core::plan_once(map, {{0, 2}, {9, 2}}, o);
+  ASSERT_TRUE(smooth.status.is_ok());
+  ASSERT_GE(smooth.metrics.turns, 1);
+  EXPECT_GT(smooth.path.size(), smooth.waypoints.size());
+  EXPECT_LE(smooth.metrics.length_cells, core::polyline_length(smooth.waypoints) + 1e-9);
+  o.smooth = false;
+  const PlanResult sharp = core::plan_once(map, {{0, 2}, {9, 2}}, o);
+  EXPECT_EQ(sharp.path, sharp.waypoints);
+}
+
+TEST(Planner, AStarIsOptimalAndOthersAreNotShorter) {
+  auto map = shared(kWallMap);
+  for (CornerPolicy p : {CornerPolicy::kNever, CornerPolicy::kTouch, CornerPolicy::kAlways}) {
+    const double optimal = reference_shortest_cost(*map, {0, 0}, {9, 7}, p);
+    for (PlannerKind k : core::all_planner_kinds()) {
+      PlannerOptions o = default_options(k);
+      o.corner_policy = p;
+      o.neighborhood = core::Neighborhood::kEight;
+      const PlanResult r = core::plan_once(map, {{0, 0}, {9, 7}}, o);
+      ASSERT_TRUE(r.status.is_ok());
+      if (k == PlannerKind::kAStar) { EXPECT_NEAR(r.metrics.raw_cost_cells, optimal, 1e-9); }
+      EXPECT_GE(r.metrics.raw_cost_cells, optimal - 1e-9) << core::to_string(k);
+    }
+  }
+}
+
+TEST(Planner, UnidirectionalPlannersNeverAllocateTheBackwardSearch) {
+  auto map = open_map(50, 50);
+  core::Planner planner(map);
+  EXPECT_EQ(planner.search_state_bytes(), 0u);
+  ASSERT_TRUE(planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kAStar)).status.is_ok());
+  const size_t one_direction = planner.search_state_bytes();
+  EXPECT_GT(one_direction, 0u);
+  ASSERT_TRUE(planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kVnsBaStar)).status.is_ok());
+  EXPECT_GT(planner.search_state_bytes(), one_direction);
+}
+
+}  // namespace
+}  // namespace vnsba::test

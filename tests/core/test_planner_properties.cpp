@@ -1,0 +1,119 @@
+// Property test over thousands of random maps (ALGORITHM.md, issue acceptance list): for every
+// planner, success exactly when a path exists; raw paths connected, collision-free and within the
+// map; 8-neighbourhood paths never shorter than the optimum and A* equal to it; pruned and
+// smoothed paths never entering a blocked cell. Every check uses the oracles of test_support.hpp,
+// not the code under test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "core/test_support.hpp"
+#include "vnsba/core/planner.hpp"
+
+namespace vnsba::test {
+namespace {
+
+using core::PlannerKind;
+using core::PlannerOptions;
+using core::PlanResult;
+
+constexpr int kMaps = 2000;
+
+struct Tally {
+  int solvable = 0, unsolvable = 0, checked_plans = 0, smoothed_corners = 0;
+};
+
+void check_plan(const GridMap& map, const core::PlanQuery& q, const PlannerOptions& o,
+                const PlanResult& r, bool reachable, double optimal, Tally& tally,
+                const std::string& where) {
+  SCOPED_TRACE(where + " planner " + std::string(core::to_string(o.planner)));
+  ASSERT_EQ(r.status.is_ok(), reachable) << r.status.message;
+  if (!reachable) {
+    ASSERT_EQ(r.status.code, core::StatusCode::kNoValidPath);
+    return;
+  }
+  ++tally.checked_plans;
+  // Raw path: from start to goal, steps of Chebyshev length 1 or 2, each with exact sight.
+  ASSERT_FALSE(r.raw_path.empty());
+  ASSERT_EQ(r.raw_path.front(), q.start);
+  ASSERT_EQ(r.raw_path.back(), q.goal);
+  double raw_cost = 0.0;
+  for (size_t i = 1; i < r.raw_path.size(); ++i) {
+    const Cell a = r.raw_path[i - 1], b = r.raw_path[i];
+    const int cheb = std::max(std::abs(a.x - b.x), std::abs(a.y - b.y));
+    ASSERT_TRUE(cheb == 1 || cheb == 2) << "step " << i;
+    if (o.neighborhood == core::Neighborhood::kEight) { ASSERT_EQ(cheb, 1); }
+    ASSERT_TRUE(reference_los_centres(map, a, b, o.corner_policy)) << "step " << i;
+    raw_cost += std::hypot(a.x - b.x, a.y - b.y);
+  }
+  ASSERT_NEAR(r.metrics.raw_cost_cells, raw_cost, 1e-9);
+  if (o.neighborhood == core::Neighborhood::kEight) { ASSERT_GE(raw_cost, optimal - 1e-9); }
+  if (o.planner == PlannerKind::kAStar) { ASSERT_NEAR(raw_cost, optimal, 1e-9 * std::max(1.0, optimal)); }
+  // Pruned waypoints: a subsequence of the raw path's centres, each leg with exact sight.
+  size_t cursor = 0;
+  for (const Point2& w : r.waypoints) {
+    while (cursor < r.raw_path.size() && core::cell_centre(r.raw_path[cursor]) != w) ++cursor;
+    ASSERT_LT(cursor, r.raw_path.size()) << "waypoint " << w.transpose() << " not on the raw path";
+  }
+  for (size_t i = 1; i < r.waypoints.size(); ++i) {
+    const Cell a{int(std::floor(r.waypoints[i - 1].x())), int(std::floor(r.waypoints[i - 1].y()))};
+    const Cell b{int(std::floor(r.waypoints[i].x())), int(std::floor(r.waypoints[i].y()))};
+    ASSERT_TRUE(reference_los_centres(map, a, b, o.corner_policy));
+  }
+  // Final path: starts and ends at the centres, never enters a blocked cell (dense sampling).
+  ASSERT_EQ(r.path.front(), core::cell_centre(q.start));
+  ASSERT_EQ(r.path.back(), core::cell_centre(q.goal));
+  for (size_t i = 1; i < r.path.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(r.path[i].x()) && std::isfinite(r.path[i].y()));
+    ASSERT_TRUE(segment_clear_sampled(map, r.path[i - 1], r.path[i], o.corner_policy, 32))
+        << "final path segment " << i << ": " << r.path[i - 1].transpose() << " -> "
+        << r.path[i].transpose();
+  }
+  if (o.smooth && r.path.size() > r.waypoints.size()) ++tally.smoothed_corners;
+  ASSERT_EQ(r.world_path.size(), r.path.size());
+  if (q.start != q.goal) { ASSERT_GT(r.metrics.expanded, 0); }
+}
+
+TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
+  std::mt19937 rng(20241029);
+  std::uniform_int_distribution<int> size(8, 200);
+  std::uniform_real_distribution<double> density(0.0, 0.45);
+  const CornerPolicy policies[] = {CornerPolicy::kNever, CornerPolicy::kTouch, CornerPolicy::kAlways};
+  Tally tally;
+  for (int m = 0; m < kMaps; ++m) {
+    const int w = size(rng), h = size(rng);
+    auto built = GridMap::from_rows(random_rows(rng, w, h, density(rng)));
+    ASSERT_TRUE(built);
+    auto map = std::make_shared<const GridMap>(std::move(built).value());
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    std::uniform_int_distribution<size_t> pick(0, cells.size() - 1);
+    const core::PlanQuery q{cells[pick(rng)], cells[pick(rng)]};
+    const CornerPolicy policy = policies[m % 3];
+    const double optimal = reference_shortest_cost(*map, q.start, q.goal, policy);
+    const bool reachable = std::isfinite(optimal);
+    (reachable ? tally.solvable : tally.unsolvable)++;
+    core::Planner planner(map);
+    for (PlannerKind kind : core::all_planner_kinds()) {
+      // The paper's configuration, and every planner with pruning and smoothing on too.
+      for (bool post : {false, true}) {
+        PlannerOptions o = core::default_options(kind);
+        o.corner_policy = policy;
+        if (post) o.prune = o.smooth = true;
+        if (post && kind == PlannerKind::kVnsBaStar) o.neighborhood = core::Neighborhood::kEight;
+        const PlanResult r = planner.plan(q, o);
+        check_plan(*map, q, o, r, reachable, optimal, tally,
+                   "map " + std::to_string(m) + " (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+        if (::testing::Test::HasFatalFailure()) return;
+      }
+    }
+  }
+  // The sample must exercise both outcomes and real smoothing for the properties to mean much.
+  EXPECT_GT(tally.solvable, kMaps / 3);
+  EXPECT_GT(tally.unsolvable, kMaps / 20);
+  EXPECT_GT(tally.smoothed_corners, kMaps);
+}
+
+}  // namespace
+}  // namespace vnsba::test

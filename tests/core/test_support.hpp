@@ -1,0 +1,184 @@
+// Independent oracles for the core tests. Nothing here calls the code under test except to read
+// a cell's blocked flag, so a bug in the planners' line of sight, moves or search cannot hide.
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/line_of_sight.hpp"
+
+namespace vnsba::test {
+
+using core::Cell;
+using core::CornerPolicy;
+using core::GridMap;
+using core::Point2;
+
+inline bool cell_free(const GridMap& map, int64_t x, int64_t y) {
+  return x >= 0 && y >= 0 && x < map.width() && y < map.height() &&
+         !map.blocked(static_cast<int32_t>(x), static_cast<int32_t>(y));
+}
+
+// Dense sampling check of a segment in continuous cell coordinates: every sample point (every
+// 1/`per_cell` cell) must lie in a free cell, and so must the points a hair to either side of it
+// according to the corner policy (never: both sides; touch: at least one side; always: the point
+// itself only). The side points catch a segment slipping through the corner of two blocked cells.
+inline bool segment_clear_sampled(const GridMap& map, const Point2& a, const Point2& b,
+                                  CornerPolicy policy, int per_cell = 64) {
+  const Point2 d = b - a;
+  const double len = d.norm();
+  const int samples = std::max(2, static_cast<int>(std::ceil(len * per_cell)) + 1);
+  const Point2 normal = len > 0 ? Point2(-d.y() / len, d.x() / len) : Point2(0, 0);
+  constexpr double kSide = 1e-7;
+  auto free_at = [&](const Point2& p) {
+    return cell_free(map, static_cast<int64_t>(std::floor(p.x())), static_cast<int64_t>(std::floor(p.y())));
+  };
+  for (int i = 0; i < samples; ++i) {
+    const Point2 p = a + d * (static_cast<double>(i) / (samples - 1));
+    // A point exactly on a lattice corner belongs to no single cell; corners are checked below.
+    if (p.x() == std::floor(p.x()) && p.y() == std::floor(p.y())) continue;
+    if (!free_at(p)) return false;
+    const bool left = free_at(p + kSide * normal), right = free_at(p - kSide * normal);
+    if (policy == CornerPolicy::kNever && !(left && right)) return false;
+    if (policy == CornerPolicy::kTouch && !(left || right)) return false;
+  }
+  // A segment through an exact lattice corner is sampled there only by luck; check each corner
+  // the segment passes within a hair of explicitly.
+  if (policy != CornerPolicy::kAlways && d.x() != 0 && d.y() != 0) {
+    const int64_t x0 = static_cast<int64_t>(std::floor(std::min(a.x(), b.x())));
+    const int64_t x1 = static_cast<int64_t>(std::ceil(std::max(a.x(), b.x())));
+    for (int64_t cx = x0; cx <= x1; ++cx) {
+      const double t = (cx - a.x()) / d.x();
+      if (t <= 0 || t >= 1) continue;
+      const double cy = a.y() + t * d.y();
+      if (std::abs(cy - std::round(cy)) > 1e-9) continue;
+      const int64_t ry = static_cast<int64_t>(std::round(cy));
+      // The four cells around the corner (cx, ry); the segment runs through two diagonal ones.
+      const bool sx = d.x() > 0, sy = d.y() > 0;
+      const int64_t ax = sx ? cx - 1 : cx, ay = sy ? ry : ry - 1;   // side cell: before in x
+      const int64_t bx = sx ? cx : cx - 1, by = sy ? ry - 1 : ry;   // side cell: before in y
+      const bool fa = cell_free(map, ax, ay), fb = cell_free(map, bx, by);
+      if (policy == CornerPolicy::kNever && !(fa && fb)) return false;
+      if (policy == CornerPolicy::kTouch && !(fa || fb)) return false;
+    }
+  }
+  return true;
+}
+
+// Exact line of sight between two cell centres, by definition rather than traversal: every cell
+// whose open interior the segment crosses must be free, and at every lattice corner the segment
+// passes through, the two cells beside it must satisfy the corner policy. Integer arithmetic on
+// doubled coordinates, O(bounding box area): for small test maps only.
+inline bool reference_los_centres(const GridMap& map, Cell a, Cell b, CornerPolicy policy) {
+  if (!cell_free(map, a.x, a.y) || !cell_free(map, b.x, b.y)) return false;
+  const int64_t ax2 = 2 * a.x + 1, ay2 = 2 * a.y + 1;  // doubled centre coordinates
+  const int64_t dx2 = 2 * int64_t{b.x - a.x}, dy2 = 2 * int64_t{b.y - a.y};
+  struct Frac {
+    int64_t num, den;  // den > 0
+  };
+  auto frac = [](int64_t num, int64_t den) { return den < 0 ? Frac{-num, -den} : Frac{num, den}; };
+  auto less = [](Frac p, Frac q) { return p.num * q.den < q.num * p.den; };
+  auto max_f = [&](Frac p, Frac q) { return less(p, q) ? q : p; };
+  auto min_f = [&](Frac p, Frac q) { return less(p, q) ? p : q; };
+  for (int64_t y = std::min(a.y, b.y); y <= std::max(a.y, b.y); ++y) {
+    for (int64_t x = std::min(a.x, b.x); x <= std::max(a.x, b.x); ++x) {
+      Frac lo{0, 1}, hi{1, 1};
+      bool crosses = true;
+      const int64_t lows[2] = {2 * x, 2 * y}, starts[2] = {ax2, ay2}, deltas[2] = {dx2, dy2};
+      for (int axis = 0; axis < 2 && crosses; ++axis) {
+        if (deltas[axis] == 0) {
+          crosses = starts[axis] > lows[axis] && starts[axis] < lows[axis] + 2;
+        } else {
+          Frac t1 = frac(lows[axis] - starts[axis], deltas[axis]);
+          Frac t2 = frac(lows[axis] + 2 - starts[axis], deltas[axis]);
+          lo = max_f(lo, min_f(t1, t2));
+          hi = min_f(hi, max_f(t1, t2));
+        }
+      }
+      if (crosses && less(lo, hi) && !cell_free(map, x, y)) return false;
+    }
+  }
+  if (dx2 == 0 || dy2 == 0 || policy == CornerPolicy::kAlways) return true;
+  for (int64_t cx = std::min(a.x, b.x) + 1; cx <= std::max(a.x, b.x); ++cx) {
+    // y2 at x = cx: ay2 + (2cx - ax2) * dy2 / dx2; a corner when that is an even integer.
+    const int64_t num = (2 * cx - ax2) * dy2;
+    if (num % dx2 != 0) continue;
+    const int64_t y2 = ay2 + num / dx2;
+    if (y2 % 2 != 0) continue;
+    const int64_t cy = y2 / 2;
+    const bool sx = dx2 > 0, sy = dy2 > 0;
+    const bool fa = cell_free(map, sx ? cx - 1 : cx, sy ? cy : cy - 1);
+    const bool fb = cell_free(map, sx ? cx : cx - 1, sy ? cy - 1 : cy);
+    if (policy == CornerPolicy::kNever && !(fa && fb)) return false;
+    if (policy == CornerPolicy::kTouch && !(fa || fb)) return false;
+  }
+  return true;
+}
+
+// Optimal 8-connected path cost (cells) by plain Dijkstra; infinity when unreachable.
+inline double reference_shortest_cost(const GridMap& map, Cell s, Cell g, CornerPolicy policy) {
+  const int64_t w = map.width(), h = map.height();
+  std::vector<double> dist(static_cast<size_t>(w * h), std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, int64_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  dist[s.y * w + s.x] = 0;
+  open.push({0.0, s.y * w + s.x});
+  while (!open.empty()) {
+    auto [d, i] = open.top();
+    open.pop();
+    if (d > dist[i]) continue;
+    const int64_t x = i % w, y = i / w;
+    if (x == g.x && y == g.y) return d;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx == 0 && dy == 0) || !cell_free(map, x + dx, y + dy)) continue;
+        if (dx != 0 && dy != 0) {
+          const bool a = cell_free(map, x + dx, y), b = cell_free(map, x, y + dy);
+          if (policy == CornerPolicy::kNever && !(a && b)) continue;
+          if (policy == CornerPolicy::kTouch && !(a || b)) continue;
+        }
+        const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
+        const int64_t j = (y + dy) * w + (x + dx);
+        if (nd < dist[j]) {
+          dist[j] = nd;
+          open.push({nd, j});
+        }
+      }
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+// A random map as text rows (top row first), '#' blocked.
+inline std::vector<std::string> random_rows(std::mt19937& rng, int width, int height,
+                                            double density) {
+  std::bernoulli_distribution blocked(density);
+  std::vector<std::string> rows(height, std::string(width, '.'));
+  for (auto& row : rows)
+    for (char& c : row) c = blocked(rng) ? '#' : '.';
+  return rows;
+}
+
+inline std::vector<Cell> free_cells(const GridMap& map) {
+  std::vector<Cell> out;
+  for (int32_t y = 0; y < map.height(); ++y)
+    for (int32_t x = 0; x < map.width(); ++x)
+      if (!map.blocked(x, y)) out.push_back({x, y});
+  return out;
+}
+
+inline std::string fixture_path(const std::string& name) {
+  return std::string(VNSBA_FIXTURE_DIR) + "/" + name;
+}
+
+inline std::string data_path(const std::string& name) {
+  return std::string(VNSBA_DATA_DIR) + "/" + name;
+}
+
+}  // namespace vnsba::test
