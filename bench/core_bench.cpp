@@ -62,8 +62,8 @@ void run_planner(benchmark::State& state, const BenchMap* bench, PlannerKind kin
   if (times_us.empty()) return;
   std::nth_element(times_us.begin(), times_us.begin() + times_us.size() / 2, times_us.end());
   state.counters["median_us"] = times_us[times_us.size() / 2];
-  state.counters["expansions/s"] = benchmark::Counter(static_cast<double>(expanded),
-                                                      benchmark::Counter::kIsRate);
+  state.counters["expansions/s"] =
+      benchmark::Counter(static_cast<double>(expanded), benchmark::Counter::kIsRate);
   state.counters["expanded/query"] =
       benchmark::Counter(static_cast<double>(expanded), benchmark::Counter::kAvgIterations);
   state.counters["state_B/cell/dir"] = planner.peak_bytes_per_cell_per_direction();
@@ -83,7 +83,8 @@ bool load_maps(const std::string& dir) {
     if (!built) continue;
     BenchMap bench{name, std::make_shared<const GridMap>(std::move(built).value()), {}};
     const size_t step = std::max<size_t>(1, scenarios->size() / kScenariosPerMap);
-    for (size_t i = step - 1; i < scenarios->size() && bench.queries.size() < kScenariosPerMap; i += step)
+    for (size_t i = step - 1; i < scenarios->size() && bench.queries.size() < kScenariosPerMap;
+         i += step)
       bench.queries.push_back({(*scenarios)[i].start, (*scenarios)[i].goal});
     bench_maps().push_back(std::move(bench));
   }
@@ -96,8 +97,10 @@ int main(int argc, char** argv) {
   const char* env_dir = std::getenv("VNSBA_DATA_DIR");
   const std::string dir = std::string(env_dir ? env_dir : VNSBA_DATA_DIR) + "/movingai";
   if (!std::filesystem::exists(dir) || !load_maps(dir)) {
-    std::fprintf(stderr, "Moving AI data not found at %s: nothing to benchmark "
-                         "(set VNSBA_DATA_DIR to the folder holding movingai/)\n", dir.c_str());
+    std::fprintf(stderr,
+                 "Moving AI data not found at %s: nothing to benchmark "
+                 "(set VNSBA_DATA_DIR to the folder holding movingai/)\n",
+                 dir.c_str());
     return 0;
   }
   for (const BenchMap& bench : bench_maps()) {

@@ -50,8 +50,8 @@ int run_optimality(const std::string& dir) {
     const auto t0 = std::chrono::steady_clock::now();
     for (const auto& s : *scenarios) {
       const PlanResult r = planner.plan({s.start, s.goal}, options);
-      const double err = r.status.is_ok() ? std::abs(r.metrics.raw_cost_cells - s.optimal_length)
-                                          : INFINITY;
+      const double err =
+          r.status.is_ok() ? std::abs(r.metrics.raw_cost_cells - s.optimal_length) : INFINITY;
       max_abs = std::max(max_abs, err);
       max_rel = std::max(max_rel, err / std::max(1.0, s.optimal_length));
       // Relative 1e-6, or the printed precision where the file prints fewer digits.
@@ -62,13 +62,15 @@ int run_optimality(const std::string& dir) {
                      r.metrics.raw_cost_cells, s.optimal_length);
       }
     }
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("%-18s %10zu %12.2e %12.2e %10zu %10.2f\n", path.stem().c_str(), scenarios->size(),
                 max_abs, max_rel, mismatch, secs);
     total += scenarios->size();
     total_mismatch += mismatch;
   }
-  std::printf("total: %zu scenarios on %zu maps, %zu mismatches\n", total, maps.size(), total_mismatch);
+  std::printf("total: %zu scenarios on %zu maps, %zu mismatches\n", total, maps.size(),
+              total_mismatch);
   return total_mismatch == 0 && total > 0 ? 0 : 1;
 }
 

@@ -8,7 +8,9 @@ namespace vnsba::core {
 
 namespace {
 
-bool is_blocked_char(char c) { return c == '#' || c == '@' || c == 'O' || c == 'T' || c == 'W'; }
+bool is_blocked_char(char c) {
+  return c == '#' || c == '@' || c == 'O' || c == 'T' || c == 'W';
+}
 
 // Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre.
 // Uses a precomputed disc of offsets; cost O(blocked boundary cells x disc area).
@@ -19,7 +21,8 @@ void inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, doubl
   std::vector<std::pair<int32_t, int32_t>> disc;
   for (int32_t dy = -reach; dy <= reach; ++dy)
     for (int32_t dx = -reach; dx <= reach; ++dx)
-      if ((dx != 0 || dy != 0) && double(dx) * dx + double(dy) * dy <= r2) disc.emplace_back(dx, dy);
+      if ((dx != 0 || dy != 0) && double(dx) * dx + double(dy) * dy <= r2)
+        disc.emplace_back(dx, dy);
 
   const int32_t stride = width + 2;
   const std::vector<uint8_t> source = blocked;
@@ -34,7 +37,8 @@ void inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, doubl
       }
       for (const auto& [dx, dy] : disc) {
         const int32_t nx = x + dx, ny = y + dy;
-        if (nx >= 0 && ny >= 0 && nx < width && ny < height) blocked[(ny + 1) * stride + nx + 1] = 1;
+        if (nx >= 0 && ny >= 0 && nx < width && ny < height)
+          blocked[(ny + 1) * stride + nx + 1] = 1;
       }
     }
   }
@@ -74,9 +78,9 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
   if (Status status = validate(grid, options); !status.is_ok()) return status;
   for (size_t i = 0; i < grid.data.size(); ++i) {
     if (grid.data[i] < -1 || grid.data[i] > 100) {
-      return Status::error(StatusCode::kInvalidMap,
-                           "invalid map: data[" + std::to_string(i) + "] = " +
-                               std::to_string(int{grid.data[i]}) + ", expected -1..100");
+      return Status::error(StatusCode::kInvalidMap, "invalid map: data[" + std::to_string(i) +
+                                                        "] = " + std::to_string(int{grid.data[i]}) +
+                                                        ", expected -1..100");
     }
   }
   GridMap map;
@@ -89,8 +93,8 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
   for (int32_t y = 0; y < grid.height; ++y) {
     for (int32_t x = 0; x < grid.width; ++x) {
       const int8_t v = grid.at(x, y);
-      const bool blocked = v == kOccupancyUnknown ? !options.allow_unknown
-                                                  : v >= options.occupied_threshold;
+      const bool blocked =
+          v == kOccupancyUnknown ? !options.allow_unknown : v >= options.occupied_threshold;
       map.blocked_[map.padded_index(x, y)] = blocked ? 1 : 0;
     }
   }
@@ -109,14 +113,15 @@ Expected<GridMap> GridMap::from_rows(const std::vector<std::string>& rows_top_fi
   for (int32_t row = 0; row < grid.height; ++row) {
     const std::string& text = rows_top_first[row];
     if (static_cast<int32_t>(text.size()) != grid.width) {
-      return Status::error(StatusCode::kInvalidMap,
-                           "invalid map: row " + std::to_string(row) + " has " +
-                               std::to_string(text.size()) + " cells, expected " +
-                               std::to_string(grid.width));
+      return Status::error(StatusCode::kInvalidMap, "invalid map: row " + std::to_string(row) +
+                                                        " has " + std::to_string(text.size()) +
+                                                        " cells, expected " +
+                                                        std::to_string(grid.width));
     }
     const int32_t y = grid.height - 1 - row;
     for (int32_t x = 0; x < grid.width; ++x) {
-      if (is_blocked_char(text[x])) grid.data[static_cast<size_t>(y) * grid.width + x] = kOccupancyOccupied;
+      if (is_blocked_char(text[x]))
+        grid.data[static_cast<size_t>(y) * grid.width + x] = kOccupancyOccupied;
     }
   }
   return build(grid);
@@ -134,14 +139,6 @@ void GridMap::build_summed_area_table() {
     }
   }
   blocked_total_ = summed_area_.back();
-}
-
-int64_t GridMap::blocked_in_rect(const Cell& a, const Cell& b) const {
-  const int32_t x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x) + 1;
-  const int32_t y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y) + 1;
-  const size_t w1 = static_cast<size_t>(width_) + 1;
-  return int64_t{summed_area_[y1 * w1 + x1]} - summed_area_[y0 * w1 + x1] -
-         summed_area_[y1 * w1 + x0] + summed_area_[y0 * w1 + x0];
 }
 
 double GridMap::density(const Cell& a, const Cell& b) const {

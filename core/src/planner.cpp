@@ -38,9 +38,9 @@ struct OctileHeuristic {
 };
 
 // density_weighted_heuristic against the opposite search's current node of the moment (read
-// through a pointer, as the search moves it). Evaluated when a node is pushed or its g improves, with the opposite current node of that
-// moment; it is not re-evaluated when the opposite current node moves later (the paper's open
-// list is keyed on f at insertion).
+// through a pointer, as the search moves it). Evaluated when a node is pushed or its g improves,
+// with the opposite current node of that moment; it is not re-evaluated when the opposite current
+// node moves later (the paper's open list is keyed on f at insertion).
 struct DensityWeightedHeuristic {
   const GridMap* map;
   const Cell* opposite_current;
@@ -69,7 +69,8 @@ class Deadline {
   // kOk to go on, else kTimeout or kCanceled.
   StatusCode poll() {
     if (++count_ % kPollInterval != 0) return StatusCode::kOk;
-    if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) return StatusCode::kCanceled;
+    if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed))
+      return StatusCode::kCanceled;
     if (has_budget_ && Clock::now() >= end_) return StatusCode::kTimeout;
     return StatusCode::kOk;
   }
@@ -100,7 +101,8 @@ struct SearchOutcome {
 std::vector<Cell> trace(const GridMap& map, const SearchSpace& space, uint32_t node,
                         bool root_first) {
   std::vector<Cell> cells;
-  for (uint32_t n = node; n != SearchSpace::kNoParent; n = space.parent(n)) cells.push_back(map.cell_of(n));
+  for (uint32_t n = node; n != SearchSpace::kNoParent; n = space.parent(n))
+    cells.push_back(map.cell_of(n));
   if (root_first) std::reverse(cells.begin(), cells.end());
   return cells;
 }
@@ -167,9 +169,8 @@ template <class ForwardH, class BackwardH>
 SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, SearchSpace& backward,
                                    const Cell& start, const Cell& goal, Cell (&current)[2],
                                    const ForwardH& h_forward, const BackwardH& h_backward,
-                                   MeetingRule rule, bool guide_by_current,
-                                   const SearchConfig& cfg, Deadline& deadline,
-                                   std::vector<Cell>* expanded_forward,
+                                   MeetingRule rule, bool guide_by_current, const SearchConfig& cfg,
+                                   Deadline& deadline, std::vector<Cell>* expanded_forward,
                                    std::vector<Cell>* expanded_backward) {
   SearchOutcome out;
   const int32_t stride = map.stride();
@@ -335,10 +336,10 @@ struct Planner::Impl {
                                     cfg, deadline, rec_f, rec_b);
       }
       case PlannerKind::kVnsBaStar: {
-        const DensityWeightedHeuristic hf{&map, &current[1], q.goal, o.omega, o.eta,
-                                          o.corner_policy};
-        const DensityWeightedHeuristic hb{&map, &current[0], q.start, o.omega, o.eta,
-                                          o.corner_policy};
+        const DensityWeightedHeuristic hf{&map,    &current[1], q.goal,
+                                          o.omega, o.eta,       o.corner_policy};
+        const DensityWeightedHeuristic hb{&map,    &current[0], q.start,
+                                          o.omega, o.eta,       o.corner_policy};
         return search_bidirectional(map, forward, backward, q.start, q.goal, current, hf, hb,
                                     MeetingRule::kGenerateClosedByOther, /*guide_by_current=*/true,
                                     cfg, deadline, rec_f, rec_b);
@@ -356,7 +357,9 @@ Planner::~Planner() = default;
 Planner::Planner(Planner&&) noexcept = default;
 Planner& Planner::operator=(Planner&&) noexcept = default;
 
-size_t Planner::search_state_bytes() const { return impl_->forward.bytes() + impl_->backward.bytes(); }
+size_t Planner::search_state_bytes() const {
+  return impl_->forward.bytes() + impl_->backward.bytes();
+}
 
 double Planner::peak_bytes_per_cell_per_direction() const {
   if (!map_ || map_->cell_count() == 0) return 0.0;
@@ -382,9 +385,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   if (!map.in_bounds(query.goal))
     return fail(StatusCode::kGoalOutsideMap, "goal " + describe(query.goal) + bounds);
   if (map.blocked(query.start))
-    return fail(StatusCode::kStartOccupied, "start " + describe(query.start) + " is in a blocked cell");
+    return fail(StatusCode::kStartOccupied,
+                "start " + describe(query.start) + " is in a blocked cell");
   if (map.blocked(query.goal))
-    return fail(StatusCode::kGoalOccupied, "goal " + describe(query.goal) + " is in a blocked cell");
+    return fail(StatusCode::kGoalOccupied,
+                "goal " + describe(query.goal) + " is in a blocked cell");
 
   SearchOutcome outcome;
   if (query.start == query.goal) {
@@ -399,15 +404,18 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   result.metrics.expanded = outcome.expanded;
   result.meeting_cell = outcome.meeting;
   switch (outcome.code) {
-    case StatusCode::kOk: break;
+    case StatusCode::kOk:
+      break;
     case StatusCode::kNoValidPath:
       return fail(outcome.code, "no path from start " + describe(query.start) + " to goal " +
                                     describe(query.goal) + ": they are not connected");
     case StatusCode::kTimeout:
       return fail(outcome.code, "no path found within max_planning_time of " +
                                     std::to_string(options.max_planning_time.count()) + " us");
-    case StatusCode::kCanceled: return fail(outcome.code, "planning canceled");
-    default: return fail(StatusCode::kInternalError, "search ended in an unexpected state");
+    case StatusCode::kCanceled:
+      return fail(outcome.code, "planning canceled");
+    default:
+      return fail(StatusCode::kInternalError, "search ended in an unexpected state");
   }
 
   result.raw_path = std::move(outcome.path);
@@ -439,8 +447,7 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     Deadline unlimited(Clock::now(), std::chrono::microseconds{0}, nullptr);
     const SearchOutcome best = impl_->run(map, query, optimal, unlimited, nullptr, nullptr);
     const double best_cost = polyline_length(cell_centres(best.path));
-    result.metrics.length_ratio =
-        best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;
+    result.metrics.length_ratio = best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;
   }
   result.status = Status::ok();
   return result;

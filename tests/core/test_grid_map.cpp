@@ -28,7 +28,7 @@ TEST(GridMap, ThresholdAndUnknownHandling) {
   EXPECT_FALSE(strict->blocked(0, 0));
   EXPECT_FALSE(strict->blocked(1, 0));  // just under the default threshold 65
   EXPECT_TRUE(strict->blocked(2, 0));
-  EXPECT_TRUE(strict->blocked(3, 0));   // unknown is blocked by default
+  EXPECT_TRUE(strict->blocked(3, 0));  // unknown is blocked by default
   GridBuildOptions lenient;
   lenient.allow_unknown = true;
   lenient.occupied_threshold = 50;
@@ -41,7 +41,7 @@ TEST(GridMap, ThresholdAndUnknownHandling) {
 TEST(GridMap, RowsReadTopFirst) {
   auto map = GridMap::from_rows({"#..", "...", "..#"});
   ASSERT_TRUE(map);
-  EXPECT_TRUE(map->blocked(0, 2));   // top-left character is the top row
+  EXPECT_TRUE(map->blocked(0, 2));  // top-left character is the top row
   EXPECT_TRUE(map->blocked(2, 0));
   EXPECT_FALSE(map->blocked(0, 0));
   EXPECT_TRUE(map->blocked(-1, 0));  // outside counts as blocked

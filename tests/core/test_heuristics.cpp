@@ -29,7 +29,8 @@ TEST(Heuristics, EuclidWhenVisibleManhattanWhenNot) {
   // cells are (2,2) blocked and (3,3) free: no sight under `never`, sight under `touch`.
   EXPECT_DOUBLE_EQ(switching_distance(*map, {1, 4}, {4, 1}, CornerPolicy::kNever), 6.0);
   EXPECT_DOUBLE_EQ(switching_distance(*map, {1, 4}, {4, 1}, CornerPolicy::kTouch), std::sqrt(18.0));
-  EXPECT_DOUBLE_EQ(switching_distance(*map, {1, 4}, {4, 1}, CornerPolicy::kAlways), std::sqrt(18.0));
+  EXPECT_DOUBLE_EQ(switching_distance(*map, {1, 4}, {4, 1}, CornerPolicy::kAlways),
+                   std::sqrt(18.0));
   // Axis-aligned pairs: both distances coincide, blocked or not.
   EXPECT_DOUBLE_EQ(switching_distance(*map, {0, 2}, {4, 2}, CornerPolicy::kNever), 4.0);
 }
@@ -63,8 +64,9 @@ TEST(Heuristics, VnsHeuristicHandComputed) {
               std::exp(1.0 / 6.0) * 7.0, 1e-12);
   // An obstacle-free rectangle: rho = 0, Euclidean distances, no weight.
   const Cell m{0, 3}, oc2{3, 3};
-  EXPECT_NEAR(density_weighted_heuristic(*map, m, oc2, opposite_start, 0.5, 0.5, CornerPolicy::kNever),
-              0.5 * 3.0 + 0.5 * 5.0, 1e-12);
+  EXPECT_NEAR(
+      density_weighted_heuristic(*map, m, oc2, opposite_start, 0.5, 0.5, CornerPolicy::kNever),
+      0.5 * 3.0 + 0.5 * 5.0, 1e-12);
 }
 
 // The shortcuts inside switching_distance give the definition's value on random maps.

@@ -10,12 +10,13 @@ namespace {
 
 using core::line_of_sight;
 
-const CornerPolicy kPolicies[] = {CornerPolicy::kNever, CornerPolicy::kTouch, CornerPolicy::kAlways};
+const CornerPolicy kPolicies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
+                                  CornerPolicy::kAlways};
 
 TEST(LineOfSight, DiagonalCornerFollowsPolicy) {
   // (0,0) -> (1,1) passes the corner shared with the two blocked/free side cells.
-  auto one_side = GridMap::from_rows({"#.", ".."});   // (0,1) blocked
-  auto both = GridMap::from_rows({"#.", ".#"});       // (0,1) and (1,0) blocked
+  auto one_side = GridMap::from_rows({"#.", ".."});  // (0,1) blocked
+  auto both = GridMap::from_rows({"#.", ".#"});      // (0,1) and (1,0) blocked
   ASSERT_TRUE(one_side && both);
   EXPECT_FALSE(line_of_sight(*one_side, Cell{0, 0}, Cell{1, 1}, CornerPolicy::kNever));
   EXPECT_TRUE(line_of_sight(*one_side, Cell{0, 0}, Cell{1, 1}, CornerPolicy::kTouch));
@@ -97,7 +98,8 @@ TEST(LineOfSight, ContinuousSegmentsAreSound) {
 }
 
 TEST(CornerPolicy, NamesRoundTrip) {
-  for (CornerPolicy p : kPolicies) EXPECT_EQ(core::corner_policy_from_string(core::to_string(p)), p);
+  for (CornerPolicy p : kPolicies)
+    EXPECT_EQ(core::corner_policy_from_string(core::to_string(p)), p);
   EXPECT_FALSE(core::corner_policy_from_string("sometimes"));
 }
 

@@ -14,9 +14,9 @@ namespace {
 
 // At least 8 maps from every class (game, maze, room, random, street), 200 scenarios each,
 // spread evenly over the file so short and long queries are both covered.
-const char* const kMaps[] = {"arena", "den312d", "brc202d", "lak303d", "ost003d", "AR0011SR",
-                             "BigGameHunters", "maze512-16-0", "16room_000", "random512-20-0",
-                             "Berlin_0_256", "Boston_0_512"};
+const char* const kMaps[] = {"arena",      "den312d",        "brc202d",        "lak303d",
+                             "ost003d",    "AR0011SR",       "BigGameHunters", "maze512-16-0",
+                             "16room_000", "random512-20-0", "Berlin_0_256",   "Boston_0_512"};
 constexpr size_t kScenariosPerMap = 200;
 
 TEST(MovingAiOptimality, AStarMatchesPublishedOptima) {
@@ -42,7 +42,8 @@ TEST(MovingAiOptimality, AStarMatchesPublishedOptima) {
       ASSERT_TRUE(r.status.is_ok()) << name << " line " << s.line << ": " << r.status.message;
       // Relative 1e-6, or the printed precision where the file prints fewer digits.
       const double tolerance = std::max(1e-6 * s.optimal_length, s.optimal_resolution);
-      ASSERT_NEAR(r.metrics.raw_cost_cells, s.optimal_length, tolerance) << name << " line " << s.line;
+      ASSERT_NEAR(r.metrics.raw_cost_cells, s.optimal_length, tolerance)
+          << name << " line " << s.line;
       ++checked;
     }
     ++maps;

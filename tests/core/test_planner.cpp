@@ -34,14 +34,8 @@ std::shared_ptr<const GridMap> detour_map(int size) {
 }
 
 const std::vector<std::string> kWallMap = {
-    "..........",
-    "..........",
-    "....#.....",
-    "....#.....",
-    "....#.....",
-    "....#.....",
-    "....#.....",
-    "..........",
+    "..........", "..........", "....#.....", "....#.....",
+    "....#.....", "....#.....", "....#.....", "..........",
 };
 
 class EveryPlanner : public ::testing::TestWithParam<PlannerKind> {};
@@ -106,7 +100,8 @@ TEST_P(EveryPlanner, CancelFlagStopsTheSearch) {
   const PlanResult r = planner.plan({{0, 0}, {399, 399}}, default_options(GetParam()), &cancel);
   EXPECT_EQ(r.status.code, StatusCode::kCanceled);
   cancel = false;
-  EXPECT_TRUE(planner.plan({{0, 0}, {399, 399}}, default_options(GetParam()), &cancel).status.is_ok());
+  EXPECT_TRUE(
+      planner.plan({{0, 0}, {399, 399}}, default_options(GetParam()), &cancel).status.is_ok());
 }
 
 TEST_P(EveryPlanner, InvalidOptionsAreRejectedByName) {
@@ -141,14 +136,17 @@ TEST_P(EveryPlanner, RecordsExpansionsOfEachSearch) {
   ASSERT_TRUE(r.status.is_ok()) << r.status.message;
   EXPECT_EQ(static_cast<int64_t>(r.expanded_forward.size() + r.expanded_backward.size()),
             r.metrics.expanded);
-  const bool bidirectional = GetParam() != PlannerKind::kAStar && GetParam() != PlannerKind::kWeightedAStar;
+  const bool bidirectional =
+      GetParam() != PlannerKind::kAStar && GetParam() != PlannerKind::kWeightedAStar;
   EXPECT_EQ(!r.expanded_backward.empty(), bidirectional);
   EXPECT_EQ(r.meeting_cell.has_value(), bidirectional);
   if (r.meeting_cell) {
     EXPECT_NE(std::find(r.raw_path.begin(), r.raw_path.end(), *r.meeting_cell), r.raw_path.end());
   }
   EXPECT_EQ(r.expanded_forward.front(), (Cell{0, 3}));
-  if (bidirectional) { EXPECT_EQ(r.expanded_backward.front(), (Cell{9, 3})); }
+  if (bidirectional) {
+    EXPECT_EQ(r.expanded_backward.front(), (Cell{9, 3}));
+  }
 }
 
 TEST_P(EveryPlanner, ReusedPlannerMatchesFreshPlanner) {
@@ -202,7 +200,8 @@ TEST(Planner, StatusNames) {
 
 TEST(Planner, VnsOnOpenGroundIsOneStraightSegment) {
   auto map = open_map(40, 30);
-  const PlanResult r = core::plan_once(map, {{1, 2}, {37, 25}}, default_options(PlannerKind::kVnsBaStar));
+  const PlanResult r =
+      core::plan_once(map, {{1, 2}, {37, 25}}, default_options(PlannerKind::kVnsBaStar));
   ASSERT_TRUE(r.status.is_ok());
   ASSERT_EQ(r.waypoints.size(), 2u);
   EXPECT_EQ(r.metrics.turns, 0);
@@ -236,7 +235,9 @@ TEST(Planner, AStarIsOptimalAndOthersAreNotShorter) {
       o.neighborhood = core::Neighborhood::kEight;
       const PlanResult r = core::plan_once(map, {{0, 0}, {9, 7}}, o);
       ASSERT_TRUE(r.status.is_ok());
-      if (k == PlannerKind::kAStar) { EXPECT_NEAR(r.metrics.raw_cost_cells, optimal, 1e-9); }
+      if (k == PlannerKind::kAStar) {
+        EXPECT_NEAR(r.metrics.raw_cost_cells, optimal, 1e-9);
+      }
       EXPECT_GE(r.metrics.raw_cost_cells, optimal - 1e-9) << core::to_string(k);
     }
   }
@@ -246,10 +247,12 @@ TEST(Planner, UnidirectionalPlannersNeverAllocateTheBackwardSearch) {
   auto map = open_map(50, 50);
   core::Planner planner(map);
   EXPECT_EQ(planner.search_state_bytes(), 0u);
-  ASSERT_TRUE(planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kAStar)).status.is_ok());
+  ASSERT_TRUE(
+      planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kAStar)).status.is_ok());
   const size_t one_direction = planner.search_state_bytes();
   EXPECT_GT(one_direction, 0u);
-  ASSERT_TRUE(planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kVnsBaStar)).status.is_ok());
+  ASSERT_TRUE(
+      planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kVnsBaStar)).status.is_ok());
   EXPECT_GT(planner.search_state_bytes(), one_direction);
 }
 

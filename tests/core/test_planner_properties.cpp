@@ -43,13 +43,19 @@ void check_plan(const GridMap& map, const core::PlanQuery& q, const PlannerOptio
     const Cell a = r.raw_path[i - 1], b = r.raw_path[i];
     const int cheb = std::max(std::abs(a.x - b.x), std::abs(a.y - b.y));
     ASSERT_TRUE(cheb == 1 || cheb == 2) << "step " << i;
-    if (o.neighborhood == core::Neighborhood::kEight) { ASSERT_EQ(cheb, 1); }
+    if (o.neighborhood == core::Neighborhood::kEight) {
+      ASSERT_EQ(cheb, 1);
+    }
     ASSERT_TRUE(reference_los_centres(map, a, b, o.corner_policy)) << "step " << i;
     raw_cost += std::hypot(a.x - b.x, a.y - b.y);
   }
   ASSERT_NEAR(r.metrics.raw_cost_cells, raw_cost, 1e-9);
-  if (o.neighborhood == core::Neighborhood::kEight) { ASSERT_GE(raw_cost, optimal - 1e-9); }
-  if (o.planner == PlannerKind::kAStar) { ASSERT_NEAR(raw_cost, optimal, 1e-9 * std::max(1.0, optimal)); }
+  if (o.neighborhood == core::Neighborhood::kEight) {
+    ASSERT_GE(raw_cost, optimal - 1e-9);
+  }
+  if (o.planner == PlannerKind::kAStar) {
+    ASSERT_NEAR(raw_cost, optimal, 1e-9 * std::max(1.0, optimal));
+  }
   // Pruned waypoints: a subsequence of the raw path's centres, each leg with exact sight.
   size_t cursor = 0;
   for (const Point2& w : r.waypoints) {
@@ -72,14 +78,17 @@ void check_plan(const GridMap& map, const core::PlanQuery& q, const PlannerOptio
   }
   if (o.smooth && r.path.size() > r.waypoints.size()) ++tally.smoothed_corners;
   ASSERT_EQ(r.world_path.size(), r.path.size());
-  if (q.start != q.goal) { ASSERT_GT(r.metrics.expanded, 0); }
+  if (q.start != q.goal) {
+    ASSERT_GT(r.metrics.expanded, 0);
+  }
 }
 
 TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
   std::mt19937 rng(20241029);
   std::uniform_int_distribution<int> size(8, 200);
   std::uniform_real_distribution<double> density(0.0, 0.45);
-  const CornerPolicy policies[] = {CornerPolicy::kNever, CornerPolicy::kTouch, CornerPolicy::kAlways};
+  const CornerPolicy policies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
+                                   CornerPolicy::kAlways};
   Tally tally;
   for (int m = 0; m < kMaps; ++m) {
     const int w = size(rng), h = size(rng);
@@ -103,8 +112,9 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
         if (post) o.prune = o.smooth = true;
         if (post && kind == PlannerKind::kVnsBaStar) o.neighborhood = core::Neighborhood::kEight;
         const PlanResult r = planner.plan(q, o);
-        check_plan(*map, q, o, r, reachable, optimal, tally,
-                   "map " + std::to_string(m) + " (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+        check_plan(
+            *map, q, o, r, reachable, optimal, tally,
+            "map " + std::to_string(m) + " (" + std::to_string(w) + "x" + std::to_string(h) + ")");
         if (::testing::Test::HasFatalFailure()) return;
       }
     }

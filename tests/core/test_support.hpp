@@ -37,7 +37,8 @@ inline bool segment_clear_sampled(const GridMap& map, const Point2& a, const Poi
   const Point2 normal = len > 0 ? Point2(-d.y() / len, d.x() / len) : Point2(0, 0);
   constexpr double kSide = 1e-7;
   auto free_at = [&](const Point2& p) {
-    return cell_free(map, static_cast<int64_t>(std::floor(p.x())), static_cast<int64_t>(std::floor(p.y())));
+    return cell_free(map, static_cast<int64_t>(std::floor(p.x())),
+                     static_cast<int64_t>(std::floor(p.y())));
   };
   for (int i = 0; i < samples; ++i) {
     const Point2 p = a + d * (static_cast<double>(i) / (samples - 1));
@@ -61,8 +62,8 @@ inline bool segment_clear_sampled(const GridMap& map, const Point2& a, const Poi
       const int64_t ry = static_cast<int64_t>(std::round(cy));
       // The four cells around the corner (cx, ry); the segment runs through two diagonal ones.
       const bool sx = d.x() > 0, sy = d.y() > 0;
-      const int64_t ax = sx ? cx - 1 : cx, ay = sy ? ry : ry - 1;   // side cell: before in x
-      const int64_t bx = sx ? cx : cx - 1, by = sy ? ry - 1 : ry;   // side cell: before in y
+      const int64_t ax = sx ? cx - 1 : cx, ay = sy ? ry : ry - 1;  // side cell: before in x
+      const int64_t bx = sx ? cx : cx - 1, by = sy ? ry - 1 : ry;  // side cell: before in y
       const bool fa = cell_free(map, ax, ay), fb = cell_free(map, bx, by);
       if (policy == CornerPolicy::kNever && !(fa && fb)) return false;
       if (policy == CornerPolicy::kTouch && !(fa || fb)) return false;

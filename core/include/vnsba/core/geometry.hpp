@@ -22,7 +22,9 @@ struct Cell {
 using Point2 = Eigen::Vector2d;
 
 // Centre of a cell in continuous cell coordinates.
-inline Point2 cell_centre(const Cell& c) { return {c.x + 0.5, c.y + 0.5}; }
+inline Point2 cell_centre(const Cell& c) {
+  return {c.x + 0.5, c.y + 0.5};
+}
 
 // Signed heading change in radians, in (-pi, pi], when going a -> b -> c. Zero-length legs give 0.
 double heading_change(const Point2& a, const Point2& b, const Point2& c);

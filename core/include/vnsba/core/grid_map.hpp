@@ -18,12 +18,12 @@ namespace vnsba::core {
 // Occupancy values as ROS nav_msgs/OccupancyGrid carries them: 0..100 = probability of being
 // occupied in percent, -1 = unknown. Row-major, row 0 at the origin (bottom-left in the world).
 struct OccupancyGrid {
-  int32_t width = 0;           // cells
-  int32_t height = 0;          // cells
-  double resolution = 1.0;     // metres per cell
-  double origin_x = 0.0;       // metres, world position of the corner of cell (0, 0)
-  double origin_y = 0.0;       // metres
-  std::vector<int8_t> data;    // width * height values
+  int32_t width = 0;         // cells
+  int32_t height = 0;        // cells
+  double resolution = 1.0;   // metres per cell
+  double origin_x = 0.0;     // metres, world position of the corner of cell (0, 0)
+  double origin_y = 0.0;     // metres
+  std::vector<int8_t> data;  // width * height values
 
   int8_t at(int32_t x, int32_t y) const { return data[static_cast<size_t>(y) * width + x]; }
 };
@@ -65,13 +65,23 @@ class GridMap {
   }
   bool in_bounds(const Cell& c) const { return in_bounds(c.x, c.y); }
   // Out-of-map cells count as blocked.
-  bool blocked(int32_t x, int32_t y) const { return !in_bounds(x, y) || blocked_[padded_index(x, y)]; }
+  bool blocked(int32_t x, int32_t y) const {
+    return !in_bounds(x, y) || blocked_[padded_index(x, y)];
+  }
   bool blocked(const Cell& c) const { return blocked(c.x, c.y); }
   bool free(const Cell& c) const { return !blocked(c); }
 
   // Number of blocked cells in the inclusive rectangle spanned by a and b (any corner order),
   // O(1) from the summed-area table. Both cells must be in the map.
-  int64_t blocked_in_rect(const Cell& a, const Cell& b) const;
+  int64_t blocked_in_rect(const Cell& a, const Cell& b) const {
+    const size_t x0 = static_cast<size_t>(a.x < b.x ? a.x : b.x);
+    const size_t x1 = static_cast<size_t>(a.x < b.x ? b.x : a.x) + 1;
+    const size_t y0 = static_cast<size_t>(a.y < b.y ? a.y : b.y);
+    const size_t y1 = static_cast<size_t>(a.y < b.y ? b.y : a.y) + 1;
+    const size_t w1 = static_cast<size_t>(width_) + 1;
+    const int32_t* sat = summed_area_.data();
+    return int64_t{sat[y1 * w1 + x1]} - sat[y0 * w1 + x1] - sat[y1 * w1 + x0] + sat[y0 * w1 + x0];
+  }
   // blocked_in_rect / cells in the rectangle, in [0, 1].
   double density(const Cell& a, const Cell& b) const;
   int64_t blocked_count() const { return blocked_total_; }
@@ -96,7 +106,8 @@ class GridMap {
   }
   uint32_t padded_index(const Cell& c) const { return padded_index(c.x, c.y); }
   Cell cell_of(uint32_t padded) const {
-    return {static_cast<int32_t>(padded % stride()) - 1, static_cast<int32_t>(padded / stride()) - 1};
+    return {static_cast<int32_t>(padded % stride()) - 1,
+            static_cast<int32_t>(padded / stride()) - 1};
   }
   const uint8_t* blocked_data() const { return blocked_.data(); }
 
@@ -109,8 +120,8 @@ class GridMap {
   double resolution_ = 1.0;
   double origin_x_ = 0.0;
   double origin_y_ = 0.0;
-  std::vector<uint8_t> blocked_;       // padded, 1 = blocked
-  std::vector<int32_t> summed_area_;   // (width+1) x (height+1) blocked counts
+  std::vector<uint8_t> blocked_;      // padded, 1 = blocked
+  std::vector<int32_t> summed_area_;  // (width+1) x (height+1) blocked counts
   int64_t blocked_total_ = 0;
 };
 

@@ -28,8 +28,7 @@ inline double switching_distance(const GridMap& map, const Cell& a, const Cell& 
   const double dx = std::abs(a.x - b.x), dy = std::abs(a.y - b.y);
   if (dx == 0.0 || dy == 0.0) return dx + dy;
   const double euclid = std::sqrt(dx * dx + dy * dy);
-  if (blocked_between == 0) return euclid;
-  return line_of_sight(map, cell_centre(a), cell_centre(b), policy) ? euclid : dx + dy;
+  return line_of_sight_in_map(map, a, b, blocked_between, policy) ? euclid : dx + dy;
 }
 
 inline double switching_distance(const GridMap& map, const Cell& a, const Cell& b,

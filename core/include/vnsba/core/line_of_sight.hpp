@@ -2,8 +2,10 @@
 // Euclid/Manhattan switch, by polyline pruning and by the smoothing check.
 #pragma once
 
-#include <string_view>
+#include <cstdint>
+#include <cstdlib>
 #include <optional>
+#include <string_view>
 
 #include "vnsba/core/geometry.hpp"
 #include "vnsba/core/grid_map.hpp"
@@ -18,6 +20,74 @@ enum class CornerPolicy {
 };
 
 std::string_view to_string(CornerPolicy policy);
+
+namespace detail {
+
+// Whether the corner between two side cells may be passed (see CornerPolicy).
+inline bool corner_passable(bool side_a_blocked, bool side_b_blocked, CornerPolicy policy) {
+  switch (policy) {
+    case CornerPolicy::kNever:
+      return !side_a_blocked && !side_b_blocked;
+    case CornerPolicy::kTouch:
+      return !side_a_blocked || !side_b_blocked;
+    case CornerPolicy::kAlways:
+      return true;
+  }
+  return false;
+}
+
+// The supercover traversal behind every line-of-sight query: the one implementation, generic
+// over the number type so that cell centres run on exact integers and continuous points on
+// doubles. Walks from cell (cx, cy) to cell (ex, ey) over the padded blocked array, starting at
+// padded index `at`. `next_x` / `next_y` are the distances from the start point to the first cell
+// boundary along each axis, `unit` the width of a cell, `adx` / `ady` the absolute extents of the
+// segment, `sx` / `sy` its direction signs; all in the same units. The start cell is not checked.
+//
+// Each iteration steps one cell along x, along y, or diagonally through a corner. The parameter
+// of the next x boundary is next_x / adx, of the next y boundary next_y / ady; comparing
+// next_x * ady with next_y * adx avoids the divisions (and is exact for integers). A step is
+// never taken past the end cell on its axis, which bounds the loop at |ex-cx| + |ey-cy| steps.
+template <class Number>
+inline bool traverse_supercover(const uint8_t* blocked, int32_t stride, uint32_t at, int32_t cx,
+                                int32_t cy, int32_t ex, int32_t ey, Number next_x, Number next_y,
+                                Number adx, Number ady, Number unit, int sx, int sy,
+                                CornerPolicy policy) {
+  while (cx != ex || cy != ey) {
+    int step_x = 0, step_y = 0;
+    if (cy == ey) {
+      step_x = sx;
+    } else if (cx == ex) {
+      step_y = sy;
+    } else {
+      const Number tx = next_x * ady, ty = next_y * adx;
+      if (tx < ty) {
+        step_x = sx;
+      } else if (ty < tx) {
+        step_y = sy;
+      } else {
+        // Through a corner: the cells beside it decide, by policy.
+        if (!corner_passable(blocked[at + sx] != 0, blocked[at + sy * stride] != 0, policy)) {
+          return false;
+        }
+        step_x = sx;
+        step_y = sy;
+      }
+    }
+    if (step_x != 0) {
+      cx += step_x;
+      next_x += unit;
+    }
+    if (step_y != 0) {
+      cy += step_y;
+      next_y += unit;
+    }
+    at += step_x + step_y * stride;
+    if (blocked[at]) return false;
+  }
+  return true;
+}
+
+}  // namespace detail
 std::optional<CornerPolicy> corner_policy_from_string(std::string_view name);
 
 // True when the straight segment a -> b (continuous cell coordinates) passes only through free
@@ -30,9 +100,27 @@ std::optional<CornerPolicy> corner_policy_from_string(std::string_view name);
 // up to floating-point rounding of those products.
 bool line_of_sight(const GridMap& map, const Point2& a, const Point2& b, CornerPolicy policy);
 
-// Between two cell centres. Uses the summed-area table as an exact shortcut: when the bounding
-// rectangle of the two cells is all free the answer is true without a traversal, and for an
-// axis-aligned pair the rectangle *is* the traversal.
-bool line_of_sight(const GridMap& map, const Cell& a, const Cell& b, CornerPolicy policy);
+// Between two cell centres, exactly (integer arithmetic on doubled coordinates). Uses the
+// summed-area table as an exact shortcut: when the bounding rectangle of the two cells is all
+// free the answer is true without a traversal, and for an axis-aligned pair the rectangle *is*
+// the traversal. `blocked_between` must be map.blocked_in_rect(a, b) (callers that have it
+// already pass it in). Both cells must be in the map.
+inline bool line_of_sight_in_map(const GridMap& map, const Cell& a, const Cell& b,
+                                 int64_t blocked_between, CornerPolicy policy) {
+  if (blocked_between == 0) return true;
+  if (a.x == b.x || a.y == b.y) return false;
+  const uint32_t at = map.padded_index(a);
+  if (map.blocked_data()[at]) return false;
+  const int32_t dx = b.x - a.x, dy = b.y - a.y;
+  // Doubled coordinates: a centre is 1 from each boundary of its cell, a cell is 2 wide.
+  return detail::traverse_supercover<int64_t>(
+      map.blocked_data(), map.stride(), at, a.x, a.y, b.x, b.y, 1, 1, 2 * int64_t{std::abs(dx)},
+      2 * int64_t{std::abs(dy)}, 2, dx > 0 ? 1 : -1, dy > 0 ? 1 : -1, policy);
+}
+
+inline bool line_of_sight(const GridMap& map, const Cell& a, const Cell& b, CornerPolicy policy) {
+  if (!map.in_bounds(a) || !map.in_bounds(b)) return false;
+  return line_of_sight_in_map(map, a, b, map.blocked_in_rect(a, b), policy);
+}
 
 }  // namespace vnsba::core

@@ -23,13 +23,13 @@ struct MovingAiScenario {
   std::string map_name;
   int map_width = 0;
   int map_height = 0;
-  Cell start;            // converted to our rows: y = height - 1 - file_y
+  Cell start;  // converted to our rows: y = height - 1 - file_y
   Cell goal;
   double optimal_length = 0.0;  // octile, no corner cutting, as printed in the file
   // One unit of the last printed digit of optimal_length (the files print 2 to 8 decimals, and
   // round or truncate to that): compare path costs to the optimum within this.
   double optimal_resolution = 1e-8;
-  int line = 0;          // 1-based line in the .scen file
+  int line = 0;  // 1-based line in the .scen file
 };
 
 // Moving AI `.scen` ("version 1" tab-separated or "version 1.0" space-separated).

@@ -10,14 +10,14 @@
 namespace vnsba::core {
 
 struct Metrics {
-  double length_cells = 0.0;       // final path length in cells
-  double length_m = 0.0;           // final path length in metres
-  double raw_cost_cells = 0.0;     // cost of the grid path before pruning and smoothing, cells
-  int32_t turns = 0;               // interior vertices of the polyline smoothing starts from
-                                   // whose heading changes by more than kTurnEpsilonRad
-  double turn_angle_deg = 0.0;     // sum of absolute heading changes at those vertices
-  int64_t expanded = 0;            // nodes closed by all searches together
-  int64_t planning_time_us = 0;    // search + post-processing, steady clock
+  double length_cells = 0.0;     // final path length in cells
+  double length_m = 0.0;         // final path length in metres
+  double raw_cost_cells = 0.0;   // cost of the grid path before pruning and smoothing, cells
+  int32_t turns = 0;             // interior vertices of the polyline smoothing starts from
+                                 // whose heading changes by more than kTurnEpsilonRad
+  double turn_angle_deg = 0.0;   // sum of absolute heading changes at those vertices
+  int64_t expanded = 0;          // nodes closed by all searches together
+  int64_t planning_time_us = 0;  // search + post-processing, steady clock
   // final length / optimal A* cost on the same query; NaN unless compute_length_ratio was set.
   double length_ratio = std::numeric_limits<double>::quiet_NaN();
 };

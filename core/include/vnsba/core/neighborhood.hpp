@@ -29,16 +29,9 @@ namespace detail {
 constexpr double kSqrt2 = 1.4142135623730950488;
 constexpr double kSqrt5 = 2.2360679774997896964;
 
-// Whether the corner between two side cells may be passed (see CornerPolicy).
-inline bool corner_passable(bool side_a_blocked, bool side_b_blocked, CornerPolicy policy) {
-  switch (policy) {
-    case CornerPolicy::kNever: return !side_a_blocked && !side_b_blocked;
-    case CornerPolicy::kTouch: return !side_a_blocked || !side_b_blocked;
-    case CornerPolicy::kAlways: return true;
-  }
-  return false;
+inline int sign(int v) {
+  return (v > 0) - (v < 0);
 }
-inline int sign(int v) { return (v > 0) - (v < 0); }
 }  // namespace detail
 
 // At most 13 moves from one cell.
@@ -103,7 +96,8 @@ inline void for_each_move(const GridMap& map, const Cell& from, const Cell& guid
   const bool b_1_2y = is_blocked(sx, 2 * sy), b_0_2y = is_blocked(0, 2 * sy);
   if (!b_2x_0) visit(2 * sx, 0, 2.0);
   if (!b_2x_1) visit(2 * sx, sy, detail::kSqrt5);
-  if (!b_2x_2 && corner_passable(b_2x_1, b_1_2y, policy)) visit(2 * sx, 2 * sy, 2.0 * detail::kSqrt2);
+  if (!b_2x_2 && corner_passable(b_2x_1, b_1_2y, policy))
+    visit(2 * sx, 2 * sy, 2.0 * detail::kSqrt2);
   if (!b_1_2y) visit(sx, 2 * sy, detail::kSqrt5);
   if (!b_0_2y) visit(0, 2 * sy, 2.0);
 }

@@ -42,18 +42,18 @@ const std::vector<PlannerKind>& all_planner_kinds();
 
 struct PlannerOptions {
   PlannerKind planner = PlannerKind::kVnsBaStar;
-  double omega = 0.5;    // weight of dist(n, opposite_current) in p(n); [0, 1e6], finite
-  double eta = 0.5;      // weight of dist(n, opposite_start) in p(n); [0, 1e6], finite
+  double omega = 0.5;  // weight of dist(n, opposite_current) in p(n); [0, 1e6], finite
+  double eta = 0.5;    // weight of dist(n, opposite_start) in p(n); [0, 1e6], finite
   Neighborhood neighborhood = Neighborhood::kEightElevenThirteen;
   CornerPolicy corner_policy = CornerPolicy::kNever;
-  bool prune = true;                 // polyline pruning (section 4)
-  bool smooth = true;                // cubic-spline corner smoothing (section 5); needs prune
-                                     // or works on the raw path's corners when prune is off
-  double smoothing_distance = 1.5;   // cells, > 0
-  double sample_step = 0.25;         // cells, in (0, 10]
+  bool prune = true;                // polyline pruning (section 4)
+  bool smooth = true;               // cubic-spline corner smoothing (section 5); needs prune
+                                    // or works on the raw path's corners when prune is off
+  double smoothing_distance = 1.5;  // cells, > 0
+  double sample_step = 0.25;        // cells, in (0, 10]
   // Wall-clock budget for search plus post-processing; zero or negative means unlimited.
   std::chrono::microseconds max_planning_time{0};
-  bool record_expansions = false;    // fill PlanResult::expanded_* (for debug pictures)
+  bool record_expansions = false;  // fill PlanResult::expanded_* (for debug pictures)
   // Also run optimal A* on the same query to fill Metrics::length_ratio (costs a second search).
   bool compute_length_ratio = false;
 };

@@ -15,16 +15,16 @@ namespace vnsba::core {
 
 enum class StatusCode {
   kOk = 0,
-  kInvalidMap,       // empty, inconsistent or unreadable map (size, resolution, data)
-  kInvalidRequest,   // malformed query or options (NaN, out of range, unknown planner name)
+  kInvalidMap,      // empty, inconsistent or unreadable map (size, resolution, data)
+  kInvalidRequest,  // malformed query or options (NaN, out of range, unknown planner name)
   kStartOutsideMap,
   kGoalOutsideMap,
   kStartOccupied,
   kGoalOccupied,
-  kNoValidPath,      // start and goal are in different free components
-  kTimeout,          // max_planning_time elapsed before a path was found
-  kCanceled,         // the caller's cancel flag was raised
-  kInternalError,    // a bug: an invariant of the search did not hold
+  kNoValidPath,    // start and goal are in different free components
+  kTimeout,        // max_planning_time elapsed before a path was found
+  kCanceled,       // the caller's cancel flag was raised
+  kInternalError,  // a bug: an invariant of the search did not hold
 };
 
 // Upper-case name as used on the wire and in logs, e.g. "START_OCCUPIED".
@@ -43,8 +43,8 @@ struct Status {
 template <class T>
 class Expected {
  public:
-  Expected(T value) : state_(std::move(value)) {}           // NOLINT(google-explicit-constructor)
-  Expected(Status error) : state_(std::move(error)) {}      // NOLINT(google-explicit-constructor)
+  Expected(T value) : state_(std::move(value)) {}       // NOLINT(google-explicit-constructor)
+  Expected(Status error) : state_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
 
   bool has_value() const { return std::holds_alternative<T>(state_); }
   explicit operator bool() const { return has_value(); }
