@@ -4,6 +4,11 @@
 
 namespace vnsba::core {
 
+double heading(const Point2& a, const Point2& b) {
+  const Point2 d = b - a;
+  return d.squaredNorm() == 0.0 ? 0.0 : std::atan2(d.y(), d.x());
+}
+
 double heading_change(const Point2& a, const Point2& b, const Point2& c) {
   const Point2 in = b - a;
   const Point2 out = c - b;

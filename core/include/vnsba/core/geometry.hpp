@@ -26,6 +26,10 @@ inline Point2 cell_centre(const Cell& c) {
   return {c.x + 0.5, c.y + 0.5};
 }
 
+// Heading of the direction a -> b in radians, in (-pi, pi] (0 along +x, counter-clockwise);
+// 0 when a == b.
+double heading(const Point2& a, const Point2& b);
+
 // Signed heading change in radians, in (-pi, pi], when going a -> b -> c. Zero-length legs give 0.
 double heading_change(const Point2& a, const Point2& b, const Point2& c);
 

@@ -1,0 +1,227 @@
+// End-to-end latency of vnsba_node over loopback DDS, beside the core planning time of the same
+// queries, so the middleware's share is visible. Prints tables; no pass/fail.
+//
+//   request published -> PlanStatus (with the path) received by the client, p50 and p99
+//   core: core::Planner::plan() on the same map and query, in this process, p50 and p99
+//   overhead: end-to-end p50 minus core p50
+//
+// Then the time from publishing a 4,000 x 4,000 slice (16 MB) to the node having it ready.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
+#include "vnsba/node/config.hpp"
+#include "vnsba/node/convert.hpp"
+#include "vnsba/node/dds.hpp"
+#include "vnsba/node/planner_node.hpp"
+#include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
+#include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
+
+namespace {
+
+using namespace vnsba;
+using Clock = std::chrono::steady_clock;
+
+class StatusWaiter : public node::dds::DataReaderListener {
+ public:
+  void on_data_available(node::dds::DataReader* reader) override {
+    node::PlanStatusMsg msg;
+    node::dds::SampleInfo info;
+    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      std::lock_guard<std::mutex> lock(mutex_);
+      last_id_ = msg.request_id();
+      last_ok_ = msg.code() == node::wire::OK;
+      received_at_ = Clock::now();
+      cv_.notify_all();
+    }
+  }
+  // Waits for the status of `id`; returns its arrival time, or nullopt after 30 s.
+  std::optional<Clock::time_point> wait(const std::string& id, bool* ok) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (!cv_.wait_for(lock, std::chrono::seconds(30), [&] { return last_id_ == id; }))
+      return std::nullopt;
+    *ok = last_ok_;
+    return received_at_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::string last_id_;
+  bool last_ok_ = false;
+  Clock::time_point received_at_;
+};
+
+double percentile(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
+}
+
+// A room-and-corridor map: walls every 20 cells with doorways, as indoor slices look.
+core::OccupancyGrid indoor_map(int size, double resolution) {
+  core::OccupancyGrid g;
+  g.width = g.height = size;
+  g.resolution = resolution;
+  g.data.assign(static_cast<size_t>(size) * size, 0);
+  std::mt19937 rng(size);
+  std::uniform_int_distribution<int> door(2, 16);
+  for (int wall = 20; wall < size; wall += 20) {
+    for (int i = 0; i < size; ++i) {
+      g.data[static_cast<size_t>(wall) * size + i] = 100;  // horizontal wall
+      g.data[static_cast<size_t>(i) * size + wall] = 100;  // vertical wall
+    }
+    for (int room = 0; room + 20 <= size; room += 20) {
+      const int d = room + door(rng);
+      for (int k = 0; k < 2; ++k) {
+        g.data[static_cast<size_t>(wall) * size + d + k] = 0;
+        g.data[static_cast<size_t>(d + k) * size + wall] = 0;
+      }
+    }
+  }
+  return g;
+}
+
+struct Setup {
+  node::NodeConfig cfg;
+  std::unique_ptr<node::Participant> client;
+  node::dds::DataWriter* slice = nullptr;
+  node::dds::DataWriter* request = nullptr;
+  node::dds::DataReader* status = nullptr;
+  StatusWaiter waiter;
+};
+
+bool connect(Setup& s) {
+  auto name = [&](const std::string& n) { return node::dds_topic_name(s.cfg, n); };
+  auto participant = node::Participant::create(s.cfg.domain_id, "vnsba_latency_bench");
+  if (!participant) return false;
+  s.client = std::move(participant).value();
+  auto slice_topic = s.client->topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+      name(s.cfg.topics.projected_map));
+  auto request_topic = s.client->topic<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(
+      name(s.cfg.topics.plan_request));
+  auto status_topic =
+      s.client->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(name(s.cfg.topics.plan_status));
+  if (!slice_topic || !request_topic || !status_topic) return false;
+  s.slice =
+      s.client->writer(*slice_topic, node::writer_qos(node::TopicQos::kLatched, true)).value();
+  s.request =
+      s.client->writer(*request_topic, node::writer_qos(node::TopicQos::kEvents, false)).value();
+  s.status =
+      s.client->reader(*status_topic, node::reader_qos(node::TopicQos::kStatus), &s.waiter).value();
+  for (int i = 0; i < 1000; ++i) {
+    node::dds::SubscriptionMatchedStatus matched;
+    s.status->get_subscription_matched_status(matched);
+    if (node::matched_readers(s.request) > 0 && matched.current_count > 0) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
+void run_map(const char* label, int size, int queries) {
+  Setup s;
+  s.cfg.domain_id = 1 + static_cast<int>(getpid() % 200);
+  const std::string prefix = "bench" + std::to_string(getpid()) + "_" + std::to_string(size) + "_";
+  s.cfg.topics.projected_map = prefix + "map";
+  s.cfg.topics.plan_request = prefix + "request";
+  s.cfg.topics.plan_status = prefix + "status";
+  s.cfg.topics.plan = prefix + "plan";
+  s.cfg.topics.planner_debug = prefix + "debug";
+  s.cfg.topics.goal_pose = prefix + "goal";
+  s.cfg.topics.robot_pose = prefix + "pose";
+  s.cfg.debug = node::DebugPublishing::kNever;
+  node::PlannerNode planner_node(s.cfg);
+  if (!planner_node.start().is_ok() || !connect(s)) {
+    std::printf("%-10s could not start the node or connect\n", label);
+    return;
+  }
+  const core::OccupancyGrid grid = indoor_map(size, 0.05);
+  auto slice = node::to_slice_msg(grid, "map", node::now_msg());
+  s.slice->write(&slice);
+  if (!planner_node.wait_for_map(std::chrono::seconds(30))) return;
+  // The reference plans on the grid the node received (float32 resolution on the wire).
+  const core::OccupancyGrid received =
+      node::from_slice_msg(std::move(slice), "map", s.cfg.map.max_cells).grid;
+  auto map =
+      std::make_shared<const core::GridMap>(core::GridMap::build(received, s.cfg.map).value());
+  core::Planner reference(map);
+
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> coord(0, size - 1);
+  std::vector<double> e2e_us, core_us;
+  int failures = 0;
+  for (int q = 0; q < queries;) {
+    const core::Cell a{coord(rng), coord(rng)}, b{coord(rng), coord(rng)};
+    if (map->blocked(a) || map->blocked(b)) continue;
+    ++q;
+    const auto ca = map->cell_centre_world(a), cb = map->cell_centre_world(b);
+    node::PlanRequestMsg request;
+    request.id("q" + std::to_string(q));
+    request.start(node::to_pose_msg(ca.x(), ca.y(), 0, "map", node::now_msg()));
+    request.goal(node::to_pose_msg(cb.x(), cb.y(), 0, "map", node::now_msg()));
+    const auto sent = Clock::now();
+    s.request->write(&request);
+    bool ok = false;
+    const auto received_at = s.waiter.wait(request.id(), &ok);
+    if (!received_at || !ok) {
+      ++failures;
+      continue;
+    }
+    e2e_us.push_back(std::chrono::duration<double, std::micro>(*received_at - sent).count());
+    const auto t0 = Clock::now();
+    const core::PlanResult r = reference.plan({a, b}, s.cfg.planner);
+    core_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    if (!r.status.is_ok()) ++failures;
+  }
+  if (e2e_us.empty()) return;
+  const double e2e50 = percentile(e2e_us, 0.5), core50 = percentile(core_us, 0.5);
+  std::printf("%-10s %8zu %10.0f %10.0f %10.0f %10.0f %12.0f %9d\n", label, e2e_us.size(), e2e50,
+              percentile(e2e_us, 0.99), core50, percentile(core_us, 0.99), e2e50 - core50,
+              failures);
+}
+
+void run_large_slice() {
+  Setup s;
+  s.cfg.domain_id = 1 + static_cast<int>(getpid() % 200);
+  const std::string prefix = "bench" + std::to_string(getpid()) + "_large_";
+  s.cfg.topics.projected_map = prefix + "map";
+  s.cfg.topics.plan_request = prefix + "request";
+  s.cfg.topics.plan_status = prefix + "status";
+  s.cfg.topics.plan = prefix + "plan";
+  s.cfg.topics.planner_debug = prefix + "debug";
+  s.cfg.topics.goal_pose = prefix + "goal";
+  s.cfg.topics.robot_pose = prefix + "pose";
+  s.cfg.map.max_cells = int64_t{4000} * 4000;
+  node::PlannerNode planner_node(s.cfg);
+  if (!planner_node.start().is_ok() || !connect(s)) return;
+  const core::OccupancyGrid grid = indoor_map(4000, 0.05);
+  auto slice = node::to_slice_msg(grid, "map", node::now_msg());
+  const auto t0 = Clock::now();
+  s.slice->write(&slice);
+  const bool ready = planner_node.wait_for_map(std::chrono::seconds(60));
+  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  std::printf("4000 x 4000 slice (16 MB): %s %.0f ms after publishing\n",
+              ready ? "ready to plan" : "NOT ready", ms);
+}
+
+}  // namespace
+
+int main() {
+  std::printf("vnsba_node end-to-end latency over loopback DDS (planner %s, indoor maps)\n",
+              std::string(core::to_string(node::NodeConfig().planner.planner)).c_str());
+  std::printf("%-10s %8s %10s %10s %10s %10s %12s %9s\n", "map", "queries", "e2e_p50_us",
+              "e2e_p99_us", "core_p50_us", "core_p99_us", "overhead_us", "failures");
+  run_map("100x100", 100, 300);
+  run_map("1000x1000", 1000, 60);
+  run_large_slice();
+  return 0;
+}

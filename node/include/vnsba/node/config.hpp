@@ -1,0 +1,104 @@
+// Node configuration: a plain struct filled from YAML (config/default.yaml documents every key).
+//
+// Loading never throws and never stops at the first problem: every bad key is reported at once,
+// each message naming the key, the value found and what was expected, so a user fixes a config
+// file in one pass. Executables refuse to start on any error.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/planner.hpp"
+
+namespace vnsba::node {
+
+// Topic names as a ROS 2 node would use them (no "rt/" prefix; see dds_topic_name()).
+struct TopicNames {
+  std::string projected_map = "projected_map";  // in: nav_msgs/OccupancyGrid slices
+  std::string goal_pose = "goal_pose";          // in: geometry_msgs/PoseStamped (rviz2 goal tool)
+  std::string robot_pose = "robot_pose";        // in: geometry_msgs/PoseStamped, start for goals
+  std::string plan_request = "plan_request";    // in: vnsba_msgs/PlanRequest
+  std::string plan = "plan";                    // out: nav_msgs/Path
+  std::string plan_status = "plan_status";      // out: vnsba_msgs/PlanStatus
+  std::string planner_debug = "planner_debug";  // out: vnsba_msgs/PlannerDebug
+  std::string octomap = "octomap_binary";       // in (vnsba_slicer): octomap_msgs/Octomap
+};
+
+enum class DebugPublishing {
+  kAuto,    // publish planner_debug only while some reader is matched
+  kAlways,  // always publish
+  kNever,   // never publish
+};
+
+// OctoMap slicing settings (used by vnsba_slicer).
+struct SlicerConfig {
+  double z_min = 0.1;       // metres, lower bound of the height band
+  double z_max = 1.5;       // metres, upper bound of the height band (>= z_min)
+  double resolution = 0.0;  // metres per cell; 0 = the tree's leaf size, else a coarser multiple
+  bool remove_speckles = false;  // drop occupied cells with no occupied 8-neighbour
+};
+
+// Defaults that differ from core's: a node guards its memory with a slice size limit and bounds
+// every search in time.
+constexpr int64_t kDefaultMaxCells = int64_t{1} << 24;  // 4096 x 4096 cells
+constexpr std::chrono::seconds kDefaultMaxPlanningTime{5};
+
+inline core::GridBuildOptions default_map_options() {
+  core::GridBuildOptions options;
+  options.max_cells = kDefaultMaxCells;
+  return options;
+}
+
+inline core::PlannerOptions default_planner_options(core::PlannerKind kind) {
+  core::PlannerOptions options = core::default_options(kind);
+  options.max_planning_time = kDefaultMaxPlanningTime;
+  return options;
+}
+
+struct NodeConfig {
+  int domain_id = 0;             // DDS domain, 0..232 (the --domain flag overrides it)
+  bool ros2_naming = true;       // DDS topic = "rt/" + name, as ROS 2 names its topics
+  std::string frame_id = "map";  // the frame of slices, requests and paths
+  TopicNames topics;
+
+  // How incoming slices become planning grids (occupied_threshold, allow_unknown,
+  // robot_radius in metres, max_cells as the size limit of an accepted slice).
+  core::GridBuildOptions map = default_map_options();
+
+  // The planner and its options; max_planning_time is read in seconds (0 = unlimited).
+  // load_config() / parse_config() start from core::default_options(planner.name) (the paper's
+  // configuration of that planner) with max_planning_time = 5 s, then apply every planner key
+  // the file gives. A default-constructed NodeConfig keeps core's 0 (unlimited) instead.
+  core::PlannerOptions planner = default_planner_options(core::PlannerKind::kVnsBaStar);
+
+  bool preempt = true;      // a newer request cancels the one being planned (Nav2-like)
+  int queue_capacity = 64;  // requests waiting to be planned when preempt is false, 1..100000
+
+  DebugPublishing debug = DebugPublishing::kAuto;
+  std::string log_level = "info";  // trace, debug, info, warn, error, critical, off
+
+  SlicerConfig slicer;
+};
+
+struct ConfigResult {
+  std::optional<NodeConfig> config;  // set when there are no errors
+  std::vector<std::string> errors;   // one line per bad key: "key: found X, expected Y"
+};
+
+// Reads and validates a YAML file. A missing or unparsable file is one error naming the file
+// (and the 1-based line and column for syntax errors). An empty file gives the defaults. Every
+// key is optional; unknown keys are errors (with a "did you mean" for near misses). Never throws.
+ConfigResult load_config(const std::string& path);
+
+// The same from YAML text; `source` names it in messages.
+ConfigResult parse_config(const std::string& yaml_text, const std::string& source = "<config>");
+
+// The DDS topic name of a configured topic name: "rt/" + name with ros2_naming, else the name.
+// A leading '/' is dropped first in both cases, as ROS 2 does ("/plan" -> "rt/plan").
+std::string dds_topic_name(const NodeConfig& config, const std::string& name);
+
+}  // namespace vnsba::node

@@ -1,0 +1,83 @@
+// The one place where IDL types and core types meet. Everything the node receives is checked
+// here, field by field, and every message it sends is built here.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+#include "builtin_interfaces/msg/Time.h"
+#include "geometry_msgs/msg/PoseStamped.h"
+#include "nav_msgs/msg/OccupancyGrid.h"
+#include "nav_msgs/msg/Path.h"
+#include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/planner.hpp"
+#include "vnsba_msgs/msg/PlanRequest.h"
+#include "vnsba_msgs/msg/PlanStatus.h"
+#include "vnsba_msgs/msg/PlannerDebug.h"
+
+namespace vnsba::node {
+
+namespace wire = vnsba_msgs::msg::PlanStatus_Constants;
+using OccupancyGridMsg = nav_msgs::msg::dds_::OccupancyGrid_;
+using PoseStampedMsg = geometry_msgs::msg::dds_::PoseStamped_;
+using PathMsg = nav_msgs::msg::dds_::Path_;
+using PlanRequestMsg = vnsba_msgs::msg::dds_::PlanRequest_;
+using PlanStatusMsg = vnsba_msgs::msg::dds_::PlanStatus_;
+using PlannerDebugMsg = vnsba_msgs::msg::dds_::PlannerDebug_;
+using TimeMsg = builtin_interfaces::msg::dds_::Time_;
+
+// A status as it goes on the wire: a PlanStatus_Constants code and a message naming the field.
+struct WireStatus {
+  uint8_t code = wire::OK;
+  std::string message;
+  bool ok() const { return code == wire::OK; }
+};
+
+uint8_t to_wire_code(core::StatusCode code);
+// "OK", "NO_MAP", ... for a PlanStatus_Constants code ("UNKNOWN" otherwise).
+std::string code_name(uint8_t code);
+
+TimeMsg to_time_msg(std::chrono::system_clock::time_point t);
+TimeMsg now_msg();
+
+// A slice off the bus, checked and converted: frame, size, resolution, origin (finite, no
+// rotation: grids must be axis-aligned), data length, values in -1..100, size limit. Errors are
+// FRAME_MISMATCH or INVALID_MAP with the offending field named.
+struct SliceCheck {
+  WireStatus status;
+  core::OccupancyGrid grid;  // valid when status.ok()
+};
+SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_frame,
+                          int64_t max_cells);
+
+// The inverse (for the slicer and tests): a core grid as a slice in `frame` stamped `stamp`.
+OccupancyGridMsg to_slice_msg(const core::OccupancyGrid& grid, const std::string& frame,
+                              const TimeMsg& stamp);
+
+// A request's pose: finite position, finite and non-zero quaternion, frame equal to the map's
+// (empty counts as the map's). `field` names it in messages ("start", "goal").
+struct PoseCheck {
+  WireStatus status;
+  double x = 0.0;  // metres
+  double y = 0.0;
+};
+PoseCheck check_pose(const PoseStampedMsg& pose, const std::string& field,
+                     const std::string& expected_frame);
+
+// A pose message at (x, y) metres with heading `yaw` radians.
+PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& frame,
+                           const TimeMsg& stamp);
+
+// The final path as nav_msgs/Path; each pose faces along the path (the last one as its leg).
+PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp);
+
+PlanStatusMsg to_status_msg(const std::string& request_id, const WireStatus& status,
+                            const std::string& planner, const core::Metrics* metrics,
+                            const TimeMsg& map_stamp, PathMsg path);
+
+PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResult& result,
+                             const core::GridMap& map, const std::string& frame,
+                             const TimeMsg& stamp);
+
+}  // namespace vnsba::node

@@ -1,0 +1,93 @@
+// The DDS plumbing every executable shares: one participant, the QoS of ARCHITECTURE.md's topic
+// table, entity creation in order with every step checked, and teardown through
+// delete_contained_entities().
+//
+// Rules learned the hard way (ARCHITECTURE.md): UDP only (shared memory fails silently across
+// users and containers), data sharing off, PREALLOCATED_WITH_REALLOC history memory (maps are
+// megabytes), no type information on the wire (Cyclone DDS drops such matches), and a short
+// heartbeat on latched writers so late joiners get the map quickly.
+#pragma once
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "vnsba/core/status.hpp"
+
+namespace vnsba::node {
+
+namespace dds = eprosima::fastdds::dds;
+
+// The QoS profiles of the topic table.
+enum class TopicQos {
+  kLatched,  // reliable, transient local, keep last 1: the slice (and the octomap)
+  kEvents,   // reliable, volatile, keep all: requests and goals; nothing dropped
+  // Statuses: reliable and transient local; the writer keeps its last kStatusHistory, readers
+  // keep all. A client whose reader is matched by the node a moment after its request went out
+  // (discovery is not symmetric in time) still receives its answer from the history.
+  kStatus,
+  kLatest,  // reliable, volatile, keep last 1: robot pose, path
+  kDebug,   // reliable, volatile, keep last 8: debug, so back-to-back runs are not replaced
+};
+
+constexpr int32_t kStatusHistory = 1024;
+
+dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples);
+dds::DataReaderQos reader_qos(TopicQos profile);
+
+// One DomainParticipant with a publisher and a subscriber. Not copyable; the destructor deletes
+// every contained entity, then the participant.
+class Participant {
+ public:
+  static core::Expected<std::unique_ptr<Participant>> create(int domain_id,
+                                                             const std::string& name);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  // Registers PubSubType (once per participant) and creates or returns the topic `topic_name`.
+  template <class PubSubType>
+  core::Expected<dds::Topic*> topic(const std::string& topic_name) {
+    auto it = topics_.find(topic_name);
+    if (it != topics_.end()) return it->second;
+    dds::TypeSupport type(new PubSubType());
+    type->auto_fill_type_information(false);
+    type->auto_fill_type_object(false);
+    return make_topic(topic_name, type);
+  }
+
+  core::Expected<dds::DataWriter*> writer(dds::Topic* topic, const dds::DataWriterQos& qos);
+  core::Expected<dds::DataReader*> reader(dds::Topic* topic, const dds::DataReaderQos& qos,
+                                          dds::DataReaderListener* listener);
+
+  // Deletes the readers only: no listener is called after this returns. Idempotent.
+  void delete_readers();
+  // Removes every entity (readers first, so no listener runs afterwards). Idempotent.
+  void shutdown();
+
+  dds::DomainParticipant* get() { return participant_; }
+  int domain_id() const { return domain_id_; }
+
+ private:
+  Participant() = default;
+  core::Expected<dds::Topic*> make_topic(const std::string& topic_name, dds::TypeSupport type);
+
+  dds::DomainParticipant* participant_ = nullptr;
+  dds::Publisher* publisher_ = nullptr;
+  dds::Subscriber* subscriber_ = nullptr;
+  std::map<std::string, dds::Topic*> topics_;
+  int domain_id_ = 0;
+};
+
+// Matched readers of a writer right now (0 when the call fails).
+int matched_readers(dds::DataWriter* writer);
+
+}  // namespace vnsba::node

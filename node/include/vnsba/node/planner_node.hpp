@@ -1,0 +1,59 @@
+// vnsba_node's runtime: one participant, a map thread and one planning worker.
+//
+//   slice --listener--> newest-slice slot --map thread--> validate, convert, build (threshold,
+//                                                          inflation, density table), swap in
+//   plan_request / goal_pose --listener--> bounded queue --worker--> core::Planner -->
+//                                                          plan, plan_status, planner_debug
+//
+// Listeners never plan and never convert maps. A new map is swapped in atomically; a plan in
+// flight finishes on the map it started with. Every request gets exactly one PlanStatus: planned,
+// rejected as malformed, preempted (CANCELED), refused because the queue is full (CANCELED), or
+// drained at shutdown (CANCELED). A rejected map gets a PlanStatus with an empty request_id.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+
+#include "vnsba/core/status.hpp"
+#include "vnsba/node/config.hpp"
+
+namespace vnsba::node {
+
+class PlannerNode {
+ public:
+  explicit PlannerNode(NodeConfig config);
+  ~PlannerNode();  // stop()
+  PlannerNode(const PlannerNode&) = delete;
+  PlannerNode& operator=(const PlannerNode&) = delete;
+
+  // Creates the participant, topics, writers, then readers (so nothing arrives before the node
+  // can answer), and starts the threads. Each DDS step is checked; a failure is returned with
+  // what failed, and nothing is left running.
+  core::Status start();
+
+  // Stops input (readers first), cancels the plan in progress, answers every queued request
+  // with CANCELED, joins the threads and deletes every entity. Idempotent.
+  void stop();
+
+  struct Stats {
+    uint64_t requests_received = 0;   // plan_request samples and goal_pose goals
+    uint64_t statuses_published = 0;  // request statuses (not map reports)
+    uint64_t maps_accepted = 0;
+    uint64_t maps_rejected = 0;
+    uint64_t plans_ok = 0;
+    size_t queue_peak = 0;  // most requests ever waiting at once
+  };
+  Stats stats() const;
+
+  // True once a slice has been accepted; waits up to `timeout` for one.
+  bool wait_for_map(std::chrono::milliseconds timeout) const;
+
+  const NodeConfig& config() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vnsba::node

@@ -1,0 +1,441 @@
+// Node configuration from YAML (config/default.yaml documents every key).
+//
+// One reader per YAML map (Section): each typed getter registers its key, checks the value and
+// stores it only when valid, otherwise records one error and keeps the default. finish() then
+// reports the keys nobody asked for (typos) and repeated keys. So every problem of a file is
+// reported in one pass, and the schema is the sequence of getter calls in read_config().
+#include "vnsba/node/config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+namespace vnsba::node {
+namespace {
+
+using Errors = std::vector<std::string>;
+
+constexpr double kMaxPlanningSeconds = 3600.0;
+
+// Optimal string alignment distance (Levenshtein plus swapped neighbours), capped at 3.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  if (a.size() > b.size() + 2 || b.size() > a.size() + 2) return 3;
+  std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+  for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    for (size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+// The closest candidate within edit distance 2 (and keeping at least one of the word's
+// characters, so "a" does not suggest "map"), or "" when none is that close.
+std::string closest(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t best_distance = std::min<size_t>(3, word.size());
+  for (const std::string& c : candidates) {
+    const size_t d = edit_distance(word, c);
+    if (d < best_distance) best_distance = d, best = c;
+  }
+  return best;
+}
+
+std::string join(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& w : words) out += (out.empty() ? "" : ", ") + w;
+  return out;
+}
+
+// How a value found in the file is quoted in messages.
+std::string describe(const YAML::Node& node) {
+  switch (node.Type()) {
+    case YAML::NodeType::Scalar: {
+      const std::string& s = node.Scalar();
+      return '"' + (s.size() > 60 ? s.substr(0, 57) + "..." : s) + '"';
+    }
+    case YAML::NodeType::Sequence:
+      return "a list";
+    case YAML::NodeType::Map:
+      return "a map";
+    default:
+      return "no value";
+  }
+}
+
+// Strict base-10 integer ("65", "+65", "-3"); rejects "6.5", "0x41", "1e3", overflow.
+bool parse_integer(const YAML::Node& node, long long& out) {
+  if (!node.IsScalar()) return false;
+  const std::string& s = node.Scalar();
+  const char* first = s.data();
+  const char* last = s.data() + s.size();
+  if (s.size() > 1 && s[0] == '+' && s[1] >= '0' && s[1] <= '9') ++first;
+  const auto [end, ec] = std::from_chars(first, last, out);
+  return ec == std::errc{} && end == last && first != last;
+}
+
+// "" when `name` is a valid topic name, else what was expected instead.
+std::string topic_name_problem(const std::string& name) {
+  auto is_digit = [](char c) { return c >= '0' && c <= '9'; };
+  auto is_allowed = [&](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || is_digit(c) || c == '_' ||
+           c == '/' || c == '~';
+  };
+  if (name.empty()) return "a non-empty topic name";
+  if (!std::all_of(name.begin(), name.end(), is_allowed))
+    return "a topic name of letters, digits, '_', '/' and '~' only";
+  if (name.find('~', 1) != std::string::npos) return "a topic name with '~' only at its start";
+  if (name.find("//") != std::string::npos || name.back() == '/')
+    return "a topic name without empty parts (no \"//\", no trailing '/')";
+  for (size_t i = 0; i < name.size(); ++i)
+    if (is_digit(name[i]) && (i == 0 || name[i - 1] == '/'))
+      return "a topic name whose parts do not start with a digit";
+  return "";
+}
+
+std::string without_leading_slash(const std::string& name) {
+  return !name.empty() && name[0] == '/' ? name.substr(1) : name;
+}
+
+class Section {
+ public:
+  // `node` may be absent or null (an empty section); `path` is its dotted key ("" at the top).
+  Section(const YAML::Node& node, std::string path, Errors& errors)
+      : path_(std::move(path)), errors_(&errors) {
+    if (!node.IsMap()) return;
+    for (const auto& kv : node) entries_.push_back({kv.first, kv.second});
+  }
+
+  std::string key_path(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
+  void error(const std::string& key, const YAML::Node& found, const std::string& expected) {
+    errors_->push_back(key_path(key) + ": found " + describe(found) + ", expected " + expected);
+  }
+
+  // A nested map; a scalar or list there is an error and reads as an empty section.
+  Section child(const std::string& key) {
+    const YAML::Node* node = find(key);
+    if (node && !node->IsMap() && !node->IsNull()) error(key, *node, "a map of settings");
+    return Section(node ? *node : YAML::Node(), key_path(key), *errors_);
+  }
+
+  // Every getter: an absent key keeps `out` and returns true. Otherwise `check(node, value)`
+  // returns "" and sets `value` when the node is acceptable, else what was expected; the error
+  // is recorded, `out` keeps its value and the getter returns false.
+  template <class T, class Check>
+  bool get(const std::string& key, T& out, Check check) {
+    const YAML::Node* node = find(key);
+    if (!node) return true;
+    T value = out;
+    const std::string expected = check(*node, value);
+    if (expected.empty())
+      out = std::move(value);
+    else
+      error(key, *node, expected);
+    return expected.empty();
+  }
+
+  template <class Int>
+  bool integer(const std::string& key, Int& out, long long lo, long long hi) {
+    return get(key, out, [&](const YAML::Node& node, Int& value) {
+      long long v = 0;
+      if (!parse_integer(node, v) || v < lo || v > hi)
+        return "an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
+      value = static_cast<Int>(v);
+      return std::string();
+    });
+  }
+
+  // A finite number accepted by `in_range`; `expected` says what that is.
+  template <class InRange>
+  bool number(const std::string& key, double& out, const std::string& expected, InRange in_range) {
+    return get(key, out, [&](const YAML::Node& node, double& value) {
+      const bool ok = node.IsScalar() && YAML::convert<double>::decode(node, value) &&
+                      std::isfinite(value) && in_range(value);
+      return ok ? std::string() : expected;
+    });
+  }
+
+  bool boolean(const std::string& key, bool& out) {
+    return get(key, out, [](const YAML::Node& node, bool& value) {
+      const bool ok = node.IsScalar() && YAML::convert<bool>::decode(node, value);
+      return std::string(ok ? "" : "true or false");
+    });
+  }
+
+  // A string; `problem(text)` returns "" when it is acceptable, else what was expected.
+  template <class Problem>
+  bool text(const std::string& key, std::string& out, const std::string& what, Problem problem) {
+    return get(key, out, [&](const YAML::Node& node, std::string& value) {
+      if (!node.IsScalar()) return what;
+      value = node.Scalar();
+      return std::string(problem(value));
+    });
+  }
+
+  // One of `names`; `parse` maps a name to the value (an optional).
+  template <class T, class Parse>
+  bool choice(const std::string& key, T& out, Parse parse, const std::vector<std::string>& names) {
+    return get(key, out, [&](const YAML::Node& node, T& value) {
+      if (auto parsed = node.IsScalar() ? parse(node.Scalar()) : std::nullopt) {
+        value = *parsed;
+        return std::string();
+      }
+      const std::string near = node.IsScalar() ? closest(node.Scalar(), names) : "";
+      return "one of " + join(names) + (near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+    });
+  }
+
+  // One of the names of a {name, value} table.
+  template <class T>
+  bool choice(const std::string& key, T& out, const std::vector<std::pair<std::string, T>>& table) {
+    std::vector<std::string> names;
+    for (const auto& entry : table) names.push_back(entry.first);
+    auto parse = [&](const std::string& s) -> std::optional<T> {
+      for (const auto& [name, value] : table)
+        if (name == s) return value;
+      return std::nullopt;
+    };
+    return choice(key, out, parse, names);
+  }
+
+  // Reports keys no getter asked for, and keys given twice.
+  void finish() {
+    for (size_t i = 0; i < entries_.size(); ++i) {
+      const YAML::Node& key_node = entries_[i].first;
+      const std::string where = path_.empty() ? "top level" : path_;
+      if (!key_node.IsScalar()) {
+        errors_->push_back(where + ": found " + describe(key_node) +
+                           " as a key, expected a key name");
+        continue;
+      }
+      const std::string& key = key_node.Scalar();
+      if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+        const std::string near = closest(key, known_);
+        errors_->push_back(key_path(key) + ": unknown key" +
+                           (near.empty() ? ", expected one of " + join(known_)
+                                         : " (did you mean \"" + key_path(near) + "\"?)"));
+      } else if (std::any_of(entries_.begin(), entries_.begin() + i, [&](const auto& e) {
+                   return e.first.IsScalar() && e.first.Scalar() == key;
+                 })) {
+        errors_->push_back(key_path(key) + ": found the key again, expected each key once");
+      }
+    }
+  }
+
+ private:
+  // The value of `key` (the first one when repeated) or nullptr; registers `key` as known.
+  const YAML::Node* find(const std::string& key) {
+    known_.push_back(key);
+    for (const auto& [k, v] : entries_)
+      if (k.IsScalar() && k.Scalar() == key) return &v;
+    return nullptr;
+  }
+
+  std::string path_;
+  Errors* errors_;
+  std::vector<std::pair<YAML::Node, YAML::Node>> entries_;
+  std::vector<std::string> known_;
+};
+
+std::chrono::microseconds to_microseconds(double seconds) {
+  long long us = std::llround(seconds * 1e6);
+  if (seconds > 0.0 && us == 0) us = 1;  // a tiny budget must not turn into "unlimited"
+  return std::chrono::microseconds{us};
+}
+
+template <class Enum>
+std::vector<std::string> names_of(std::initializer_list<Enum> values) {
+  std::vector<std::string> out;
+  for (Enum v : values) out.emplace_back(core::to_string(v));
+  return out;
+}
+
+void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
+  Section top(root, "", errors);
+  top.integer("domain_id", c.domain_id, 0, 232);
+  top.boolean("ros2_naming", c.ros2_naming);
+  top.text("frame_id", c.frame_id, "a frame name",
+           [](const std::string& s) { return s.empty() ? "a non-empty frame name" : ""; });
+
+  Section topics = top.child("topics");
+  const std::pair<const char*, std::string*> topic_fields[] = {
+      {"projected_map", &c.topics.projected_map},
+      {"goal_pose", &c.topics.goal_pose},
+      {"robot_pose", &c.topics.robot_pose},
+      {"plan_request", &c.topics.plan_request},
+      {"plan", &c.topics.plan},
+      {"plan_status", &c.topics.plan_status},
+      {"planner_debug", &c.topics.planner_debug},
+      {"octomap", &c.topics.octomap}};
+  std::vector<std::pair<const char*, const std::string*>> valid;  // read without error
+  for (const auto& [key, name] : topic_fields) {
+    if (!topics.text(key, *name, "a topic name", topic_name_problem)) continue;
+    for (const auto& [other_key, other] : valid)  // "/plan" and "plan" are the same topic
+      if (without_leading_slash(*other) == without_leading_slash(*name))
+        errors.push_back(topics.key_path(other_key) + ", " + topics.key_path(key) + ": found \"" +
+                         *other + "\" and \"" + *name + "\", expected different topics");
+    valid.emplace_back(key, name);
+  }
+  topics.finish();
+
+  Section map = top.child("map");
+  map.integer("occupied_threshold", c.map.occupied_threshold, 1, 100);
+  map.boolean("allow_unknown", c.map.allow_unknown);
+  map.number("robot_radius", c.map.robot_radius, "a finite number of metres >= 0",
+             [](double v) { return v >= 0.0; });
+  map.integer("max_cells", c.map.max_cells, 1, 1LL << 28);
+  map.finish();
+
+  // The chosen planner's paper defaults first, then every key the file gives.
+  Section planner = top.child("planner");
+  core::PlannerKind kind = core::PlannerKind::kVnsBaStar;
+  std::vector<std::string> planner_names;
+  for (core::PlannerKind k : core::all_planner_kinds()) planner_names.emplace_back(to_string(k));
+  planner.choice("name", kind, core::planner_kind_from_string, planner_names);
+  core::PlannerOptions& p = c.planner;
+  p = default_planner_options(kind);
+  auto weight = [](double v) { return v >= 0.0 && v <= 1e6; };
+  const bool omega_ok = planner.number("omega", p.omega, "a number in [0, 1e6]", weight);
+  const bool eta_ok = planner.number("eta", p.eta, "a number in [0, 1e6]", weight);
+  if (kind == core::PlannerKind::kVnsBaStar && omega_ok && eta_ok && p.omega == 0.0 &&
+      p.eta == 0.0) {
+    errors.push_back("planner.omega, planner.eta: found both 0, expected at least one > 0 for " +
+                     std::string(to_string(kind)) + " (its heuristic would vanish)");
+  }
+  planner.choice("neighborhood", p.neighborhood, core::neighborhood_from_string,
+                 names_of({core::Neighborhood::kEight, core::Neighborhood::kEightElevenThirteen}));
+  planner.choice("corner_policy", p.corner_policy, core::corner_policy_from_string,
+                 names_of({core::CornerPolicy::kNever, core::CornerPolicy::kTouch,
+                           core::CornerPolicy::kAlways}));
+  planner.boolean("prune", p.prune);
+  planner.boolean("smooth", p.smooth);
+  planner.number("smoothing_distance", p.smoothing_distance, "a finite number of cells > 0",
+                 [](double v) { return v > 0.0; });
+  planner.number("sample_step", p.sample_step, "a number of cells in (0, 10]",
+                 [](double v) { return v > 0.0 && v <= 10.0; });
+  double seconds = std::chrono::duration<double>(p.max_planning_time).count();
+  planner.number("max_planning_time", seconds, "a number of seconds in [0, 3600] (0 = unlimited)",
+                 [](double v) { return v >= 0.0 && v <= kMaxPlanningSeconds; });
+  p.max_planning_time = to_microseconds(seconds);
+  planner.finish();
+
+  Section requests = top.child("requests");
+  requests.boolean("preempt", c.preempt);
+  requests.integer("queue_capacity", c.queue_capacity, 1, 100000);
+  requests.finish();
+
+  Section debug = top.child("debug");
+  debug.choice<DebugPublishing>("publish", c.debug,
+                                {{"auto", DebugPublishing::kAuto},
+                                 {"always", DebugPublishing::kAlways},
+                                 {"never", DebugPublishing::kNever}});
+  debug.finish();
+
+  std::vector<std::pair<std::string, std::string>> levels;
+  for (const char* level : {"trace", "debug", "info", "warn", "error", "critical", "off"})
+    levels.emplace_back(level, level);
+  top.choice("log_level", c.log_level, levels);
+
+  Section slicer = top.child("slicer");
+  auto any = [](double) { return true; };
+  const bool z_min_ok = slicer.number("z_min", c.slicer.z_min, "a finite number of metres", any);
+  const bool z_max_ok = slicer.number("z_max", c.slicer.z_max, "a finite number of metres", any);
+  if (z_min_ok && z_max_ok && c.slicer.z_max < c.slicer.z_min) {
+    std::ostringstream msg;
+    msg << "slicer.z_max: found \"" << c.slicer.z_max << "\", expected a height >= slicer.z_min ("
+        << c.slicer.z_min << ")";
+    errors.push_back(msg.str());
+  }
+  slicer.number("resolution", c.slicer.resolution,
+                "a finite number of metres >= 0 (0 = the tree's leaf size)",
+                [](double v) { return v >= 0.0; });
+  slicer.boolean("remove_speckles", c.slicer.remove_speckles);
+  slicer.finish();
+
+  top.finish();
+
+  // Safety net: core's own checks must agree (they can only fire if core grows new rules).
+  if (errors.empty()) {
+    if (core::Status s = core::validate(c.planner); !s.is_ok())
+      errors.push_back("planner: " + s.message);
+    const core::OccupancyGrid one_cell{1, 1, 1.0, 0.0, 0.0, {0}};
+    if (core::Status s = core::validate(one_cell, c.map); !s.is_ok())
+      errors.push_back("map: " + s.message);
+  }
+}
+
+}  // namespace
+
+ConfigResult parse_config(const std::string& yaml_text, const std::string& source) {
+  ConfigResult result;
+  try {
+    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
+    const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
+    NodeConfig config;
+    if (documents.size() > 1) {
+      result.errors.push_back(source + ": found " + std::to_string(documents.size()) +
+                              " YAML documents, expected one");
+    } else if (!root.IsMap() && !root.IsNull()) {
+      result.errors.push_back(source + ": found " + describe(root) +
+                              " at the top level, expected a map of settings");
+    } else {
+      read_config(root, config, result.errors);
+    }
+    if (result.errors.empty()) result.config = std::move(config);
+  } catch (const YAML::ParserException& e) {
+    std::string where = source;
+    if (!e.mark.is_null())
+      where += ": YAML syntax error at line " + std::to_string(e.mark.line + 1) + ", column " +
+               std::to_string(e.mark.column + 1);
+    else
+      where += ": YAML syntax error";
+    result = {std::nullopt, {where + ": " + e.msg}};
+  } catch (const std::exception& e) {
+    result = {std::nullopt, {source + ": cannot read the config: " + e.what()}};
+  } catch (...) {
+    result = {std::nullopt, {source + ": cannot read the config: unknown error"}};
+  }
+  return result;
+}
+
+ConfigResult load_config(const std::string& path) {
+  try {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+      return {std::nullopt, {path + ": cannot read the config file: it is a directory"}};
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+      const bool exists = std::filesystem::exists(path, ec);
+      return {std::nullopt,
+              {path + ": cannot read the config file: " +
+               (exists ? "it cannot be opened (permissions?)" : "no such file")}};
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) return {std::nullopt, {path + ": cannot read the config file: read error"}};
+    return parse_config(text.str(), path);
+  } catch (const std::exception& e) {
+    return {std::nullopt, {path + ": cannot read the config file: " + e.what()}};
+  }
+}
+
+std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
+  const std::string bare = without_leading_slash(name);
+  return config.ros2_naming ? "rt/" + bare : bare;
+}
+
+}  // namespace vnsba::node

@@ -1,0 +1,279 @@
+#include "vnsba/node/convert.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace vnsba::node {
+
+namespace {
+
+WireStatus error(uint8_t code, std::string message) {
+  return {code, std::move(message)};
+}
+
+bool finite(double v) {
+  return std::isfinite(v);
+}
+
+std::string num(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+}  // namespace
+
+uint8_t to_wire_code(core::StatusCode code) {
+  switch (code) {
+    case core::StatusCode::kOk:
+      return wire::OK;
+    case core::StatusCode::kInvalidMap:
+      return wire::INVALID_MAP;
+    case core::StatusCode::kInvalidRequest:
+      return wire::INVALID_REQUEST;
+    case core::StatusCode::kStartOutsideMap:
+      return wire::START_OUTSIDE_MAP;
+    case core::StatusCode::kGoalOutsideMap:
+      return wire::GOAL_OUTSIDE_MAP;
+    case core::StatusCode::kStartOccupied:
+      return wire::START_OCCUPIED;
+    case core::StatusCode::kGoalOccupied:
+      return wire::GOAL_OCCUPIED;
+    case core::StatusCode::kNoValidPath:
+      return wire::NO_VALID_PATH;
+    case core::StatusCode::kTimeout:
+      return wire::TIMEOUT;
+    case core::StatusCode::kCanceled:
+      return wire::CANCELED;
+    case core::StatusCode::kInternalError:
+      return wire::INTERNAL_ERROR;
+  }
+  return wire::INTERNAL_ERROR;
+}
+
+std::string code_name(uint8_t code) {
+  static const char* const kNames[] = {"OK",
+                                       "NO_MAP",
+                                       "INVALID_MAP",
+                                       "INVALID_REQUEST",
+                                       "FRAME_MISMATCH",
+                                       "START_OUTSIDE_MAP",
+                                       "GOAL_OUTSIDE_MAP",
+                                       "START_OCCUPIED",
+                                       "GOAL_OCCUPIED",
+                                       "NO_VALID_PATH",
+                                       "TIMEOUT",
+                                       "CANCELED",
+                                       "INTERNAL_ERROR"};
+  return code < sizeof(kNames) / sizeof(kNames[0]) ? kNames[code] : "UNKNOWN";
+}
+
+TimeMsg to_time_msg(std::chrono::system_clock::time_point t) {
+  const auto ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+  TimeMsg msg;
+  msg.sec(static_cast<int32_t>(ns / 1'000'000'000));
+  msg.nanosec(static_cast<uint32_t>(ns % 1'000'000'000));
+  return msg;
+}
+
+TimeMsg now_msg() {
+  return to_time_msg(std::chrono::system_clock::now());
+}
+
+SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_frame,
+                          int64_t max_cells) {
+  SliceCheck out;
+  const std::string& frame = msg.header().frame_id();
+  if (!frame.empty() && frame != expected_frame) {
+    out.status = error(wire::FRAME_MISMATCH, "slice header.frame_id is '" + frame +
+                                                 "', the node plans in '" + expected_frame + "'");
+    return out;
+  }
+  const auto& info = msg.info();
+  std::ostringstream bad;
+  if (info.width() == 0 || info.height() == 0)
+    bad << "info.width x info.height is " << info.width() << " x " << info.height()
+        << ", must be > 0; ";
+  const int64_t cells = int64_t{info.width()} * info.height();
+  if (cells > max_cells)
+    bad << "info.width x info.height = " << cells << " cells exceeds map.max_cells = " << max_cells
+        << "; ";
+  else if (static_cast<int64_t>(msg.data().size()) != cells)
+    bad << "data has " << msg.data().size()
+        << " values, expected info.width x info.height = " << cells << "; ";
+  if (!finite(info.resolution()) || info.resolution() <= 0.0f)
+    bad << "info.resolution is " << info.resolution() << ", must be finite and > 0; ";
+  const auto& p = info.origin().position();
+  if (!finite(p.x()) || !finite(p.y()) || !finite(p.z()))
+    bad << "info.origin.position must be finite; ";
+  const auto& q = info.origin().orientation();
+  // Only axis-aligned grids: the origin may carry no rotation about z (w = +-1, x = y = z = 0,
+  // or the all-zero quaternion DDS default-constructs, read as identity).
+  const bool identity = std::abs(q.x()) < 1e-9 && std::abs(q.y()) < 1e-9 && std::abs(q.z()) < 1e-9;
+  if (!identity)
+    bad << "info.origin.orientation must be the identity (rotated grids are not supported); ";
+  std::string message = bad.str();
+  if (!message.empty()) {
+    message.resize(message.size() - 2);
+    out.status = error(wire::INVALID_MAP, "invalid slice: " + message);
+    return out;
+  }
+  for (size_t i = 0; i < msg.data().size(); ++i) {
+    const int8_t v = msg.data()[i];
+    if (v < -1 || v > 100) {
+      out.status = error(wire::INVALID_MAP, "invalid slice: data[" + std::to_string(i) + "] = " +
+                                                std::to_string(int{v}) + ", expected -1..100");
+      return out;
+    }
+  }
+  out.grid.width = static_cast<int32_t>(info.width());
+  out.grid.height = static_cast<int32_t>(info.height());
+  out.grid.resolution = info.resolution();
+  out.grid.origin_x = p.x();
+  out.grid.origin_y = p.y();
+  out.grid.data = std::move(msg.data());
+  return out;
+}
+
+OccupancyGridMsg to_slice_msg(const core::OccupancyGrid& grid, const std::string& frame,
+                              const TimeMsg& stamp) {
+  OccupancyGridMsg msg;
+  msg.header().frame_id(frame);
+  msg.header().stamp(stamp);
+  msg.info().map_load_time(stamp);
+  msg.info().resolution(static_cast<float>(grid.resolution));
+  msg.info().width(static_cast<uint32_t>(grid.width));
+  msg.info().height(static_cast<uint32_t>(grid.height));
+  msg.info().origin().position().x(grid.origin_x);
+  msg.info().origin().position().y(grid.origin_y);
+  msg.info().origin().orientation().w(1.0);
+  msg.data(grid.data);
+  return msg;
+}
+
+PoseCheck check_pose(const PoseStampedMsg& pose, const std::string& field,
+                     const std::string& expected_frame) {
+  PoseCheck out;
+  const std::string& frame = pose.header().frame_id();
+  if (!frame.empty() && frame != expected_frame) {
+    out.status = error(wire::FRAME_MISMATCH, field + ".header.frame_id is '" + frame +
+                                                 "', the map's frame is '" + expected_frame + "'");
+    return out;
+  }
+  const auto& p = pose.pose().position();
+  const char* axis[] = {"x", "y", "z"};
+  const double values[] = {p.x(), p.y(), p.z()};
+  for (int i = 0; i < 3; ++i) {
+    if (!finite(values[i])) {
+      out.status = error(wire::INVALID_REQUEST, field + ".pose.position." + axis[i] + " is " +
+                                                    num(values[i]) + ", must be finite");
+      return out;
+    }
+  }
+  const auto& q = pose.pose().orientation();
+  if (!finite(q.x()) || !finite(q.y()) || !finite(q.z()) || !finite(q.w())) {
+    out.status = error(wire::INVALID_REQUEST, field + ".pose.orientation must be finite");
+    return out;
+  }
+  out.x = p.x();
+  out.y = p.y();
+  return out;
+}
+
+PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& frame,
+                           const TimeMsg& stamp) {
+  PoseStampedMsg msg;
+  msg.header().frame_id(frame);
+  msg.header().stamp(stamp);
+  msg.pose().position().x(x);
+  msg.pose().position().y(y);
+  // A rotation of `yaw` about z.
+  msg.pose().orientation().z(std::sin(yaw / 2.0));
+  msg.pose().orientation().w(std::cos(yaw / 2.0));
+  return msg;
+}
+
+PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame,
+                    const TimeMsg& stamp) {
+  PathMsg msg;
+  msg.header().frame_id(frame);
+  msg.header().stamp(stamp);
+  const auto& points = result.world_path;
+  msg.poses().reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const size_t a = i + 1 < points.size() ? i : (i > 0 ? i - 1 : i);
+    const size_t b = i + 1 < points.size() ? i + 1 : i;
+    const double yaw = core::heading(points[a], points[b]);
+    msg.poses().push_back(to_pose_msg(points[i].x(), points[i].y(), yaw, frame, stamp));
+  }
+  return msg;
+}
+
+PlanStatusMsg to_status_msg(const std::string& request_id, const WireStatus& status,
+                            const std::string& planner, const core::Metrics* metrics,
+                            const TimeMsg& map_stamp, PathMsg path) {
+  PlanStatusMsg msg;
+  msg.request_id(request_id);
+  msg.code(status.code);
+  msg.code_name(code_name(status.code));
+  msg.message(status.message);
+  msg.planner(planner);
+  msg.length_ratio(std::nan(""));
+  if (metrics != nullptr) {
+    msg.length_m(metrics->length_m);
+    msg.length_cells(metrics->length_cells);
+    msg.raw_cost_cells(metrics->raw_cost_cells);
+    msg.turns(metrics->turns);
+    msg.turn_angle_deg(metrics->turn_angle_deg);
+    msg.expanded(metrics->expanded);
+    msg.planning_time_us(metrics->planning_time_us);
+    msg.length_ratio(metrics->length_ratio);
+  }
+  msg.map_stamp(map_stamp);
+  msg.path(std::move(path));
+  return msg;
+}
+
+PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResult& result,
+                             const core::GridMap& map, const std::string& frame,
+                             const TimeMsg& stamp) {
+  PlannerDebugMsg msg;
+  msg.header().frame_id(frame);
+  msg.header().stamp(stamp);
+  msg.request_id(request_id);
+  msg.planner(std::string(core::to_string(result.planner)));
+  msg.info().map_load_time(stamp);
+  msg.info().resolution(static_cast<float>(map.resolution()));
+  msg.info().width(static_cast<uint32_t>(map.width()));
+  msg.info().height(static_cast<uint32_t>(map.height()));
+  msg.info().origin().position().x(map.origin_x());
+  msg.info().origin().position().y(map.origin_y());
+  msg.info().origin().orientation().w(1.0);
+  auto cells = [](const std::vector<core::Cell>& in) {
+    std::vector<vnsba_msgs::msg::dds_::GridCell_> out(in.size());
+    for (size_t i = 0; i < in.size(); ++i) {
+      out[i].x(in[i].x);
+      out[i].y(in[i].y);
+    }
+    return out;
+  };
+  msg.expanded_forward(cells(result.expanded_forward));
+  msg.expanded_backward(cells(result.expanded_backward));
+  msg.has_meeting_cell(result.meeting_cell.has_value());
+  if (result.meeting_cell) {
+    msg.meeting_cell().x(result.meeting_cell->x);
+    msg.meeting_cell().y(result.meeting_cell->y);
+  }
+  msg.raw_path(cells(result.raw_path));
+  for (const core::Point2& w : result.waypoints) {
+    const Eigen::Vector2d world = map.grid_to_world(w);
+    geometry_msgs::msg::dds_::Point_ point;
+    point.x(world.x());
+    point.y(world.y());
+    msg.pruned_waypoints().push_back(point);
+  }
+  return msg;
+}
+
+}  // namespace vnsba::node

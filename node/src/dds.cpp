@@ -1,0 +1,156 @@
+#include "vnsba/node/dds.hpp"
+
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+
+namespace vnsba::node {
+
+namespace {
+
+core::Status dds_error(const std::string& what) {
+  return core::Status::error(core::StatusCode::kInternalError, "DDS: " + what + " failed");
+}
+
+}  // namespace
+
+dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
+  dds::DataWriterQos qos = dds::DATAWRITER_QOS_DEFAULT;
+  qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
+  qos.reliability().max_blocking_time = {1,
+                                         0};  // a full KEEP_ALL history blocks write() 1 s at most
+  const bool durable = profile == TopicQos::kLatched || profile == TopicQos::kStatus;
+  qos.durability().kind =
+      durable ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
+  if (profile == TopicQos::kEvents) {
+    qos.history().kind = dds::KEEP_ALL_HISTORY_QOS;
+    qos.resource_limits().max_samples = 2048;
+    qos.resource_limits().max_instances = 1;
+    qos.resource_limits().max_samples_per_instance = 2048;
+  } else if (profile == TopicQos::kStatus) {
+    qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = kStatusHistory;
+    qos.resource_limits().max_samples = kStatusHistory;
+    qos.resource_limits().max_instances = 1;
+    qos.resource_limits().max_samples_per_instance = kStatusHistory;
+  } else {
+    qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = profile == TopicQos::kDebug ? 8 : 1;
+  }
+  qos.endpoint().history_memory_policy =
+      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  qos.data_sharing().off();
+  // Late joiners of a latched map should not wait for the default 3 s heartbeat.
+  qos.reliable_writer_qos().times.heartbeatPeriod = {0, 150'000'000};
+  if (large_samples) qos.publish_mode().kind = dds::ASYNCHRONOUS_PUBLISH_MODE;
+  return qos;
+}
+
+dds::DataReaderQos reader_qos(TopicQos profile) {
+  dds::DataReaderQos qos = dds::DATAREADER_QOS_DEFAULT;
+  qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
+  const bool durable = profile == TopicQos::kLatched || profile == TopicQos::kStatus;
+  qos.durability().kind =
+      durable ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
+  if (profile == TopicQos::kEvents || profile == TopicQos::kStatus) {
+    qos.history().kind = dds::KEEP_ALL_HISTORY_QOS;
+    qos.resource_limits().max_samples = 4096;
+    qos.resource_limits().max_instances = 1;
+    qos.resource_limits().max_samples_per_instance = 4096;
+  } else {
+    qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = profile == TopicQos::kDebug ? 8 : 1;
+  }
+  qos.endpoint().history_memory_policy =
+      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  qos.data_sharing().off();
+  return qos;
+}
+
+core::Expected<std::unique_ptr<Participant>> Participant::create(int domain_id,
+                                                                 const std::string& name) {
+  if (domain_id < 0 || domain_id > 232) {
+    return core::Status::error(core::StatusCode::kInvalidRequest,
+                               "domain id " + std::to_string(domain_id) + " is outside 0..232");
+  }
+  std::unique_ptr<Participant> self(new Participant());
+  self->domain_id_ = domain_id;
+  dds::DomainParticipantQos qos = dds::PARTICIPANT_QOS_DEFAULT;
+  qos.name(name);
+  qos.transport().use_builtin_transports = false;
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  // Room for bursts of map fragments on loopback.
+  udp->sendBufferSize = 4 * 1024 * 1024;
+  udp->receiveBufferSize = 4 * 1024 * 1024;
+  qos.transport().user_transports.push_back(udp);
+  qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
+  qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
+  self->participant_ =
+      dds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+  if (self->participant_ == nullptr)
+    return dds_error("create_participant(domain " + std::to_string(domain_id) + ")");
+  self->publisher_ = self->participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
+  if (self->publisher_ == nullptr) return dds_error("create_publisher");
+  self->subscriber_ = self->participant_->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT);
+  if (self->subscriber_ == nullptr) return dds_error("create_subscriber");
+  return self;
+}
+
+core::Expected<dds::Topic*> Participant::make_topic(const std::string& topic_name,
+                                                    dds::TypeSupport type) {
+  const std::string type_name = type.get_type_name();
+  if (participant_->find_type(type_name).empty() &&
+      type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
+    return dds_error("register_type(" + type_name + ")");
+  }
+  dds::Topic* topic = participant_->create_topic(topic_name, type_name, dds::TOPIC_QOS_DEFAULT);
+  if (topic == nullptr) return dds_error("create_topic(" + topic_name + ", " + type_name + ")");
+  topics_[topic_name] = topic;
+  return topic;
+}
+
+core::Expected<dds::DataWriter*> Participant::writer(dds::Topic* topic,
+                                                     const dds::DataWriterQos& qos) {
+  dds::DataWriter* writer = publisher_->create_datawriter(topic, qos);
+  if (writer == nullptr) return dds_error("create_datawriter(" + topic->get_name() + ")");
+  return writer;
+}
+
+core::Expected<dds::DataReader*> Participant::reader(dds::Topic* topic,
+                                                     const dds::DataReaderQos& qos,
+                                                     dds::DataReaderListener* listener) {
+  dds::DataReader* reader = subscriber_->create_datareader(
+      topic, qos, listener, listener ? dds::StatusMask::data_available() : dds::StatusMask::none());
+  if (reader == nullptr) return dds_error("create_datareader(" + topic->get_name() + ")");
+  return reader;
+}
+
+void Participant::delete_readers() {
+  if (subscriber_ != nullptr) subscriber_->delete_contained_entities();
+}
+
+void Participant::shutdown() {
+  if (participant_ == nullptr) return;
+  // Readers go first so that no listener is called on a half-destroyed owner.
+  if (subscriber_ != nullptr) subscriber_->delete_contained_entities();
+  participant_->delete_contained_entities();
+  dds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  participant_ = nullptr;
+  publisher_ = nullptr;
+  subscriber_ = nullptr;
+  topics_.clear();
+}
+
+Participant::~Participant() {
+  shutdown();
+}
+
+int matched_readers(dds::DataWriter* writer) {
+  dds::PublicationMatchedStatus status;
+  if (writer == nullptr ||
+      writer->get_publication_matched_status(status) != ReturnCode_t::RETCODE_OK)
+    return 0;
+  return status.current_count;
+}
+
+}  // namespace vnsba::node

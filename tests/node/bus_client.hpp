@@ -1,0 +1,217 @@
+// A test client on a real DDS bus (loopback UDP): publishes slices, requests, goals and poses,
+// and collects what the node publishes. No mocks: it is a second participant.
+//
+// Isolation: each test process picks its domain from its pid, and every topic name carries the
+// pid and the test's tag, so concurrent runs never see each other even if two pids share a
+// domain.
+#pragma once
+
+#include <unistd.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
+#include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
+#include "nav_msgs/msg/PathPubSubTypes.h"
+#include "vnsba/node/config.hpp"
+#include "vnsba/node/convert.hpp"
+#include "vnsba/node/dds.hpp"
+#include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
+#include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
+#include "vnsba_msgs/msg/PlannerDebugPubSubTypes.h"
+
+namespace vnsba::test {
+
+using namespace std::chrono_literals;
+using node::PathMsg;
+using node::PlannerDebugMsg;
+using node::PlanStatusMsg;
+
+inline int test_domain() {
+  return 1 + static_cast<int>(getpid() % 200);
+}
+
+// A config on this process's domain with topics unique to `tag`.
+inline node::NodeConfig test_config(const std::string& tag) {
+  node::NodeConfig cfg;
+  cfg.domain_id = test_domain();
+  const std::string p = "t" + std::to_string(getpid()) + "_" + tag + "_";
+  auto& t = cfg.topics;
+  for (std::string* name : {&t.projected_map, &t.goal_pose, &t.robot_pose, &t.plan_request, &t.plan,
+                            &t.plan_status, &t.planner_debug, &t.octomap}) {
+    *name = p + *name;
+  }
+  cfg.planner.max_planning_time = std::chrono::seconds(10);
+  return cfg;
+}
+
+template <class Msg>
+class Collector : public node::dds::DataReaderListener {
+ public:
+  void on_data_available(node::dds::DataReader* reader) override {
+    Msg msg;
+    node::dds::SampleInfo info;
+    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      std::lock_guard<std::mutex> lock(mutex_);
+      received_.push_back(std::move(msg));
+      msg = Msg();
+      cv_.notify_all();
+    }
+  }
+  // Waits until `pred(all received)` holds.
+  template <class Pred>
+  bool wait(Pred pred, std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, timeout, [&] { return pred(received_); });
+  }
+  std::vector<Msg> snapshot() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return received_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<Msg> received_;
+};
+
+class BusClient {
+ public:
+  explicit BusClient(const node::NodeConfig& cfg) : cfg_(cfg) {
+    participant_ = node::Participant::create(cfg.domain_id, "vnsba_test_client").value();
+    auto name = [&](const std::string& n) { return node::dds_topic_name(cfg_, n); };
+    using node::TopicQos;
+    slice_ = participant_
+                 ->writer(participant_
+                              ->topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+                                  name(cfg.topics.projected_map))
+                              .value(),
+                          node::writer_qos(TopicQos::kLatched, true))
+                 .value();
+    request_ = participant_
+                   ->writer(participant_
+                                ->topic<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(
+                                    name(cfg.topics.plan_request))
+                                .value(),
+                            node::writer_qos(TopicQos::kEvents, false))
+                   .value();
+    goal_ = participant_
+                ->writer(participant_
+                             ->topic<geometry_msgs::msg::dds_::PoseStamped_PubSubType>(
+                                 name(cfg.topics.goal_pose))
+                             .value(),
+                         node::writer_qos(TopicQos::kEvents, false))
+                .value();
+    robot_pose_ = participant_
+                      ->writer(participant_
+                                   ->topic<geometry_msgs::msg::dds_::PoseStamped_PubSubType>(
+                                       name(cfg.topics.robot_pose))
+                                   .value(),
+                               node::writer_qos(TopicQos::kLatest, false))
+                      .value();
+    status_reader_ = participant_
+                         ->reader(participant_
+                                      ->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+                                          name(cfg.topics.plan_status))
+                                      .value(),
+                                  node::reader_qos(TopicQos::kStatus), &statuses)
+                         .value();
+    participant_
+        ->reader(participant_->topic<nav_msgs::msg::dds_::Path_PubSubType>(name(cfg.topics.plan))
+                     .value(),
+                 node::reader_qos(TopicQos::kLatest), &paths)
+        .value();
+    if (subscribe_debug_) {
+      participant_
+          ->reader(participant_
+                       ->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
+                           name(cfg.topics.planner_debug))
+                       .value(),
+                   node::reader_qos(TopicQos::kDebug), &debug)
+          .value();
+    }
+  }
+  ~BusClient() { participant_->shutdown(); }
+
+  // Waits until the node's readers and writers have matched ours.
+  bool wait_for_node(std::chrono::milliseconds timeout = 10s) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      node::dds::SubscriptionMatchedStatus sub;
+      status_reader_->get_subscription_matched_status(sub);
+      if (node::matched_readers(request_) > 0 && node::matched_readers(goal_) > 0 &&
+          node::matched_readers(robot_pose_) > 0 && sub.current_count > 0) {
+        return true;
+      }
+      std::this_thread::sleep_for(10ms);
+    }
+    return false;
+  }
+
+  void publish_slice(const core::OccupancyGrid& grid, const std::string& frame = "map") {
+    auto msg = node::to_slice_msg(grid, frame, node::now_msg());
+    slice_->write(&msg);
+  }
+  void publish_slice_msg(node::OccupancyGridMsg msg) { slice_->write(&msg); }
+
+  void publish_request(const std::string& id, double sx, double sy, double gx, double gy,
+                       const std::string& planner = "", const std::string& frame = "map") {
+    node::PlanRequestMsg msg;
+    msg.id(id);
+    msg.start(node::to_pose_msg(sx, sy, 0.0, frame, node::now_msg()));
+    msg.goal(node::to_pose_msg(gx, gy, 0.0, frame, node::now_msg()));
+    msg.planner(planner);
+    request_->write(&msg);
+  }
+  void publish_request_msg(node::PlanRequestMsg msg) { request_->write(&msg); }
+
+  void publish_goal(double x, double y) {
+    auto msg = node::to_pose_msg(x, y, 0.0, "map", node::now_msg());
+    goal_->write(&msg);
+  }
+  void publish_robot_pose(double x, double y) {
+    auto msg = node::to_pose_msg(x, y, 0.0, "map", node::now_msg());
+    robot_pose_->write(&msg);
+  }
+
+  std::optional<PlanStatusMsg> wait_status(const std::string& id,
+                                           std::chrono::milliseconds timeout = 15s) {
+    std::optional<PlanStatusMsg> found;
+    statuses.wait(
+        [&](const std::vector<PlanStatusMsg>& all) {
+          for (const auto& s : all) {
+            if (s.request_id() == id) {
+              found = s;
+              return true;
+            }
+          }
+          return false;
+        },
+        timeout);
+    return found;
+  }
+
+  Collector<PlanStatusMsg> statuses;
+  Collector<PathMsg> paths;
+  Collector<PlannerDebugMsg> debug;
+
+ private:
+  node::NodeConfig cfg_;
+  bool subscribe_debug_ = true;
+  std::unique_ptr<node::Participant> participant_;
+  node::dds::DataWriter* slice_ = nullptr;
+  node::dds::DataWriter* request_ = nullptr;
+  node::dds::DataWriter* goal_ = nullptr;
+  node::dds::DataWriter* robot_pose_ = nullptr;
+  node::dds::DataReader* status_reader_ = nullptr;
+};
+
+}  // namespace vnsba::test

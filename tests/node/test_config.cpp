@@ -1,0 +1,507 @@
+// Node configuration: YAML loading, defaults and validation (no DDS).
+//
+// Fixtures live in tests/fixtures/config (VNSBA_FIXTURE_DIR); the shipped config in
+// VNSBA_CONFIG_DIR.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "vnsba/node/config.hpp"
+
+namespace {
+
+using std::chrono::microseconds;
+using vnsba::core::CornerPolicy;
+using vnsba::core::Neighborhood;
+using vnsba::core::PlannerKind;
+using vnsba::node::ConfigResult;
+using vnsba::node::dds_topic_name;
+using vnsba::node::DebugPublishing;
+using vnsba::node::load_config;
+using vnsba::node::NodeConfig;
+using vnsba::node::parse_config;
+
+std::string Fixture(const std::string& name) {
+  return std::string(VNSBA_FIXTURE_DIR) + "/config/" + name;
+}
+
+std::string DefaultYamlPath() {
+  return std::string(VNSBA_CONFIG_DIR) + "/default.yaml";
+}
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// What a loaded config holds when the file gives no keys: the struct defaults, except the
+// planning-time budget, which the loader sets to 5 s (see config.hpp).
+NodeConfig LoadedDefaults() {
+  NodeConfig config;
+  config.planner.max_planning_time = std::chrono::seconds(5);
+  return config;
+}
+
+std::string Joined(const std::vector<std::string>& errors) {
+  std::string out;
+  for (const std::string& e : errors) out += "\n  " + e;
+  return out;
+}
+
+// The error that starts with `key` + ": " and contains every one of `parts`; fails otherwise.
+::testing::AssertionResult HasError(const ConfigResult& result, const std::string& key,
+                                    const std::vector<std::string>& parts = {}) {
+  for (const std::string& e : result.errors) {
+    if (e.rfind(key + ": ", 0) != 0) continue;
+    bool all = true;
+    for (const std::string& part : parts) all = all && e.find(part) != std::string::npos;
+    if (all) return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure()
+         << "no error for '" << key << "' with the expected text; errors:" << Joined(result.errors);
+}
+
+void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
+  EXPECT_EQ(a.domain_id, b.domain_id);
+  EXPECT_EQ(a.ros2_naming, b.ros2_naming);
+  EXPECT_EQ(a.frame_id, b.frame_id);
+  EXPECT_EQ(a.topics.projected_map, b.topics.projected_map);
+  EXPECT_EQ(a.topics.goal_pose, b.topics.goal_pose);
+  EXPECT_EQ(a.topics.robot_pose, b.topics.robot_pose);
+  EXPECT_EQ(a.topics.plan_request, b.topics.plan_request);
+  EXPECT_EQ(a.topics.plan, b.topics.plan);
+  EXPECT_EQ(a.topics.plan_status, b.topics.plan_status);
+  EXPECT_EQ(a.topics.planner_debug, b.topics.planner_debug);
+  EXPECT_EQ(a.topics.octomap, b.topics.octomap);
+  EXPECT_EQ(a.map.occupied_threshold, b.map.occupied_threshold);
+  EXPECT_EQ(a.map.allow_unknown, b.map.allow_unknown);
+  EXPECT_EQ(a.map.robot_radius, b.map.robot_radius);
+  EXPECT_EQ(a.map.max_cells, b.map.max_cells);
+  EXPECT_EQ(a.planner.planner, b.planner.planner);
+  EXPECT_EQ(a.planner.omega, b.planner.omega);
+  EXPECT_EQ(a.planner.eta, b.planner.eta);
+  EXPECT_EQ(a.planner.neighborhood, b.planner.neighborhood);
+  EXPECT_EQ(a.planner.corner_policy, b.planner.corner_policy);
+  EXPECT_EQ(a.planner.prune, b.planner.prune);
+  EXPECT_EQ(a.planner.smooth, b.planner.smooth);
+  EXPECT_EQ(a.planner.smoothing_distance, b.planner.smoothing_distance);
+  EXPECT_EQ(a.planner.sample_step, b.planner.sample_step);
+  EXPECT_EQ(a.planner.max_planning_time.count(), b.planner.max_planning_time.count());
+  EXPECT_EQ(a.planner.record_expansions, b.planner.record_expansions);
+  EXPECT_EQ(a.planner.compute_length_ratio, b.planner.compute_length_ratio);
+  EXPECT_EQ(a.preempt, b.preempt);
+  EXPECT_EQ(a.queue_capacity, b.queue_capacity);
+  EXPECT_EQ(a.debug, b.debug);
+  EXPECT_EQ(a.log_level, b.log_level);
+  EXPECT_EQ(a.slicer.z_min, b.slicer.z_min);
+  EXPECT_EQ(a.slicer.z_max, b.slicer.z_max);
+  EXPECT_EQ(a.slicer.resolution, b.slicer.resolution);
+  EXPECT_EQ(a.slicer.remove_speckles, b.slicer.remove_speckles);
+}
+
+// Loads a fixture that must fail; checks the error count.
+ConfigResult LoadBad(const std::string& name, size_t expected_errors) {
+  ConfigResult result = load_config(Fixture(name));
+  EXPECT_FALSE(result.config.has_value()) << name;
+  EXPECT_EQ(result.errors.size(), expected_errors) << name << ":" << Joined(result.errors);
+  return result;
+}
+
+TEST(Config, DefaultYamlLoadsAndEqualsTheDefaults) {
+  const ConfigResult result = load_config(DefaultYamlPath());
+  ASSERT_TRUE(result.errors.empty()) << Joined(result.errors);
+  ASSERT_TRUE(result.config.has_value());
+  ExpectSameConfig(*result.config, LoadedDefaults());
+}
+
+TEST(Config, DefaultYamlMentionsEveryKey) {
+  // The planner-dependent keys are there but commented out (see default.yaml).
+  const std::string text = ReadText(DefaultYamlPath());
+  for (const char* key : {"domain_id:",
+                          "ros2_naming:",
+                          "frame_id:",
+                          "topics:",
+                          "projected_map:",
+                          "goal_pose:",
+                          "robot_pose:",
+                          "plan_request:",
+                          "plan:",
+                          "plan_status:",
+                          "planner_debug:",
+                          "octomap:",
+                          "map:",
+                          "occupied_threshold:",
+                          "allow_unknown:",
+                          "robot_radius:",
+                          "max_cells:",
+                          "planner:",
+                          "name:",
+                          "omega:",
+                          "eta:",
+                          "neighborhood:",
+                          "corner_policy:",
+                          "prune:",
+                          "smooth:",
+                          "smoothing_distance:",
+                          "sample_step:",
+                          "max_planning_time:",
+                          "requests:",
+                          "preempt:",
+                          "queue_capacity:",
+                          "debug:",
+                          "publish:",
+                          "log_level:",
+                          "slicer:",
+                          "z_min:",
+                          "z_max:",
+                          "resolution:",
+                          "remove_speckles:"}) {
+    EXPECT_NE(text.find(key), std::string::npos) << key;
+  }
+}
+
+TEST(Config, ChangingOnlyThePlannerNameInDefaultYamlGivesThatPlannersDefaults) {
+  std::string text = ReadText(DefaultYamlPath());
+  const std::string from = "name: vns_bastar";
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(), "name: astar");
+  const ConfigResult result = parse_config(text, "default.yaml with astar");
+  ASSERT_TRUE(result.config.has_value()) << Joined(result.errors);
+  EXPECT_EQ(result.config->planner.planner, PlannerKind::kAStar);
+  EXPECT_EQ(result.config->planner.neighborhood, Neighborhood::kEight);
+  EXPECT_FALSE(result.config->planner.prune);
+  EXPECT_FALSE(result.config->planner.smooth);
+}
+
+TEST(Config, EmptyFileGivesTheDefaults) {
+  for (const char* name : {"empty.yaml", "comments_only.yaml"}) {
+    const ConfigResult result = load_config(Fixture(name));
+    ASSERT_TRUE(result.config.has_value()) << name << Joined(result.errors);
+    EXPECT_TRUE(result.errors.empty());
+    ExpectSameConfig(*result.config, LoadedDefaults());
+  }
+  const ConfigResult text = parse_config("");
+  ASSERT_TRUE(text.config.has_value());
+  ExpectSameConfig(*text.config, LoadedDefaults());
+  // Empty sections are fine too.
+  const ConfigResult sections = parse_config("planner:\ntopics: {}\n");
+  ASSERT_TRUE(sections.config.has_value()) << Joined(sections.errors);
+  ExpectSameConfig(*sections.config, LoadedDefaults());
+}
+
+TEST(Config, EveryKeyReachesItsField) {
+  const ConfigResult result = load_config(Fixture("custom.yaml"));
+  ASSERT_TRUE(result.config.has_value()) << Joined(result.errors);
+  const NodeConfig& c = *result.config;
+  EXPECT_EQ(c.domain_id, 42);
+  EXPECT_FALSE(c.ros2_naming);
+  EXPECT_EQ(c.frame_id, "odom");
+  EXPECT_EQ(c.topics.projected_map, "/slice");
+  EXPECT_EQ(c.topics.goal_pose, "nav/goal");
+  EXPECT_EQ(c.topics.robot_pose, "nav/pose");
+  EXPECT_EQ(c.topics.plan_request, "nav/request");
+  EXPECT_EQ(c.topics.plan, "nav/path");
+  EXPECT_EQ(c.topics.plan_status, "nav/status");
+  EXPECT_EQ(c.topics.planner_debug, "nav/debug");
+  EXPECT_EQ(c.topics.octomap, "~/octomap_full");
+  EXPECT_EQ(c.map.occupied_threshold, 50);
+  EXPECT_TRUE(c.map.allow_unknown);
+  EXPECT_DOUBLE_EQ(c.map.robot_radius, 0.25);
+  EXPECT_EQ(c.map.max_cells, 1000000);
+  EXPECT_EQ(c.planner.planner, PlannerKind::kBidirectionalAStar);
+  EXPECT_DOUBLE_EQ(c.planner.omega, 2.0);
+  EXPECT_DOUBLE_EQ(c.planner.eta, 0.0);
+  EXPECT_EQ(c.planner.neighborhood, Neighborhood::kEightElevenThirteen);
+  EXPECT_EQ(c.planner.corner_policy, CornerPolicy::kTouch);
+  EXPECT_TRUE(c.planner.prune);
+  EXPECT_TRUE(c.planner.smooth);
+  EXPECT_DOUBLE_EQ(c.planner.smoothing_distance, 2.5);
+  EXPECT_DOUBLE_EQ(c.planner.sample_step, 0.5);
+  EXPECT_EQ(c.planner.max_planning_time, microseconds(250000));
+  EXPECT_FALSE(c.preempt);
+  EXPECT_EQ(c.queue_capacity, 8);
+  EXPECT_EQ(c.debug, DebugPublishing::kAlways);
+  EXPECT_EQ(c.log_level, "debug");
+  EXPECT_DOUBLE_EQ(c.slicer.z_min, -0.5);
+  EXPECT_DOUBLE_EQ(c.slicer.z_max, 2.0);
+  EXPECT_DOUBLE_EQ(c.slicer.resolution, 0.1);
+  EXPECT_TRUE(c.slicer.remove_speckles);
+}
+
+TEST(Config, WrongTypesAreReportedWithTheirKeys) {
+  const ConfigResult r = LoadBad("bad_types.yaml", 10);
+  EXPECT_TRUE(HasError(r, "domain_id", {"found \"abc\"", "expected an integer in 0..232"}));
+  EXPECT_TRUE(HasError(r, "ros2_naming", {"found \"3\"", "true or false"}));
+  EXPECT_TRUE(HasError(r, "frame_id", {"found a list"}));
+  EXPECT_TRUE(HasError(r, "topics", {"found \"plan\"", "expected a map"}));
+  EXPECT_TRUE(HasError(r, "map.occupied_threshold", {"\"65.5\"", "integer in 1..100"}));
+  EXPECT_TRUE(HasError(r, "map.robot_radius", {"found a map", "metres"}));
+  EXPECT_TRUE(HasError(r, "planner.omega", {"found \"abc\"", "expected a number in [0, 1e6]"}));
+  EXPECT_TRUE(HasError(r, "planner.prune", {"\"maybe\"", "true or false"}));
+  EXPECT_TRUE(HasError(r, "requests.queue_capacity", {"found no value", "1..100000"}));
+  EXPECT_TRUE(HasError(r, "slicer", {"found a list", "expected a map"}));
+}
+
+TEST(Config, MessageFormatIsKeyFoundExpected) {
+  const ConfigResult r = parse_config("planner:\n  omega: abc\n");
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_EQ(r.errors[0], "planner.omega: found \"abc\", expected a number in [0, 1e6]");
+}
+
+TEST(Config, OutOfRangeValuesAreReportedWithTheirKeys) {
+  const ConfigResult r = LoadBad("out_of_range.yaml", 12);
+  EXPECT_TRUE(HasError(r, "domain_id", {"\"233\"", "0..232"}));
+  EXPECT_TRUE(HasError(r, "map.occupied_threshold", {"\"0\"", "1..100"}));
+  EXPECT_TRUE(HasError(r, "map.robot_radius", {"\"-0.1\"", ">= 0"}));
+  EXPECT_TRUE(HasError(r, "map.max_cells", {"\"268435457\"", "1..268435456"}));
+  EXPECT_TRUE(HasError(r, "planner.omega", {"\"1.0e7\"", "[0, 1e6]"}));
+  EXPECT_TRUE(HasError(r, "planner.eta", {"\".inf\"", "[0, 1e6]"}));
+  EXPECT_TRUE(HasError(r, "planner.smoothing_distance", {"\"0\"", "> 0"}));
+  EXPECT_TRUE(HasError(r, "planner.sample_step", {"\"10.5\"", "(0, 10]"}));
+  EXPECT_TRUE(HasError(r, "planner.max_planning_time", {"\"3601\"", "seconds in [0, 3600]"}));
+  EXPECT_TRUE(HasError(r, "requests.queue_capacity", {"\"100001\"", "1..100000"}));
+  EXPECT_TRUE(HasError(r, "slicer.z_max", {"\"1\"", ">= slicer.z_min (2)"}));
+  EXPECT_TRUE(HasError(r, "slicer.resolution", {"\"-0.5\"", ">= 0"}));
+}
+
+TEST(Config, BoundaryValuesAreAccepted) {
+  const ConfigResult r = parse_config(
+      "domain_id: 232\nmap: {occupied_threshold: 100, max_cells: 268435456, robot_radius: 0}\n"
+      "planner: {omega: 1e6, eta: 0, sample_step: 10, max_planning_time: 3600}\n"
+      "requests: {queue_capacity: 100000}\nslicer: {z_min: 1.0, z_max: 1.0}\n");
+  ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
+  EXPECT_EQ(r.config->domain_id, 232);
+  EXPECT_EQ(r.config->map.max_cells, int64_t{1} << 28);
+  EXPECT_EQ(r.config->planner.max_planning_time, std::chrono::hours(1));
+}
+
+TEST(Config, NonFiniteAndMalformedNumbersAreRejected) {
+  for (const char* value : {".nan", "-.inf", "1e400", "0x10", "1,5", "''"}) {
+    const ConfigResult r = parse_config(std::string("map:\n  robot_radius: ") + value + "\n");
+    EXPECT_TRUE(HasError(r, "map.robot_radius")) << value;
+  }
+  for (const char* value : {"1.0", "1e3", "0x10", "99999999999999999999", "--1"}) {
+    const ConfigResult r = parse_config(std::string("domain_id: ") + value + "\n");
+    EXPECT_TRUE(HasError(r, "domain_id", {"0..232"})) << value;
+  }
+  EXPECT_TRUE(parse_config("domain_id: +7\n").config.has_value());
+}
+
+TEST(Config, VnsBaStarNeedsANonZeroWeight) {
+  const ConfigResult both = parse_config("planner:\n  omega: 0\n  eta: 0\n");
+  ASSERT_EQ(both.errors.size(), 1u) << Joined(both.errors);
+  EXPECT_TRUE(HasError(both, "planner.omega, planner.eta", {"both 0", "vns_bastar"}));
+  EXPECT_TRUE(parse_config("planner:\n  omega: 0\n").config.has_value());
+  // The other planners ignore the weights.
+  EXPECT_TRUE(parse_config("planner: {name: astar, omega: 0, eta: 0}\n").config.has_value());
+}
+
+TEST(Config, UnknownEnumNamesListTheValidNames) {
+  const ConfigResult r = LoadBad("bad_enums.yaml", 5);
+  EXPECT_TRUE(
+      HasError(r, "planner.name",
+               {"\"astr\"", "astar", "weighted_astar", "bidirectional_astar",
+                "alternating_bidirectional_astar", "vns_bastar", "did you mean \"astar\"?"}));
+  EXPECT_TRUE(HasError(r, "planner.neighborhood", {"\"4\"", "8, 8-11-13"}));
+  EXPECT_TRUE(HasError(r, "planner.corner_policy", {"\"sometimes\"", "never, touch, always"}));
+  EXPECT_TRUE(HasError(r, "debug.publish", {"\"maybe\"", "auto, always, never"}));
+  EXPECT_TRUE(
+      HasError(r, "log_level", {"\"verbose\"", "trace, debug, info, warn, error, critical, off"}));
+}
+
+TEST(Config, UnknownKeysAreReportedWithSuggestions) {
+  const ConfigResult r = LoadBad("unknown_keys.yaml", 4);
+  EXPECT_TRUE(HasError(r, "planer", {"unknown key", "did you mean \"planner\"?"}));
+  EXPECT_TRUE(HasError(r, "planner.omgea", {"unknown key", "did you mean \"planner.omega\"?"}));
+  EXPECT_TRUE(HasError(r, "topics.plann", {"unknown key", "did you mean \"topics.plan\"?"}));
+  EXPECT_TRUE(HasError(r, "frobnicate", {"unknown key", "expected one of", "domain_id"}));
+  for (const std::string& e : r.errors) {
+    if (e.rfind("frobnicate", 0) == 0) {
+      EXPECT_EQ(e.find("did you mean"), std::string::npos);
+    }
+  }
+}
+
+TEST(Config, SuggestionsOnlyForNearMisses) {
+  const ConfigResult r = parse_config(
+      "a: 1\nplanner: {name: astra, corner_policy: nevr}\n"
+      "map: {allow_unknwn: true}\n");
+  ASSERT_EQ(r.errors.size(), 4u) << Joined(r.errors);
+  EXPECT_TRUE(HasError(r, "a", {"unknown key, expected one of"}));
+  EXPECT_TRUE(HasError(r, "planner.name", {"did you mean \"astar\"?"}));
+  EXPECT_TRUE(HasError(r, "planner.corner_policy", {"did you mean \"never\"?"}));
+  EXPECT_TRUE(HasError(r, "map.allow_unknwn", {"did you mean \"map.allow_unknown\"?"}));
+  for (const std::string& e : r.errors) {
+    if (e.rfind("a: ", 0) == 0) {
+      EXPECT_EQ(e.find("did you mean"), std::string::npos) << e;
+    }
+  }
+}
+
+TEST(Config, RepeatedKeysAreErrors) {
+  const ConfigResult r = parse_config("domain_id: 1\ndomain_id: 2\n");
+  ASSERT_EQ(r.errors.size(), 1u) << Joined(r.errors);
+  EXPECT_TRUE(HasError(r, "domain_id", {"again"}));
+}
+
+TEST(Config, BadTopicNamesAndFrameAreReported) {
+  const ConfigResult r = LoadBad("bad_topics.yaml", 6);
+  EXPECT_TRUE(HasError(r, "frame_id", {"found \"\"", "non-empty"}));
+  EXPECT_TRUE(HasError(r, "topics.plan", {"found \"\"", "non-empty"}));
+  EXPECT_TRUE(HasError(r, "topics.plan_status", {"\"plan status\"", "letters, digits"}));
+  EXPECT_TRUE(HasError(r, "topics.planner_debug", {"\"2debug\"", "digit"}));
+  EXPECT_TRUE(HasError(r, "topics.robot_pose", {"\"a//b\"", "empty parts"}));
+  EXPECT_TRUE(HasError(r, "topics.goal_pose, topics.plan_request",
+                       {"\"/plan_request\"", "\"plan_request\"", "different topics"}));
+}
+
+TEST(Config, TopicNameRules) {
+  for (const char* good : {"plan", "/plan", "ns/plan_2", "~/plan", "A_b9"}) {
+    EXPECT_TRUE(parse_config(std::string("topics: {plan: \"") + good + "\"}\n").config) << good;
+  }
+  for (const char* bad : {"plan-x", "plan.x", "9plan", "ns/9plan", "plan/", "/", "a~b", "pl an"}) {
+    const ConfigResult r = parse_config(std::string("topics: {plan: \"") + bad + "\"}\n");
+    EXPECT_TRUE(HasError(r, "topics.plan")) << bad;
+  }
+  const ConfigResult same = parse_config("topics: {plan: x, plan_status: x}\n");
+  ASSERT_EQ(same.errors.size(), 1u) << Joined(same.errors);
+  EXPECT_TRUE(HasError(same, "topics.plan, topics.plan_status", {"different topics"}));
+}
+
+TEST(Config, SyntaxErrorGivesOneErrorWithLineAndColumn) {
+  const std::string path = Fixture("syntax_error.yaml");
+  const ConfigResult r = load_config(path);
+  EXPECT_FALSE(r.config.has_value());
+  ASSERT_EQ(r.errors.size(), 1u) << Joined(r.errors);
+  EXPECT_EQ(r.errors[0].rfind(path + ": ", 0), 0u) << r.errors[0];
+  EXPECT_NE(r.errors[0].find("syntax error at line 5, column "), std::string::npos) << r.errors[0];
+
+  const ConfigResult text = parse_config("a: [1, 2\n", "inline.yaml");
+  ASSERT_EQ(text.errors.size(), 1u);
+  EXPECT_EQ(text.errors[0].rfind("inline.yaml: YAML syntax error at line ", 0), 0u)
+      << text.errors[0];
+}
+
+TEST(Config, MissingOrUnreadableFileGivesOneErrorNamingIt) {
+  const std::string missing = Fixture("no_such_file.yaml");
+  const ConfigResult r = load_config(missing);
+  EXPECT_FALSE(r.config.has_value());
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_NE(r.errors[0].find(missing), std::string::npos);
+  EXPECT_NE(r.errors[0].find("no such file"), std::string::npos);
+
+  const std::string folder = std::string(VNSBA_FIXTURE_DIR) + "/config";
+  const ConfigResult dir = load_config(folder);
+  ASSERT_EQ(dir.errors.size(), 1u);
+  EXPECT_NE(dir.errors[0].find(folder), std::string::npos);
+}
+
+TEST(Config, TopLevelMustBeAMap) {
+  for (const char* text : {"- a\n- b\n", "just a string\n", "42\n"}) {
+    const ConfigResult r = parse_config(text, "top.yaml");
+    ASSERT_EQ(r.errors.size(), 1u) << text;
+    EXPECT_NE(r.errors[0].find("top.yaml: found"), std::string::npos) << r.errors[0];
+    EXPECT_NE(r.errors[0].find("expected a map"), std::string::npos) << r.errors[0];
+  }
+  const ConfigResult two = parse_config("a: 1\n---\nb: 2\n", "two.yaml");
+  ASSERT_EQ(two.errors.size(), 1u);
+  EXPECT_NE(two.errors[0].find("2 YAML documents"), std::string::npos);
+}
+
+TEST(Config, ManyErrorsAreAllReportedAtOnce) {
+  const ConfigResult r = LoadBad("many_errors.yaml", 11);
+  EXPECT_TRUE(HasError(r, "domain_id", {"\"-1\""}));
+  EXPECT_TRUE(HasError(r, "ros2_naming", {"\"yes please\""}));
+  EXPECT_TRUE(HasError(r, "topics.plan, topics.plan_status"));
+  EXPECT_TRUE(HasError(r, "topics.goal_pose", {"\"goal-pose\""}));
+  EXPECT_TRUE(HasError(r, "map.occupied_threshold", {"\"101\""}));
+  EXPECT_TRUE(HasError(r, "map.inflation", {"unknown key"}));
+  EXPECT_TRUE(HasError(r, "planner.omega, planner.eta", {"both 0"}));
+  EXPECT_TRUE(HasError(r, "planner.sample_step", {"\"abc\""}));
+  EXPECT_TRUE(HasError(r, "requests.preempt", {"again"}));
+  EXPECT_TRUE(HasError(r, "debug.publsh", {"did you mean \"debug.publish\"?"}));
+  EXPECT_TRUE(HasError(r, "log_level", {"\"loud\""}));
+}
+
+TEST(Config, PlannerDefaultsFollowTheChosenPlanner) {
+  const ConfigResult vns = parse_config("planner:\n  omega: 1.0\n");
+  ASSERT_TRUE(vns.config.has_value());
+  EXPECT_EQ(vns.config->planner.planner, PlannerKind::kVnsBaStar);
+  EXPECT_TRUE(vns.config->planner.prune);
+  EXPECT_TRUE(vns.config->planner.smooth);
+  EXPECT_EQ(vns.config->planner.neighborhood, Neighborhood::kEightElevenThirteen);
+
+  const ConfigResult astar = parse_config("planner:\n  name: astar\n");
+  ASSERT_TRUE(astar.config.has_value());
+  EXPECT_EQ(astar.config->planner.planner, PlannerKind::kAStar);
+  EXPECT_FALSE(astar.config->planner.prune);
+  EXPECT_FALSE(astar.config->planner.smooth);
+  EXPECT_EQ(astar.config->planner.neighborhood, Neighborhood::kEight);
+  EXPECT_EQ(astar.config->planner.max_planning_time, std::chrono::seconds(5));
+
+  // Keys given explicitly override the planner's defaults, wherever they appear in the block.
+  const ConfigResult pruned = parse_config("planner:\n  prune: true\n  name: astar\n");
+  ASSERT_TRUE(pruned.config.has_value());
+  EXPECT_TRUE(pruned.config->planner.prune);
+  EXPECT_FALSE(pruned.config->planner.smooth);
+}
+
+TEST(Config, MaxPlanningTimeIsSecondsToMicroseconds) {
+  auto budget = [](const std::string& value) {
+    const ConfigResult r = parse_config("planner:\n  max_planning_time: " + value + "\n");
+    EXPECT_TRUE(r.config.has_value()) << value << Joined(r.errors);
+    return r.config ? r.config->planner.max_planning_time : microseconds(-1);
+  };
+  EXPECT_EQ(budget("0.25"), microseconds(250000));
+  EXPECT_EQ(budget("2"), microseconds(2000000));
+  EXPECT_EQ(budget("0"), microseconds(0));  // unlimited
+  EXPECT_EQ(budget("0.0000015"), microseconds(2));
+  EXPECT_EQ(budget("1e-9"), microseconds(1));  // never rounds down to "unlimited"
+  // Absent key, or absent planner block: 5 s.
+  EXPECT_EQ(parse_config("planner: {name: astar}\n").config->planner.max_planning_time,
+            std::chrono::seconds(5));
+  EXPECT_EQ(parse_config("domain_id: 3\n").config->planner.max_planning_time,
+            std::chrono::seconds(5));
+  EXPECT_TRUE(
+      HasError(parse_config("planner: {max_planning_time: -1}\n"), "planner.max_planning_time"));
+}
+
+TEST(Config, DdsTopicName) {
+  NodeConfig ros2;
+  ros2.ros2_naming = true;
+  EXPECT_EQ(dds_topic_name(ros2, "plan"), "rt/plan");
+  EXPECT_EQ(dds_topic_name(ros2, "/plan"), "rt/plan");
+  EXPECT_EQ(dds_topic_name(ros2, "ns/plan"), "rt/ns/plan");
+  EXPECT_EQ(dds_topic_name(ros2, ros2.topics.octomap), "rt/octomap_binary");
+  NodeConfig plain;
+  plain.ros2_naming = false;
+  EXPECT_EQ(dds_topic_name(plain, "plan"), "plan");
+  EXPECT_EQ(dds_topic_name(plain, "/plan"), "plan");
+}
+
+TEST(Config, NeverThrowsOnHostileInput) {
+  const std::vector<std::string> inputs = {"{",
+                                           "[",
+                                           "a: *undefined\n",
+                                           "\t\n",
+                                           std::string("\0\x01\xff", 3),
+                                           "? [a, b]\n: 1\n",
+                                           "~: 1\n",
+                                           "planner: &p {name: astar}\nmap: *p\n",
+                                           "a: !!binary x\n",
+                                           std::string(100000, '['),
+                                           "planner:\n  name: [astar]\n"};
+  for (const std::string& text : inputs) {
+    ConfigResult r;
+    EXPECT_NO_THROW(r = parse_config(text)) << text.substr(0, 40);
+    EXPECT_NE(r.config.has_value(), !r.errors.empty()) << text.substr(0, 40);
+  }
+}
+
+}  // namespace
