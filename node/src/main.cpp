@@ -2,6 +2,7 @@
 //
 // SIGINT and SIGTERM are blocked in every thread and taken by sigwait() in main: no signal
 // handler runs, so nothing unsafe happens in one; the node then drains and exits 0.
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
   }
   vnsba::node::NodeConfig config = *loaded.config;
   if (domain >= 0) config.domain_id = domain;
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vnsba_node"));  // logs go to stderr
   spdlog::set_level(spdlog::level::from_str(config.log_level));
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
 

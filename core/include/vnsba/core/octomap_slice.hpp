@@ -1,0 +1,60 @@
+// 2D slices of OctoMap 3D maps, like octomap_server's projected map (ARCHITECTURE.md, "OctoMap
+// slices"). Depends on liboctomap only; the result is the occupancy form the node receives, so
+// the rest of the pipeline is one.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/status.hpp"
+
+namespace octomap {
+class OcTree;
+}
+
+namespace vnsba::core {
+
+struct SliceBounds {
+  double x_min = 0.0, y_min = 0.0;  // metres
+  double x_max = 0.0, y_max = 0.0;  // metres, > the minimum
+};
+
+struct SliceOptions {
+  double z_min = 0.1;       // metres: the height band [z_min, z_max]; z_min <= z_max
+  double z_max = 1.5;       // metres
+  // Metres per output cell: 0 means the tree's leaf size; otherwise it must be a whole multiple
+  // (1, 2, 3, ...) of the leaf size (within 1e-6 relative), so cells align with voxels.
+  double resolution = 0.0;
+  // The area to slice; by default the tree's metric bounds (x, y) snapped outward to cells.
+  std::optional<SliceBounds> bounds;
+  // Turn occupied cells with no occupied 8-neighbour into free ones (sensor speckles).
+  bool remove_speckles = false;
+  int64_t max_cells = int64_t{1} << 24;  // refuse larger slices (memory guard)
+};
+
+// Slices `tree`: a cell is occupied (100) if any occupied leaf overlapping the band projects onto
+// it, free (0) if only free leaves do, unknown (-1) otherwise. Pruned (large) leaves cover every
+// cell under their footprint. Cost grows with the number of leaves overlapping the band, not
+// with the tree's volume. Errors (kInvalidRequest) name the option: an empty band (z_min >
+// z_max), a band outside the tree's height range, a resolution that is not a multiple of the
+// leaf size, bounds that are empty, a slice over max_cells; kInvalidMap for an empty tree.
+Expected<OccupancyGrid> slice_octree(const octomap::OcTree& tree, const SliceOptions& options);
+
+// Reads a .bt (binary) or .ot (full, OcTree only) file. Errors (kInvalidMap) name the file and
+// the problem: missing, unreadable, truncated, not an OctoMap file, not an OcTree.
+Expected<std::shared_ptr<octomap::OcTree>> load_octree(const std::string& path);
+
+// A tree from the data of an octomap_msgs/Octomap message with binary = true (the bytes of
+// OcTree::writeBinaryData), as octomap_msgs' binaryMsgToMap reads it.
+Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(const std::vector<int8_t>& data,
+                                                                   double resolution,
+                                                                   const std::string& id);
+
+// The inverse, for tools and tests: the bytes octomap_msgs' binaryMapToMsg would put in data.
+std::vector<int8_t> octree_to_binary_data(const octomap::OcTree& tree);
+
+}  // namespace vnsba::core
