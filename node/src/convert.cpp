@@ -1,5 +1,7 @@
 #include "vnsba/node/convert.hpp"
 
+#include <octomap/OcTree.h>
+
 #include <cmath>
 #include <sstream>
 
@@ -149,6 +151,35 @@ OccupancyGridMsg to_slice_msg(const core::OccupancyGrid& grid, const std::string
   msg.info().origin().position().y(grid.origin_y);
   msg.info().origin().orientation().w(1.0);
   msg.data(grid.data);
+  return msg;
+}
+
+TreeCheck from_octomap_msg(const OctomapMsg& msg) {
+  TreeCheck out;
+  if (!msg.binary()) {
+    out.status = error(wire::INVALID_MAP,
+                       "octomap binary is false: only binary trees (occupied/free) "
+                       "are supported, as on octomap_server's octomap_binary");
+    return out;
+  }
+  auto tree = core::octree_from_binary_data(msg.data(), msg.resolution(), msg.id());
+  if (!tree) {
+    out.status = error(wire::INVALID_MAP, "octomap: " + tree.error().message);
+    return out;
+  }
+  out.tree = std::move(tree).value();
+  return out;
+}
+
+OctomapMsg to_octomap_msg(const octomap::OcTree& tree, const std::string& frame,
+                          const TimeMsg& stamp) {
+  OctomapMsg msg;
+  msg.header().frame_id(frame);
+  msg.header().stamp(stamp);
+  msg.binary(true);
+  msg.id("OcTree");
+  msg.resolution(tree.getResolution());
+  msg.data(core::octree_to_binary_data(tree));
   return msg;
 }
 

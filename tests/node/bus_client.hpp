@@ -52,6 +52,16 @@ inline node::NodeConfig test_config(const std::string& tag) {
   return cfg;
 }
 
+// The YAML that gives a process (node, slicer, recorder) the same domain and topics as `cfg`.
+inline std::string config_yaml(const node::NodeConfig& cfg) {
+  const auto& t = cfg.topics;
+  return "domain_id: " + std::to_string(cfg.domain_id) + "\ntopics:\n" +
+         "  projected_map: " + t.projected_map + "\n  goal_pose: " + t.goal_pose +
+         "\n  robot_pose: " + t.robot_pose + "\n  plan_request: " + t.plan_request +
+         "\n  plan: " + t.plan + "\n  plan_status: " + t.plan_status +
+         "\n  planner_debug: " + t.planner_debug + "\n  octomap: " + t.octomap + "\n";
+}
+
 template <class Msg>
 class Collector : public node::dds::DataReaderListener {
  public:

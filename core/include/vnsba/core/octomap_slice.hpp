@@ -42,19 +42,44 @@ struct SliceOptions {
 // with the tree's volume. Errors (kInvalidRequest) name the option: an empty band (z_min >
 // z_max), a band outside the tree's height range, a resolution that is not a multiple of the
 // leaf size, bounds that are empty, a slice over max_cells; kInvalidMap for an empty tree.
+//
+// Geometry, in OctoMap's integer keys (checked against liboctomap 1.9.7): voxel boundaries are
+// the whole multiples of the leaf size counted from 0 (a leaf covers [k * leaf, (k + 1) * leaf)),
+// and the output grid is anchored at 0 too, so cell edges lie on voxel edges: origin =
+// floor(min / resolution) * resolution and the far edge rounds up (bounds snap outward; a value
+// within 1e-6 cells of an edge counts as on it, so 0.3 / 0.1 = 2.9999999999999996 means 3). The
+// grid's resolution is exactly k * leaf size. Default bounds are the tree's exact key box.
+// Band: a leaf counts if its z extent overlaps [z_min, z_max] by a positive length; a leaf that
+// only touches the band (its top at z_min or its bottom at z_max) does not; a zero-thickness
+// band (z_min == z_max) takes the leaves containing that height, voxels being half-open as in
+// OctoMap's coordToKey. Band edges within 1e-6 leaf of a voxel boundary snap to it. A leaf's
+// footprint marks every cell it overlaps with positive area. Speckles are judged on the
+// unmodified slice, so a one-voxel pillar standing alone is a speckle too.
+// Cost: the leaves in the band (OctoMap's leaf_bbx iterator over the output area and band) plus
+// a branch-and-bound walk along the tree's outer faces for its key box (z always, x and y only
+// for default bounds); no pass over all leaves. Never throws (out of memory: kInternalError).
 Expected<OccupancyGrid> slice_octree(const octomap::OcTree& tree, const SliceOptions& options);
 
 // Reads a .bt (binary) or .ot (full, OcTree only) file. Errors (kInvalidMap) name the file and
 // the problem: missing, unreadable, truncated, not an OctoMap file, not an OcTree.
+// The first line picks the format, not the extension. The header id must be OcTree (or its
+// deprecated "1"); pre-2011 legacy .bt files without a text header are refused. The data layout
+// is walked and its node count compared with the header before OctoMap reads it (OctoMap's
+// readers use unread bytes on truncated input and recurse without a depth limit on corrupt
+// input), so truncated or corrupt files are errors, never crashes.
 Expected<std::shared_ptr<octomap::OcTree>> load_octree(const std::string& path);
 
 // A tree from the data of an octomap_msgs/Octomap message with binary = true (the bytes of
-// OcTree::writeBinaryData), as octomap_msgs' binaryMsgToMap reads it.
+// OcTree::writeBinaryData), as octomap_msgs' binaryMsgToMap reads it. Only id "OcTree" is
+// accepted; resolution must be finite and > 0; empty data is an empty tree (as binaryMapToMsg
+// writes one). Truncated, trailing or corrupt bytes are kInvalidMap (checked before OctoMap).
 Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(const std::vector<int8_t>& data,
                                                                    double resolution,
                                                                    const std::string& id);
 
 // The inverse, for tools and tests: the bytes octomap_msgs' binaryMapToMsg would put in data.
+// Empty for an empty tree (or, never thrown, when out of memory). Debian's liboctomap prints a
+// "Writing N nodes to output stream..." debug line to stderr on each call.
 std::vector<int8_t> octree_to_binary_data(const octomap::OcTree& tree);
 
 }  // namespace vnsba::core

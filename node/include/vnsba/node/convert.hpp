@@ -10,7 +10,9 @@
 #include "geometry_msgs/msg/PoseStamped.h"
 #include "nav_msgs/msg/OccupancyGrid.h"
 #include "nav_msgs/msg/Path.h"
+#include "octomap_msgs/msg/Octomap.h"
 #include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba_msgs/msg/PlanRequest.h"
 #include "vnsba_msgs/msg/PlanStatus.h"
@@ -26,6 +28,7 @@ using PlanRequestMsg = vnsba_msgs::msg::dds_::PlanRequest_;
 using PlanStatusMsg = vnsba_msgs::msg::dds_::PlanStatus_;
 using PlannerDebugMsg = vnsba_msgs::msg::dds_::PlannerDebug_;
 using TimeMsg = builtin_interfaces::msg::dds_::Time_;
+using OctomapMsg = octomap_msgs::msg::dds_::Octomap_;
 
 // A status as it goes on the wire: a PlanStatus_Constants code and a message naming the field.
 struct WireStatus {
@@ -54,6 +57,19 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
 // The inverse (for the slicer and tests): a core grid as a slice in `frame` stamped `stamp`.
 OccupancyGridMsg to_slice_msg(const core::OccupancyGrid& grid, const std::string& frame,
                               const TimeMsg& stamp);
+
+// An octomap_msgs/Octomap off the bus as a tree: binary must be true (full-probability trees
+// are not supported), id "OcTree", resolution finite and > 0, data a complete binary stream.
+// Errors are INVALID_MAP naming the field.
+struct TreeCheck {
+  WireStatus status;
+  std::shared_ptr<octomap::OcTree> tree;  // set when status.ok()
+};
+TreeCheck from_octomap_msg(const OctomapMsg& msg);
+
+// A tree as a binary octomap_msgs/Octomap (what octomap_server publishes on octomap_binary).
+OctomapMsg to_octomap_msg(const octomap::OcTree& tree, const std::string& frame,
+                          const TimeMsg& stamp);
 
 // A request's pose: finite position, finite and non-zero quaternion, frame equal to the map's
 // (empty counts as the map's). `field` names it in messages ("start", "goal").

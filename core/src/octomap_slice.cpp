@@ -1,0 +1,382 @@
+// 2D slices of OctoMap trees and the OctoMap file / message readers (ARCHITECTURE.md, "OctoMap
+// slices").
+//
+// Everything is done in OctoMap's integer keys, so no voxel is ever rounded into the wrong cell.
+// OctoMap's convention (OcTreeBaseImpl::coordToKey / keyToCoord, checked against 1.9.7): a leaf
+// with key k covers [(k - 2^15) * res, (k - 2^15 + 1) * res) on each axis, i.e. voxel boundaries
+// are the whole multiples of the leaf size counted from 0 (voxels are half-open, [lo, hi)); a
+// pruned node at depth d spans 2^(16 - d) leaves starting at a multiple of that span. Below,
+// "relative keys" are k - 2^15: the voxel's index from 0. An output cell of m leaves covers the
+// relative keys [c * m, c * m + m), so the output grid anchored at 0 stays aligned with voxels.
+#include "vnsba/core/octomap_slice.hpp"
+
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <bitset>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+#include <utility>
+
+namespace vnsba::core {
+namespace {
+
+std::string fmt(double value) {
+  char buffer[32];
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof(buffer), value).ptr);
+}
+
+Status bad_request(const std::string& message) {
+  return Status::error(StatusCode::kInvalidRequest, message);
+}
+Status invalid_map(const std::string& message) {
+  return Status::error(StatusCode::kInvalidMap, message);
+}
+
+int64_t floor_div(int64_t a, int64_t b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+// A value within 1e-6 of a whole number is that number: band edges and bounds given as decimal
+// metres (0.1 / 0.05 = 1.9999999999999998) land on the voxel boundary they mean.
+double snap(double v) {
+  const double r = std::round(v);
+  return std::abs(v - r) <= 1e-6 ? r : v;
+}
+
+// Smallest (or, when `upper`, largest) relative key along `axis` of any leaf under `node`, whose
+// range starts at relative key `lo` and spans `span` keys. Branch and bound: a subtree that cannot
+// beat `best` is skipped, so the cost follows the nodes on the tree's outer faces, not all leaves.
+void extreme_key(const octomap::OcTree& tree, const octomap::OcTreeNode* node, int64_t lo,
+                 int64_t span, unsigned axis, bool upper, int64_t& best) {
+  if (upper ? lo + span - 1 <= best : lo >= best) return;
+  if (!tree.nodeHasChildren(node)) {
+    best = upper ? lo + span - 1 : lo;
+    return;
+  }
+  const int64_t half = span / 2;
+  for (const unsigned side : {upper ? 1u : 0u, upper ? 0u : 1u}) {
+    for (unsigned i = 0; i < 8; ++i) {  // child i is on the upper side of axis a when bit a is set
+      if (((i >> axis) & 1u) == side && tree.nodeChildExists(node, i)) {
+        extreme_key(tree, tree.getNodeChild(node, i), lo + side * half, half, axis, upper, best);
+      }
+    }
+  }
+}
+
+// Checks the layout of a serialised tree before OctoMap reads it: OctoMap's readers trust their
+// input (a truncated stream makes them use bytes they never read, a corrupt one makes them
+// recurse below the tree depth). `full` is the .ot layout of OcTree (per node: float log-odds,
+// then one byte with a bit per existing child, followed by each child); otherwise the layout of
+// writeBinaryData (per inner node: two bytes holding a 2-bit code per child, (byte >> 2i) & 3 for
+// child i of that byte: 0 none, 1 free leaf, 2 occupied leaf, 3 inner node whose bytes follow).
+// Returns the problem, or "" with `nodes` (all nodes, as OcTree::size counts them) set.
+std::string check_layout(std::string_view data, bool full, unsigned depth_limit, uint64_t& nodes) {
+  const size_t node_bytes = full ? 5 : 2;
+  std::vector<std::pair<unsigned, unsigned>> pending{{0, 1}};  // (depth, nodes left to read)
+  size_t pos = 0;
+  nodes = 1;
+  while (!pending.empty()) {
+    if (pending.back().second == 0) {
+      pending.pop_back();
+      continue;
+    }
+    --pending.back().second;
+    const unsigned depth = pending.back().first;
+    if (pos + node_bytes > data.size()) {
+      return "truncated: the data ends inside node " + std::to_string(nodes) + " (" +
+             std::to_string(data.size()) + " bytes)";
+    }
+    const auto* p = reinterpret_cast<const unsigned char*>(data.data() + pos);
+    pos += node_bytes;
+    unsigned created = 0, followed = 0;
+    if (full) {
+      float value;
+      std::memcpy(&value, p, sizeof value);
+      if (!std::isfinite(value)) return "corrupt: a node's log-odds is not finite";
+      created = followed = static_cast<unsigned>(std::bitset<8>(p[4]).count());
+    } else {
+      for (unsigned i = 0; i < 8; ++i) {
+        const unsigned code = (p[i / 4] >> (2 * (i % 4))) & 3u;
+        created += code != 0;
+        followed += code == 3;
+      }
+    }
+    if (created > 0 && depth >= depth_limit) {
+      return "corrupt: nodes below the tree depth " + std::to_string(depth_limit);
+    }
+    nodes += created;
+    if (followed > 0) pending.emplace_back(depth + 1, followed);
+  }
+  if (pos != data.size()) {
+    return "corrupt: " + std::to_string(data.size() - pos) + " bytes after the end of the tree";
+  }
+  return "";
+}
+
+// Builds an OcTree from checked bytes. `what` starts every error message.
+Expected<std::shared_ptr<octomap::OcTree>> read_tree(std::string_view data, double resolution,
+                                                     bool full, const std::string& what,
+                                                     std::optional<uint64_t> expected_nodes) {
+  auto tree = std::make_shared<octomap::OcTree>(resolution);
+  if (data.empty() && !full && !expected_nodes) return tree;  // an empty tree writes no bytes
+  uint64_t nodes = 0;
+  if (std::string problem = check_layout(data, full, tree->getTreeDepth(), nodes);
+      !problem.empty()) {
+    return invalid_map(what + problem);
+  }
+  if (expected_nodes && *expected_nodes != nodes) {
+    return invalid_map(what + "corrupt: the header says " + std::to_string(*expected_nodes) +
+                       " nodes, the data holds " + std::to_string(nodes));
+  }
+  std::istringstream stream{std::string(data)};
+  full ? tree->readData(stream) : tree->readBinaryData(stream);
+  if (!stream || tree->size() != nodes) {
+    return invalid_map(what + "OctoMap could not read the tree data");
+  }
+  return tree;
+}
+
+// Occupied cells with no occupied 8-neighbour become free (decided on the unmodified grid).
+void remove_speckles(OccupancyGrid& grid) {
+  const std::vector<int8_t> raw = grid.data;
+  const int64_t w = grid.width, h = grid.height;
+  auto occupied = [&](int64_t x, int64_t y) {
+    return x >= 0 && y >= 0 && x < w && y < h && raw[y * w + x] == kOccupancyOccupied;
+  };
+  for (int64_t y = 0; y < h; ++y) {
+    for (int64_t x = 0; x < w; ++x) {
+      int neighbours = 0;
+      for (int d = 0; d < 9; ++d) neighbours += d != 4 && occupied(x + d % 3 - 1, y + d / 3 - 1);
+      if (occupied(x, y) && neighbours == 0) grid.data[y * w + x] = kOccupancyFree;
+    }
+  }
+}
+
+Expected<OccupancyGrid> slice(const octomap::OcTree& tree, const SliceOptions& o) {
+  const std::string band = "[" + fmt(o.z_min) + ", " + fmt(o.z_max) + "]";
+  if (!std::isfinite(o.z_min) || !std::isfinite(o.z_max) || o.z_min > o.z_max) {
+    return bad_request("band [z_min, z_max] = " + band + " must be finite with z_min <= z_max");
+  }
+  if (!std::isfinite(o.resolution) || o.resolution < 0.0) {
+    return bad_request("resolution " + fmt(o.resolution) + " is not 0 (the leaf size) or > 0");
+  }
+  if (tree.size() == 0 || tree.getRoot() == nullptr) {
+    return invalid_map("the OctoMap tree is empty");
+  }
+  const double leaf = tree.getResolution();
+  const unsigned depth = tree.getTreeDepth();
+  const int64_t half_keys = int64_t{1} << (depth - 1);  // OctoMap's tree_max_val
+  if (!(leaf > 0.0) || !std::isfinite(leaf * 2.0 * half_keys)) {
+    return invalid_map("the tree's leaf size " + fmt(leaf) + " is not finite and positive");
+  }
+  // Output cells of m leaves.
+  int64_t m = 1;
+  if (o.resolution > 0.0) {
+    const double ratio = o.resolution / leaf;
+    m = std::llround(std::min(ratio, 1e9));
+    if (m < 1 || std::abs(ratio - m) > 1e-6 * m || m > 2 * half_keys) {
+      return bad_request("resolution " + fmt(o.resolution) + " is not a whole multiple (1 to " +
+                         std::to_string(2 * half_keys) + ") of the tree's leaf size " + fmt(leaf));
+    }
+  }
+  const double cell = leaf * m;
+
+  // The tree's key box (exact, unlike getMetricMin/Max's float centres); x and y only when the
+  // bounds default to it.
+  int64_t tree_lo[3] = {}, tree_hi[3] = {};
+  for (unsigned a = o.bounds ? 2 : 0; a < 3; ++a) {
+    tree_lo[a] = INT64_MAX;
+    tree_hi[a] = INT64_MIN;
+    extreme_key(tree, tree.getRoot(), -half_keys, 2 * half_keys, a, false, tree_lo[a]);
+    extreme_key(tree, tree.getRoot(), -half_keys, 2 * half_keys, a, true, tree_hi[a]);
+  }
+
+  // The band as relative z keys [z_lo, z_hi]: leaves overlapping [z_min, z_max] by a positive
+  // length (touching does not count); a band of zero thickness takes the leaves containing it.
+  const double key_limit = 4.0 * half_keys;  // beyond the key space: clamping changes nothing
+  const double band_lo = snap(std::clamp(o.z_min / leaf, -key_limit, key_limit));
+  const double band_hi = snap(std::clamp(o.z_max / leaf, -key_limit, key_limit));
+  const auto z_lo = static_cast<int64_t>(std::floor(band_lo));
+  const int64_t z_hi = band_hi > band_lo ? static_cast<int64_t>(std::ceil(band_hi)) - 1 : z_lo;
+  if (z_lo > tree_hi[2] || z_hi < tree_lo[2]) {
+    return bad_request("band [z_min, z_max] = " + band + " is outside the tree's height range [" +
+                       fmt(tree_lo[2] * leaf) + ", " + fmt((tree_hi[2] + 1) * leaf) + "]");
+  }
+
+  // Output cells [cx0, cx1) x [cy0, cy1), in cells of m leaves from 0.
+  int64_t cx0, cx1, cy0, cy1;
+  if (o.bounds) {
+    const SliceBounds& b = *o.bounds;
+    for (const double v : {b.x_min, b.y_min, b.x_max, b.y_max}) {
+      if (!std::isfinite(v) || std::abs(v / cell) > 1e12) {
+        return bad_request("bounds must be finite and within 1e12 cells of 0 (got " + fmt(v) + ")");
+      }
+    }
+    if (!(b.x_max > b.x_min) || !(b.y_max > b.y_min)) {
+      return bad_request("bounds are empty (need x_max > x_min and y_max > y_min)");
+    }
+    cx0 = static_cast<int64_t>(std::floor(snap(b.x_min / cell)));
+    cy0 = static_cast<int64_t>(std::floor(snap(b.y_min / cell)));
+    cx1 = std::max(cx0 + 1, static_cast<int64_t>(std::ceil(snap(b.x_max / cell))));
+    cy1 = std::max(cy0 + 1, static_cast<int64_t>(std::ceil(snap(b.y_max / cell))));
+  } else {
+    cx0 = floor_div(tree_lo[0], m);
+    cy0 = floor_div(tree_lo[1], m);
+    cx1 = floor_div(tree_hi[0], m) + 1;
+    cy1 = floor_div(tree_hi[1], m) + 1;
+  }
+  const int64_t width = cx1 - cx0, height = cy1 - cy0;
+  if (static_cast<double>(width) * static_cast<double>(height) > static_cast<double>(o.max_cells) ||
+      width > INT32_MAX || height > INT32_MAX) {
+    return bad_request("the slice would have " + std::to_string(width) + " x " +
+                       std::to_string(height) + " cells, over max_cells (" +
+                       std::to_string(o.max_cells) + ")");
+  }
+
+  OccupancyGrid grid;
+  grid.width = static_cast<int32_t>(width);
+  grid.height = static_cast<int32_t>(height);
+  grid.resolution = cell;
+  grid.origin_x = static_cast<double>(cx0) * cell;
+  grid.origin_y = static_cast<double>(cy0) * cell;
+  grid.data.assign(static_cast<size_t>(width * height), kOccupancyUnknown);
+
+  // The key box to visit: the output area in x, y and the band in z, inside the key space.
+  const int64_t key_max = half_keys - 1;
+  const int64_t lo[3] = {std::max(cx0 * m, -half_keys), std::max(cy0 * m, -half_keys),
+                         std::max(z_lo, -half_keys)};
+  const int64_t hi[3] = {std::min(cx1 * m - 1, key_max), std::min(cy1 * m - 1, key_max),
+                         std::min(z_hi, key_max)};
+  if (lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]) {
+    auto to_key = [&](const int64_t* k) {
+      return octomap::OcTreeKey(static_cast<octomap::key_type>(k[0] + half_keys),
+                                static_cast<octomap::key_type>(k[1] + half_keys),
+                                static_cast<octomap::key_type>(k[2] + half_keys));
+    };
+    for (auto it = tree.begin_leafs_bbx(to_key(lo), to_key(hi)), end = tree.end_leafs_bbx();
+         it != end; ++it) {
+      // getIndexKey is the node's smallest key; it spans `span` keys on each axis.
+      const octomap::OcTreeKey key = it.getIndexKey();
+      const int64_t span = int64_t{1} << (depth - it.getDepth());
+      const int64_t kx = key[0] - half_keys, ky = key[1] - half_keys, kz = key[2] - half_keys;
+      if (kz > z_hi || kz + span - 1 < z_lo) continue;  // the iterator's box test is inclusive
+      const int64_t x0 = std::max(floor_div(kx, m), cx0);
+      const int64_t x1 = std::min(floor_div(kx + span - 1, m), cx1 - 1);
+      const int64_t y0 = std::max(floor_div(ky, m), cy0);
+      const int64_t y1 = std::min(floor_div(ky + span - 1, m), cy1 - 1);
+      const bool occupied = tree.isNodeOccupied(*it);
+      for (int64_t y = y0; y <= y1; ++y) {
+        int8_t* row = grid.data.data() + (y - cy0) * width;
+        for (int64_t x = x0; x <= x1; ++x) {
+          int8_t& v = row[x - cx0];
+          if (occupied) {
+            v = kOccupancyOccupied;
+          } else if (v != kOccupancyOccupied) {
+            v = kOccupancyFree;
+          }
+        }
+      }
+    }
+  }
+
+  if (o.remove_speckles) remove_speckles(grid);
+  return grid;
+}
+
+Expected<std::shared_ptr<octomap::OcTree>> load(const std::string& path) {
+  const std::string what = "OctoMap file '" + path + "': ";
+  auto bad = [&](const std::string& problem) { return invalid_map(what + problem); };
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return bad("does not exist");
+  if (!std::filesystem::is_regular_file(path, ec)) return bad("is not a regular file");
+  std::ifstream file(path, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (!file.is_open() || file.bad()) return bad("cannot be read");
+
+  // The first line decides the format (the extension is only a convention): .bt files start with
+  // "# Octomap OcTree binary file", .ot files with "# Octomap OcTree file". Header keywords follow
+  // as OctoMap's AbstractOcTree::readHeader reads them, up to the "data" line.
+  std::istringstream in(bytes);
+  std::string line, token, id;
+  std::getline(in, line);
+  const bool binary = line.rfind("# Octomap OcTree binary file", 0) == 0;
+  if (!binary && line.rfind("# Octomap OcTree file", 0) != 0) {
+    return bad("not an OctoMap file (bad first line; legacy pre-2011 .bt files are not read)");
+  }
+  std::optional<uint64_t> size;
+  double res = 0.0;
+  while (in >> token && token != "data") {
+    if (token == "id") {
+      in >> id;
+    } else if (token == "size") {
+      in >> size.emplace();
+    } else if (token == "res") {
+      in >> res;
+    } else {
+      std::getline(in, line);  // a comment or an unknown keyword: skip the line
+    }
+  }
+  if (token != "data") return bad("truncated or corrupt header (no \"data\" line)");
+  std::getline(in, line);        // the rest of the "data" line
+  if (id == "1") id = "OcTree";  // OctoMap's deprecated id
+  if (!in || !size || !std::isfinite(res) || res <= 0.0) {
+    return bad("corrupt header: needs id, size (node count) and res (resolution > 0)");
+  }
+  if (id != "OcTree") return bad("holds a " + id + ", not an OcTree");
+  const auto data = std::string_view(bytes).substr(static_cast<size_t>(in.tellg()));
+  if (*size == 0 && data.empty()) return std::make_shared<octomap::OcTree>(res);
+  return read_tree(data, res, !binary, what, size);
+}
+
+}  // namespace
+
+Expected<OccupancyGrid> slice_octree(const octomap::OcTree& tree, const SliceOptions& options) {
+  try {
+    return slice(tree, options);
+  } catch (const std::exception& e) {  // out of memory; OctoMap's iterators do not throw
+    return Status::error(StatusCode::kInternalError, std::string("slice_octree: ") + e.what());
+  }
+}
+
+Expected<std::shared_ptr<octomap::OcTree>> load_octree(const std::string& path) {
+  try {
+    return load(path);
+  } catch (const std::exception& e) {
+    return invalid_map("OctoMap file '" + path + "': " + e.what());
+  }
+}
+
+Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(const std::vector<int8_t>& data,
+                                                                   double resolution,
+                                                                   const std::string& id) {
+  const std::string what = "OctoMap message data: ";
+  if (id != "OcTree") return invalid_map(what + "id '" + id + "' is not supported (only OcTree)");
+  if (!std::isfinite(resolution) || resolution <= 0.0) {
+    return invalid_map(what + "resolution " + fmt(resolution) + " is not finite and > 0");
+  }
+  try {
+    const std::string_view bytes(reinterpret_cast<const char*>(data.data()), data.size());
+    return read_tree(bytes, resolution, false, what, std::nullopt);
+  } catch (const std::exception& e) {
+    return invalid_map(what + e.what());
+  }
+}
+
+std::vector<int8_t> octree_to_binary_data(const octomap::OcTree& tree) {
+  try {
+    std::ostringstream stream;
+    tree.writeBinaryData(stream);
+    const std::string bytes = stream.str();
+    return std::vector<int8_t>(bytes.begin(), bytes.end());
+  } catch (const std::exception&) {
+    return {};  // out of memory
+  }
+}
+
+}  // namespace vnsba::core

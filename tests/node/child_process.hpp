@@ -1,0 +1,97 @@
+// Runs one of the project's executables as a child process for tests: output (stdout and stderr)
+// goes to a log file, and the test can wait for it, signal it, and read what it said.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace vnsba::test {
+
+class ChildProcess {
+ public:
+  ChildProcess(const std::string& binary, const std::vector<std::string>& args) {
+    static int counter = 0;
+    log_ = ::testing::TempDir() + "/child_" + std::to_string(getpid()) + "_" +
+           std::to_string(++counter) + ".log";
+    pid_ = fork();
+    if (pid_ == 0) {
+      FILE* out = std::freopen(log_.c_str(), "w", stdout);
+      if (out == nullptr || dup2(fileno(stdout), fileno(stderr)) < 0) _exit(127);
+      std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(binary.c_str(), argv.data());
+      _exit(127);
+    }
+  }
+  ~ChildProcess() {
+    if (running()) {
+      kill(pid_, SIGKILL);
+      wait();
+    }
+  }
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  bool running() const { return pid_ > 0 && exit_code_ < 0; }
+  void signal(int sig) const { kill(pid_, sig); }
+
+  // Waits for the exit; returns the exit code (128 + signal when killed by one).
+  int wait() {
+    if (exit_code_ >= 0) return exit_code_;
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return exit_code_;
+  }
+
+  // Polls the log until it contains `text` or `timeout` passes.
+  bool wait_for_output(const std::string& text, std::chrono::milliseconds timeout) const {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      if (output().find(text) != std::string::npos) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return false;
+  }
+
+  std::string output() const {
+    std::ifstream in(log_);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int exit_code_ = -1;
+  std::string log_;
+};
+
+// Runs to completion and returns {exit code, output}; SIGTERM after `term_after` if non-zero.
+inline std::pair<int, std::string> run_to_exit(
+    const std::string& binary, const std::vector<std::string>& args,
+    std::chrono::milliseconds term_after = std::chrono::milliseconds(0)) {
+  ChildProcess child(binary, args);
+  if (term_after.count() > 0) {
+    std::this_thread::sleep_for(term_after);
+    child.signal(SIGTERM);
+  }
+  const int code = child.wait();
+  return {code, child.output()};
+}
+
+inline std::string write_temp_file(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + std::to_string(getpid()) + "_" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+}  // namespace vnsba::test

@@ -1,0 +1,265 @@
+// vnsba_slicer: OctoMap 3D maps -> 2D slices, to a map_server file or onto the bus.
+//
+//   vnsba_slicer FILE.bt|FILE.ot [--z-min A] [--z-max B] [--resolution R] [--out map.pgm]
+//   vnsba_slicer FILE.bt --publish [--watch] [--config FILE] [--domain N]
+//   vnsba_slicer --subscribe [--config FILE] [--domain N]
+//
+// Band, resolution and speckle removal default to the config's `slicer` section; the flags
+// override them. With --publish the slice goes out on the slice topic (transient local, so a
+// node started later still gets it) and the slicer stays up to serve it until SIGINT/SIGTERM;
+// --watch republishes when the file changes. --subscribe slices every binary octomap_msgs/Octomap
+// it receives on the `octomap` topic and publishes the result.
+//
+// Exit codes: 0 done (or stopped by a signal), 2 bad arguments, config, file or slice options,
+// 1 DDS failure.
+#include <octomap/OcTree.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <sys/stat.h>
+
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <ctime>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+
+#include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
+#include "octomap_msgs/msg/OctomapPubSubTypes.h"
+#include "vnsba/core/map_io.hpp"
+#include "vnsba/core/octomap_slice.hpp"
+#include "vnsba/node/config.hpp"
+#include "vnsba/node/convert.hpp"
+#include "vnsba/node/dds.hpp"
+
+namespace {
+
+using namespace vnsba;
+
+constexpr int kBadInput = 2;
+constexpr int kDdsFailure = 1;
+
+// Newest tree received on the bus, handed from the DDS listener to the main loop.
+class TreeSlot : public node::dds::DataReaderListener {
+ public:
+  void on_data_available(node::dds::DataReader* reader) override {
+    node::OctomapMsg msg;
+    node::dds::SampleInfo info;
+    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      std::lock_guard<std::mutex> lock(mutex_);
+      pending_ = std::move(msg);
+      msg = node::OctomapMsg();
+    }
+  }
+  std::optional<node::OctomapMsg> take() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<node::OctomapMsg> out = std::move(pending_);
+    pending_.reset();
+    return out;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::optional<node::OctomapMsg> pending_;
+};
+
+// The file's modification time; file_time_type::min() when it cannot be read (e.g. mid-rename).
+std::filesystem::file_time_type modified(const std::string& path) {
+  std::error_code ec;
+  const auto t = std::filesystem::last_write_time(path, ec);
+  return ec ? std::filesystem::file_time_type::min() : t;
+}
+
+core::Expected<core::OccupancyGrid> slice_file(const std::string& path,
+                                               const core::SliceOptions& options) {
+  auto tree = core::load_octree(path);
+  if (!tree) return tree.error();
+  return core::slice_octree(**tree, options);
+}
+
+void log_slice(const core::OccupancyGrid& g, const std::string& source) {
+  size_t occupied = 0, free_cells = 0;
+  for (int8_t v : g.data) {
+    occupied += v == core::kOccupancyOccupied;
+    free_cells += v == core::kOccupancyFree;
+  }
+  spdlog::info(
+      "slice of {}: {} x {} cells at {} m, origin ({:.3f}, {:.3f}) m; {} occupied, {} free, {} "
+      "unknown",
+      source, g.width, g.height, g.resolution, g.origin_x, g.origin_y, occupied, free_cells,
+      g.data.size() - occupied - free_cells);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vnsba_slicer"));
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  CLI::App app{"vnsba_slicer: OctoMap 3D maps to 2D occupancy slices"};
+  std::string input, out, config_path = "config/default.yaml";
+  std::optional<double> z_min, z_max, resolution;
+  int domain = -1;
+  bool publish = false, watch = false, subscribe = false, speckles = false;
+  std::vector<double> bounds;
+  app.add_option("file", input, "OctoMap file (.bt binary tree or .ot full tree)");
+  app.add_option("--z-min", z_min, "lower bound of the height band, metres");
+  app.add_option("--z-max", z_max, "upper bound of the height band, metres");
+  app.add_option("--resolution", resolution,
+                 "metres per cell: the leaf size or a whole multiple (0 = leaf size)");
+  app.add_option("--bounds", bounds,
+                 "x_min y_min x_max y_max in metres (default: the tree's bounds)")
+      ->expected(4);
+  app.add_flag("--remove-speckles", speckles, "turn isolated occupied cells free");
+  app.add_option("--out", out, "write a ROS map_server map: OUT (.pgm) and its .yaml");
+  app.add_flag("--publish", publish, "publish the slice on the slice topic and keep serving it");
+  app.add_flag("--watch", watch, "with --publish: republish when the file changes");
+  app.add_flag("--subscribe", subscribe, "slice the binary octomaps received on the octomap topic");
+  app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
+  CLI11_PARSE(app, argc, argv);
+
+  if (subscribe == !input.empty()) {
+    spdlog::error("give either an OctoMap file or --subscribe (not both, not neither)");
+    return kBadInput;
+  }
+  if (!publish && !subscribe && out.empty()) {
+    spdlog::error("nothing to do: give --out FILE.pgm and/or --publish");
+    return kBadInput;
+  }
+  if (watch && !publish) {
+    spdlog::error("--watch needs --publish");
+    return kBadInput;
+  }
+  node::ConfigResult loaded = node::load_config(config_path);
+  if (!loaded.config) {
+    spdlog::error("{} error(s) in {}:", loaded.errors.size(), config_path);
+    for (const auto& e : loaded.errors) spdlog::error("  {}", e);
+    return kBadInput;
+  }
+  node::NodeConfig config = *loaded.config;
+  if (domain >= 0) config.domain_id = domain;
+  spdlog::set_level(spdlog::level::from_str(config.log_level));
+
+  core::SliceOptions options;
+  options.z_min = z_min.value_or(config.slicer.z_min);
+  options.z_max = z_max.value_or(config.slicer.z_max);
+  options.resolution = resolution.value_or(config.slicer.resolution);
+  options.remove_speckles = speckles || config.slicer.remove_speckles;
+  options.max_cells = config.map.max_cells;
+  if (!bounds.empty())
+    options.bounds = core::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
+
+  // File mode: slice once (errors are final), write it if asked.
+  std::optional<core::OccupancyGrid> slice;
+  if (!input.empty()) {
+    auto sliced = slice_file(input, options);
+    if (!sliced) {
+      spdlog::error("{}", sliced.error().message);
+      return kBadInput;
+    }
+    slice = std::move(sliced).value();
+    log_slice(*slice, input);
+    if (!out.empty()) {
+      const std::string stem = std::filesystem::path(out).replace_extension().string();
+      auto written = core::save_map_server(*slice, stem, config.map.occupied_threshold);
+      if (!written) {
+        spdlog::error("{}", written.error().message);
+        return kBadInput;
+      }
+      spdlog::info("wrote {}.pgm and {}", stem, *written);
+    }
+    if (!publish) return 0;
+  }
+
+  // Bus mode. Signals are blocked before DDS starts its threads and taken in the loop below.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  auto participant = node::Participant::create(config.domain_id, "vnsba_slicer");
+  if (!participant) {
+    spdlog::error("{}", participant.error().message);
+    return kDdsFailure;
+  }
+  auto& bus = **participant;
+  const std::string slice_topic_name = node::dds_topic_name(config, config.topics.projected_map);
+  auto slice_topic = bus.topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(slice_topic_name);
+  if (!slice_topic) {
+    spdlog::error("{}", slice_topic.error().message);
+    return kDdsFailure;
+  }
+  auto writer = bus.writer(*slice_topic, node::writer_qos(node::TopicQos::kLatched, true));
+  if (!writer) {
+    spdlog::error("{}", writer.error().message);
+    return kDdsFailure;
+  }
+  auto publish_slice = [&](const core::OccupancyGrid& grid) {
+    node::OccupancyGridMsg msg = node::to_slice_msg(grid, config.frame_id, node::now_msg());
+    if ((*writer)->write(&msg) != ReturnCode_t::RETCODE_OK) {
+      spdlog::error("could not publish the slice on '{}'", slice_topic_name);
+      return;
+    }
+    spdlog::info("published the slice on '{}' (domain {})", slice_topic_name, config.domain_id);
+  };
+
+  TreeSlot trees;
+  if (subscribe) {
+    const std::string tree_topic_name = node::dds_topic_name(config, config.topics.octomap);
+    auto tree_topic = bus.topic<octomap_msgs::msg::dds_::Octomap_PubSubType>(tree_topic_name);
+    if (!tree_topic) {
+      spdlog::error("{}", tree_topic.error().message);
+      return kDdsFailure;
+    }
+    auto reader = bus.reader(*tree_topic, node::reader_qos(node::TopicQos::kLatched), &trees);
+    if (!reader) {
+      spdlog::error("{}", reader.error().message);
+      return kDdsFailure;
+    }
+    spdlog::info("slicing the octomaps on '{}' (domain {})", tree_topic_name, config.domain_id);
+  }
+  if (slice) publish_slice(*slice);
+
+  auto last_change = input.empty() ? std::filesystem::file_time_type::min() : modified(input);
+  for (;;) {
+    const timespec poll_interval{0, 200'000'000};
+    const int received = sigtimedwait(&signals, nullptr, &poll_interval);
+    if (received == SIGINT || received == SIGTERM) {
+      spdlog::info("{} received: stopping", received == SIGINT ? "SIGINT" : "SIGTERM");
+      break;
+    }
+    if (watch) {
+      const auto now = modified(input);
+      if (now != std::filesystem::file_time_type::min() && now != last_change) {
+        last_change = now;
+        auto sliced = slice_file(input, options);
+        if (sliced) {
+          log_slice(*sliced, input);
+          publish_slice(*sliced);
+        } else {
+          // A file caught mid-write, or broken: keep serving the last good slice.
+          spdlog::warn("{} changed but cannot be sliced ({}); the last slice stays published",
+                       input, sliced.error().message);
+        }
+      }
+    }
+    if (auto msg = trees.take()) {
+      node::TreeCheck check = node::from_octomap_msg(*msg);
+      if (!check.status.ok()) {
+        spdlog::error("octomap rejected: {}", check.status.message);
+        continue;
+      }
+      auto sliced = core::slice_octree(*check.tree, options);
+      if (!sliced) {
+        spdlog::error("cannot slice the received octomap: {}", sliced.error().message);
+        continue;
+      }
+      log_slice(*sliced, "the received octomap");
+      publish_slice(*sliced);
+    }
+  }
+  bus.shutdown();
+  return 0;
+}
