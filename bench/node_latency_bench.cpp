@@ -91,6 +91,16 @@ core::OccupancyGrid indoor_map(int size, double resolution) {
   return g;
 }
 
+// A private domain and topics for this process, so concurrent runs never meet.
+void isolate(node::NodeConfig& cfg, const std::string& prefix) {
+  cfg.domain_id = 1 + static_cast<int>(getpid() % 200);
+  auto& t = cfg.topics;
+  for (std::string* name : {&t.projected_map, &t.plan_request, &t.plan_status, &t.plan,
+                            &t.planner_debug, &t.goal_pose, &t.robot_pose, &t.octomap}) {
+    *name = prefix + *name;
+  }
+}
+
 struct Setup {
   node::NodeConfig cfg;
   std::unique_ptr<node::Participant> client;
@@ -129,15 +139,7 @@ bool connect(Setup& s) {
 
 void run_map(const char* label, int size, int queries) {
   Setup s;
-  s.cfg.domain_id = 1 + static_cast<int>(getpid() % 200);
-  const std::string prefix = "bench" + std::to_string(getpid()) + "_" + std::to_string(size) + "_";
-  s.cfg.topics.projected_map = prefix + "map";
-  s.cfg.topics.plan_request = prefix + "request";
-  s.cfg.topics.plan_status = prefix + "status";
-  s.cfg.topics.plan = prefix + "plan";
-  s.cfg.topics.planner_debug = prefix + "debug";
-  s.cfg.topics.goal_pose = prefix + "goal";
-  s.cfg.topics.robot_pose = prefix + "pose";
+  isolate(s.cfg, "bench" + std::to_string(getpid()) + "_" + std::to_string(size) + "_");
   s.cfg.debug = node::DebugPublishing::kNever;
   node::PlannerNode planner_node(s.cfg);
   if (!planner_node.start().is_ok() || !connect(s)) {
@@ -191,15 +193,7 @@ void run_map(const char* label, int size, int queries) {
 
 void run_large_slice() {
   Setup s;
-  s.cfg.domain_id = 1 + static_cast<int>(getpid() % 200);
-  const std::string prefix = "bench" + std::to_string(getpid()) + "_large_";
-  s.cfg.topics.projected_map = prefix + "map";
-  s.cfg.topics.plan_request = prefix + "request";
-  s.cfg.topics.plan_status = prefix + "status";
-  s.cfg.topics.plan = prefix + "plan";
-  s.cfg.topics.planner_debug = prefix + "debug";
-  s.cfg.topics.goal_pose = prefix + "goal";
-  s.cfg.topics.robot_pose = prefix + "pose";
+  isolate(s.cfg, "bench" + std::to_string(getpid()) + "_large_");
   s.cfg.map.max_cells = int64_t{4000} * 4000;
   node::PlannerNode planner_node(s.cfg);
   if (!planner_node.start().is_ok() || !connect(s)) return;

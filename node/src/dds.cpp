@@ -14,32 +14,41 @@ core::Status dds_error(const std::string& what) {
 
 }  // namespace
 
-dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
-  dds::DataWriterQos qos = dds::DATAWRITER_QOS_DEFAULT;
+// What writers and readers share: reliability, durability, history and memory policy.
+template <class Qos>
+void apply_common(Qos& qos, TopicQos profile, bool reader) {
   qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-  qos.reliability().max_blocking_time = {1,
-                                         0};  // a full KEEP_ALL history blocks write() 1 s at most
   const bool durable = profile == TopicQos::kLatched || profile == TopicQos::kStatus;
   qos.durability().kind =
       durable ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
-  if (profile == TopicQos::kEvents) {
+  // Readers keep every request and status; the status writer keeps its last kStatusHistory.
+  const bool keep_all = profile == TopicQos::kEvents || (reader && profile == TopicQos::kStatus);
+  int32_t limit = 0;
+  if (keep_all) {
     qos.history().kind = dds::KEEP_ALL_HISTORY_QOS;
-    qos.resource_limits().max_samples = 2048;
-    qos.resource_limits().max_instances = 1;
-    qos.resource_limits().max_samples_per_instance = 2048;
-  } else if (profile == TopicQos::kStatus) {
-    qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = kStatusHistory;
-    qos.resource_limits().max_samples = kStatusHistory;
-    qos.resource_limits().max_instances = 1;
-    qos.resource_limits().max_samples_per_instance = kStatusHistory;
+    limit = reader ? 4096 : 2048;
   } else {
     qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = profile == TopicQos::kDebug ? 8 : 1;
+    qos.history().depth = profile == TopicQos::kStatus  ? kStatusHistory
+                          : profile == TopicQos::kDebug ? 8
+                                                        : 1;
+    if (profile == TopicQos::kStatus) limit = kStatusHistory;
+  }
+  if (limit > 0) {
+    qos.resource_limits().max_samples = limit;
+    qos.resource_limits().max_instances = 1;
+    qos.resource_limits().max_samples_per_instance = limit;
   }
   qos.endpoint().history_memory_policy =
       eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   qos.data_sharing().off();
+}
+
+dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
+  dds::DataWriterQos qos = dds::DATAWRITER_QOS_DEFAULT;
+  apply_common(qos, profile, /*reader=*/false);
+  qos.reliability().max_blocking_time = {1,
+                                         0};  // a full KEEP_ALL history blocks write() 1 s at most
   // Late joiners of a latched map should not wait for the default 3 s heartbeat.
   qos.reliable_writer_qos().times.heartbeatPeriod = {0, 150'000'000};
   if (large_samples) qos.publish_mode().kind = dds::ASYNCHRONOUS_PUBLISH_MODE;
@@ -48,22 +57,7 @@ dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
 
 dds::DataReaderQos reader_qos(TopicQos profile) {
   dds::DataReaderQos qos = dds::DATAREADER_QOS_DEFAULT;
-  qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-  const bool durable = profile == TopicQos::kLatched || profile == TopicQos::kStatus;
-  qos.durability().kind =
-      durable ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
-  if (profile == TopicQos::kEvents || profile == TopicQos::kStatus) {
-    qos.history().kind = dds::KEEP_ALL_HISTORY_QOS;
-    qos.resource_limits().max_samples = 4096;
-    qos.resource_limits().max_instances = 1;
-    qos.resource_limits().max_samples_per_instance = 4096;
-  } else {
-    qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = profile == TopicQos::kDebug ? 8 : 1;
-  }
-  qos.endpoint().history_memory_policy =
-      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
-  qos.data_sharing().off();
+  apply_common(qos, profile, /*reader=*/true);
   return qos;
 }
 
