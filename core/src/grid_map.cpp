@@ -147,7 +147,7 @@ double GridMap::density(const Cell& a, const Cell& b) const {
 }
 
 Point2 GridMap::world_to_grid(double wx, double wy) const {
-  return {(wx - origin_x_) / resolution_, (wy - origin_y_) / resolution_};
+  return core::world_to_grid({wx, wy}, origin_x_, origin_y_, resolution_);
 }
 
 std::optional<Cell> GridMap::world_to_cell(double wx, double wy) const {
@@ -159,7 +159,7 @@ std::optional<Cell> GridMap::world_to_cell(double wx, double wy) const {
 }
 
 Eigen::Vector2d GridMap::grid_to_world(const Point2& p) const {
-  return {origin_x_ + p.x() * resolution_, origin_y_ + p.y() * resolution_};
+  return core::grid_to_world(p, origin_x_, origin_y_, resolution_);
 }
 
 }  // namespace vnsba::core

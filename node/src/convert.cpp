@@ -2,6 +2,8 @@
 
 #include <octomap/OcTree.h>
 
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <sstream>
 
@@ -305,6 +307,56 @@ PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResu
     msg.pruned_waypoints().push_back(point);
   }
   return msg;
+}
+
+core::Metrics metrics_from_status_msg(const PlanStatusMsg& msg) {
+  core::Metrics m;
+  m.length_m = msg.length_m();
+  m.length_cells = msg.length_cells();
+  m.raw_cost_cells = msg.raw_cost_cells();
+  m.turns = msg.turns();
+  m.turn_angle_deg = msg.turn_angle_deg();
+  m.expanded = msg.expanded();
+  m.planning_time_us = msg.planning_time_us();
+  m.length_ratio = msg.length_ratio();
+  return m;
+}
+
+std::optional<Eigen::Vector2d> position_of(const PoseStampedMsg& pose) {
+  const Eigen::Vector2d p(pose.pose().position().x(), pose.pose().position().y());
+  if (!p.allFinite()) return std::nullopt;
+  return p;
+}
+
+std::vector<Eigen::Vector2d> from_path_msg(const PathMsg& msg) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(msg.poses().size());
+  for (const auto& pose : msg.poses())
+    out.emplace_back(pose.pose().position().x(), pose.pose().position().y());
+  return out;
+}
+
+DebugData from_debug_msg(const PlannerDebugMsg& msg) {
+  DebugData d;
+  d.request_id = msg.request_id();
+  d.planner = msg.planner();
+  // MapMetaData sizes are uint32; anything above int32 cannot be a map the node planned on.
+  d.width = static_cast<int32_t>(std::min<uint32_t>(msg.info().width(), INT32_MAX));
+  d.height = static_cast<int32_t>(std::min<uint32_t>(msg.info().height(), INT32_MAX));
+  d.resolution = msg.info().resolution();
+  d.origin_x = msg.info().origin().position().x();
+  d.origin_y = msg.info().origin().position().y();
+  auto cells = [](const std::vector<vnsba_msgs::msg::dds_::GridCell_>& in) {
+    std::vector<core::Cell> out(in.size());
+    for (size_t i = 0; i < in.size(); ++i) out[i] = {in[i].x(), in[i].y()};
+    return out;
+  };
+  d.expanded_forward = cells(msg.expanded_forward());
+  d.expanded_backward = cells(msg.expanded_backward());
+  if (msg.has_meeting_cell()) d.meeting_cell = core::Cell{msg.meeting_cell().x(), msg.meeting_cell().y()};
+  d.raw_path = cells(msg.raw_path());
+  for (const auto& p : msg.pruned_waypoints()) d.pruned_waypoints.emplace_back(p.x(), p.y());
+  return d;
 }
 
 }  // namespace vnsba::node

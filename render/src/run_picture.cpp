@@ -158,7 +158,8 @@ double distance_to_segment(const Point2& p, const Point2& a, const Point2& b) {
 }
 
 // The stretches of `path` that leave the pruned polyline (the smoothed corners), each with one
-// on-polyline point on either side so they join the black segments. Straight stretches lie on
+// on-polyline point on either side so they join the black segments. Corners so close that their
+// splines share an end point are drawn as one stretch. Straight stretches lie on
 // the polyline; the walk follows the segments in order, so this is linear in the path length.
 std::vector<std::vector<Point2>> smoothed_stretches(const std::vector<Point2>& path,
                                                     const std::vector<Point2>& polyline) {
@@ -184,6 +185,13 @@ std::vector<std::vector<Point2>> smoothed_stretches(const std::vector<Point2>& p
     else
       off[i] = 1;
   }
+  // The spline interpolates P2 and P3 (ALGORITHM.md section 5), so a corner touches the
+  // polyline at single samples between its off-polyline parts: bridge those one-sample gaps so
+  // each smoothed corner is one stretch.
+  std::vector<uint8_t> bridged = off;
+  for (size_t k = 1; k + 1 < path.size(); ++k)
+    if (!off[k] && off[k - 1] && off[k + 1]) bridged[k] = 1;
+  off.swap(bridged);
   size_t i = 0;
   while (i < path.size()) {
     if (!off[i]) {

@@ -38,4 +38,16 @@ double polyline_length(const std::vector<Point2>& points);
 
 std::vector<Point2> cell_centres(const std::vector<Cell>& cells);
 
+// --- Grid conversion: the one implementation (metres <-> continuous cell coordinates). ---
+// For a grid whose cell (0, 0) has its corner at (origin_x, origin_y) metres and whose cells
+// are `resolution` metres wide. GridMap and the pictures of recorded runs both use these.
+inline Point2 world_to_grid(const Eigen::Vector2d& world, double origin_x, double origin_y,
+                            double resolution) {
+  return {(world.x() - origin_x) / resolution, (world.y() - origin_y) / resolution};
+}
+inline Eigen::Vector2d grid_to_world(const Point2& grid, double origin_x, double origin_y,
+                                     double resolution) {
+  return {origin_x + grid.x() * resolution, origin_y + grid.y() * resolution};
+}
+
 }  // namespace vnsba::core

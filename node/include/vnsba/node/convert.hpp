@@ -4,7 +4,9 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "builtin_interfaces/msg/Time.h"
 #include "geometry_msgs/msg/PoseStamped.h"
@@ -95,5 +97,35 @@ PlanStatusMsg to_status_msg(const std::string& request_id, const WireStatus& sta
 PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResult& result,
                              const core::GridMap& map, const std::string& frame,
                              const TimeMsg& stamp);
+
+// --- What the node publishes, read back into core types (for the recorder and tests). ---
+
+// Metrics of a PlanStatus (as computed by the node; zero unless the code is OK).
+core::Metrics metrics_from_status_msg(const PlanStatusMsg& msg);
+
+// A pose's (x, y) position in metres, or nullopt when either is not finite (no frame check:
+// the recorder keeps what was sent, valid or not).
+std::optional<Eigen::Vector2d> position_of(const PoseStampedMsg& pose);
+
+// The (x, y) positions of a path's poses, metres.
+std::vector<Eigen::Vector2d> from_path_msg(const PathMsg& msg);
+
+// A PlannerDebug in core types. Cells are grid indices of the map described by the geometry
+// fields; pruned waypoints are metres in the map frame.
+struct DebugData {
+  std::string request_id;
+  std::string planner;
+  int32_t width = 0;  // cells
+  int32_t height = 0;
+  double resolution = 0.0;  // metres per cell
+  double origin_x = 0.0;    // metres
+  double origin_y = 0.0;
+  std::vector<core::Cell> expanded_forward;
+  std::vector<core::Cell> expanded_backward;
+  std::optional<core::Cell> meeting_cell;
+  std::vector<core::Cell> raw_path;
+  std::vector<Eigen::Vector2d> pruned_waypoints;
+};
+DebugData from_debug_msg(const PlannerDebugMsg& msg);
 
 }  // namespace vnsba::node

@@ -1,0 +1,517 @@
+#include "run_record.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "vnsba/core/map_io.hpp"
+
+namespace vnsba::tools {
+
+using nlohmann::json;
+
+namespace {
+
+json number(double value) {
+  return std::isfinite(value) ? json(value) : json(nullptr);
+}
+
+json point(const Eigen::Vector2d& p) {
+  return json::array({number(p.x()), number(p.y())});
+}
+
+json points(const std::vector<Eigen::Vector2d>& list) {
+  json out = json::array();
+  for (const auto& p : list) out.push_back(point(p));
+  return out;
+}
+
+json cells(const std::vector<core::Cell>& list) {
+  json out = json::array();
+  for (const auto& c : list) out.push_back(json::array({c.x, c.y}));
+  return out;
+}
+
+json optional_point(const std::optional<Eigen::Vector2d>& p) {
+  return p ? point(*p) : json(nullptr);
+}
+
+// Reads typed values out of a JSON document; the first problem is kept with the key's path.
+class Reader {
+ public:
+  bool ok() const { return error_.empty(); }
+  const std::string& error() const { return error_; }
+
+  // The member `key` of object `j` at `path`, or nullptr when absent or null.
+  const json* member(const json& j, const std::string& key, const std::string& path) {
+    if (!j.is_object()) {
+      fail(path, "must be an object");
+      return nullptr;
+    }
+    const auto it = j.find(key);
+    if (it == j.end() || it->is_null()) return nullptr;
+    return &*it;
+  }
+  const json* required(const json& j, const std::string& key, const std::string& path) {
+    const json* m = member(j, key, path);
+    if (m == nullptr && ok()) fail(join(path, key), "is missing");
+    return m;
+  }
+  std::string string(const json& j, const std::string& key, const std::string& path) {
+    const json* m = member(j, key, path);
+    if (m == nullptr) return {};
+    if (!m->is_string()) {
+      fail(join(path, key), "must be a string");
+      return {};
+    }
+    return m->get<std::string>();
+  }
+  // A number; null (a non-finite value when written) reads as NaN.
+  double real(const json& j, const std::string& key, const std::string& path) {
+    const json* m = member(j, key, path);
+    if (m == nullptr) return std::numeric_limits<double>::quiet_NaN();
+    if (!m->is_number()) {
+      fail(join(path, key), "must be a number");
+      return 0.0;
+    }
+    return m->get<double>();
+  }
+  int64_t integer(const json& j, const std::string& key, const std::string& path, int64_t lo,
+                  int64_t hi) {
+    const json* m = member(j, key, path);
+    if (m == nullptr) return 0;
+    if (!m->is_number_integer()) {
+      fail(join(path, key), "must be an integer");
+      return 0;
+    }
+    const int64_t v = m->is_number_unsigned()
+                          ? static_cast<int64_t>(std::min<uint64_t>(m->get<uint64_t>(), INT64_MAX))
+                          : m->get<int64_t>();
+    if (v < lo || v > hi) {
+      fail(join(path, key), "is " + std::to_string(v) + ", must be in [" + std::to_string(lo) +
+                                ", " + std::to_string(hi) + "]");
+      return 0;
+    }
+    return v;
+  }
+  bool boolean(const json& j, const std::string& key, const std::string& path) {
+    const json* m = member(j, key, path);
+    if (m == nullptr) return false;
+    if (!m->is_boolean()) {
+      fail(join(path, key), "must be true or false");
+      return false;
+    }
+    return m->get<bool>();
+  }
+  std::optional<Eigen::Vector2d> point(const json& j, const std::string& key,
+                                       const std::string& path) {
+    const json* m = member(j, key, path);
+    if (m == nullptr) return std::nullopt;
+    return point_value(*m, join(path, key));
+  }
+  std::optional<Eigen::Vector2d> point_value(const json& m, const std::string& path) {
+    if (!m.is_array() || m.size() != 2 || !m[0].is_number() || !m[1].is_number()) {
+      if (!(m.is_array() && m.size() == 2 && (m[0].is_null() || m[1].is_null())))
+        fail(path, "must be [x, y] with two numbers");
+      return std::nullopt;
+    }
+    return Eigen::Vector2d(m[0].get<double>(), m[1].get<double>());
+  }
+  std::vector<Eigen::Vector2d> points(const json& j, const std::string& key,
+                                      const std::string& path) {
+    std::vector<Eigen::Vector2d> out;
+    const json* m = member(j, key, path);
+    if (m == nullptr) return out;
+    if (!m->is_array()) {
+      fail(join(path, key), "must be an array of [x, y]");
+      return out;
+    }
+    out.reserve(m->size());
+    for (size_t i = 0; i < m->size() && ok(); ++i) {
+      auto p = point_value((*m)[i], join(path, key) + "[" + std::to_string(i) + "]");
+      if (p) out.push_back(*p);
+    }
+    return out;
+  }
+  std::vector<core::Cell> cells(const json& j, const std::string& key, const std::string& path) {
+    std::vector<core::Cell> out;
+    const json* m = member(j, key, path);
+    if (m == nullptr) return out;
+    if (!m->is_array()) {
+      fail(join(path, key), "must be an array of [x, y] cells");
+      return out;
+    }
+    out.reserve(m->size());
+    for (size_t i = 0; i < m->size() && ok(); ++i) {
+      auto c = cell_value((*m)[i], join(path, key) + "[" + std::to_string(i) + "]");
+      if (c) out.push_back(*c);
+    }
+    return out;
+  }
+  std::optional<core::Cell> cell_value(const json& m, const std::string& path) {
+    if (!m.is_array() || m.size() != 2 || !m[0].is_number_integer() ||
+        !m[1].is_number_integer()) {
+      fail(path, "must be [x, y] with two integers");
+      return std::nullopt;
+    }
+    const int64_t x = m[0].get<int64_t>(), y = m[1].get<int64_t>();
+    if (x < INT32_MIN || x > INT32_MAX || y < INT32_MIN || y > INT32_MAX) {
+      fail(path, "is out of the 32-bit cell range");
+      return std::nullopt;
+    }
+    return core::Cell{static_cast<int32_t>(x), static_cast<int32_t>(y)};
+  }
+  void fail(const std::string& path, const std::string& what) {
+    if (error_.empty()) error_ = path + " " + what;
+  }
+  static std::string join(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+  }
+
+ private:
+  std::string error_;
+};
+
+}  // namespace
+
+json to_json(const RunRecord& r) {
+  json j;
+  j["request_id"] = r.request_id;
+  if (r.request) {
+    j["request"] = {{"source", r.request->source},
+                    {"planner", r.request->planner},
+                    {"start", optional_point(r.request->start)},
+                    {"goal", optional_point(r.request->goal)}};
+  } else {
+    j["request"] = nullptr;
+  }
+  if (r.status) {
+    const StatusRecord& s = *r.status;
+    const core::Metrics& m = s.metrics;
+    j["status"] = {{"code", s.code},
+                   {"code_name", s.code_name},
+                   {"message", s.message},
+                   {"planner", s.planner},
+                   {"length_m", number(m.length_m)},
+                   {"length_cells", number(m.length_cells)},
+                   {"raw_cost_cells", number(m.raw_cost_cells)},
+                   {"turns", m.turns},
+                   {"turn_angle_deg", number(m.turn_angle_deg)},
+                   {"expanded", m.expanded},
+                   {"planning_time_us", m.planning_time_us},
+                   {"length_ratio", number(m.length_ratio)},
+                   {"map_stamp", {{"sec", s.map_stamp_sec}, {"nanosec", s.map_stamp_nanosec}}}};
+  } else {
+    j["status"] = nullptr;
+  }
+  j["path"] = points(r.path);
+  if (r.debug) {
+    const DebugRecord& d = *r.debug;
+    j["debug"] = {{"planner", d.planner},
+                  {"width", d.width},
+                  {"height", d.height},
+                  {"resolution", number(d.resolution)},
+                  {"origin", point({d.origin_x, d.origin_y})},
+                  {"expanded_forward", cells(d.expanded_forward)},
+                  {"expanded_backward", cells(d.expanded_backward)},
+                  {"meeting_cell", d.meeting_cell ? json::array({d.meeting_cell->x, d.meeting_cell->y})
+                                                  : json(nullptr)},
+                  {"raw_path", cells(d.raw_path)},
+                  {"pruned_waypoints", points(d.pruned_waypoints)}};
+  } else {
+    j["debug"] = nullptr;
+  }
+  if (r.map) {
+    const MapReference& m = *r.map;
+    j["map"] = {{"file", m.file},
+                {"frame_id", m.frame_id},
+                {"stamp", {{"sec", m.stamp_sec}, {"nanosec", m.stamp_nanosec}}},
+                {"width", m.width},
+                {"height", m.height},
+                {"resolution", number(m.resolution)},
+                {"origin", point({m.origin_x, m.origin_y})},
+                {"occupied_threshold", m.occupied_threshold},
+                {"allow_unknown", m.allow_unknown},
+                {"robot_radius", number(m.robot_radius)}};
+  } else {
+    j["map"] = nullptr;
+  }
+  return j;
+}
+
+core::Expected<RunRecord> run_record_from_json(const json& j) {
+  Reader in;
+  RunRecord r;
+  if (!j.is_object())
+    return core::Status::error(core::StatusCode::kInvalidRequest, "the record must be an object");
+  if (in.required(j, "request_id", "")) r.request_id = in.string(j, "request_id", "");
+  if (const json* q = in.member(j, "request", "")) {
+    RequestRecord req;
+    req.source = in.string(*q, "source", "request");
+    req.planner = in.string(*q, "planner", "request");
+    req.start = in.point(*q, "start", "request");
+    req.goal = in.point(*q, "goal", "request");
+    r.request = req;
+  }
+  if (const json* s = in.member(j, "status", "")) {
+    StatusRecord st;
+    st.code = static_cast<int>(in.integer(*s, "code", "status", 0, 255));
+    st.code_name = in.string(*s, "code_name", "status");
+    st.message = in.string(*s, "message", "status");
+    st.planner = in.string(*s, "planner", "status");
+    core::Metrics& m = st.metrics;
+    m.length_m = in.real(*s, "length_m", "status");
+    m.length_cells = in.real(*s, "length_cells", "status");
+    m.raw_cost_cells = in.real(*s, "raw_cost_cells", "status");
+    m.turns = static_cast<int32_t>(in.integer(*s, "turns", "status", 0, INT32_MAX));
+    m.turn_angle_deg = in.real(*s, "turn_angle_deg", "status");
+    m.expanded = in.integer(*s, "expanded", "status", 0, INT64_MAX);
+    m.planning_time_us = in.integer(*s, "planning_time_us", "status", INT64_MIN, INT64_MAX);
+    m.length_ratio = in.real(*s, "length_ratio", "status");
+    if (const json* stamp = in.member(*s, "map_stamp", "status")) {
+      st.map_stamp_sec = in.integer(*stamp, "sec", "status.map_stamp", INT32_MIN, INT32_MAX);
+      st.map_stamp_nanosec =
+          static_cast<uint32_t>(in.integer(*stamp, "nanosec", "status.map_stamp", 0, UINT32_MAX));
+    }
+    r.status = st;
+  }
+  r.path = in.points(j, "path", "");
+  if (const json* d = in.member(j, "debug", "")) {
+    DebugRecord dbg;
+    dbg.planner = in.string(*d, "planner", "debug");
+    dbg.width = static_cast<int32_t>(in.integer(*d, "width", "debug", 0, INT32_MAX));
+    dbg.height = static_cast<int32_t>(in.integer(*d, "height", "debug", 0, INT32_MAX));
+    dbg.resolution = in.real(*d, "resolution", "debug");
+    if (auto o = in.point(*d, "origin", "debug")) {
+      dbg.origin_x = o->x();
+      dbg.origin_y = o->y();
+    }
+    dbg.expanded_forward = in.cells(*d, "expanded_forward", "debug");
+    dbg.expanded_backward = in.cells(*d, "expanded_backward", "debug");
+    if (const json* mc = in.member(*d, "meeting_cell", "debug"))
+      dbg.meeting_cell = in.cell_value(*mc, "debug.meeting_cell");
+    dbg.raw_path = in.cells(*d, "raw_path", "debug");
+    dbg.pruned_waypoints = in.points(*d, "pruned_waypoints", "debug");
+    r.debug = dbg;
+  }
+  if (const json* m = in.member(j, "map", "")) {
+    MapReference map;
+    map.file = in.string(*m, "file", "map");
+    map.frame_id = in.string(*m, "frame_id", "map");
+    if (const json* stamp = in.member(*m, "stamp", "map")) {
+      map.stamp_sec = in.integer(*stamp, "sec", "map.stamp", INT32_MIN, INT32_MAX);
+      map.stamp_nanosec =
+          static_cast<uint32_t>(in.integer(*stamp, "nanosec", "map.stamp", 0, UINT32_MAX));
+    }
+    map.width = static_cast<int32_t>(in.integer(*m, "width", "map", 0, INT32_MAX));
+    map.height = static_cast<int32_t>(in.integer(*m, "height", "map", 0, INT32_MAX));
+    map.resolution = in.real(*m, "resolution", "map");
+    if (auto o = in.point(*m, "origin", "map")) {
+      map.origin_x = o->x();
+      map.origin_y = o->y();
+    }
+    map.occupied_threshold = static_cast<int>(in.integer(*m, "occupied_threshold", "map", 1, 100));
+    map.allow_unknown = in.boolean(*m, "allow_unknown", "map");
+    const double radius = in.real(*m, "robot_radius", "map");
+    map.robot_radius = std::isfinite(radius) ? radius : 0.0;
+    r.map = map;
+  }
+  if (!in.ok()) return core::Status::error(core::StatusCode::kInvalidRequest, in.error());
+  return r;
+}
+
+std::string safe_file_stem(const std::string& request_id) {
+  std::string stem;
+  for (const char c : request_id) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                      c == '-' || c == '_' || c == '.';
+    stem += keep ? c : '_';
+  }
+  if (stem.empty()) stem = "unnamed";
+  if (stem.front() == '.') stem.front() = '_';  // no hidden files, no "." or ".."
+  constexpr size_t kMaxLength = 120;
+  if (stem.size() > kMaxLength || stem != request_id) {
+    // Different ids must not share a file: ids that were changed or cut get a hash of the
+    // original appended.
+    char hash[20];
+    std::snprintf(hash, sizeof hash, "-%08zx", std::hash<std::string>{}(request_id) & 0xffffffffu);
+    if (stem.size() > kMaxLength) stem.resize(kMaxLength);
+    stem += hash;
+  }
+  return stem;
+}
+
+namespace {
+
+struct Frame {
+  int32_t width = 0, height = 0;
+  double resolution = 1.0, origin_x = 0.0, origin_y = 0.0;
+  bool valid() const {
+    return width > 0 && height > 0 && std::isfinite(resolution) && resolution > 0 &&
+           std::isfinite(origin_x) && std::isfinite(origin_y);
+  }
+  core::Point2 to_grid(const Eigen::Vector2d& world) const {
+    return core::world_to_grid(world, origin_x, origin_y, resolution);
+  }
+};
+
+// Limits the picture of a run without any map to a sane size (cells per side).
+constexpr int32_t kMaxFrameCells = 4096;
+
+// A frame around the run's points when no map geometry is known: 5 % margin, about 200 cells
+// across the longer side.
+Frame frame_around(const RunRecord& r) {
+  std::vector<Eigen::Vector2d> pts = r.path;
+  if (r.request) {
+    if (r.request->start) pts.push_back(*r.request->start);
+    if (r.request->goal) pts.push_back(*r.request->goal);
+  }
+  pts.erase(std::remove_if(pts.begin(), pts.end(),
+                           [](const Eigen::Vector2d& p) { return !p.allFinite(); }),
+            pts.end());
+  Frame f;
+  if (pts.empty()) {
+    f.width = f.height = 10;
+    return f;
+  }
+  Eigen::Vector2d lo = pts.front(), hi = pts.front();
+  for (const auto& p : pts) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), 1.0});
+  f.resolution = extent / 200.0;
+  const double margin = 0.05 * extent;
+  f.origin_x = lo.x() - margin;
+  f.origin_y = lo.y() - margin;
+  auto cells = [&](double span) {
+    return static_cast<int32_t>(std::clamp(std::ceil((span + 2 * margin) / f.resolution), 1.0,
+                                           static_cast<double>(kMaxFrameCells)));
+  };
+  f.width = cells(hi.x() - lo.x());
+  f.height = cells(hi.y() - lo.y());
+  return f;
+}
+
+}  // namespace
+
+render::RunPicture picture_of(const RunRecord& r, const core::OccupancyGrid* grid) {
+  render::RunPicture picture;
+  Frame frame;
+  std::shared_ptr<render::MapPicture> map;
+  if (grid != nullptr && grid->width > 0 && grid->height > 0 &&
+      grid->data.size() == static_cast<size_t>(grid->width) * grid->height) {
+    const int threshold = r.map ? r.map->occupied_threshold : 65;
+    core::GridBuildOptions build;
+    build.occupied_threshold = threshold;
+    build.allow_unknown = r.map && r.map->allow_unknown;
+    build.robot_radius = r.map ? r.map->robot_radius : 0.0;
+    auto planning = core::GridMap::build(*grid, build);
+    map = std::make_shared<render::MapPicture>(
+        render::map_picture(*grid, threshold, planning ? &planning.value() : nullptr));
+    frame = {grid->width, grid->height, grid->resolution, grid->origin_x, grid->origin_y};
+  }
+  if (!map && r.debug) {
+    frame = {r.debug->width, r.debug->height, r.debug->resolution, r.debug->origin_x,
+             r.debug->origin_y};
+    if (!frame.valid() || int64_t{frame.width} * frame.height > int64_t{1} << 28) frame = {};
+  }
+  if (!map && !frame.valid() && r.map) {
+    frame = {r.map->width, r.map->height, r.map->resolution, r.map->origin_x, r.map->origin_y};
+    if (int64_t{frame.width} * frame.height > int64_t{1} << 28) frame = {};
+  }
+  if (!map && !frame.valid()) frame = frame_around(r);
+  if (!map) {
+    // Geometry without occupancy: every cell is drawn free (unknown would hide the layers).
+    auto empty = std::make_shared<render::MapPicture>();
+    empty->width = frame.width;
+    empty->height = frame.height;
+    empty->resolution = frame.resolution;
+    empty->origin_x = frame.origin_x;
+    empty->origin_y = frame.origin_y;
+    empty->cells.assign(static_cast<size_t>(frame.width) * frame.height, render::CellState::kFree);
+    map = empty;
+  }
+  picture.map = map;
+  picture.title = r.request_id;
+  if (r.request) {
+    if (r.request->start && r.request->start->allFinite())
+      picture.start = frame.to_grid(*r.request->start);
+    if (r.request->goal && r.request->goal->allFinite())
+      picture.goal = frame.to_grid(*r.request->goal);
+  }
+  for (const auto& p : r.path) picture.path.push_back(frame.to_grid(p));
+  if (!picture.start && !picture.path.empty()) picture.start = picture.path.front();
+  if (!picture.goal && !picture.path.empty()) picture.goal = picture.path.back();
+  // Debug cells index the debug message's grid; they are drawn only when that grid is the one
+  // in the picture (a slice replaced between the plan and the recording would misplace them).
+  if (r.debug) {
+    const bool same_grid = r.debug->width == frame.width && r.debug->height == frame.height &&
+                           std::abs(r.debug->resolution - frame.resolution) <= 1e-6 * frame.resolution &&
+                           std::abs(r.debug->origin_x - frame.origin_x) <= 1e-6 * frame.resolution &&
+                           std::abs(r.debug->origin_y - frame.origin_y) <= 1e-6 * frame.resolution;
+    if (same_grid) {
+      picture.expanded_forward = r.debug->expanded_forward;
+      picture.expanded_backward = r.debug->expanded_backward;
+      picture.meeting_cell = r.debug->meeting_cell;
+      picture.raw_path = r.debug->raw_path;
+    }
+    for (const auto& p : r.debug->pruned_waypoints) picture.waypoints.push_back(frame.to_grid(p));
+  }
+  if (r.status) {
+    picture.status = r.status->code_name.empty() ? "code " + std::to_string(r.status->code)
+                                                 : r.status->code_name;
+    picture.message = r.status->message;
+    picture.planner = r.status->planner;
+    if (r.status->code == 0) picture.metrics = r.status->metrics;
+  } else {
+    picture.status = "NO_STATUS";
+    picture.message = "no status was received for this request";
+  }
+  if (picture.planner.empty() && r.debug) picture.planner = r.debug->planner;
+  if (picture.planner.empty() && r.request) picture.planner = r.request->planner;
+  return picture;
+}
+
+core::Expected<std::string> render_record_file(const std::string& json_path) {
+  std::ifstream file(json_path, std::ios::binary);
+  if (!file)
+    return core::Status::error(core::StatusCode::kInvalidRequest, json_path + ": cannot read");
+  json j = json::parse(file, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded())
+    return core::Status::error(core::StatusCode::kInvalidRequest, json_path + ": not valid JSON");
+  auto record = run_record_from_json(j);
+  if (!record)
+    return core::Status::error(core::StatusCode::kInvalidRequest,
+                               json_path + ": " + record.error().message);
+  std::optional<core::OccupancyGrid> grid;
+  if (record->map && !record->map->file.empty()) {
+    const std::filesystem::path map_path =
+        std::filesystem::path(json_path).parent_path() / record->map->file;
+    auto loaded = core::load_map_server(map_path.string());
+    if (!loaded)
+      return core::Status::error(core::StatusCode::kInvalidMap,
+                                 json_path + ": map.file: " + loaded.error().message);
+    // map_server files store the image, not the exact origin digits: keep the record's
+    // geometry where the file's agrees with it.
+    grid = std::move(loaded).value();
+    if (grid->width != record->map->width || grid->height != record->map->height)
+      return core::Status::error(core::StatusCode::kInvalidMap,
+                                 json_path + ": map.file is " + std::to_string(grid->width) + " x " +
+                                     std::to_string(grid->height) + " cells, the record says " +
+                                     std::to_string(record->map->width) + " x " +
+                                     std::to_string(record->map->height));
+    grid->resolution = record->map->resolution;
+    grid->origin_x = record->map->origin_x;
+    grid->origin_y = record->map->origin_y;
+  }
+  return render::render_svg(picture_of(*record, grid ? &*grid : nullptr));
+}
+
+}  // namespace vnsba::tools

@@ -1,0 +1,102 @@
+// Run records: one planning run as the recorder heard it on the bus (request, status, path,
+// debug, map reference), written as JSON beside its picture and read back to redraw it later.
+//
+// No DDS here: the recorder converts messages to these plain types (through node/convert.hpp),
+// and `vnsba_recorder render RUN.json` and the tests work from files alone.
+//
+// Units: world positions in metres (map frame); debug cells are grid indices of the map the
+// debug message describes.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/geometry.hpp"
+#include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/metrics.hpp"
+#include "vnsba/core/status.hpp"
+#include "vnsba/render/run_picture.hpp"
+
+namespace vnsba::tools {
+
+// Where the map of a run lies and how it was turned into a planning grid.
+struct MapReference {
+  std::string file;  // map_server .yaml relative to the record's folder; empty if not saved
+  std::string frame_id;
+  int64_t stamp_sec = 0;  // header stamp of the slice (PlanStatus.map_stamp refers to it)
+  uint32_t stamp_nanosec = 0;
+  int32_t width = 0;  // cells
+  int32_t height = 0;
+  double resolution = 0.0;  // metres per cell
+  double origin_x = 0.0;    // metres
+  double origin_y = 0.0;
+  // The recorder's config (expected to match the node's): redraws inflated cells.
+  int occupied_threshold = 65;
+  bool allow_unknown = false;
+  double robot_radius = 0.0;  // metres
+};
+
+struct RequestRecord {
+  std::string source;   // "plan_request" or "goal_pose"
+  std::string planner;  // as requested (empty = the node's configured planner)
+  std::optional<Eigen::Vector2d> start;  // metres; absent when not finite or not known
+  std::optional<Eigen::Vector2d> goal;
+};
+
+struct StatusRecord {
+  int code = 0;           // PlanStatus_Constants
+  std::string code_name;  // "OK", "NO_VALID_PATH", ...
+  std::string message;
+  std::string planner;
+  core::Metrics metrics;
+  int64_t map_stamp_sec = 0;
+  uint32_t map_stamp_nanosec = 0;
+};
+
+struct DebugRecord {
+  std::string planner;
+  int32_t width = 0;  // cells: the geometry of the map the cells index
+  int32_t height = 0;
+  double resolution = 0.0;
+  double origin_x = 0.0;
+  double origin_y = 0.0;
+  std::vector<core::Cell> expanded_forward;
+  std::vector<core::Cell> expanded_backward;
+  std::optional<core::Cell> meeting_cell;
+  std::vector<core::Cell> raw_path;
+  std::vector<Eigen::Vector2d> pruned_waypoints;  // metres
+};
+
+struct RunRecord {
+  std::string request_id;
+  std::optional<RequestRecord> request;
+  std::optional<StatusRecord> status;  // absent when none came before the recorder stopped
+  std::vector<Eigen::Vector2d> path;   // the final path, metres
+  std::optional<DebugRecord> debug;
+  std::optional<MapReference> map;
+};
+
+// JSON with the keys "request_id", "request", "status", "path", "debug", "map" (null when
+// absent). Non-finite numbers are written as null.
+nlohmann::json to_json(const RunRecord& record);
+// The inverse; errors (kInvalidRequest) name the key at fault ("status.metrics.turns").
+core::Expected<RunRecord> run_record_from_json(const nlohmann::json& json);
+
+// A file name for a request id: letters, digits, '-', '_' and '.' kept, anything else '_',
+// never empty, never "." or "..", at most 120 characters (then a hash suffix keeps it unique).
+std::string safe_file_stem(const std::string& request_id);
+
+// The picture of a run. `grid` is the run's map when it is known (it must match the geometry
+// the record carries); otherwise the geometry of the debug data or, failing that, a frame around
+// the run's points is drawn without obstacles.
+render::RunPicture picture_of(const RunRecord& record, const core::OccupancyGrid* grid);
+
+// Reads RUN.json (and the map file it references, relative to the record's folder) and returns
+// the SVG. Errors name the file and the key at fault.
+core::Expected<std::string> render_record_file(const std::string& json_path);
+
+}  // namespace vnsba::tools

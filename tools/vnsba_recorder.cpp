@@ -1,0 +1,502 @@
+// vnsba_recorder: listens to a planner node's topics and turns each planning run into a picture
+// and a run record.
+//
+//   vnsba_recorder --out DIR [--config FILE] [--domain N] [--duration S | --runs N]
+//   vnsba_recorder render RUN.json [--out RUN.svg]
+//
+// It subscribes to the slice, plan_request, goal_pose, robot_pose, plan, plan_status and
+// planner_debug, pairs them by request id, and writes DIR/<id>.svg and DIR/<id>.json for every
+// run once its status has come (and its debug data, or after --debug-wait without it). Slices
+// runs refer to are saved once each under DIR/maps/ (map_server .pgm + .yaml). goal_pose goals
+// carry no id: the node names them goal-1, goal-2, ... and the recorder pairs them with the
+// goal poses it heard in order (start = the last robot_pose), so a recorder started after some
+// goals pairs goal poses only by arrival order.
+//
+// Files are written to a temporary name and renamed, so a reader never sees half a file. A run
+// whose data cannot be drawn or written is logged and skipped; the others go on. SIGINT/SIGTERM
+// (or --duration, or --runs) stop it: readers are deleted first, then every run heard so far is
+// written (a request without a status as NO_STATUS) and it exits 0.
+//
+// Exit codes: 0 done, 1 DDS failure, 2 bad arguments, config or record file.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <csignal>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <variant>
+
+#include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
+#include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
+#include "nav_msgs/msg/PathPubSubTypes.h"
+#include "recorder/run_record.hpp"
+#include "vnsba/core/map_io.hpp"
+#include "vnsba/node/config.hpp"
+#include "vnsba/node/convert.hpp"
+#include "vnsba/node/dds.hpp"
+#include "vnsba/render/svg.hpp"
+#include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
+#include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
+#include "vnsba_msgs/msg/PlannerDebugPubSubTypes.h"
+
+namespace {
+
+using namespace vnsba;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kDdsFailure = 1;
+constexpr int kBadInput = 2;
+
+// Memory guards: the recorder may run for days next to a busy node.
+constexpr size_t kMaxOpenRuns = 10000;      // runs heard of but not yet written
+constexpr size_t kMaxPendingGoals = 1024;   // goal poses waiting for their status
+constexpr size_t kMaxKeptMaps = 4;          // recent slices kept to pair runs with
+
+struct GoalEvent {
+  node::PoseStampedMsg goal;
+};
+struct RobotPoseEvent {
+  node::PoseStampedMsg pose;
+};
+using Event = std::variant<node::OccupancyGridMsg, node::PlanRequestMsg, GoalEvent, RobotPoseEvent,
+                           node::PathMsg, node::PlanStatusMsg, node::PlannerDebugMsg>;
+
+// Every listener hands its samples to one inbox; the main thread does all the work, so the
+// run state needs no locking and a slow disk never blocks DDS threads for long.
+class Inbox {
+ public:
+  void push(Event event) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    events_.push_back(std::move(event));
+  }
+  std::deque<Event> take_all() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::deque<Event> out;
+    out.swap(events_);
+    return out;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<Event> events_;
+};
+
+template <class Msg, class Wrap = Msg>
+class Forwarder : public node::dds::DataReaderListener {
+ public:
+  explicit Forwarder(Inbox& inbox) : inbox_(inbox) {}
+  void on_data_available(node::dds::DataReader* reader) override {
+    Msg msg;
+    node::dds::SampleInfo info;
+    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      inbox_.push(Event(Wrap{std::move(msg)}));
+      msg = Msg();
+    }
+  }
+
+ private:
+  Inbox& inbox_;
+};
+
+struct StoredMap {
+  int64_t stamp_sec = 0;
+  uint32_t stamp_nanosec = 0;
+  core::OccupancyGrid grid;
+  std::string file;  // relative to the output folder once saved
+};
+
+struct OpenRun {
+  tools::RunRecord record;
+  std::optional<Clock::time_point> status_time;
+  uint64_t opened = 0;  // order of arrival, to drop the oldest when too many are open
+};
+
+class Recorder {
+ public:
+  Recorder(node::NodeConfig config, std::filesystem::path out_dir, std::chrono::milliseconds debug_wait)
+      : config_(std::move(config)), out_dir_(std::move(out_dir)), debug_wait_(debug_wait) {}
+
+  void handle(Event&& event) {
+    std::visit([this](auto&& e) { on(std::move(e)); }, std::move(event));
+  }
+
+  // Writes the runs that are complete (all of them when `flush`). Returns how many were written.
+  size_t write_ready(bool flush) {
+    size_t written = 0;
+    const auto now = Clock::now();
+    for (auto it = runs_.begin(); it != runs_.end();) {
+      OpenRun& run = it->second;
+      const bool has_status = run.status_time.has_value();
+      const bool ready =
+          flush || (has_status && (run.record.debug || run.record.status->metrics.expanded == 0 ||
+                                   now - *run.status_time >= debug_wait_));
+      if (!ready) {
+        ++it;
+        continue;
+      }
+      written += write_run(run.record) ? 1 : 0;
+      it = runs_.erase(it);
+    }
+    return written;
+  }
+
+  size_t runs_written() const { return runs_written_; }
+
+ private:
+  OpenRun& run_for(const std::string& id) {
+    auto it = runs_.find(id);
+    if (it != runs_.end()) return it->second;
+    if (runs_.size() >= kMaxOpenRuns) {
+      // Drop the oldest run that has no status (it may never get one) to stay bounded.
+      auto victim = std::min_element(runs_.begin(), runs_.end(), [](const auto& a, const auto& b) {
+        return a.second.opened < b.second.opened;
+      });
+      spdlog::warn("more than {} open runs: dropping '{}'", kMaxOpenRuns, victim->first);
+      runs_.erase(victim);
+    }
+    OpenRun& run = runs_[id];
+    run.record.request_id = id;
+    run.opened = ++opened_counter_;
+    return run;
+  }
+
+  void on(node::OccupancyGridMsg&& msg) {
+    const int64_t sec = msg.header().stamp().sec();
+    const uint32_t nanosec = msg.header().stamp().nanosec();
+    node::SliceCheck check = node::from_slice_msg(std::move(msg), config_.frame_id, config_.map.max_cells);
+    if (!check.status.ok()) {
+      spdlog::warn("slice ignored: {}", check.status.message);
+      return;
+    }
+    maps_.push_back({sec, nanosec, std::move(check.grid), {}});
+    while (maps_.size() > kMaxKeptMaps) maps_.pop_front();
+    spdlog::info("slice {} x {} cells at {} m", maps_.back().grid.width, maps_.back().grid.height,
+                 maps_.back().grid.resolution);
+  }
+
+  void on(node::PlanRequestMsg&& msg) {
+    if (msg.id().empty()) {
+      spdlog::warn("a plan_request without an id cannot be paired with its status; not recorded");
+      return;
+    }
+    tools::RequestRecord request;
+    request.source = "plan_request";
+    request.planner = msg.planner();
+    request.start = node::position_of(msg.start());
+    request.goal = node::position_of(msg.goal());
+    run_for(msg.id()).record.request = request;
+  }
+
+  void on(GoalEvent&& e) {
+    tools::RequestRecord request;
+    request.source = "goal_pose";
+    request.goal = node::position_of(e.goal);
+    request.start = robot_pose_;
+    goals_.push_back(request);
+    while (goals_.size() > kMaxPendingGoals) goals_.pop_front();
+  }
+
+  void on(RobotPoseEvent&& e) { robot_pose_ = node::position_of(e.pose); }
+
+  void on(node::PathMsg&& msg) {
+    // The path also arrives inside PlanStatus (with the id); this copy only fills a status that
+    // came without one.
+    last_plan_ = node::from_path_msg(msg);
+  }
+
+  void on(node::PlanStatusMsg&& msg) {
+    if (msg.request_id().empty()) {
+      spdlog::warn("the node rejected a slice: {}", msg.message());
+      return;
+    }
+    OpenRun& run = run_for(msg.request_id());
+    tools::StatusRecord status;
+    status.code = msg.code();
+    status.code_name = msg.code_name();
+    status.message = msg.message();
+    status.planner = msg.planner();
+    status.metrics = node::metrics_from_status_msg(msg);
+    status.map_stamp_sec = msg.map_stamp().sec();
+    status.map_stamp_nanosec = msg.map_stamp().nanosec();
+    run.record.status = status;
+    run.record.path = node::from_path_msg(msg.path());
+    if (run.record.path.empty() && status.code == 0) run.record.path = last_plan_;
+    if (!run.record.request && msg.request_id().rfind("goal-", 0) == 0 && !goals_.empty()) {
+      run.record.request = goals_.front();
+      goals_.pop_front();
+    }
+    run.status_time = Clock::now();
+  }
+
+  void on(node::PlannerDebugMsg&& msg) {
+    if (msg.request_id().empty()) return;
+    const node::DebugData d = node::from_debug_msg(msg);
+    tools::DebugRecord debug;
+    debug.planner = d.planner;
+    debug.width = d.width;
+    debug.height = d.height;
+    debug.resolution = d.resolution;
+    debug.origin_x = d.origin_x;
+    debug.origin_y = d.origin_y;
+    debug.expanded_forward = d.expanded_forward;
+    debug.expanded_backward = d.expanded_backward;
+    debug.meeting_cell = d.meeting_cell;
+    debug.raw_path = d.raw_path;
+    debug.pruned_waypoints = d.pruned_waypoints;
+    run_for(d.request_id).record.debug = std::move(debug);
+  }
+
+  // The slice a run was planned on: the one whose stamp the status names, else the newest one
+  // with the debug data's geometry, else the newest one.
+  StoredMap* map_of(const tools::RunRecord& r) {
+    if (maps_.empty()) return nullptr;
+    if (r.status)
+      for (auto it = maps_.rbegin(); it != maps_.rend(); ++it)
+        if (it->stamp_sec == r.status->map_stamp_sec && it->stamp_nanosec == r.status->map_stamp_nanosec)
+          return &*it;
+    if (r.debug)
+      for (auto it = maps_.rbegin(); it != maps_.rend(); ++it)
+        if (it->grid.width == r.debug->width && it->grid.height == r.debug->height) return &*it;
+    return r.status && r.status->map_stamp_sec == 0 && r.status->map_stamp_nanosec == 0
+               ? &maps_.back()
+               : nullptr;
+  }
+
+  bool write_run(tools::RunRecord& record) {
+    try {
+      StoredMap* map = map_of(record);
+      if (map != nullptr) {
+        if (map->file.empty()) save_map(*map);
+        tools::MapReference ref;
+        ref.file = map->file;
+        ref.frame_id = config_.frame_id;
+        ref.stamp_sec = map->stamp_sec;
+        ref.stamp_nanosec = map->stamp_nanosec;
+        ref.width = map->grid.width;
+        ref.height = map->grid.height;
+        ref.resolution = map->grid.resolution;
+        ref.origin_x = map->grid.origin_x;
+        ref.origin_y = map->grid.origin_y;
+        ref.occupied_threshold = config_.map.occupied_threshold;
+        ref.allow_unknown = config_.map.allow_unknown;
+        ref.robot_radius = config_.map.robot_radius;
+        record.map = ref;
+      }
+      const std::string stem = tools::safe_file_stem(record.request_id);
+      const std::string svg = render::render_svg(tools::picture_of(record, map ? &map->grid : nullptr));
+      if (!write_file(stem + ".json", tools::to_json(record).dump(1)) || !write_file(stem + ".svg", svg))
+        return false;
+      ++runs_written_;
+      spdlog::info("run '{}' {}: wrote {}", record.request_id,
+                   record.status ? record.status->code_name : std::string("NO_STATUS"),
+                   (out_dir_ / (stem + ".svg")).string());
+      return true;
+    } catch (const std::exception& e) {
+      spdlog::error("run '{}' could not be recorded: {}", record.request_id, e.what());
+      return false;
+    }
+  }
+
+  void save_map(StoredMap& map) {
+    const std::string stem = "map_" + std::to_string(map.stamp_sec) + "_" + std::to_string(map.stamp_nanosec);
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir_ / "maps", ec);
+    auto saved = core::save_map_server(map.grid, (out_dir_ / "maps" / stem).string(),
+                                       config_.map.occupied_threshold);
+    if (!saved) {
+      spdlog::error("could not save the slice: {}", saved.error().message);
+      return;
+    }
+    map.file = "maps/" + stem + ".yaml";
+  }
+
+  bool write_file(const std::string& name, const std::string& content) {
+    const std::filesystem::path final_path = out_dir_ / name;
+    const std::filesystem::path temp = out_dir_ / ("." + name + ".tmp");
+    const core::Status written = render::write_text_file(temp.string(), content);
+    std::error_code ec;
+    if (written.is_ok()) std::filesystem::rename(temp, final_path, ec);
+    if (!written.is_ok() || ec) {
+      spdlog::error("could not write {}: {}", final_path.string(),
+                    written.is_ok() ? ec.message() : written.message);
+      std::filesystem::remove(temp, ec);
+      return false;
+    }
+    return true;
+  }
+
+  node::NodeConfig config_;
+  std::filesystem::path out_dir_;
+  std::chrono::milliseconds debug_wait_;
+  std::map<std::string, OpenRun> runs_;
+  uint64_t opened_counter_ = 0;
+  std::deque<StoredMap> maps_;
+  std::deque<tools::RequestRecord> goals_;
+  std::optional<Eigen::Vector2d> robot_pose_;
+  std::vector<Eigen::Vector2d> last_plan_;
+  size_t runs_written_ = 0;
+};
+
+int render_command(const std::string& json_path, std::string svg_path) {
+  auto svg = tools::render_record_file(json_path);
+  if (!svg) {
+    spdlog::error("{}", svg.error().message);
+    return kBadInput;
+  }
+  if (svg_path.empty()) svg_path = std::filesystem::path(json_path).replace_extension(".svg").string();
+  const core::Status written = render::write_text_file(svg_path, *svg);
+  if (!written.is_ok()) {
+    spdlog::error("--out: {}", written.message);
+    return kBadInput;
+  }
+  spdlog::info("wrote {}", svg_path);
+  return 0;
+}
+
+template <class PubSubType, class Listener>
+core::Status subscribe(node::Participant& bus, const node::NodeConfig& config,
+                       const std::string& name, node::TopicQos qos, Listener& listener) {
+  auto topic = bus.topic<PubSubType>(node::dds_topic_name(config, name));
+  if (!topic) return topic.error();
+  auto reader = bus.reader(*topic, node::reader_qos(qos), &listener);
+  if (!reader) return reader.error();
+  return core::Status::ok();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vnsba_recorder"));
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  CLI::App app{"vnsba_recorder: planning runs on the bus to SVG pictures and run records"};
+  std::string out_dir, config_path = "config/default.yaml";
+  int domain = -1;
+  std::optional<double> duration;
+  std::optional<int64_t> runs_wanted;
+  double debug_wait_s = 0.5;
+  app.add_option("--out", out_dir, "folder for <id>.svg and <id>.json (created if missing)");
+  app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
+  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
+  auto* duration_opt = app.add_option("--duration", duration, "stop after this many seconds");
+  app.add_option("--runs", runs_wanted, "stop after this many runs are written")->excludes(duration_opt);
+  app.add_option("--debug-wait", debug_wait_s,
+                 "seconds to wait for a run's debug data after its status")
+      ->capture_default_str();
+  auto* render_cmd = app.add_subcommand("render", "redraw a run record as SVG");
+  std::string record_path, render_out;
+  render_cmd->add_option("record", record_path, "RUN.json written by the recorder")->required();
+  render_cmd->add_option("--out", render_out, "SVG to write (default: RUN.svg beside the record)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kBadInput;
+  }
+  if (render_cmd->parsed()) return render_command(record_path, render_out);
+
+  if (out_dir.empty()) {
+    spdlog::error("--out: give the folder to write runs to");
+    return kBadInput;
+  }
+  if (duration && !(*duration > 0 && *duration < 1e7)) {
+    spdlog::error("--duration: must be a positive number of seconds");
+    return kBadInput;
+  }
+  if (runs_wanted && *runs_wanted < 1) {
+    spdlog::error("--runs: must be at least 1");
+    return kBadInput;
+  }
+  if (!(debug_wait_s >= 0 && debug_wait_s <= 60)) {
+    spdlog::error("--debug-wait: must be in [0, 60] seconds");
+    return kBadInput;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec || !std::filesystem::is_directory(out_dir)) {
+    spdlog::error("--out: cannot create folder {}: {}", out_dir, ec.message());
+    return kBadInput;
+  }
+  node::ConfigResult loaded = node::load_config(config_path);
+  if (!loaded.config) {
+    spdlog::error("{} error(s) in {}:", loaded.errors.size(), config_path);
+    for (const auto& e : loaded.errors) spdlog::error("  {}", e);
+    return kBadInput;
+  }
+  node::NodeConfig config = *loaded.config;
+  if (domain >= 0) config.domain_id = domain;
+  spdlog::set_level(spdlog::level::from_str(config.log_level));
+
+  // Signals are blocked before DDS starts its threads and taken in the loop below.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder");
+  if (!participant) {
+    spdlog::error("{}", participant.error().message);
+    return kDdsFailure;
+  }
+  node::Participant& bus = **participant;
+  Inbox inbox;
+  Forwarder<node::OccupancyGridMsg> slices(inbox);
+  Forwarder<node::PlanRequestMsg> requests(inbox);
+  Forwarder<node::PoseStampedMsg, GoalEvent> goals(inbox);
+  Forwarder<node::PoseStampedMsg, RobotPoseEvent> robot_poses(inbox);
+  Forwarder<node::PathMsg> plans(inbox);
+  Forwarder<node::PlanStatusMsg> statuses(inbox);
+  Forwarder<node::PlannerDebugMsg> debugs(inbox);
+  const node::TopicNames& t = config.topics;
+  using namespace nav_msgs::msg::dds_;
+  using geometry_msgs::msg::dds_::PoseStamped_PubSubType;
+  using namespace vnsba_msgs::msg::dds_;
+  for (const core::Status& s : {
+           // The debug reader first: the node records expansions only while one is matched.
+           subscribe<PlannerDebug_PubSubType>(bus, config, t.planner_debug, node::TopicQos::kDebug, debugs),
+           subscribe<PlanStatus_PubSubType>(bus, config, t.plan_status, node::TopicQos::kStatus, statuses),
+           subscribe<Path_PubSubType>(bus, config, t.plan, node::TopicQos::kLatest, plans),
+           subscribe<OccupancyGrid_PubSubType>(bus, config, t.projected_map, node::TopicQos::kLatched, slices),
+           subscribe<PlanRequest_PubSubType>(bus, config, t.plan_request, node::TopicQos::kEvents, requests),
+           subscribe<PoseStamped_PubSubType>(bus, config, t.goal_pose, node::TopicQos::kEvents, goals),
+           subscribe<PoseStamped_PubSubType>(bus, config, t.robot_pose, node::TopicQos::kLatest, robot_poses),
+       }) {
+    if (!s.is_ok()) {
+      spdlog::error("{}", s.message);
+      return kDdsFailure;
+    }
+  }
+  spdlog::info("recorder: ready (domain {}, writing to {})", config.domain_id, out_dir);
+
+  Recorder recorder(config, out_dir, std::chrono::milliseconds(static_cast<int64_t>(debug_wait_s * 1000)));
+  // No deadline: the largest time point (a plain value keeps GCC's uninitialized check quiet).
+  const Clock::time_point deadline =
+      duration ? Clock::now() + std::chrono::microseconds(static_cast<int64_t>(*duration * 1e6))
+               : Clock::time_point::max();
+  for (;;) {
+    const timespec poll_interval{0, 50'000'000};
+    const int received = sigtimedwait(&signals, nullptr, &poll_interval);
+    if (received == SIGINT || received == SIGTERM) {
+      spdlog::info("{} received: writing what was heard, then stopping",
+                   received == SIGINT ? "SIGINT" : "SIGTERM");
+      break;
+    }
+    for (Event& e : inbox.take_all()) recorder.handle(std::move(e));
+    recorder.write_ready(false);
+    if (runs_wanted && recorder.runs_written() >= static_cast<size_t>(*runs_wanted)) break;
+    if (Clock::now() >= deadline) break;
+  }
+  // No listener runs after delete_readers(); then the last samples are drained and written.
+  bus.delete_readers();
+  for (Event& e : inbox.take_all()) recorder.handle(std::move(e));
+  if (!runs_wanted || recorder.runs_written() < static_cast<size_t>(*runs_wanted)) recorder.write_ready(true);
+  bus.shutdown();
+  spdlog::info("recorder: {} run(s) written to {}", recorder.runs_written(), out_dir);
+  return 0;
+}
