@@ -89,7 +89,13 @@ class Inbox {
 template <class Msg, class Wrap = Msg>
 class Forwarder : public node::dds::DataReaderListener {
  public:
-  explicit Forwarder(Inbox& inbox) : inbox_(inbox) {}
+  Forwarder(Inbox& inbox, std::string topic) : inbox_(inbox), topic_(std::move(topic)) {}
+  // Logged so that scripts and tests can wait until the node's writers are matched.
+  void on_subscription_matched(node::dds::DataReader*,
+                               const node::dds::SubscriptionMatchedStatus& status) override {
+    if (status.current_count_change > 0)
+      spdlog::info("recorder: {} matched {} writer(s)", topic_, status.current_count);
+  }
   void on_data_available(node::dds::DataReader* reader) override {
     Msg msg;
     node::dds::SampleInfo info;
@@ -102,6 +108,7 @@ class Forwarder : public node::dds::DataReaderListener {
 
  private:
   Inbox& inbox_;
+  std::string topic_;
 };
 
 struct StoredMap {
@@ -446,14 +453,14 @@ int main(int argc, char** argv) {
   }
   node::Participant& bus = **participant;
   Inbox inbox;
-  Forwarder<node::OccupancyGridMsg> slices(inbox);
-  Forwarder<node::PlanRequestMsg> requests(inbox);
-  Forwarder<node::PoseStampedMsg, GoalEvent> goals(inbox);
-  Forwarder<node::PoseStampedMsg, RobotPoseEvent> robot_poses(inbox);
-  Forwarder<node::PathMsg> plans(inbox);
-  Forwarder<node::PlanStatusMsg> statuses(inbox);
-  Forwarder<node::PlannerDebugMsg> debugs(inbox);
   const node::TopicNames& t = config.topics;
+  Forwarder<node::OccupancyGridMsg> slices(inbox, t.projected_map);
+  Forwarder<node::PlanRequestMsg> requests(inbox, t.plan_request);
+  Forwarder<node::PoseStampedMsg, GoalEvent> goals(inbox, t.goal_pose);
+  Forwarder<node::PoseStampedMsg, RobotPoseEvent> robot_poses(inbox, t.robot_pose);
+  Forwarder<node::PathMsg> plans(inbox, t.plan);
+  Forwarder<node::PlanStatusMsg> statuses(inbox, t.plan_status);
+  Forwarder<node::PlannerDebugMsg> debugs(inbox, t.planner_debug);
   using namespace nav_msgs::msg::dds_;
   using geometry_msgs::msg::dds_::PoseStamped_PubSubType;
   using namespace vnsba_msgs::msg::dds_;

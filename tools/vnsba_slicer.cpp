@@ -198,7 +198,7 @@ int main(int argc, char** argv) {
   }
   auto publish_slice = [&](const core::OccupancyGrid& grid) {
     node::OccupancyGridMsg msg = node::to_slice_msg(grid, config.frame_id, node::now_msg());
-    if ((*writer)->write(&msg) != ReturnCode_t::RETCODE_OK) {
+    if (!(*writer)->write(&msg)) {
       spdlog::error("could not publish the slice on '{}'", slice_topic_name);
       return;
     }

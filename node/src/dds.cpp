@@ -114,7 +114,9 @@ core::Expected<dds::DataReader*> Participant::reader(dds::Topic* topic,
                                                      const dds::DataReaderQos& qos,
                                                      dds::DataReaderListener* listener) {
   dds::DataReader* reader = subscriber_->create_datareader(
-      topic, qos, listener, listener ? dds::StatusMask::data_available() : dds::StatusMask::none());
+      topic, qos, listener,
+      listener ? dds::StatusMask::data_available() << dds::StatusMask::subscription_matched()
+               : dds::StatusMask::none());
   if (reader == nullptr) return dds_error("create_datareader(" + topic->get_name() + ")");
   return reader;
 }

@@ -365,7 +365,7 @@ void PlannerNode::Impl::publish_status(const std::string& id, const WireStatus& 
                                        const TimeMsg& map_stamp, PathMsg path,
                                        bool answers_request) {
   PlanStatusMsg msg = to_status_msg(id, status, planner, metrics, map_stamp, std::move(path));
-  if (status_writer_ == nullptr || status_writer_->write(&msg) != ReturnCode_t::RETCODE_OK) {
+  if (status_writer_ == nullptr || !status_writer_->write(&msg)) {
     spdlog::error("could not publish the status of request '{}'", id);
   }
   if (answers_request) ++statuses_published_;
@@ -495,14 +495,14 @@ void PlannerNode::Impl::handle(Job& job, core::Planner*& planner,
   PathMsg path;
   if (status.ok()) {
     path = to_path_msg(result, cfg_.frame_id, stamp);
-    if (plan_writer_->write(&path) != ReturnCode_t::RETCODE_OK)
+    if (!plan_writer_->write(&path))
       spdlog::error("could not publish the path of '{}'", job.id);
     ++plans_ok_;
   }
   publish_status(job.id, status, planner_name, &result.metrics, map->stamp, std::move(path));
   if (debug && result.metrics.expanded > 0) {
     PlannerDebugMsg msg = to_debug_msg(job.id, result, grid, cfg_.frame_id, stamp);
-    if (debug_writer_->write(&msg) != ReturnCode_t::RETCODE_OK)
+    if (!debug_writer_->write(&msg))
       spdlog::warn("could not publish the debug of '{}'", job.id);
   }
   const auto total_us =

@@ -48,9 +48,30 @@ TEST(NodeProcess, SigtermDrainsAndExitsZero) {
   ChildProcess node_process(kNode, {"--config", path, "--domain", std::to_string(test_domain())});
   ASSERT_TRUE(node_process.wait_for_output("up on domain " + std::to_string(test_domain()), 10s))
       << node_process.output();
+  {
+    // One plan through the process: every publication must succeed (a writer that failed is
+    // logged as "could not publish").
+    BusClient client(cfg);
+    ASSERT_TRUE(client.wait_for_node());
+    core::OccupancyGrid free_room;  // 4 x 3 free cells at 1 m
+    free_room.width = 4;
+    free_room.height = 3;
+    free_room.data.assign(12, core::kOccupancyFree);
+    client.publish_slice(free_room);
+    std::optional<PlanStatusMsg> status;
+    for (int attempt = 0; attempt < 50 && !(status && status->code() == node::wire::OK); ++attempt) {
+      const std::string id = "proc-" + std::to_string(attempt);
+      client.publish_request(id, 0.5, 0.5, 3.5, 2.5);
+      status = client.wait_status(id);
+      if (status && status->code() == node::wire::NO_MAP) std::this_thread::sleep_for(100ms);
+    }
+    ASSERT_TRUE(status && status->code() == node::wire::OK) << node_process.output();
+  }
   node_process.signal(SIGTERM);
   EXPECT_EQ(node_process.wait(), 0) << node_process.output();
   EXPECT_NE(node_process.output().find("SIGTERM received"), std::string::npos)
+      << node_process.output();
+  EXPECT_EQ(node_process.output().find("could not publish"), std::string::npos)
       << node_process.output();
 }
 
