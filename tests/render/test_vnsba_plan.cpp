@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <tinyxml2.h>
 
+#include <fstream>
+
 #include "node/child_process.hpp"
 #include "svg_test_support.hpp"
 
@@ -36,6 +38,29 @@ TEST(VnsbaPlan, CellsAndOtherPlanners) {
       kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--planner", "astar"});
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("astar OK"), std::string::npos) << output;
+}
+
+TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
+  // map_server: a 8-bit P5 image with its YAML (the whole map is checked by the map_io tests).
+  const auto [code, output] = run_to_exit(
+      kPlan, {VNSBA_FIXTURE_DIR "/map_server/p5_8bit.yaml", "--cells", "--start", "0", "0", "--goal",
+              "0", "0", "--planner", "astar"});
+  EXPECT_TRUE(code == 0 || code == 1) << output;  // a plan ran: OK or a planner status
+  EXPECT_NE(output.find("astar "), std::string::npos) << output;
+
+  const std::string bt = VNSBA_DATA_DIR "/octomap/geb079.bt";
+  if (!std::ifstream(bt)) GTEST_SKIP() << bt << " is absent (third-party data beside the project)";
+  const std::string svg = ::testing::TempDir() + "/plan_bt_" + std::to_string(getpid()) + ".svg";
+  // A band at hip height, both ends in the building's long corridor would need the map: just
+  // require the slice to load and a planner answer with a picture of the map.
+  const auto [bt_code, bt_output] =
+      run_to_exit(kPlan, {bt, "--z-min", "0.3", "--z-max", "1.2", "--start", "0", "0", "--goal",
+                          "1", "1", "--svg", svg});
+  EXPECT_TRUE(bt_code == 0 || bt_code == 1) << bt_output;
+  tinyxml2::XMLDocument doc;
+  ASSERT_EQ(doc.LoadFile(svg.c_str()), tinyxml2::XML_SUCCESS);
+  EXPECT_GT(data_count(find_id(doc.RootElement(), "map-occupied")), 100);
+  std::remove(svg.c_str());
 }
 
 TEST(VnsbaPlan, PlannerFailuresExitOneWithTheStatus) {
