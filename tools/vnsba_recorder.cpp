@@ -140,9 +140,12 @@ class Recorder {
     for (auto it = runs_.begin(); it != runs_.end();) {
       OpenRun& run = it->second;
       const bool has_status = run.status_time.has_value();
+      // Topics are not ordered with respect to each other: the debug data, and even the request
+      // or goal pose, may arrive after the status. A run waits for them up to debug_wait.
+      const bool complete = has_status && run.record.request &&
+                            (run.record.debug || run.record.status->metrics.expanded == 0);
       const bool ready =
-          flush || (has_status && (run.record.debug || run.record.status->metrics.expanded == 0 ||
-                                   now - *run.status_time >= debug_wait_));
+          flush || complete || (has_status && now - *run.status_time >= debug_wait_);
       if (!ready) {
         ++it;
         continue;
@@ -172,6 +175,9 @@ class Recorder {
     run.opened = ++opened_counter_;
     return run;
   }
+
+  // The node names goal_pose goals goal-1, goal-2, ...
+  static bool is_goal_id(const std::string& id) { return id.rfind("goal-", 0) == 0; }
 
   void on(node::OccupancyGridMsg&& msg) {
     const int64_t sec = msg.header().stamp().sec();
@@ -205,6 +211,15 @@ class Recorder {
     request.source = "goal_pose";
     request.goal = node::position_of(e.goal);
     request.start = robot_pose_;
+    // Its status may have come first: then the oldest goal run still without a request is it.
+    OpenRun* waiting = nullptr;
+    for (auto& [id, run] : runs_)
+      if (!run.record.request && is_goal_id(id) && (!waiting || run.opened < waiting->opened))
+        waiting = &run;
+    if (waiting != nullptr) {
+      waiting->record.request = request;
+      return;
+    }
     goals_.push_back(request);
     while (goals_.size() > kMaxPendingGoals) goals_.pop_front();
   }
@@ -234,7 +249,7 @@ class Recorder {
     run.record.status = status;
     run.record.path = node::from_path_msg(msg.path());
     if (run.record.path.empty() && status.code == 0) run.record.path = last_plan_;
-    if (!run.record.request && msg.request_id().rfind("goal-", 0) == 0 && !goals_.empty()) {
+    if (!run.record.request && is_goal_id(msg.request_id()) && !goals_.empty()) {
       run.record.request = goals_.front();
       goals_.pop_front();
     }
