@@ -1,0 +1,189 @@
+// vnsba_send_goal as a process against a planner node over real loopback DDS: the one status
+// line and the exit codes (0 OK, 2 another status or bad input, 3 no answer in time).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bus_client.hpp"
+#include "child_process.hpp"
+#include "vnsba/node/planner_node.hpp"
+
+namespace vnsba::test {
+namespace {
+
+const std::string kSendGoal = VNSBA_SEND_GOAL_BINARY;
+
+// 4 m x 3 m at 0.1 m, origin (0, 0): a wall at x in [2.0, 2.1) m from y = 0 to 2 m, so paths
+// from the left half to the right half go around its top end.
+core::OccupancyGrid walled_room() {
+  core::OccupancyGrid g;
+  g.width = 40;
+  g.height = 30;
+  g.resolution = 0.1;
+  g.data.assign(static_cast<size_t>(g.width) * g.height, 0);
+  for (int32_t y = 0; y < 20; ++y) g.data[static_cast<size_t>(y) * g.width + 20] = 100;
+  return g;
+}
+
+// The fields of the status line "<id> <status> <length_m> <turns> <time_us>" for `id`.
+struct StatusLine {
+  std::string id, status;
+  double length_m = -1.0;
+  int turns = -1;
+  long long time_us = -1;
+};
+std::optional<StatusLine> find_status_line(const std::string& output, const std::string& id) {
+  std::istringstream lines(output);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind(id + " ", 0) != 0) continue;
+    StatusLine parsed;
+    std::istringstream fields(line);
+    std::string rest;
+    if (fields >> parsed.id >> parsed.status >> parsed.length_m >> parsed.turns >> parsed.time_us &&
+        !(fields >> rest)) {
+      return parsed;
+    }
+  }
+  return std::nullopt;
+}
+
+// A planner node in this process, on topics of its own, with the walled room as its map.
+class SendGoal : public ::testing::Test {
+ protected:
+  void start_node(const std::string& tag) {
+    config_ = test_config(tag);
+    config_path_ = write_temp_file(tag + ".yaml", config_yaml(config_));
+    node_ = std::make_unique<node::PlannerNode>(config_);
+    ASSERT_TRUE(node_->start().is_ok());
+    client_ = std::make_unique<BusClient>(config_);
+    client_->publish_slice(walled_room());
+    ASSERT_TRUE(node_->wait_for_map(10s)) << "the node never got the slice";
+  }
+  std::vector<std::string> args(const std::string& id, double sx, double sy, double gx,
+                                double gy) const {
+    return {"--config",
+            config_path_,
+            "--domain",
+            std::to_string(test_domain()),
+            "--id",
+            id,
+            "--start",
+            std::to_string(sx),
+            std::to_string(sy),
+            "--goal",
+            std::to_string(gx),
+            std::to_string(gy),
+            "--wait",
+            "20"};
+  }
+  void TearDown() override {
+    client_.reset();
+    if (node_) node_->stop();
+  }
+
+  node::NodeConfig config_;
+  std::string config_path_;
+  std::unique_ptr<node::PlannerNode> node_;
+  std::unique_ptr<BusClient> client_;
+};
+
+TEST_F(SendGoal, OkStatusPrintsOneLineAndExitsZero) {
+  start_node("sg_ok");
+  const auto [code, output] = run_to_exit(kSendGoal, args("sg-ok", 0.55, 0.55, 3.55, 0.55));
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_status_line(output, "sg-ok");
+  ASSERT_TRUE(line) << "no status line for sg-ok in:\n" << output;
+  EXPECT_EQ(line->status, "OK");
+  // Around the wall's top end: well over the 3 m straight line, with at least one turn.
+  EXPECT_GT(line->length_m, 3.0);
+  EXPECT_LT(line->length_m, 8.0);
+  EXPECT_GE(line->turns, 1);
+  EXPECT_GT(line->time_us, 0);
+  // The line says what the node published.
+  const auto status = client_->wait_status("sg-ok", 5s);
+  ASSERT_TRUE(status);
+  EXPECT_NEAR(line->length_m, status->length_m(), 0.0005);
+  EXPECT_EQ(line->turns, status->turns());
+  EXPECT_EQ(line->time_us, status->planning_time_us());
+}
+
+TEST_F(SendGoal, PlannerOverrideReachesTheNode) {
+  start_node("sg_planner");
+  std::vector<std::string> a = args("sg-astar", 0.55, 0.55, 3.55, 0.55);
+  a.insert(a.end(), {"--planner", "astar"});
+  const auto [code, output] = run_to_exit(kSendGoal, a);
+  ASSERT_EQ(code, 0) << output;
+  const auto status = client_->wait_status("sg-astar", 5s);
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->planner(), "astar");
+}
+
+TEST_F(SendGoal, GoalInAWallExitsTwoWithTheStatus) {
+  start_node("sg_occupied");
+  const auto [code, output] = run_to_exit(kSendGoal, args("sg-wall", 0.55, 0.55, 2.05, 1.05));
+  EXPECT_EQ(code, 2) << output;
+  const auto line = find_status_line(output, "sg-wall");
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "GOAL_OCCUPIED");
+  EXPECT_EQ(line->length_m, 0.0);
+}
+
+TEST(SendGoalWithoutNode, NoAnswerExitsThreeWithinTheWait) {
+  const node::NodeConfig cfg = test_config("sg_nobody");
+  const std::string path = write_temp_file("sg_nobody.yaml", config_yaml(cfg));
+  const auto began = std::chrono::steady_clock::now();
+  const auto [code, output] =
+      run_to_exit(kSendGoal, {"--config", path, "--domain", std::to_string(test_domain()),
+                              "--start", "0.5", "0.5", "--goal", "1.5", "0.5", "--wait", "1"});
+  const auto took = std::chrono::steady_clock::now() - began;
+  EXPECT_EQ(code, 3) << output;
+  EXPECT_NE(output.find("no planner node"), std::string::npos) << output;
+  // One second of waiting, plus process start and DDS teardown.
+  EXPECT_LT(took, 6s);
+}
+
+TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
+  const node::NodeConfig cfg = test_config("sg_args");
+  const std::string path = write_temp_file("sg_args.yaml", config_yaml(cfg));
+  const std::string bad_config = write_temp_file("sg_bad.yaml", "planner:\n  name: dijkstra\n");
+  struct Case {
+    std::vector<std::string> args;
+    std::string named;  // what the message must name
+  };
+  const std::vector<Case> cases = {
+      {{"--start", "0", "0"}, "--goal"},
+      {{"--goal", "1", "1"}, "--start"},
+      {{"--start", "nan", "0", "--goal", "1", "1"}, "--start"},
+      {{"--start", "0", "0", "--goal", "1", "inf"}, "--goal"},
+      {{"--start", "0", "--goal", "1", "1"}, "--start"},
+      {{"--start", "0", "zero", "--goal", "1", "1"}, "--start"},
+      {{"--start", "0", "0", "--goal", "1", "1", "--planner", "dijkstra"}, "--planner"},
+      {{"--start", "0", "0", "--goal", "1", "1", "--wait", "-1"}, "--wait"},
+      {{"--start", "0", "0", "--goal", "1", "1", "--domain", "999"}, "--domain"},
+      {{"--start", "0", "0", "--goal", "1", "1", "--id", ""}, "--id"},
+      {{"--start", "0", "0", "--goal", "1", "1", "--config", "no/such/file.yaml"},
+       "no/such/file.yaml"},
+      {{"--start", "0", "0", "--goal", "1", "1", "--config", bad_config}, "planner.name"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> a = c.args;
+    if (std::find(a.begin(), a.end(), "--config") == a.end()) a.insert(a.end(), {"--config", path});
+    const auto [code, output] = run_to_exit(kSendGoal, a);
+    std::string joined;
+    for (const auto& s : c.args) joined += s + " ";
+    EXPECT_EQ(code, 2) << joined << "\n" << output;
+    EXPECT_NE(output.find(c.named), std::string::npos)
+        << joined << ": '" << c.named << "' not named in:\n"
+        << output;
+  }
+}
+
+}  // namespace
+}  // namespace vnsba::test
