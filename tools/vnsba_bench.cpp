@@ -3,6 +3,15 @@
 //   vnsba_bench optimality [--maps DIR]   every Moving AI scenario in DIR through A*: its path
 //                                         cost must equal the published optimum; prints a table
 //                                         per map and exits 1 on any mismatch.
+//   vnsba_bench paper [--out DIR] [--repetitions N]
+//                                         the paper's section 4 on its maps A-D: Tables 2-6,
+//                                         Figures 8-12, an ablation (bench/paper.hpp)
+//   vnsba_bench sweep [--out DIR] [--repetitions N]
+//                                         omega / eta from 0 to 1 on the Figure 3 maps
+//   vnsba_bench movingai [--maps DIR] [--planners a,b] [--csv] [--max-scenarios N]
+//                                         every planner on Moving AI scenarios, per map class
+//
+// Exit codes: 0 success, 1 a measurement failed, 2 bad input (the message names it).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -12,6 +21,10 @@
 #include <string>
 #include <vector>
 
+#include "bench/common.hpp"
+#include "bench/movingai.hpp"
+#include "bench/paper.hpp"
+#include "bench/sweep.hpp"
 #include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
 
@@ -82,7 +95,68 @@ int main(int argc, char** argv) {
   std::string maps_dir = std::string(VNSBA_DATA_DIR) + "/movingai";
   auto* optimality = app.add_subcommand("optimality", "A* against every Moving AI optimum");
   optimality->add_option("--maps", maps_dir, "folder with .map and .map.scen files");
-  CLI11_PARSE(app, argc, argv);
+
+  vnsba::bench::PaperOptions paper_options;
+  paper_options.maps_dir = VNSBA_PAPER_MAPS_DIR;
+  paper_options.out_dir = "vnsba_bench_paper";
+  auto* paper = app.add_subcommand("paper", "the paper's Tables 2-6 and Figures 8-12 on maps A-D");
+  paper->add_option("--maps", paper_options.maps_dir, "folder with the paper maps A-D")
+      ->capture_default_str();
+  paper->add_option("--out", paper_options.out_dir, "folder for tables and figures")
+      ->capture_default_str();
+  paper->add_option("--repetitions", paper_options.repetitions,
+                    "timed plans per planner and map (the median is reported)")
+      ->capture_default_str();
+
+  vnsba::bench::SweepOptions sweep_options;
+  sweep_options.maps_dir = VNSBA_PAPER_MAPS_DIR;
+  sweep_options.out_dir = "vnsba_bench_sweep";
+  auto* sweep = app.add_subcommand("sweep", "omega and eta from 0 to 1 on the Figure 3 maps");
+  sweep->add_option("--maps", sweep_options.maps_dir, "folder with the sweep_* maps")
+      ->capture_default_str();
+  sweep->add_option("--out", sweep_options.out_dir, "folder for tables and heat maps")
+      ->capture_default_str();
+  sweep->add_option("--repetitions", sweep_options.repetitions,
+                    "timed plans per pair (the median is reported)")
+      ->capture_default_str();
+
+  vnsba::bench::MovingAiOptions movingai_options;
+  movingai_options.maps_dir = maps_dir;
+  std::string planner_list;
+  auto* movingai =
+      app.add_subcommand("movingai", "every planner on Moving AI scenarios, per map class");
+  movingai->add_option("--maps", movingai_options.maps_dir, "folder with .map and .map.scen files")
+      ->capture_default_str();
+  movingai->add_option("--planners", planner_list, "comma-separated planner names (default: all)");
+  movingai->add_flag("--csv", movingai_options.csv,
+                     "one row per scenario and planner instead of the summary");
+  movingai->add_option("--max-scenarios", movingai_options.max_scenarios,
+                       "at most N scenarios per map, spread over the file (0: all)")
+      ->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return vnsba::bench::kExitBadInput;  // bad command line: the message above names it
+  }
   if (optimality->parsed()) return run_optimality(maps_dir);
-  return 2;
+  if (paper->parsed()) return vnsba::bench::run_paper(paper_options);
+  if (sweep->parsed()) return vnsba::bench::run_sweep(sweep_options);
+  if (movingai->parsed()) {
+    if (!planner_list.empty()) {
+      auto kinds = vnsba::bench::parse_planner_list(planner_list);
+      if (!kinds) {
+        std::fprintf(stderr, "vnsba_bench movingai: %s\n", kinds.error().message.c_str());
+        return vnsba::bench::kExitBadInput;
+      }
+      movingai_options.planners = std::move(kinds).value();
+    }
+    return vnsba::bench::run_movingai(movingai_options);
+  }
+  return vnsba::bench::kExitBadInput;
 }

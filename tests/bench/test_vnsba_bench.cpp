@@ -1,0 +1,250 @@
+// vnsba_bench as a process (paper, sweep, movingai --csv, bad input) and its helpers.
+#include <gtest/gtest.h>
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+
+#include "bench/common.hpp"
+#include "bench/movingai.hpp"
+#include "bench/paper.hpp"
+#include "bench/sweep.hpp"
+#include "node/child_process.hpp"
+#include "vnsba/core/map_io.hpp"
+
+namespace vnsba::test {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kBench = VNSBA_BENCH_BINARY;
+
+// A fresh, empty folder under the test temp dir.
+std::string fresh_folder(const std::string& name) {
+  const std::string folder = ::testing::TempDir() + "/vnsba_bench_" + name + "_" +
+                             std::to_string(getpid());
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+std::vector<std::string> split(const std::string& line, char separator) {
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  std::string field;
+  while (std::getline(in, field, separator)) fields.push_back(field);
+  if (!line.empty() && line.back() == separator) fields.emplace_back();
+  return fields;
+}
+
+TEST(BenchHelpers, ImprovementRateIsThePapersFormula) {
+  EXPECT_DOUBLE_EQ(bench::improvement_rate_percent(10, 4), 60.0);
+  EXPECT_DOUBLE_EQ(bench::improvement_rate_percent(10, 15), -50.0);
+  EXPECT_DOUBLE_EQ(bench::improvement_rate_percent(0, 0), 0.0);
+  EXPECT_TRUE(std::isnan(bench::improvement_rate_percent(0, 3)));
+}
+
+TEST(BenchHelpers, Statistics) {
+  EXPECT_DOUBLE_EQ(bench::median({5, 1, 3}), 3);
+  EXPECT_DOUBLE_EQ(bench::median({4, 1, 3, 2}), 2.5);
+  EXPECT_TRUE(std::isnan(bench::median({})));
+  std::vector<double> hundred;
+  for (int i = 1; i <= 100; ++i) hundred.push_back(i);
+  EXPECT_DOUBLE_EQ(bench::percentile(hundred, 95), 95);
+  EXPECT_DOUBLE_EQ(bench::percentile(hundred, 100), 100);
+  EXPECT_DOUBLE_EQ(bench::percentile({7}, 95), 7);
+  EXPECT_DOUBLE_EQ(bench::mean({1, 2, 6}), 3);
+}
+
+TEST(BenchHelpers, PlannerListNamesTheUnknownPlanner) {
+  auto ok = bench::parse_planner_list("astar,vns_bastar,astar");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->size(), 2u);
+  auto bad = bench::parse_planner_list("astar,dijkstra");
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message.find("'dijkstra'"), std::string::npos) << bad.error().message;
+}
+
+TEST(BenchHelpers, MapClassFromManifestOrName) {
+  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "Berlin_0_256.map"), "street");
+  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "maze512-4-0.map"), "maze");
+  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "16room_000.map"), "room");
+  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "random512-20-0.map"), "random");
+  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "den312d.map"), "game");
+  const std::string dir = VNSBA_DATA_DIR "/movingai";
+  if (!fs::exists(dir + "/MANIFEST.tsv")) GTEST_SKIP() << dir << "/MANIFEST.tsv is absent";
+  EXPECT_EQ(bench::movingai_map_class(dir, "AR0011SR.map"), "game");  // bg512
+  EXPECT_EQ(bench::movingai_map_class(dir, "Boston_0_512.map"), "street");
+  EXPECT_EQ(bench::movingai_map_class(dir, "8room_000.map"), "room");
+}
+
+TEST(VnsbaBench, PaperWritesEveryTableAndFigure) {
+  const std::string out = fresh_folder("paper");
+  const auto [code, output] = run_to_exit(kBench, {"paper", "--out", out, "--repetitions", "3"});
+  ASSERT_EQ(code, 0) << output;
+  for (const auto& file : bench::paper_output_files()) {
+    SCOPED_TRACE(file);
+    ASSERT_TRUE(fs::exists(out + "/" + file));
+    EXPECT_GT(fs::file_size(out + "/" + file), 100u);
+    if (fs::path(file).extension() == ".svg") {
+      tinyxml2::XMLDocument doc;
+      EXPECT_EQ(doc.LoadFile((out + "/" + file).c_str()), tinyxml2::XML_SUCCESS);
+    }
+  }
+  // Figure 12: four maps x four baselines.
+  tinyxml2::XMLDocument doc;
+  ASSERT_EQ(doc.LoadFile((out + "/figure12_overall_improvement.svg").c_str()), tinyxml2::XML_SUCCESS);
+  int bars = 0;
+  std::function<void(const tinyxml2::XMLElement*)> walk = [&](const tinyxml2::XMLElement* e) {
+    for (; e != nullptr; e = e->NextSiblingElement()) {
+      if (const char* c = e->Attribute("class"); c != nullptr && std::string(c) == "bar") ++bars;
+      walk(e->FirstChildElement());
+    }
+  };
+  walk(doc.RootElement());
+  EXPECT_EQ(bars, 16);
+  // The tables name every planner and all of Tables 2-6.
+  std::ifstream tables(out + "/paper_tables.md");
+  const std::string text((std::istreambuf_iterator<char>(tables)), {});
+  for (const char* needle : {"Table 2", "Table 3", "Table 4", "Table 5", "Table 6", "VNS-BA*",
+                             "improved BA*", "+prune+smooth", "search only"})
+    EXPECT_NE(text.find(needle), std::string::npos) << needle;
+  // CSV: a header and one row per map, planner and configuration (4 x 5 x 2), all OK.
+  std::ifstream csv(out + "/paper_results.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line.rfind("map,planner,config,status,", 0), 0u) << line;
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    EXPECT_EQ(split(line, ',')[3], "OK") << line;
+  }
+  EXPECT_EQ(rows, 40);
+  fs::remove_all(out);
+}
+
+TEST(VnsbaBench, SweepWritesTablesAndHeatMaps) {
+  const std::string out = fresh_folder("sweep");
+  const auto [code, output] = run_to_exit(kBench, {"sweep", "--out", out, "--repetitions", "1"});
+  ASSERT_EQ(code, 0) << output;
+  for (const auto& file : bench::sweep_output_files()) {
+    SCOPED_TRACE(file);
+    ASSERT_TRUE(fs::exists(out + "/" + file));
+    if (fs::path(file).extension() == ".svg") {
+      tinyxml2::XMLDocument doc;
+      ASSERT_EQ(doc.LoadFile((out + "/" + file).c_str()), tinyxml2::XML_SUCCESS);
+      int cells = 0;
+      std::function<void(const tinyxml2::XMLElement*)> walk = [&](const tinyxml2::XMLElement* e) {
+        for (; e != nullptr; e = e->NextSiblingElement()) {
+          if (const char* c = e->Attribute("class"); c != nullptr && std::string(c) == "cell") ++cells;
+          walk(e->FirstChildElement());
+        }
+      };
+      walk(doc.RootElement());
+      EXPECT_EQ(cells, 121);
+    }
+  }
+  // 4 maps x 121 pairs, plus the header.
+  std::ifstream csv(out + "/sweep_results.csv");
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, 1 + 4 * 121);
+  EXPECT_NE(output.find("rank of 0.5 / 0.5"), std::string::npos) << output;
+  fs::remove_all(out);
+}
+
+TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
+  const std::string source = VNSBA_DATA_DIR "/movingai/arena.map";
+  if (!fs::exists(source) || !fs::exists(source + ".scen"))
+    GTEST_SKIP() << source << "(.scen) is absent: the Moving AI data beside the project is needed";
+  const std::string dir = fresh_folder("movingai");
+  fs::copy_file(source, dir + "/arena.map");
+  fs::copy_file(source + ".scen", dir + "/arena.map.scen");
+  const auto scenarios = core::load_movingai_scenarios(dir + "/arena.map.scen");
+  ASSERT_TRUE(scenarios);
+  std::map<int, core::MovingAiScenario> by_line;
+  for (const auto& s : *scenarios) by_line[s.line] = s;
+
+  const auto [code, output] =
+      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "astar,vns_bastar", "--csv"});
+  ASSERT_EQ(code, 0) << output;
+  std::stringstream lines(output);
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  EXPECT_EQ(line, "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,"
+                  "expanded,time_us");
+  size_t astar_rows = 0, vns_rows = 0;
+  while (std::getline(lines, line)) {
+    const auto f = split(line, ',');
+    ASSERT_EQ(f.size(), 11u) << line;
+    EXPECT_EQ(f[0], "arena");
+    EXPECT_EQ(f[3], "OK") << line;
+    const int scenario_line = std::stoi(f[1]);
+    ASSERT_EQ(by_line.count(scenario_line), 1u) << line;
+    const auto& s = by_line[scenario_line];
+    EXPECT_NEAR(std::stod(f[4]), s.optimal_length, 1e-6);
+    if (f[2] == "astar") {
+      ++astar_rows;
+      EXPECT_LE(std::abs(std::stod(f[5]) - s.optimal_length),
+                std::max(1e-6 * s.optimal_length, s.optimal_resolution))
+          << line;
+    } else {
+      EXPECT_EQ(f[2], "vns_bastar");
+      ++vns_rows;
+    }
+    EXPECT_GE(std::stod(f[10]), 0.0);
+  }
+  EXPECT_EQ(astar_rows, scenarios->size());
+  EXPECT_EQ(vns_rows, scenarios->size());
+
+  // --max-scenarios and the summary.
+  const auto [summary_code, summary] =
+      run_to_exit(kBench, {"movingai", "--maps", dir, "--max-scenarios", "10"});
+  ASSERT_EQ(summary_code, 0) << summary;
+  EXPECT_NE(summary.find("**game** (arena)"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("VNS-BA* (`vns_bastar`) | 10 | 100.0 %"), std::string::npos) << summary;
+  fs::remove_all(dir);
+}
+
+TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
+  {
+    const auto [code, output] = run_to_exit(kBench, {"movingai", "--maps", "/no/such/folder"});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(output.find("/no/such/folder"), std::string::npos) << output;
+  }
+  {
+    const auto [code, output] =
+        run_to_exit(kBench, {"movingai", "--maps", VNSBA_PAPER_MAPS_DIR, "--planners", "dijkstra"});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(output.find("dijkstra"), std::string::npos) << output;
+  }
+  {
+    const std::string dir = fresh_folder("badmap");
+    std::ofstream(dir + "/A.map") << "type octile\nheight 2\nwidth 2\nmap\n.?\n..\n";
+    std::ofstream(dir + "/A.map.scen") << "version 1\n0\tA.map\t2\t2\t0\t0\t1\t1\t1.41421356\n";
+    const auto [code, output] = run_to_exit(kBench, {"paper", "--maps", dir, "--out", dir + "/out"});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(output.find("A.map"), std::string::npos) << output;
+    fs::remove_all(dir);
+  }
+  {
+    const auto [code, output] = run_to_exit(kBench, {"paper", "--repetitions", "0"});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(output.find("--repetitions"), std::string::npos) << output;
+  }
+  {
+    const auto [code, output] = run_to_exit(kBench, {"sweep", "--maps", "/no/such/maps"});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(output.find("/no/such/maps"), std::string::npos) << output;
+  }
+  {
+    const auto [code, output] = run_to_exit(kBench, {"movingai", "--no-such-option"});
+    EXPECT_EQ(code, 2) << output;
+  }
+}
+
+}  // namespace
+}  // namespace vnsba::test

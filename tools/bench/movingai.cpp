@@ -1,0 +1,207 @@
+#include "bench/movingai.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "bench/common.hpp"
+
+namespace vnsba::bench {
+namespace {
+
+const std::vector<std::string> kClasses = {"game", "maze", "room", "random", "street"};
+
+std::string class_of_source_folder(const std::string& folder) {
+  if (folder == "mazes" || folder == "maze") return "maze";
+  if (folder == "rooms" || folder == "room") return "room";
+  if (folder == "random") return "random";
+  if (folder == "cities" || folder == "street") return "street";
+  return "game";  // dao, bg512, sc1, wc3maps512, da2, ...: commercial game maps
+}
+
+std::string class_of_name(const std::string& name) {
+  std::string lower = name;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower.find("maze") != std::string::npos) return "maze";
+  if (lower.find("room") != std::string::npos) return "room";
+  if (lower.find("random") != std::string::npos) return "random";
+  // Street maps are named <City>_<n>_<size>, e.g. Berlin_0_256.
+  const auto last = name.rfind('_');
+  if (last != std::string::npos && name.find('_') < last && std::isupper(static_cast<unsigned char>(name[0]))) {
+    const std::string size = name.substr(last + 1, name.find('.', last) - last - 1);
+    if (size == "256" || size == "512" || size == "1024") return "street";
+  }
+  return "game";
+}
+
+struct Run {
+  std::string map_class;
+  core::PlannerKind planner;
+  bool ok = false;
+  double length_ratio = NAN;  // final length / the scenario's optimum
+  double raw_ratio = NAN;     // grid path cost / the scenario's optimum
+  double turns = NAN;
+  double turn_angle_deg = NAN;
+  double expanded = NAN;
+  double time_us = NAN;
+};
+
+// Scenario indices to run: all, or `limit` spread evenly over the file (it is sorted by
+// bucket, i.e. by optimal length, so every length band stays represented).
+std::vector<size_t> pick_scenarios(size_t count, int limit) {
+  std::vector<size_t> picked;
+  if (limit <= 0 || static_cast<size_t>(limit) >= count) {
+    for (size_t i = 0; i < count; ++i) picked.push_back(i);
+    return picked;
+  }
+  for (size_t i = 0; i < static_cast<size_t>(limit); ++i) picked.push_back(i * count / static_cast<size_t>(limit));
+  return picked;
+}
+
+}  // namespace
+
+std::string movingai_map_class(const std::string& maps_dir, const std::string& map_file_name) {
+  std::ifstream manifest(maps_dir + "/MANIFEST.tsv");
+  std::string line;
+  while (std::getline(manifest, line)) {
+    std::stringstream fields(line);
+    std::string local_file, bytes, hash, repo, source_path;
+    if (!std::getline(fields, local_file, '\t') || local_file != map_file_name) continue;
+    std::getline(fields, bytes, '\t');
+    std::getline(fields, hash, '\t');
+    std::getline(fields, repo, '\t');
+    std::getline(fields, source_path, '\t');
+    // "maps/<folder>/<file>": the folder names the benchmark set.
+    const std::filesystem::path source(source_path);
+    if (source.has_parent_path()) return class_of_source_folder(source.parent_path().filename().string());
+  }
+  return class_of_name(map_file_name);
+}
+
+int run_movingai(const MovingAiOptions& options) {
+  auto maps = list_scenario_maps(options.maps_dir);
+  if (!maps) {
+    std::fprintf(stderr, "vnsba_bench movingai: %s\n", maps.error().message.c_str());
+    return kExitBadInput;
+  }
+  if (options.max_scenarios < 0) {
+    std::fprintf(stderr, "vnsba_bench movingai: --max-scenarios must be >= 0, got %d\n",
+                 options.max_scenarios);
+    return kExitBadInput;
+  }
+  const std::vector<core::PlannerKind> planners =
+      options.planners.empty() ? core::all_planner_kinds() : options.planners;
+
+  if (options.csv) std::printf("%s\n", kMovingAiCsvHeader);
+  std::vector<Run> runs;
+  std::map<std::string, std::vector<std::string>> maps_of_class;
+  size_t scenario_total = 0;
+  for (const std::string& path : *maps) {
+    auto loaded = load_map_with_scenarios(path);
+    if (!loaded) {
+      std::fprintf(stderr, "vnsba_bench movingai: %s\n", loaded.error().message.c_str());
+      return kExitBadInput;
+    }
+    const std::string file_name = std::filesystem::path(path).filename().string();
+    const std::string map_class = movingai_map_class(options.maps_dir, file_name);
+    maps_of_class[map_class].push_back(loaded->name);
+    core::Planner planner(loaded->map);
+    const auto picked = pick_scenarios(loaded->scenarios.size(), options.max_scenarios);
+    scenario_total += picked.size();
+    for (const auto kind : planners) {
+      const core::PlannerOptions plan_options = core::default_options(kind);
+      if (!picked.empty()) {  // warm-up: the first plan allocates this map's search state
+        const auto& s = loaded->scenarios[picked.front()];
+        planner.plan({s.start, s.goal}, plan_options);
+      }
+      for (const size_t index : picked) {
+        const core::MovingAiScenario& s = loaded->scenarios[index];
+        const TimedPlan timed = timed_plan(planner, {s.start, s.goal}, plan_options);
+        const core::Metrics& m = timed.result.metrics;
+        Run run{map_class, kind};
+        run.ok = timed.result.status.is_ok();
+        if (run.ok) {
+          if (s.optimal_length > 0) {
+            run.length_ratio = m.length_cells / s.optimal_length;
+            run.raw_ratio = m.raw_cost_cells / s.optimal_length;
+          }
+          run.turns = m.turns;
+          run.turn_angle_deg = m.turn_angle_deg;
+          run.expanded = static_cast<double>(m.expanded);
+          run.time_us = timed.time_us;
+        }
+        runs.push_back(run);
+        if (options.csv) {
+          const std::string status(core::to_string(timed.result.status.code));
+          if (run.ok)
+            std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.3f\n", loaded->name.c_str(),
+                        s.line, std::string(core::to_string(kind)).c_str(), status.c_str(),
+                        s.optimal_length, m.raw_cost_cells, m.length_cells, m.turns,
+                        m.turn_angle_deg, static_cast<long long>(m.expanded), timed.time_us);
+          else
+            std::printf("%s,%d,%s,%s,%.8f,,,,,%lld,%.3f\n", loaded->name.c_str(), s.line,
+                        std::string(core::to_string(kind)).c_str(), status.c_str(),
+                        s.optimal_length, static_cast<long long>(m.expanded), timed.time_us);
+        }
+      }
+    }
+    if (options.csv)
+      std::fflush(stdout);
+    else
+      std::fprintf(stderr, "%s (%s): %zu scenarios x %zu planners\n", loaded->name.c_str(),
+                   map_class.c_str(), picked.size(), planners.size());
+  }
+  if (options.csv) return kExitOk;
+
+  std::string md = "### Moving AI benchmarks, per map class\n\n";
+  md += std::to_string(scenario_total) + " scenarios on " + std::to_string(maps->size()) +
+        " maps" +
+        (options.max_scenarios > 0
+             ? " (at most " + std::to_string(options.max_scenarios) +
+                   " per map, spread evenly over each scenario file)"
+             : " (every scenario)") +
+        ", each planner in its paper configuration, one plan per scenario. Ratio: final path "
+        "length / the scenario's published optimum (8-connected, no corner cutting); raw ratio: "
+        "the grid path's cost before pruning and smoothing / that optimum. Means over the "
+        "successful plans; time in microseconds (search plus post-processing).\n\n";
+  for (const auto& map_class : kClasses) {
+    if (maps_of_class.count(map_class) == 0) continue;
+    std::string names;
+    for (const auto& n : maps_of_class[map_class]) names += (names.empty() ? "" : ", ") + n;
+    md += "**" + map_class + "** (" + names + ")\n\n";
+    MarkdownTable table({"planner", "plans", "success", "length ratio", "raw ratio", "turns",
+                         "turn angle (deg)", "expanded", "time median (us)", "time p95 (us)"});
+    for (const auto kind : planners) {
+      size_t count = 0, ok = 0;
+      std::vector<double> ratio, raw, turns, angle, expanded, time;
+      for (const Run& r : runs) {
+        if (r.map_class != map_class || r.planner != kind) continue;
+        ++count;
+        if (!r.ok) continue;
+        ++ok;
+        if (std::isfinite(r.length_ratio)) ratio.push_back(r.length_ratio);
+        if (std::isfinite(r.raw_ratio)) raw.push_back(r.raw_ratio);
+        turns.push_back(r.turns);
+        angle.push_back(r.turn_angle_deg);
+        expanded.push_back(r.expanded);
+        time.push_back(r.time_us);
+      }
+      table.add_row({paper_name(kind) + " (`" + std::string(core::to_string(kind)) + "`)",
+                     std::to_string(count),
+                     format(count ? 100.0 * static_cast<double>(ok) / static_cast<double>(count) : NAN, 1) + " %",
+                     format(mean(ratio), 4), format(mean(raw), 4), format(mean(turns), 1),
+                     format(mean(angle), 0), format(mean(expanded), 0), format(median(time), 0),
+                     format(percentile(time, 95), 0)});
+    }
+    md += table.str() + "\n";
+  }
+  std::fputs(md.c_str(), stdout);
+  return kExitOk;
+}
+
+}  // namespace vnsba::bench

@@ -1,0 +1,31 @@
+// `vnsba_bench movingai`: every planner on the scenarios of the Moving AI maps in a folder,
+// summarised per map class (game, maze, room, random, street), or one CSV row per scenario and
+// planner with --csv.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vnsba/core/planner.hpp"
+
+namespace vnsba::bench {
+
+struct MovingAiOptions {
+  std::string maps_dir;
+  std::vector<core::PlannerKind> planners;  // empty = all
+  bool csv = false;
+  int max_scenarios = 0;  // per map; 0 = all. Picks scenarios evenly over the file (all buckets)
+};
+
+// The CSV header (one row per scenario and planner follows it).
+constexpr const char* kMovingAiCsvHeader =
+    "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,expanded,time_us";
+
+// The map's class from the folder's MANIFEST.tsv (its source path: dao, bg512, sc1 -> game;
+// mazes -> maze; rooms -> room; random -> random; cities, street -> street) or, without one,
+// from the name.
+std::string movingai_map_class(const std::string& maps_dir, const std::string& map_file_name);
+
+int run_movingai(const MovingAiOptions& options);
+
+}  // namespace vnsba::bench
