@@ -18,12 +18,10 @@
 // written (a request without a status as NO_STATUS) and it exits 0.
 //
 // Exit codes: 0 done, 1 DDS failure, 2 bad arguments, config or record file.
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <csignal>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -39,6 +37,7 @@
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
+#include "vnsba/node/process.hpp"
 #include "vnsba/render/svg.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
@@ -394,8 +393,7 @@ core::Status subscribe(node::Participant& bus, const node::NodeConfig& config,
 }  // namespace
 
 int main(int argc, char** argv) {
-  spdlog::set_default_logger(spdlog::stderr_color_mt("vnsba_recorder"));
-  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  node::init_logging("vnsba_recorder");
   CLI::App app{"vnsba_recorder: planning runs on the bus to SVG pictures and run records"};
   std::string out_dir, config_path = "config/default.yaml";
   int domain = -1;
@@ -444,22 +442,12 @@ int main(int argc, char** argv) {
     spdlog::error("--out: cannot create folder {}: {}", out_dir, ec.message());
     return kBadInput;
   }
-  node::ConfigResult loaded = node::load_config(config_path);
-  if (!loaded.config) {
-    spdlog::error("{} error(s) in {}:", loaded.errors.size(), config_path);
-    for (const auto& e : loaded.errors) spdlog::error("  {}", e);
-    return kBadInput;
-  }
-  node::NodeConfig config = *loaded.config;
-  if (domain >= 0) config.domain_id = domain;
-  spdlog::set_level(spdlog::level::from_str(config.log_level));
+  const auto loaded = node::load_config_or_report(config_path, domain);
+  if (!loaded) return kBadInput;
+  const node::NodeConfig& config = *loaded;
 
   // Signals are blocked before DDS starts its threads and taken in the loop below.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const node::StopSignals stop;
 
   auto participant = node::Participant::create(config.domain_id, "vnsba_recorder");
   if (!participant) {
@@ -502,11 +490,9 @@ int main(int argc, char** argv) {
       duration ? Clock::now() + std::chrono::microseconds(static_cast<int64_t>(*duration * 1e6))
                : Clock::time_point::max();
   for (;;) {
-    const timespec poll_interval{0, 50'000'000};
-    const int received = sigtimedwait(&signals, nullptr, &poll_interval);
-    if (received == SIGINT || received == SIGTERM) {
+    if (const auto received = stop.wait_for(std::chrono::milliseconds(50))) {
       spdlog::info("{} received: writing what was heard, then stopping",
-                   received == SIGINT ? "SIGINT" : "SIGTERM");
+                   node::StopSignals::name(*received));
       break;
     }
     for (Event& e : inbox.take_all()) recorder.handle(std::move(e));

@@ -13,13 +13,10 @@
 // Exit codes: 0 done (or stopped by a signal), 2 bad arguments, config, file or slice options,
 // 1 DDS failure.
 #include <octomap/OcTree.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
 
 #include <CLI/CLI.hpp>
-#include <csignal>
-#include <ctime>
 #include <filesystem>
 #include <mutex>
 #include <optional>
@@ -31,6 +28,7 @@
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
+#include "vnsba/node/process.hpp"
 
 namespace {
 
@@ -94,8 +92,7 @@ void log_slice(const core::OccupancyGrid& g, const std::string& source) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  spdlog::set_default_logger(spdlog::stderr_color_mt("vnsba_slicer"));
-  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+  node::init_logging("vnsba_slicer");
   CLI::App app{"vnsba_slicer: OctoMap 3D maps to 2D occupancy slices"};
   std::string input, out, config_path = "config/default.yaml";
   std::optional<double> z_min, z_max, resolution;
@@ -131,15 +128,9 @@ int main(int argc, char** argv) {
     spdlog::error("--watch needs --publish");
     return kBadInput;
   }
-  node::ConfigResult loaded = node::load_config(config_path);
-  if (!loaded.config) {
-    spdlog::error("{} error(s) in {}:", loaded.errors.size(), config_path);
-    for (const auto& e : loaded.errors) spdlog::error("  {}", e);
-    return kBadInput;
-  }
-  node::NodeConfig config = *loaded.config;
-  if (domain >= 0) config.domain_id = domain;
-  spdlog::set_level(spdlog::level::from_str(config.log_level));
+  const auto loaded = node::load_config_or_report(config_path, domain);
+  if (!loaded) return kBadInput;
+  const node::NodeConfig& config = *loaded;
 
   core::SliceOptions options;
   options.z_min = z_min.value_or(config.slicer.z_min);
@@ -173,11 +164,7 @@ int main(int argc, char** argv) {
   }
 
   // Bus mode. Signals are blocked before DDS starts its threads and taken in the loop below.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const node::StopSignals stop;
 
   auto participant = node::Participant::create(config.domain_id, "vnsba_slicer");
   if (!participant) {
@@ -224,10 +211,8 @@ int main(int argc, char** argv) {
 
   auto last_change = input.empty() ? std::filesystem::file_time_type::min() : modified(input);
   for (;;) {
-    const timespec poll_interval{0, 200'000'000};
-    const int received = sigtimedwait(&signals, nullptr, &poll_interval);
-    if (received == SIGINT || received == SIGTERM) {
-      spdlog::info("{} received: stopping", received == SIGINT ? "SIGINT" : "SIGTERM");
+    if (const auto received = stop.wait_for(std::chrono::milliseconds(200))) {
+      spdlog::info("{} received: stopping", node::StopSignals::name(*received));
       break;
     }
     if (watch) {

@@ -1,0 +1,38 @@
+// Start-up shared by every executable on the bus (node, slicer, recorder, send_goal): logging
+// to stderr, loading the config with --domain applied, and taking SIGINT/SIGTERM without a
+// signal handler (no work and no I/O ever runs in signal context).
+#pragma once
+
+#include <chrono>
+#include <csignal>
+#include <optional>
+#include <string>
+
+#include "vnsba/node/config.hpp"
+
+namespace vnsba::node {
+
+// Sends spdlog's default logger to stderr as `program`, with a time-stamped pattern.
+void init_logging(const std::string& program);
+
+// Loads and validates the config; on errors logs every one of them (naming the file) and
+// returns nullopt. A non-negative `domain_override` replaces domain_id (the --domain flag). Sets
+// the log level from the config.
+std::optional<NodeConfig> load_config_or_report(const std::string& path, int domain_override);
+
+// Blocks SIGINT and SIGTERM in the calling thread, and so in every thread it starts later (DDS
+// starts its own): create it first thing in main, before any participant.
+class StopSignals {
+ public:
+  StopSignals();
+  // The signal received within `timeout` (0 = just poll), or nullopt.
+  std::optional<int> wait_for(std::chrono::milliseconds timeout) const;
+  // Waits until one comes; returns it.
+  int wait() const;
+  static const char* name(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
+
+ private:
+  sigset_t signals_;
+};
+
+}  // namespace vnsba::node

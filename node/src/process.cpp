@@ -1,0 +1,55 @@
+#include "vnsba/node/process.hpp"
+
+#include <signal.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <ctime>
+
+namespace vnsba::node {
+
+void init_logging(const std::string& program) {
+  if (auto existing = spdlog::get(program)) {
+    spdlog::set_default_logger(existing);
+  } else {
+    spdlog::set_default_logger(spdlog::stderr_color_mt(program));
+  }
+  spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
+}
+
+std::optional<NodeConfig> load_config_or_report(const std::string& path, int domain_override) {
+  ConfigResult loaded = load_config(path);
+  if (!loaded.config) {
+    spdlog::error("{} error(s) in {}:", loaded.errors.size(), path);
+    for (const std::string& e : loaded.errors) spdlog::error("  {}", e);
+    return std::nullopt;
+  }
+  NodeConfig config = std::move(*loaded.config);
+  if (domain_override >= 0) config.domain_id = domain_override;
+  spdlog::set_level(spdlog::level::from_str(config.log_level));
+  return config;
+}
+
+StopSignals::StopSignals() {
+  sigemptyset(&signals_);
+  sigaddset(&signals_, SIGINT);
+  sigaddset(&signals_, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals_, nullptr);
+}
+
+std::optional<int> StopSignals::wait_for(std::chrono::milliseconds timeout) const {
+  const auto ms = timeout.count() > 0 ? timeout.count() : 0;
+  const timespec interval{static_cast<time_t>(ms / 1000), static_cast<long>(ms % 1000) * 1'000'000};
+  const int received = sigtimedwait(&signals_, nullptr, &interval);
+  if (received == SIGINT || received == SIGTERM) return received;
+  return std::nullopt;
+}
+
+int StopSignals::wait() const {
+  int received = 0;
+  while (sigwait(&signals_, &received) != 0 || (received != SIGINT && received != SIGTERM)) {
+  }
+  return received;
+}
+
+}  // namespace vnsba::node
