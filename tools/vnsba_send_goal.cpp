@@ -17,7 +17,6 @@
 // request is written only once the node's request reader has matched our writer (requests are
 // volatile: a request written before that would be lost). --min-readers N also waits for N
 // request readers in all (the node plus, say, a recorder that should hear the request too).
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -27,7 +26,6 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
@@ -42,6 +40,7 @@
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
+#include "vnsba/node/process.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 
@@ -182,8 +181,10 @@ std::string format_metres(double metres) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  spdlog::set_default_logger(spdlog::stderr_color_mt("vnsba_send_goal"));
-  spdlog::set_pattern("vnsba_send_goal: %v");
+  // SIGINT/SIGTERM are blocked before DDS starts its threads and polled while waiting, so an
+  // interrupt still tears the participant down cleanly.
+  const node::StopSignals stop_signals;
+  node::init_logging("vnsba_send_goal");
   CLI::App app{"vnsba_send_goal: send one plan request and print the status it gets"};
   std::string config_path = "config/default.yaml", planner, request_id;
   std::optional<int> domain;
@@ -242,14 +243,10 @@ int main(int argc, char** argv) {
   if (app.count("--id") > 0 && request_id.empty()) return bad_input("--id: must not be empty");
   if (request_id.empty()) request_id = default_request_id();
 
-  node::ConfigResult loaded = node::load_config(config_path);
-  if (!loaded.config) {
-    spdlog::error("--config: {} error(s) in {}:", loaded.errors.size(), config_path);
-    for (const auto& e : loaded.errors) spdlog::error("  {}", e);
-    return kOtherStatusOrBadInput;
-  }
-  node::NodeConfig config = *loaded.config;
-  if (domain) config.domain_id = *domain;
+  const std::optional<node::NodeConfig> loaded =
+      node::load_config_or_report(config_path, domain.value_or(-1));
+  if (!loaded) return kOtherStatusOrBadInput;
+  const node::NodeConfig& config = *loaded;
   // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one
   // status line, stderr only says what went wrong.
   const auto configured_level = spdlog::level::from_str(config.log_level);
@@ -261,18 +258,9 @@ int main(int argc, char** argv) {
   const auto deadline =
       Clock::now() + std::chrono::microseconds(static_cast<int64_t>(wait_seconds * 1e6));
 
-  // Signals are blocked before DDS starts its threads and polled while waiting, so an interrupt
-  // still tears the participant down cleanly.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   bool stopped_by_signal = false;
   auto interrupted = [&] {
-    const timespec no_wait{0, 0};
-    const int received = sigtimedwait(&signals, nullptr, &no_wait);
-    stopped_by_signal = stopped_by_signal || received == SIGINT || received == SIGTERM;
+    stopped_by_signal = stopped_by_signal || stop_signals.wait_for(std::chrono::milliseconds(0));
     return stopped_by_signal;
   };
 
