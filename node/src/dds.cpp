@@ -77,6 +77,12 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(int domain_id,
   udp->sendBufferSize = 4 * 1024 * 1024;
   udp->receiveBufferSize = 4 * 1024 * 1024;
   qos.transport().user_transports.push_back(udp);
+  // A participant that starts after another (a send_goal after the node) is matched only once
+  // the older one announces itself again: Fast DDS does not answer a new participant's initial
+  // announcements at once. With the default 3 s period a short-lived client waits up to 3 s;
+  // 0.5 s bounds that wait for a few dozen bytes per participant and second on the wire.
+  qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod =
+      eprosima::fastrtps::Duration_t(0, 500'000'000);
   qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
   qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
   self->participant_ =
