@@ -9,6 +9,7 @@
 //   vnsba_bench sweep [--out DIR] [--repetitions N]
 //                                         omega / eta from 0 to 1 on the Figure 3 maps
 //   vnsba_bench movingai [--maps DIR] [--planners a,b] [--csv] [--max-scenarios N]
+//                        [--with-post-processing]
 //                                         every planner on Moving AI scenarios, per map class
 //
 // Exit codes: 0 success, 1 a measurement failed, 2 bad input (the message names it).
@@ -130,6 +131,8 @@ int main(int argc, char** argv) {
   movingai->add_option("--planners", planner_list, "comma-separated planner names (default: all)");
   movingai->add_flag("--csv", movingai_options.csv,
                      "one row per scenario and planner instead of the summary");
+  movingai->add_flag("--with-post-processing", movingai_options.with_post_processing,
+                     "also run each baseline with VNS-BA*'s pruning and smoothing");
   movingai->add_option("--max-scenarios", movingai_options.max_scenarios,
                        "at most N scenarios per map, spread over the file (0: all)")
       ->capture_default_str();

@@ -39,9 +39,26 @@ std::string class_of_name(const std::string& name) {
   return "game";
 }
 
+// A planner in one configuration: its paper one, or (baselines) with pruning and smoothing.
+struct Configuration {
+  core::PlannerKind planner;
+  bool post_processed = false;
+  std::string name() const {
+    return std::string(core::to_string(planner)) + (post_processed ? "+prune+smooth" : "");
+  }
+  std::string label() const {
+    return paper_name(planner) + (post_processed ? " +prune+smooth" : "") + " (`" + name() + "`)";
+  }
+  core::PlannerOptions options() const {
+    core::PlannerOptions options = core::default_options(planner);
+    if (post_processed) options.prune = options.smooth = true;
+    return options;
+  }
+};
+
 struct Run {
   std::string map_class;
-  core::PlannerKind planner;
+  size_t configuration = 0;  // index into the run's configurations
   bool ok = false;
   double length_ratio = NAN;  // final length / the scenario's optimum
   double raw_ratio = NAN;     // grid path cost / the scenario's optimum
@@ -96,6 +113,11 @@ int run_movingai(const MovingAiOptions& options) {
   }
   const std::vector<core::PlannerKind> planners =
       options.planners.empty() ? core::all_planner_kinds() : options.planners;
+  std::vector<Configuration> configurations;
+  for (const auto kind : planners) configurations.push_back({kind, false});
+  if (options.with_post_processing)
+    for (const auto kind : planners)
+      if (kind != core::PlannerKind::kVnsBaStar) configurations.push_back({kind, true});
 
   if (options.csv) std::printf("%s\n", kMovingAiCsvHeader);
   std::vector<Run> runs;
@@ -113,8 +135,9 @@ int run_movingai(const MovingAiOptions& options) {
     core::Planner planner(loaded->map);
     const auto picked = pick_scenarios(loaded->scenarios.size(), options.max_scenarios);
     scenario_total += picked.size();
-    for (const auto kind : planners) {
-      const core::PlannerOptions plan_options = core::default_options(kind);
+    for (size_t c = 0; c < configurations.size(); ++c) {
+      const core::PlannerOptions plan_options = configurations[c].options();
+      const std::string planner_name = configurations[c].name();
       if (!picked.empty()) {  // warm-up: the first plan allocates this map's search state
         const auto& s = loaded->scenarios[picked.front()];
         planner.plan({s.start, s.goal}, plan_options);
@@ -123,7 +146,7 @@ int run_movingai(const MovingAiOptions& options) {
         const core::MovingAiScenario& s = loaded->scenarios[index];
         const TimedPlan timed = timed_plan(planner, {s.start, s.goal}, plan_options);
         const core::Metrics& m = timed.result.metrics;
-        Run run{map_class, kind};
+        Run run{map_class, c};
         run.ok = timed.result.status.is_ok();
         if (run.ok) {
           if (s.optimal_length > 0) {
@@ -140,21 +163,19 @@ int run_movingai(const MovingAiOptions& options) {
           const std::string status(core::to_string(timed.result.status.code));
           if (run.ok)
             std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.3f\n", loaded->name.c_str(),
-                        s.line, std::string(core::to_string(kind)).c_str(), status.c_str(),
-                        s.optimal_length, m.raw_cost_cells, m.length_cells, m.turns,
+                        s.line, planner_name.c_str(), status.c_str(), s.optimal_length, m.raw_cost_cells, m.length_cells, m.turns,
                         m.turn_angle_deg, static_cast<long long>(m.expanded), timed.time_us);
           else
             std::printf("%s,%d,%s,%s,%.8f,,,,,%lld,%.3f\n", loaded->name.c_str(), s.line,
-                        std::string(core::to_string(kind)).c_str(), status.c_str(),
-                        s.optimal_length, static_cast<long long>(m.expanded), timed.time_us);
+                        planner_name.c_str(), status.c_str(), s.optimal_length, static_cast<long long>(m.expanded), timed.time_us);
         }
       }
     }
     if (options.csv)
       std::fflush(stdout);
     else
-      std::fprintf(stderr, "%s (%s): %zu scenarios x %zu planners\n", loaded->name.c_str(),
-                   map_class.c_str(), picked.size(), planners.size());
+      std::fprintf(stderr, "%s (%s): %zu scenarios x %zu configurations\n", loaded->name.c_str(),
+                   map_class.c_str(), picked.size(), configurations.size());
   }
   if (options.csv) return kExitOk;
 
@@ -165,7 +186,11 @@ int run_movingai(const MovingAiOptions& options) {
              ? " (at most " + std::to_string(options.max_scenarios) +
                    " per map, spread evenly over each scenario file)"
              : " (every scenario)") +
-        ", each planner in its paper configuration, one plan per scenario. Ratio: final path "
+        ", each planner in its paper configuration" +
+        (options.with_post_processing
+             ? std::string(" and each baseline also with VNS-BA*'s pruning and smoothing")
+             : std::string()) +
+        ", one plan per scenario. Ratio: final path "
         "length / the scenario's published optimum (8-connected, no corner cutting); raw ratio: "
         "the grid path's cost before pruning and smoothing / that optimum. Means over the "
         "successful plans; time in microseconds (search plus post-processing).\n\n";
@@ -176,11 +201,11 @@ int run_movingai(const MovingAiOptions& options) {
     md += "**" + map_class + "** (" + names + ")\n\n";
     MarkdownTable table({"planner", "plans", "success", "length ratio", "raw ratio", "turns",
                          "turn angle (deg)", "expanded", "time median (us)", "time p95 (us)"});
-    for (const auto kind : planners) {
+    for (size_t c = 0; c < configurations.size(); ++c) {
       size_t count = 0, ok = 0;
       std::vector<double> ratio, raw, turns, angle, expanded, time;
       for (const Run& r : runs) {
-        if (r.map_class != map_class || r.planner != kind) continue;
+        if (r.map_class != map_class || r.configuration != c) continue;
         ++count;
         if (!r.ok) continue;
         ++ok;
@@ -191,7 +216,7 @@ int run_movingai(const MovingAiOptions& options) {
         expanded.push_back(r.expanded);
         time.push_back(r.time_us);
       }
-      table.add_row({paper_name(kind) + " (`" + std::string(core::to_string(kind)) + "`)",
+      table.add_row({configurations[c].label(),
                      std::to_string(count),
                      format(count ? 100.0 * static_cast<double>(ok) / static_cast<double>(count) : NAN, 1) + " %",
                      format(mean(ratio), 4), format(mean(raw), 4), format(mean(turns), 1),

@@ -15,6 +15,9 @@ struct MovingAiOptions {
   std::vector<core::PlannerKind> planners;  // empty = all
   bool csv = false;
   int max_scenarios = 0;  // per map; 0 = all. Picks scenarios evenly over the file (all buckets)
+  // Also run each baseline with VNS-BA*'s pruning and smoothing (named "<planner>+prune+smooth"),
+  // to separate what the search gains from what post-processing gains.
+  bool with_post_processing = false;
 };
 
 // The CSV header (one row per scenario and planner follows it).

@@ -1,0 +1,56 @@
+#!/bin/sh
+# Regenerates docs/RESULTS.md and the pictures in docs/results/ from fresh measurements:
+# builds vnsba_bench (Release, no DDS needed), runs `vnsba_bench paper`, `sweep` and `movingai`,
+# and fills the measured tables into tools/bench/RESULTS.md.in.
+#
+#   tools/bench/make_results.sh                 # about 5 minutes on 2 cores
+#   VNSBA_MOVINGAI_SCENARIOS=0 tools/bench/make_results.sh   # every Moving AI scenario (an hour)
+#
+# Environment: VNSBA_BUILD_DIR (default build/bench), VNSBA_DATA_DIR (default ../shared/data
+# beside the project), VNSBA_MOVINGAI_SCENARIOS (per map, default 300; 0 = all),
+# VNSBA_REPETITIONS (timed plans per paper run, default 51).
+set -eu
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${VNSBA_BUILD_DIR:-$root/build/bench}
+data=${VNSBA_DATA_DIR:-$(cd "$root/.." && pwd)/shared/data}
+scenarios=${VNSBA_MOVINGAI_SCENARIOS:-300}
+repetitions=${VNSBA_REPETITIONS:-51}
+
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DVNSBA_CORE_ONLY=ON \
+  -DVNSBA_DATA_DIR="$data" >/dev/null
+cmake --build "$build" --target vnsba_bench -j"$(nproc)" >/dev/null
+bench="$build/tools/vnsba_bench"
+
+out="$root/docs/results"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+rm -rf "$out/paper" "$out/sweep"
+mkdir -p "$out/paper" "$out/sweep"
+
+echo "paper (maps A-D, $repetitions repetitions) ..." >&2
+"$bench" paper --out "$out/paper" --repetitions "$repetitions" > "$work/paper.md"
+echo "sweep (omega / eta on the Figure 3 maps) ..." >&2
+"$bench" sweep --out "$out/sweep" > "$work/sweep.md"
+echo "movingai ($scenarios scenarios per map; 0 = all) ..." >&2
+"$bench" movingai --maps "$data/movingai" --max-scenarios "$scenarios" --with-post-processing \
+  > "$work/movingai.md"
+# The CSV tables are kept for other tools; the Markdown copies are in RESULTS.md itself.
+rm -f "$out/paper/paper_tables.md"
+
+# Links in the fragments are relative to their folder; RESULTS.md sits in docs/.
+sed 's#](\([a-z]\)#](results/paper/\1#g' "$work/paper.md" > "$work/paper.rel.md"
+sed 's#](\([a-z]\)#](results/sweep/\1#g' "$work/sweep.md" > "$work/sweep.rel.md"
+
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1)
+compiler=$(c++ --version | head -n 1)
+machine="$(nproc) cores ($cpu), $(uname -s) $(uname -m), $compiler, Release build (-O3), $(date -u +%Y-%m-%d)"
+
+awk -v machine="$machine" -v scenarios="$scenarios" -v repetitions="$repetitions" \
+    -v paper="$work/paper.rel.md" -v sweep="$work/sweep.rel.md" -v movingai="$work/movingai.md" '
+  function include(file,   line) { while ((getline line < file) > 0) print line; close(file) }
+  /^@PAPER@$/ { include(paper); next }
+  /^@SWEEP@$/ { include(sweep); next }
+  /^@MOVINGAI@$/ { include(movingai); next }
+  { gsub(/@MACHINE@/, machine); gsub(/@SCENARIOS@/, scenarios); gsub(/@REPETITIONS@/, repetitions); print }
+' "$root/tools/bench/RESULTS.md.in" > "$root/docs/RESULTS.md"
+echo "wrote docs/RESULTS.md and docs/results/" >&2
