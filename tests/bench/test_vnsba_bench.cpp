@@ -200,6 +200,30 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   EXPECT_EQ(astar_rows, scenarios->size());
   EXPECT_EQ(vns_rows, scenarios->size());
 
+  // Baselines with pruning and smoothing: the same grid path, a final path no longer than it.
+  const auto [post_code, post_output] =
+      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "astar", "--csv",
+                           "--max-scenarios", "20", "--with-post-processing"});
+  ASSERT_EQ(post_code, 0) << post_output;
+  std::map<std::string, double> plain_cost;
+  size_t post_rows = 0;
+  std::stringstream post_lines(post_output);
+  std::getline(post_lines, line);  // header
+  while (std::getline(post_lines, line)) {
+    const auto f = split(line, ',');
+    ASSERT_EQ(f.size(), 11u) << line;
+    if (f[2] == "astar") {
+      plain_cost[f[1]] = std::stod(f[5]);
+      continue;
+    }
+    ASSERT_EQ(f[2], "astar+prune+smooth") << line;
+    ++post_rows;
+    ASSERT_EQ(plain_cost.count(f[1]), 1u) << line;
+    EXPECT_NEAR(std::stod(f[5]), plain_cost[f[1]], 1e-6) << line;
+    EXPECT_LE(std::stod(f[6]), std::stod(f[5]) + 1e-6) << line;
+  }
+  EXPECT_EQ(post_rows, 20u);
+
   // --max-scenarios and the summary.
   const auto [summary_code, summary] =
       run_to_exit(kBench, {"movingai", "--maps", dir, "--max-scenarios", "10"});
