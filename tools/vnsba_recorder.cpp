@@ -257,20 +257,8 @@ class Recorder {
 
   void on(node::PlannerDebugMsg&& msg) {
     if (msg.request_id().empty()) return;
-    const node::DebugData d = node::from_debug_msg(msg);
-    tools::DebugRecord debug;
-    debug.planner = d.planner;
-    debug.width = d.width;
-    debug.height = d.height;
-    debug.resolution = d.resolution;
-    debug.origin_x = d.origin_x;
-    debug.origin_y = d.origin_y;
-    debug.expanded_forward = d.expanded_forward;
-    debug.expanded_backward = d.expanded_backward;
-    debug.meeting_cell = d.meeting_cell;
-    debug.raw_path = d.raw_path;
-    debug.pruned_waypoints = d.pruned_waypoints;
-    run_for(d.request_id).record.debug = std::move(debug);
+    node::DebugData d = node::from_debug_msg(msg);
+    run_for(d.request_id).record.debug = std::move(d.trace);
   }
 
   // The slice a run was planned on: the one whose stamp the status names, else the newest one

@@ -339,23 +339,24 @@ std::vector<Eigen::Vector2d> from_path_msg(const PathMsg& msg) {
 DebugData from_debug_msg(const PlannerDebugMsg& msg) {
   DebugData d;
   d.request_id = msg.request_id();
-  d.planner = msg.planner();
+  core::SearchTrace& t = d.trace;
+  t.planner = msg.planner();
   // MapMetaData sizes are uint32; anything above int32 cannot be a map the node planned on.
-  d.width = static_cast<int32_t>(std::min<uint32_t>(msg.info().width(), INT32_MAX));
-  d.height = static_cast<int32_t>(std::min<uint32_t>(msg.info().height(), INT32_MAX));
-  d.resolution = msg.info().resolution();
-  d.origin_x = msg.info().origin().position().x();
-  d.origin_y = msg.info().origin().position().y();
+  t.width = static_cast<int32_t>(std::min<uint32_t>(msg.info().width(), INT32_MAX));
+  t.height = static_cast<int32_t>(std::min<uint32_t>(msg.info().height(), INT32_MAX));
+  t.resolution = msg.info().resolution();
+  t.origin_x = msg.info().origin().position().x();
+  t.origin_y = msg.info().origin().position().y();
   auto cells = [](const std::vector<vnsba_msgs::msg::dds_::GridCell_>& in) {
     std::vector<core::Cell> out(in.size());
     for (size_t i = 0; i < in.size(); ++i) out[i] = {in[i].x(), in[i].y()};
     return out;
   };
-  d.expanded_forward = cells(msg.expanded_forward());
-  d.expanded_backward = cells(msg.expanded_backward());
-  if (msg.has_meeting_cell()) d.meeting_cell = core::Cell{msg.meeting_cell().x(), msg.meeting_cell().y()};
-  d.raw_path = cells(msg.raw_path());
-  for (const auto& p : msg.pruned_waypoints()) d.pruned_waypoints.emplace_back(p.x(), p.y());
+  t.expanded_forward = cells(msg.expanded_forward());
+  t.expanded_backward = cells(msg.expanded_backward());
+  if (msg.has_meeting_cell()) t.meeting_cell = core::Cell{msg.meeting_cell().x(), msg.meeting_cell().y()};
+  t.raw_path = cells(msg.raw_path());
+  for (const auto& p : msg.pruned_waypoints()) t.pruned_waypoints.emplace_back(p.x(), p.y());
   return d;
 }
 

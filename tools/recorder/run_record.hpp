@@ -18,6 +18,7 @@
 #include "vnsba/core/geometry.hpp"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/metrics.hpp"
+#include "vnsba/core/search_trace.hpp"
 #include "vnsba/core/status.hpp"
 #include "vnsba/render/run_picture.hpp"
 
@@ -57,19 +58,8 @@ struct StatusRecord {
   uint32_t map_stamp_nanosec = 0;
 };
 
-struct DebugRecord {
-  std::string planner;
-  int32_t width = 0;  // cells: the geometry of the map the cells index
-  int32_t height = 0;
-  double resolution = 0.0;
-  double origin_x = 0.0;
-  double origin_y = 0.0;
-  std::vector<core::Cell> expanded_forward;
-  std::vector<core::Cell> expanded_backward;
-  std::optional<core::Cell> meeting_cell;
-  std::vector<core::Cell> raw_path;
-  std::vector<Eigen::Vector2d> pruned_waypoints;  // metres
-};
+// The debug data of a run: the node's PlannerDebug in core types.
+using DebugRecord = core::SearchTrace;
 
 struct RunRecord {
   std::string request_id;

@@ -16,6 +16,7 @@
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/core/search_trace.hpp"
 #include "vnsba_msgs/msg/PlanRequest.h"
 #include "vnsba_msgs/msg/PlanStatus.h"
 #include "vnsba_msgs/msg/PlannerDebug.h"
@@ -110,21 +111,11 @@ std::optional<Eigen::Vector2d> position_of(const PoseStampedMsg& pose);
 // The (x, y) positions of a path's poses, metres.
 std::vector<Eigen::Vector2d> from_path_msg(const PathMsg& msg);
 
-// A PlannerDebug in core types. Cells are grid indices of the map described by the geometry
-// fields; pruned waypoints are metres in the map frame.
+// A PlannerDebug in core types (cells index the grid its info describes). The request id is
+// the message's; the rest is the trace.
 struct DebugData {
   std::string request_id;
-  std::string planner;
-  int32_t width = 0;  // cells
-  int32_t height = 0;
-  double resolution = 0.0;  // metres per cell
-  double origin_x = 0.0;    // metres
-  double origin_y = 0.0;
-  std::vector<core::Cell> expanded_forward;
-  std::vector<core::Cell> expanded_backward;
-  std::optional<core::Cell> meeting_cell;
-  std::vector<core::Cell> raw_path;
-  std::vector<Eigen::Vector2d> pruned_waypoints;
+  core::SearchTrace trace;
 };
 DebugData from_debug_msg(const PlannerDebugMsg& msg);
 
