@@ -125,32 +125,29 @@ class Reader {
   }
   std::vector<Eigen::Vector2d> points(const json& j, const std::string& key,
                                       const std::string& path) {
-    std::vector<Eigen::Vector2d> out;
-    const json* m = member(j, key, path);
-    if (m == nullptr) return out;
-    if (!m->is_array()) {
-      fail(join(path, key), "must be an array of [x, y]");
-      return out;
-    }
-    out.reserve(m->size());
-    for (size_t i = 0; i < m->size() && ok(); ++i) {
-      auto p = point_value((*m)[i], join(path, key) + "[" + std::to_string(i) + "]");
-      if (p) out.push_back(*p);
-    }
-    return out;
+    return array_of<Eigen::Vector2d>(j, key, path, "an array of [x, y]",
+                                     [this](const json& e, const std::string& at) { return point_value(e, at); });
   }
   std::vector<core::Cell> cells(const json& j, const std::string& key, const std::string& path) {
-    std::vector<core::Cell> out;
+    return array_of<core::Cell>(j, key, path, "an array of [x, y] cells",
+                                [this](const json& e, const std::string& at) { return cell_value(e, at); });
+  }
+  // The elements of an array member read by `element` (which reports its own errors); elements
+  // it cannot read are left out.
+  template <class T, class ReadElement>
+  std::vector<T> array_of(const json& j, const std::string& key, const std::string& path,
+                          const char* what, ReadElement element) {
+    std::vector<T> out;
     const json* m = member(j, key, path);
     if (m == nullptr) return out;
     if (!m->is_array()) {
-      fail(join(path, key), "must be an array of [x, y] cells");
+      fail(join(path, key), std::string("must be ") + what);
       return out;
     }
     out.reserve(m->size());
     for (size_t i = 0; i < m->size() && ok(); ++i) {
-      auto c = cell_value((*m)[i], join(path, key) + "[" + std::to_string(i) + "]");
-      if (c) out.push_back(*c);
+      std::optional<T> value = element((*m)[i], join(path, key) + "[" + std::to_string(i) + "]");
+      if (value) out.push_back(*value);
     }
     return out;
   }
