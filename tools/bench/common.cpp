@@ -159,6 +159,24 @@ Status ensure_directory(const std::string& folder) {
   return Status::ok();
 }
 
+bool check_run_options(const char* command, int repetitions, const std::string& maps_dir,
+                       const std::string& out_dir) {
+  if (repetitions < 1) {
+    std::fprintf(stderr, "vnsba_bench %s: --repetitions must be >= 1, got %d\n", command,
+                 repetitions);
+    return false;
+  }
+  if (!std::filesystem::is_directory(maps_dir)) {
+    std::fprintf(stderr, "vnsba_bench %s: no such folder: %s\n", command, maps_dir.c_str());
+    return false;
+  }
+  if (const auto s = ensure_directory(out_dir); !s.is_ok()) {
+    std::fprintf(stderr, "vnsba_bench %s: %s\n", command, s.message.c_str());
+    return false;
+  }
+  return true;
+}
+
 bool write_file_or_report(const std::string& path, const std::string& content) {
   const Status s = render::write_text_file(path, content);
   if (!s.is_ok()) std::fprintf(stderr, "vnsba_bench: %s\n", s.message.c_str());

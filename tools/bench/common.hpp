@@ -81,6 +81,12 @@ class MarkdownTable {
 // Creates the folder (and parents); the status names it on failure.
 core::Status ensure_directory(const std::string& folder);
 
+// The checks `paper` and `sweep` share before they run: repetitions >= 1, an existing maps
+// folder, an output folder that exists or can be made. Prints what is wrong, naming the option,
+// as "vnsba_bench <command>: ..." and returns false.
+bool check_run_options(const char* command, int repetitions, const std::string& maps_dir,
+                       const std::string& out_dir);
+
 // Writes text to a file; prints the failure naming the file and returns false.
 bool write_file_or_report(const std::string& path, const std::string& content);
 

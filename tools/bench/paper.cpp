@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <map>
 #include <string>
 
@@ -106,19 +105,8 @@ double improvement_rate_percent(double baseline, double ours) {
 }
 
 int run_paper(const PaperOptions& options) {
-  if (options.repetitions < 1) {
-    std::fprintf(stderr, "vnsba_bench paper: --repetitions must be >= 1, got %d\n",
-                 options.repetitions);
+  if (!check_run_options("paper", options.repetitions, options.maps_dir, options.out_dir))
     return kExitBadInput;
-  }
-  if (!std::filesystem::is_directory(options.maps_dir)) {
-    std::fprintf(stderr, "vnsba_bench paper: no such folder: %s\n", options.maps_dir.c_str());
-    return kExitBadInput;
-  }
-  if (const auto s = ensure_directory(options.out_dir); !s.is_ok()) {
-    std::fprintf(stderr, "vnsba_bench paper: %s\n", s.message.c_str());
-    return kExitBadInput;
-  }
 
   std::vector<Row> rows;
   std::map<std::string, core::PlanQuery> queries;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "bench/common.hpp"
 #include "vnsba/render/charts.hpp"
@@ -73,19 +72,8 @@ std::vector<std::string> sweep_output_files() {
 }
 
 int run_sweep(const SweepOptions& options) {
-  if (options.repetitions < 1) {
-    std::fprintf(stderr, "vnsba_bench sweep: --repetitions must be >= 1, got %d\n",
-                 options.repetitions);
+  if (!check_run_options("sweep", options.repetitions, options.maps_dir, options.out_dir))
     return kExitBadInput;
-  }
-  if (!std::filesystem::is_directory(options.maps_dir)) {
-    std::fprintf(stderr, "vnsba_bench sweep: no such folder: %s\n", options.maps_dir.c_str());
-    return kExitBadInput;
-  }
-  if (const auto s = ensure_directory(options.out_dir); !s.is_ok()) {
-    std::fprintf(stderr, "vnsba_bench sweep: %s\n", s.message.c_str());
-    return kExitBadInput;
-  }
 
   std::string csv = "map,omega,eta,status,expanded,time_us_median,length,turns,turn_angle_deg\n";
   std::string md;
