@@ -105,8 +105,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   paper->add_option("--out", paper_options.out_dir, "folder for tables and figures")
       ->capture_default_str();
-  paper->add_option("--repetitions", paper_options.repetitions,
-                    "timed plans per planner and map (the median is reported)")
+  paper
+      ->add_option("--repetitions", paper_options.repetitions,
+                   "timed plans per planner and map (the median is reported)")
       ->capture_default_str();
 
   vnsba::bench::SweepOptions sweep_options;
@@ -117,8 +118,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   sweep->add_option("--out", sweep_options.out_dir, "folder for tables and heat maps")
       ->capture_default_str();
-  sweep->add_option("--repetitions", sweep_options.repetitions,
-                    "timed plans per pair (the median is reported)")
+  sweep
+      ->add_option("--repetitions", sweep_options.repetitions,
+                   "timed plans per pair (the median is reported)")
       ->capture_default_str();
 
   vnsba::bench::MovingAiOptions movingai_options;
@@ -133,8 +135,9 @@ int main(int argc, char** argv) {
                      "one row per scenario and planner instead of the summary");
   movingai->add_flag("--with-post-processing", movingai_options.with_post_processing,
                      "also run each baseline with VNS-BA*'s pruning and smoothing");
-  movingai->add_option("--max-scenarios", movingai_options.max_scenarios,
-                       "at most N scenarios per map, spread over the file (0: all)")
+  movingai
+      ->add_option("--max-scenarios", movingai_options.max_scenarios,
+                   "at most N scenarios per map, spread over the file (0: all)")
       ->capture_default_str();
 
   try {

@@ -47,9 +47,9 @@ core::Expected<core::OccupancyGrid> load_map(const std::string& path,
     // The map_server convention: the metadata lives in a YAML file beside the image.
     const std::string yaml = path.substr(0, path.size() - 4) + ".yaml";
     if (!std::filesystem::exists(yaml))
-      return core::Status::error(core::StatusCode::kInvalidMap,
-                                 path + ": a .pgm needs its map_server .yaml beside it (" + yaml +
-                                     " is missing)");
+      return core::Status::error(
+          core::StatusCode::kInvalidMap,
+          path + ": a .pgm needs its map_server .yaml beside it (" + yaml + " is missing)");
     return core::load_map_server(yaml);
   }
   if (has_suffix(path, ".bt") || has_suffix(path, ".ot")) {

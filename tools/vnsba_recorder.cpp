@@ -52,9 +52,9 @@ constexpr int kDdsFailure = 1;
 constexpr int kBadInput = 2;
 
 // Memory guards: the recorder may run for days next to a busy node.
-constexpr size_t kMaxOpenRuns = 10000;      // runs heard of but not yet written
-constexpr size_t kMaxPendingGoals = 1024;   // goal poses waiting for their status
-constexpr size_t kMaxKeptMaps = 4;          // recent slices kept to pair runs with
+constexpr size_t kMaxOpenRuns = 10000;     // runs heard of but not yet written
+constexpr size_t kMaxPendingGoals = 1024;  // goal poses waiting for their status
+constexpr size_t kMaxKeptMaps = 4;         // recent slices kept to pair runs with
 
 struct GoalEvent {
   node::PoseStampedMsg goal;
@@ -125,7 +125,8 @@ struct OpenRun {
 
 class Recorder {
  public:
-  Recorder(node::NodeConfig config, std::filesystem::path out_dir, std::chrono::milliseconds debug_wait)
+  Recorder(node::NodeConfig config, std::filesystem::path out_dir,
+           std::chrono::milliseconds debug_wait)
       : config_(std::move(config)), out_dir_(std::move(out_dir)), debug_wait_(debug_wait) {}
 
   void handle(Event&& event) {
@@ -143,8 +144,7 @@ class Recorder {
       // or goal pose, may arrive after the status. A run waits for them up to debug_wait.
       const bool complete = has_status && run.record.request &&
                             (run.record.debug || run.record.status->metrics.expanded == 0);
-      const bool ready =
-          flush || complete || (has_status && now - *run.status_time >= debug_wait_);
+      const bool ready = flush || complete || (has_status && now - *run.status_time >= debug_wait_);
       if (!ready) {
         ++it;
         continue;
@@ -181,7 +181,8 @@ class Recorder {
   void on(node::OccupancyGridMsg&& msg) {
     const int64_t sec = msg.header().stamp().sec();
     const uint32_t nanosec = msg.header().stamp().nanosec();
-    node::SliceCheck check = node::from_slice_msg(std::move(msg), config_.frame_id, config_.map.max_cells);
+    node::SliceCheck check =
+        node::from_slice_msg(std::move(msg), config_.frame_id, config_.map.max_cells);
     if (!check.status.ok()) {
       spdlog::warn("slice ignored: {}", check.status.message);
       return;
@@ -267,7 +268,8 @@ class Recorder {
     if (maps_.empty()) return nullptr;
     if (r.status)
       for (auto it = maps_.rbegin(); it != maps_.rend(); ++it)
-        if (it->stamp_sec == r.status->map_stamp_sec && it->stamp_nanosec == r.status->map_stamp_nanosec)
+        if (it->stamp_sec == r.status->map_stamp_sec &&
+            it->stamp_nanosec == r.status->map_stamp_nanosec)
           return &*it;
     if (r.debug)
       for (auto it = maps_.rbegin(); it != maps_.rend(); ++it)
@@ -298,8 +300,10 @@ class Recorder {
         record.map = ref;
       }
       const std::string stem = tools::safe_file_stem(record.request_id);
-      const std::string svg = render::render_svg(tools::picture_of(record, map ? &map->grid : nullptr));
-      if (!write_file(stem + ".json", tools::to_json(record).dump(1)) || !write_file(stem + ".svg", svg))
+      const std::string svg =
+          render::render_svg(tools::picture_of(record, map ? &map->grid : nullptr));
+      if (!write_file(stem + ".json", tools::to_json(record).dump(1)) ||
+          !write_file(stem + ".svg", svg))
         return false;
       ++runs_written_;
       spdlog::info("run '{}' {}: wrote {}", record.request_id,
@@ -313,7 +317,8 @@ class Recorder {
   }
 
   void save_map(StoredMap& map) {
-    const std::string stem = "map_" + std::to_string(map.stamp_sec) + "_" + std::to_string(map.stamp_nanosec);
+    const std::string stem =
+        "map_" + std::to_string(map.stamp_sec) + "_" + std::to_string(map.stamp_nanosec);
     std::error_code ec;
     std::filesystem::create_directories(out_dir_ / "maps", ec);
     auto saved = core::save_map_server(map.grid, (out_dir_ / "maps" / stem).string(),
@@ -358,7 +363,8 @@ int render_command(const std::string& json_path, std::string svg_path) {
     spdlog::error("{}", svg.error().message);
     return kBadInput;
   }
-  if (svg_path.empty()) svg_path = std::filesystem::path(json_path).replace_extension(".svg").string();
+  if (svg_path.empty())
+    svg_path = std::filesystem::path(json_path).replace_extension(".svg").string();
   const core::Status written = render::write_text_file(svg_path, *svg);
   if (!written.is_ok()) {
     spdlog::error("--out: {}", written.message);
@@ -392,7 +398,8 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
   auto* duration_opt = app.add_option("--duration", duration, "stop after this many seconds");
-  app.add_option("--runs", runs_wanted, "stop after this many runs are written")->excludes(duration_opt);
+  app.add_option("--runs", runs_wanted, "stop after this many runs are written")
+      ->excludes(duration_opt);
   app.add_option("--debug-wait", debug_wait_s,
                  "seconds to wait for a run's debug data after its status")
       ->capture_default_str();
@@ -457,13 +464,19 @@ int main(int argc, char** argv) {
   using namespace vnsba_msgs::msg::dds_;
   for (const core::Status& s : {
            // The debug reader first: the node records expansions only while one is matched.
-           subscribe<PlannerDebug_PubSubType>(bus, config, t.planner_debug, node::TopicQos::kDebug, debugs),
-           subscribe<PlanStatus_PubSubType>(bus, config, t.plan_status, node::TopicQos::kStatus, statuses),
+           subscribe<PlannerDebug_PubSubType>(bus, config, t.planner_debug, node::TopicQos::kDebug,
+                                              debugs),
+           subscribe<PlanStatus_PubSubType>(bus, config, t.plan_status, node::TopicQos::kStatus,
+                                            statuses),
            subscribe<Path_PubSubType>(bus, config, t.plan, node::TopicQos::kLatest, plans),
-           subscribe<OccupancyGrid_PubSubType>(bus, config, t.projected_map, node::TopicQos::kLatched, slices),
-           subscribe<PlanRequest_PubSubType>(bus, config, t.plan_request, node::TopicQos::kEvents, requests),
-           subscribe<PoseStamped_PubSubType>(bus, config, t.goal_pose, node::TopicQos::kEvents, goals),
-           subscribe<PoseStamped_PubSubType>(bus, config, t.robot_pose, node::TopicQos::kLatest, robot_poses),
+           subscribe<OccupancyGrid_PubSubType>(bus, config, t.projected_map,
+                                               node::TopicQos::kLatched, slices),
+           subscribe<PlanRequest_PubSubType>(bus, config, t.plan_request, node::TopicQos::kEvents,
+                                             requests),
+           subscribe<PoseStamped_PubSubType>(bus, config, t.goal_pose, node::TopicQos::kEvents,
+                                             goals),
+           subscribe<PoseStamped_PubSubType>(bus, config, t.robot_pose, node::TopicQos::kLatest,
+                                             robot_poses),
        }) {
     if (!s.is_ok()) {
       spdlog::error("{}", s.message);
@@ -472,7 +485,8 @@ int main(int argc, char** argv) {
   }
   spdlog::info("recorder: ready (domain {}, writing to {})", config.domain_id, out_dir);
 
-  Recorder recorder(config, out_dir, std::chrono::milliseconds(static_cast<int64_t>(debug_wait_s * 1000)));
+  Recorder recorder(config, out_dir,
+                    std::chrono::milliseconds(static_cast<int64_t>(debug_wait_s * 1000)));
   // No deadline: the largest time point (a plain value keeps GCC's uninitialized check quiet).
   const Clock::time_point deadline =
       duration ? Clock::now() + std::chrono::microseconds(static_cast<int64_t>(*duration * 1e6))
@@ -491,7 +505,8 @@ int main(int argc, char** argv) {
   // No listener runs after delete_readers(); then the last samples are drained and written.
   bus.delete_readers();
   for (Event& e : inbox.take_all()) recorder.handle(std::move(e));
-  if (!runs_wanted || recorder.runs_written() < static_cast<size_t>(*runs_wanted)) recorder.write_ready(true);
+  if (!runs_wanted || recorder.runs_written() < static_cast<size_t>(*runs_wanted))
+    recorder.write_ready(true);
   bus.shutdown();
   spdlog::info("recorder: {} run(s) written to {}", recorder.runs_written(), out_dir);
   return 0;

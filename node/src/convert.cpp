@@ -354,7 +354,8 @@ DebugData from_debug_msg(const PlannerDebugMsg& msg) {
   };
   t.expanded_forward = cells(msg.expanded_forward());
   t.expanded_backward = cells(msg.expanded_backward());
-  if (msg.has_meeting_cell()) t.meeting_cell = core::Cell{msg.meeting_cell().x(), msg.meeting_cell().y()};
+  if (msg.has_meeting_cell())
+    t.meeting_cell = core::Cell{msg.meeting_cell().x(), msg.meeting_cell().y()};
   t.raw_path = cells(msg.raw_path());
   for (const auto& p : msg.pruned_waypoints()) t.pruned_waypoints.emplace_back(p.x(), p.y());
   return d;

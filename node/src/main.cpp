@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   vnsba::node::init_logging("vnsba_node");  // logs go to stderr
-  const vnsba::node::StopSignals stop;        // before any thread exists
+  const vnsba::node::StopSignals stop;      // before any thread exists
   const auto config = vnsba::node::load_config_or_report(config_path, domain);
   if (!config) return 2;
 

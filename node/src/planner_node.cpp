@@ -495,15 +495,13 @@ void PlannerNode::Impl::handle(Job& job, core::Planner*& planner,
   PathMsg path;
   if (status.ok()) {
     path = to_path_msg(result, cfg_.frame_id, stamp);
-    if (!plan_writer_->write(&path))
-      spdlog::error("could not publish the path of '{}'", job.id);
+    if (!plan_writer_->write(&path)) spdlog::error("could not publish the path of '{}'", job.id);
     ++plans_ok_;
   }
   publish_status(job.id, status, planner_name, &result.metrics, map->stamp, std::move(path));
   if (debug && result.metrics.expanded > 0) {
     PlannerDebugMsg msg = to_debug_msg(job.id, result, grid, cfg_.frame_id, stamp);
-    if (!debug_writer_->write(&msg))
-      spdlog::warn("could not publish the debug of '{}'", job.id);
+    if (!debug_writer_->write(&msg)) spdlog::warn("could not publish the debug of '{}'", job.id);
   }
   const auto total_us =
       std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - t0).count();

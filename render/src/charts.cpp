@@ -82,13 +82,13 @@ std::string render_bar_chart_svg(const BarChart& chart) {
     const double y = y_of(t);
     doc.line(plot_left, y, plot_left + plot_width, y,
              std::abs(t) < step * 1e-9 ? "stroke=\"#000\" stroke-width=\"1.2\""
-                                        : "stroke=\"#ddd\" stroke-width=\"0.8\"");
+                                       : "stroke=\"#ddd\" stroke-width=\"0.8\"");
     doc.text(plot_left - 6, y + 4, format_value(t, step < 1 ? 1 : 0), "text-anchor=\"end\"");
   }
   doc.line(plot_left, plot_top, plot_left, plot_top + plot_height, "stroke=\"#000\"");
   doc.text(18, plot_top + plot_height / 2, chart.y_label,
-           "text-anchor=\"middle\" transform=\"rotate(-90 18 " +
-               fmt(plot_top + plot_height / 2) + ")\"");
+           "text-anchor=\"middle\" transform=\"rotate(-90 18 " + fmt(plot_top + plot_height / 2) +
+               ")\"");
   for (size_t g = 0; g < groups; ++g) {
     const double x0 = plot_left + group_gap + static_cast<double>(g) * (group_width + group_gap);
     doc.text(x0 + group_width / 2, plot_top + plot_height + 20, chart.groups[g],
@@ -108,7 +108,8 @@ std::string render_bar_chart_svg(const BarChart& chart) {
         continue;
       }
       const double y = y_of(v);
-      const std::string colour = kSeriesColours[s % (sizeof kSeriesColours / sizeof *kSeriesColours)];
+      const std::string colour =
+          kSeriesColours[s % (sizeof kSeriesColours / sizeof *kSeriesColours)];
       doc.rect(x, std::min(y, zero_y), bar_width, std::abs(zero_y - y),
                "class=\"bar\" fill=\"" + colour + "\" " + attr("data-group", chart.groups[g]) +
                    " " + attr("data-series", chart.series[s]) + " " +
@@ -206,10 +207,10 @@ std::string render_heat_map_svg(const HeatMap& map) {
       static_cast<size_t>(map.highlight->first) < rows &&
       static_cast<size_t>(map.highlight->second) < columns) {
     doc.begin_group("highlight");
-    doc.rect(plot_left + map.highlight->second * cell,
-             plot_top + static_cast<double>(rows - 1 - static_cast<size_t>(map.highlight->first)) *
-                            cell,
-             cell, cell, "fill=\"none\" stroke=\"#d00\" stroke-width=\"3\"");
+    doc.rect(
+        plot_left + map.highlight->second * cell,
+        plot_top + static_cast<double>(rows - 1 - static_cast<size_t>(map.highlight->first)) * cell,
+        cell, cell, "fill=\"none\" stroke=\"#d00\" stroke-width=\"3\"");
     doc.end_group();
   }
 

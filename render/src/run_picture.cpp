@@ -23,8 +23,7 @@ MapPicture map_picture(const core::OccupancyGrid& grid, int occupied_threshold,
   const size_t cells = static_cast<size_t>(picture.width) * static_cast<size_t>(picture.height);
   picture.cells.assign(cells, CellState::kFree);
   if (grid.data.size() != cells) return picture;  // malformed grid: an empty (free) picture
-  const bool use_planning_map = planning_map != nullptr &&
-                                planning_map->width() == picture.width &&
+  const bool use_planning_map = planning_map != nullptr && planning_map->width() == picture.width &&
                                 planning_map->height() == picture.height;
   for (int32_t y = 0; y < picture.height; ++y) {
     for (int32_t x = 0; x < picture.width; ++x) {
@@ -252,21 +251,29 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
   std::vector<LegendItem> legend;
   if (options.legend) {
     legend = {
-        {"occupied", "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kOccupiedColour) + "\"/>"},
-        {"unknown", "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kUnknownColour) + "\"/>"},
-        {"inflated", "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kInflatedColour) + "\"/>"},
+        {"occupied",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kOccupiedColour) + "\"/>"},
+        {"unknown",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kUnknownColour) + "\"/>"},
+        {"inflated",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kInflatedColour) + "\"/>"},
         {"forward expansions",
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kForwardColour) + "\"/>"},
         {"backward expansions",
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kBackwardColour) + "\"/>"},
-        {"raw grid path", "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.08\"/>"},
-        {"pruned path", "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.2\"/>"},
+        {"raw grid path",
+         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.08\"/>"},
+        {"pruned path",
+         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.2\"/>"},
         {"smoothed corners", "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"" +
                                  std::string(kSmoothedColour) + "\" stroke-width=\"0.2\"/>"},
-        {"meeting cell", "<rect x=\"0.1\" y=\"0.1\" width=\"0.8\" height=\"0.8\" fill=\"none\" stroke=\"" +
-                             std::string(kMeetingColour) + "\" stroke-width=\"0.2\"/>"},
-        {"start", "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kStartColour) + "\"/>"},
-        {"goal", "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kGoalColour) + "\"/>"},
+        {"meeting cell",
+         "<rect x=\"0.1\" y=\"0.1\" width=\"0.8\" height=\"0.8\" fill=\"none\" stroke=\"" +
+             std::string(kMeetingColour) + "\" stroke-width=\"0.2\"/>"},
+        {"start",
+         "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kStartColour) + "\"/>"},
+        {"goal",
+         "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kGoalColour) + "\"/>"},
     };
   }
   struct Placed {
@@ -338,8 +345,9 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
         std::tuple{"map-inflated", CellState::kInflated, kInflatedColour}}) {
     RunPath runs(height);
     const int64_t count =
-        map_valid ? merged_runs(map.width, map.height,
-                                [&](int32_t x, int32_t y) { return map.at(x, y) == state; }, runs)
+        map_valid ? merged_runs(
+                        map.width, map.height,
+                        [&](int32_t x, int32_t y) { return map.at(x, y) == state; }, runs)
                   : 0;
     svg.begin_group(id, "data-count=\"" + std::to_string(count) + "\"");
     svg.path(runs.data(), crisp + " stroke=\"" + std::string(colour) + "\"");
@@ -359,7 +367,8 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
           runs);
     }
     svg.begin_group(id, "data-count=\"" + std::to_string(count) + "\"");
-    svg.path(runs.data(), crisp + " stroke-opacity=\"0.75\" stroke=\"" + std::string(colour) + "\"");
+    svg.path(runs.data(),
+             crisp + " stroke-opacity=\"0.75\" stroke=\"" + std::string(colour) + "\"");
     svg.end_group();
   }
   // A light grid on small maps, as in the paper's figures.
@@ -415,16 +424,17 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
     const bool shown = point->has_value() && finite_point(**point);
     svg.begin_group(id, shown ? "data-count=\"1\"" : "data-count=\"0\"");
     if (shown)
-      svg.circle((*point)->x(), svg_y((*point)->y()), marker,
-                 "fill=\"" + std::string(colour) + "\" stroke=\"#000\" stroke-width=\"" +
-                     fmt(px) + "\"");
+      svg.circle(
+          (*point)->x(), svg_y((*point)->y()), marker,
+          "fill=\"" + std::string(colour) + "\" stroke=\"#000\" stroke-width=\"" + fmt(px) + "\"");
     svg.end_group();
   }
 
   // Scale bar: a round length near a fifth of the map's width, in metres.
   double y = height + margin;
   {
-    const double resolution = map.resolution > 0 && std::isfinite(map.resolution) ? map.resolution : 1.0;
+    const double resolution =
+        map.resolution > 0 && std::isfinite(map.resolution) ? map.resolution : 1.0;
     const double metres = nice_length(0.2 * width * resolution);
     const double cells = metres / resolution;
     const std::string stroke = "stroke=\"#000\" stroke-width=\"" + fmt(2 * px) + "\"";

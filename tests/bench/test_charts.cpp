@@ -96,7 +96,8 @@ TEST(Charts, HeatMapHasOneCellPerValueRowZeroAtTheBottom) {
   ASSERT_NE(cells, nullptr);
   EXPECT_EQ(count_class(cells, "rect", "cell"), 121);
   double y_row0 = -1, y_row10 = -1;
-  for (auto* e = cells->FirstChildElement("rect"); e != nullptr; e = e->NextSiblingElement("rect")) {
+  for (auto* e = cells->FirstChildElement("rect"); e != nullptr;
+       e = e->NextSiblingElement("rect")) {
     if (e->IntAttribute("data-column") != 3) continue;
     if (e->IntAttribute("data-row") == 0) y_row0 = e->DoubleAttribute("y");
     if (e->IntAttribute("data-row") == 10) {

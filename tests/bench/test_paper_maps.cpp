@@ -23,9 +23,14 @@ struct PaperMapSpec {
   int size;  // cells per side
 };
 
-const std::vector<PaperMapSpec> kPaperMaps = {
-    {"A", 20}, {"B", 40}, {"C", 60}, {"D", 80},
-    {"sweep_simple", 40}, {"sweep_middle", 40}, {"sweep_bars", 40}, {"sweep_random", 40}};
+const std::vector<PaperMapSpec> kPaperMaps = {{"A", 20},
+                                              {"B", 40},
+                                              {"C", 60},
+                                              {"D", 80},
+                                              {"sweep_simple", 40},
+                                              {"sweep_middle", 40},
+                                              {"sweep_bars", 40},
+                                              {"sweep_random", 40}};
 
 bench::LoadedMap load(const std::string& name) {
   auto loaded = bench::load_map_with_scenarios(VNSBA_PAPER_MAPS_DIR "/" + name + ".map");
@@ -60,8 +65,8 @@ TEST(PaperMaps, LoadWithStartAndGoalAtOppositeCornersAndTheirOptimum) {
 TEST(PaperMaps, RandomSweepMapHasTwentyPercentDensity) {
   const bench::LoadedMap m = load("sweep_random");
   ASSERT_TRUE(m.map);
-  const double density = static_cast<double>(m.map->blocked_count()) /
-                         static_cast<double>(m.map->cell_count());
+  const double density =
+      static_cast<double>(m.map->blocked_count()) / static_cast<double>(m.map->cell_count());
   EXPECT_NEAR(density, 0.20, 0.02);
 }
 

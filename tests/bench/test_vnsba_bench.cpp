@@ -24,8 +24,8 @@ const std::string kBench = VNSBA_BENCH_BINARY;
 
 // A fresh, empty folder under the test temp dir.
 std::string fresh_folder(const std::string& name) {
-  const std::string folder = ::testing::TempDir() + "/vnsba_bench_" + name + "_" +
-                             std::to_string(getpid());
+  const std::string folder =
+      ::testing::TempDir() + "/vnsba_bench_" + name + "_" + std::to_string(getpid());
   fs::remove_all(folder);
   fs::create_directories(folder);
   return folder;
@@ -96,7 +96,8 @@ TEST(VnsbaBench, PaperWritesEveryTableAndFigure) {
   }
   // Figure 12: four maps x four baselines.
   tinyxml2::XMLDocument doc;
-  ASSERT_EQ(doc.LoadFile((out + "/figure12_overall_improvement.svg").c_str()), tinyxml2::XML_SUCCESS);
+  ASSERT_EQ(doc.LoadFile((out + "/figure12_overall_improvement.svg").c_str()),
+            tinyxml2::XML_SUCCESS);
   int bars = 0;
   std::function<void(const tinyxml2::XMLElement*)> walk = [&](const tinyxml2::XMLElement* e) {
     for (; e != nullptr; e = e->NextSiblingElement()) {
@@ -139,7 +140,8 @@ TEST(VnsbaBench, SweepWritesTablesAndHeatMaps) {
       int cells = 0;
       std::function<void(const tinyxml2::XMLElement*)> walk = [&](const tinyxml2::XMLElement* e) {
         for (; e != nullptr; e = e->NextSiblingElement()) {
-          if (const char* c = e->Attribute("class"); c != nullptr && std::string(c) == "cell") ++cells;
+          if (const char* c = e->Attribute("class"); c != nullptr && std::string(c) == "cell")
+            ++cells;
           walk(e->FirstChildElement());
         }
       };
@@ -174,8 +176,9 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   std::stringstream lines(output);
   std::string line;
   ASSERT_TRUE(std::getline(lines, line));
-  EXPECT_EQ(line, "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,"
-                  "expanded,time_us");
+  EXPECT_EQ(line,
+            "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,"
+            "expanded,time_us");
   size_t astar_rows = 0, vns_rows = 0;
   while (std::getline(lines, line)) {
     const auto f = split(line, ',');
@@ -249,7 +252,8 @@ TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
     const std::string dir = fresh_folder("badmap");
     std::ofstream(dir + "/A.map") << "type octile\nheight 2\nwidth 2\nmap\n.?\n..\n";
     std::ofstream(dir + "/A.map.scen") << "version 1\n0\tA.map\t2\t2\t0\t0\t1\t1\t1.41421356\n";
-    const auto [code, output] = run_to_exit(kBench, {"paper", "--maps", dir, "--out", dir + "/out"});
+    const auto [code, output] =
+        run_to_exit(kBench, {"paper", "--maps", dir, "--out", dir + "/out"});
     EXPECT_EQ(code, 2);
     EXPECT_NE(output.find("A.map"), std::string::npos) << output;
     fs::remove_all(dir);

@@ -59,7 +59,8 @@ TEST(NodeProcess, SigtermDrainsAndExitsZero) {
     free_room.data.assign(12, core::kOccupancyFree);
     client.publish_slice(free_room);
     std::optional<PlanStatusMsg> status;
-    for (int attempt = 0; attempt < 50 && !(status && status->code() == node::wire::OK); ++attempt) {
+    for (int attempt = 0; attempt < 50 && !(status && status->code() == node::wire::OK);
+         ++attempt) {
       const std::string id = "proc-" + std::to_string(attempt);
       client.publish_request(id, 0.5, 0.5, 3.5, 2.5);
       status = client.wait_status(id);

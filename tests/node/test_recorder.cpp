@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 const std::string kRecorder = VNSBA_RECORDER_BINARY;
 
 fs::path fresh_dir(const std::string& tag) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("recorder_" + std::to_string(getpid()) + "_" + tag);
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("recorder_" + std::to_string(getpid()) + "_" + tag);
   fs::remove_all(dir);
   return dir;
 }
@@ -30,7 +31,8 @@ fs::path fresh_dir(const std::string& tag) {
 // The rooms fixture at 0.5 m per cell with its origin at (-3, 2) m (so metres and cells differ),
 // plus a free cell walled in on all sides: cell (29, 2) is unreachable.
 core::OccupancyGrid rooms_slice() {
-  core::OccupancyGrid grid = core::load_movingai_map(VNSBA_FIXTURE_DIR "/maps/rooms_32.map").value();
+  core::OccupancyGrid grid =
+      core::load_movingai_map(VNSBA_FIXTURE_DIR "/maps/rooms_32.map").value();
   grid.resolution = 0.5;
   grid.origin_x = -3.0;
   grid.origin_y = 2.0;
@@ -72,8 +74,8 @@ TEST(RecorderProcess, WritesOnePictureAndOneRecordPerRequest) {
 
   const auto [sx, sy] = centre(2, 2);
   const auto [gx, gy] = centre(29, 13);
-  const auto [wx, wy] = centre(0, 0);      // the outer wall
-  const auto [px, py] = centre(29, 2);     // the walled-in cell
+  const auto [wx, wy] = centre(0, 0);   // the outer wall
+  const auto [px, py] = centre(29, 2);  // the walled-in cell
   client.publish_request("ok-1", sx, sy, gx, gy);
   ASSERT_TRUE(client.wait_status("ok-1"));
   client.publish_request("into-wall", sx, sy, wx, wy);
@@ -157,12 +159,12 @@ TEST(RecorderProcess, WritesOnePictureAndOneRecordPerRequest) {
       for (const auto& c : debug->expanded_forward()) forward.insert({c.x(), c.y()});
       EXPECT_EQ(decode_runs(find_id(root, "expanded-forward"), grid.height), forward);
       EXPECT_EQ(data_count(find_id(root, "expanded-backward")),
-                static_cast<long>(std::set<std::pair<int, int>>(
-                                      [&] {
-                                        std::set<std::pair<int, int>> b;
-                                        for (const auto& c : debug->expanded_backward()) b.insert({c.x(), c.y()});
-                                        return b;
-                                      }())
+                static_cast<long>(std::set<std::pair<int, int>>([&] {
+                                    std::set<std::pair<int, int>> b;
+                                    for (const auto& c : debug->expanded_backward())
+                                      b.insert({c.x(), c.y()});
+                                    return b;
+                                  }())
                                       .size()));
     } else {
       EXPECT_TRUE(code_name != "OK" && code_name != "NO_VALID_PATH")
@@ -219,21 +221,19 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
   const node::NodeConfig cfg = test_config("recbad");
   const fs::path out = fresh_dir("bad");
   const std::string config = write_temp_file("recbad.yaml", config_yaml(cfg));
-  ChildProcess recorder(kRecorder, {"--out", out.string(), "--config", config, "--runs", "2",
-                                    "--debug-wait", "0.2"});
+  ChildProcess recorder(
+      kRecorder, {"--out", out.string(), "--config", config, "--runs", "2", "--debug-wait", "0.2"});
   auto bus = node::Participant::create(cfg.domain_id, "fake_node").value();
-  auto status_writer =
-      bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
-                         node::dds_topic_name(cfg, cfg.topics.plan_status))
-                      .value(),
-                  node::writer_qos(node::TopicQos::kStatus, false))
-          .value();
-  auto debug_writer =
-      bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
-                         node::dds_topic_name(cfg, cfg.topics.planner_debug))
-                      .value(),
-                  node::writer_qos(node::TopicQos::kDebug, false))
-          .value();
+  auto status_writer = bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+                                          node::dds_topic_name(cfg, cfg.topics.plan_status))
+                                       .value(),
+                                   node::writer_qos(node::TopicQos::kStatus, false))
+                           .value();
+  auto debug_writer = bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
+                                         node::dds_topic_name(cfg, cfg.topics.planner_debug))
+                                      .value(),
+                                  node::writer_qos(node::TopicQos::kDebug, false))
+                          .value();
   ASSERT_TRUE(recorder.wait_for_output("planner_debug matched", 15s)) << recorder.output();
   ASSERT_TRUE(recorder.wait_for_output("plan_status matched", 15s)) << recorder.output();
   const auto deadline = std::chrono::steady_clock::now() + 10s;
@@ -269,7 +269,8 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
     auto record = tools::run_record_from_json(read_json(out / (std::string(id) + ".json")));
     ASSERT_TRUE(record) << id << ": " << record.error().message;
     tinyxml2::XMLDocument doc;
-    EXPECT_EQ(doc.LoadFile((out / (std::string(id) + ".svg")).c_str()), tinyxml2::XML_SUCCESS) << id;
+    EXPECT_EQ(doc.LoadFile((out / (std::string(id) + ".svg")).c_str()), tinyxml2::XML_SUCCESS)
+        << id;
   }
   bus->shutdown();
   fs::remove_all(out);

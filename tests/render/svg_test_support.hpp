@@ -34,10 +34,12 @@ inline long data_count(const tinyxml2::XMLElement* group) {
 
 // Cells drawn by a layer group: its <path> elements hold row runs "M x y h w m dx dy h w ...",
 // horizontal strokes through the middle of SVG row y - 0.5, which is map row H - y - 0.5.
-inline std::set<std::pair<int, int>> decode_runs(const tinyxml2::XMLElement* group, int map_height) {
+inline std::set<std::pair<int, int>> decode_runs(const tinyxml2::XMLElement* group,
+                                                 int map_height) {
   std::set<std::pair<int, int>> cells;
   if (group == nullptr) return cells;
-  for (auto* p = group->FirstChildElement("path"); p != nullptr; p = p->NextSiblingElement("path")) {
+  for (auto* p = group->FirstChildElement("path"); p != nullptr;
+       p = p->NextSiblingElement("path")) {
     const std::string data = p->Attribute("d") ? p->Attribute("d") : "";
     double px = 0, py = 0;
     size_t i = 0;

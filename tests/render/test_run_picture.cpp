@@ -73,26 +73,28 @@ TEST(RunPicture, HasEveryLayerTheLegendScaleBarAndCaption) {
   Rendered r;
   r.svg = render::render_svg(rp);
   ASSERT_TRUE(r.parse());
-  for (const char* id :
-       {"map-occupied", "map-unknown", "map-inflated", "expanded-forward", "expanded-backward",
-        "raw-path", "pruned-path", "smoothed-corners", "meeting-cell", "start", "goal", "legend",
-        "scale-bar", "caption"})
+  for (const char* id : {"map-occupied", "map-unknown", "map-inflated", "expanded-forward",
+                         "expanded-backward", "raw-path", "pruned-path", "smoothed-corners",
+                         "meeting-cell", "start", "goal", "legend", "scale-bar", "caption"})
     EXPECT_NE(find_id(r.root, id), nullptr) << "missing layer " << id;
   std::set<std::string> legend;
-  for (auto* t = find_id(r.root, "legend")->FirstChildElement("text"); t; t = t->NextSiblingElement("text"))
+  for (auto* t = find_id(r.root, "legend")->FirstChildElement("text"); t;
+       t = t->NextSiblingElement("text"))
     legend.insert(t->GetText());
-  for (const char* label : {"occupied", "unknown", "forward expansions", "backward expansions",
-                            "raw grid path", "pruned path", "smoothed corners", "meeting cell",
-                            "start", "goal"})
+  for (const char* label :
+       {"occupied", "unknown", "forward expansions", "backward expansions", "raw grid path",
+        "pruned path", "smoothed corners", "meeting cell", "start", "goal"})
     EXPECT_TRUE(legend.count(label)) << "legend lacks " << label;
   std::string caption;
-  for (auto* t = find_id(r.root, "caption")->FirstChildElement("text"); t; t = t->NextSiblingElement("text"))
+  for (auto* t = find_id(r.root, "caption")->FirstChildElement("text"); t;
+       t = t->NextSiblingElement("text"))
     caption += std::string(t->GetText()) + "\n";
   EXPECT_NE(caption.find("vns_bastar"), std::string::npos) << caption;
   EXPECT_NE(caption.find("OK"), std::string::npos) << caption;
   EXPECT_NE(caption.find("turns " + std::to_string(run.result.metrics.turns)), std::string::npos)
       << caption;
-  EXPECT_NE(caption.find("expanded " + std::to_string(run.result.metrics.expanded)), std::string::npos)
+  EXPECT_NE(caption.find("expanded " + std::to_string(run.result.metrics.expanded)),
+            std::string::npos)
       << caption;
   // The scale bar's length is a round number of metres and its drawn length matches it.
   const auto* bar = find_id(r.root, "scale-bar");
@@ -240,7 +242,8 @@ TEST(RunPicture, FailedRunShowsStartGoalAndTheMessage) {
   EXPECT_EQ(data_count(find_id(r.root, "start")), 1);
   EXPECT_EQ(data_count(find_id(r.root, "goal")), 1);
   EXPECT_EQ(data_count(find_id(r.root, "pruned-path")), 0);
-  EXPECT_NE(r.svg.find("GOAL_OCCUPIED: " + render::xml_escape(result.status.message)), std::string::npos);
+  EXPECT_NE(r.svg.find("GOAL_OCCUPIED: " + render::xml_escape(result.status.message)),
+            std::string::npos);
 }
 
 TEST(RunPicture, AnyTextStaysValidXml) {
@@ -299,8 +302,8 @@ TEST(RunPicture, RsvgConvertRendersItToPng) {
   const std::string svg = render::render_svg(render::picture_of(picture, run.query, run.result));
   const std::string base = ::testing::TempDir() + "/vnsba_render_" + std::to_string(getpid());
   ASSERT_TRUE(render::write_text_file(base + ".svg", svg).is_ok());
-  const std::string command = std::string("'") + VNSBA_RSVG_CONVERT + "' '" + base + ".svg' -o '" +
-                              base + ".png' 2>&1";
+  const std::string command =
+      std::string("'") + VNSBA_RSVG_CONVERT + "' '" + base + ".svg' -o '" + base + ".png' 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   std::ifstream png(base + ".png", std::ios::binary);
   unsigned char header[24] = {};

@@ -74,13 +74,12 @@ TEST(RunRecord, BadFieldsAreNamed) {
     nlohmann::json value;
     const char* named;
   };
-  for (const Case& c : {Case{"/status/turns", "three", "status.turns"},
-                        Case{"/status/code", 300, "status.code"},
-                        Case{"/debug/expanded_forward/1", nlohmann::json::array({1}), "debug.expanded_forward[1]"},
-                        Case{"/path/0", "x", "path[0]"},
-                        Case{"/map/occupied_threshold", 0, "map.occupied_threshold"},
-                        Case{"/request", 5, "request"},
-                        Case{"/request_id", nullptr, "request_id"}}) {
+  for (const Case& c :
+       {Case{"/status/turns", "three", "status.turns"}, Case{"/status/code", 300, "status.code"},
+        Case{"/debug/expanded_forward/1", nlohmann::json::array({1}), "debug.expanded_forward[1]"},
+        Case{"/path/0", "x", "path[0]"},
+        Case{"/map/occupied_threshold", 0, "map.occupied_threshold"},
+        Case{"/request", 5, "request"}, Case{"/request_id", nullptr, "request_id"}}) {
     nlohmann::json bad = good;
     bad[nlohmann::json::json_pointer(c.pointer)] = c.value;
     const auto parsed = tools::run_record_from_json(bad);

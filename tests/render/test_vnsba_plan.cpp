@@ -42,9 +42,9 @@ TEST(VnsbaPlan, CellsAndOtherPlanners) {
 
 TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
   // map_server: a 8-bit P5 image with its YAML (the whole map is checked by the map_io tests).
-  const auto [code, output] = run_to_exit(
-      kPlan, {VNSBA_FIXTURE_DIR "/map_server/p5_8bit.yaml", "--cells", "--start", "0", "0", "--goal",
-              "0", "0", "--planner", "astar"});
+  const auto [code, output] =
+      run_to_exit(kPlan, {VNSBA_FIXTURE_DIR "/map_server/p5_8bit.yaml", "--cells", "--start", "0",
+                          "0", "--goal", "0", "0", "--planner", "astar"});
   EXPECT_TRUE(code == 0 || code == 1) << output;  // a plan ran: OK or a planner status
   EXPECT_NE(output.find("astar "), std::string::npos) << output;
 
@@ -76,14 +76,19 @@ TEST(VnsbaPlan, BadInputExitsTwoNamingTheOption) {
     const char* named;
   };
   for (const Case& c : {
-           Case{{kRooms, "--start", "1", "1", "--goal", "2", "2", "--planner", "dijkstra"}, "--planner"},
+           Case{{kRooms, "--start", "1", "1", "--goal", "2", "2", "--planner", "dijkstra"},
+                "--planner"},
            Case{{kRooms, "--start", "-5", "1", "--goal", "2", "2"}, "--start"},
            Case{{kRooms, "--start", "1", "1", "--goal", "nan", "2"}, "--goal"},
            Case{{kRooms, "--cells", "--start", "1.5", "1", "--goal", "2", "2"}, "--start"},
            Case{{kRooms, "--start", "1", "1"}, "--goal"},
-           Case{{VNSBA_FIXTURE_DIR "/maps/none.map", "--start", "1", "1", "--goal", "2", "2"}, "none.map"},
-           Case{{VNSBA_FIXTURE_DIR "/config/empty.yaml", "--start", "1", "1", "--goal", "2", "2"}, "empty.yaml"},
-           Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--svg", "/nonexistent-dir/x.svg"}, "--svg"},
+           Case{{VNSBA_FIXTURE_DIR "/maps/none.map", "--start", "1", "1", "--goal", "2", "2"},
+                "none.map"},
+           Case{{VNSBA_FIXTURE_DIR "/config/empty.yaml", "--start", "1", "1", "--goal", "2", "2"},
+                "empty.yaml"},
+           Case{
+               {kRooms, "--start", "2", "2", "--goal", "3", "3", "--svg", "/nonexistent-dir/x.svg"},
+               "--svg"},
        }) {
     const auto [code, output] = run_to_exit(kPlan, c.args);
     EXPECT_EQ(code, 2) << output;

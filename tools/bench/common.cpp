@@ -72,11 +72,16 @@ Expected<std::vector<core::PlannerKind>> parse_planner_list(const std::string& l
 
 std::string paper_name(core::PlannerKind kind) {
   switch (kind) {
-    case core::PlannerKind::kAStar: return "A*";
-    case core::PlannerKind::kWeightedAStar: return "improved A*";
-    case core::PlannerKind::kBidirectionalAStar: return "BA*";
-    case core::PlannerKind::kAlternatingBidirectionalAStar: return "improved BA*";
-    case core::PlannerKind::kVnsBaStar: return "VNS-BA*";
+    case core::PlannerKind::kAStar:
+      return "A*";
+    case core::PlannerKind::kWeightedAStar:
+      return "improved A*";
+    case core::PlannerKind::kBidirectionalAStar:
+      return "BA*";
+    case core::PlannerKind::kAlternatingBidirectionalAStar:
+      return "improved BA*";
+    case core::PlannerKind::kVnsBaStar:
+      return "VNS-BA*";
   }
   return std::string(core::to_string(kind));
 }
@@ -86,8 +91,7 @@ TimedPlan timed_plan(core::Planner& planner, const core::PlanQuery& query,
   const auto started = std::chrono::steady_clock::now();
   TimedPlan timed{planner.plan(query, options), 0.0};
   timed.time_us =
-      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - started)
-          .count();
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - started).count();
   return timed;
 }
 
@@ -116,7 +120,8 @@ double median(std::vector<double> values) {
   std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
   const double upper = values[mid];
   if (values.size() % 2 == 1) return upper;
-  const double lower = *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid));
+  const double lower =
+      *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid));
   return 0.5 * (lower + upper);
 }
 
@@ -124,7 +129,8 @@ double percentile(std::vector<double> values, double p) {
   if (values.empty()) return NAN;
   std::sort(values.begin(), values.end());
   // Nearest rank: the smallest value with at least p % of the sample at or below it.
-  const double rank = std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * static_cast<double>(values.size()));
+  const double rank =
+      std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * static_cast<double>(values.size()));
   const size_t index = rank < 1 ? 0 : static_cast<size_t>(rank) - 1;
   return values[std::min(index, values.size() - 1)];
 }

@@ -32,7 +32,8 @@ std::string class_of_name(const std::string& name) {
   if (lower.find("random") != std::string::npos) return "random";
   // Street maps are named <City>_<n>_<size>, e.g. Berlin_0_256.
   const auto last = name.rfind('_');
-  if (last != std::string::npos && name.find('_') < last && std::isupper(static_cast<unsigned char>(name[0]))) {
+  if (last != std::string::npos && name.find('_') < last &&
+      std::isupper(static_cast<unsigned char>(name[0]))) {
     const std::string size = name.substr(last + 1, name.find('.', last) - last - 1);
     if (size == "256" || size == "512" || size == "1024") return "street";
   }
@@ -76,7 +77,8 @@ std::vector<size_t> pick_scenarios(size_t count, int limit) {
     for (size_t i = 0; i < count; ++i) picked.push_back(i);
     return picked;
   }
-  for (size_t i = 0; i < static_cast<size_t>(limit); ++i) picked.push_back(i * count / static_cast<size_t>(limit));
+  for (size_t i = 0; i < static_cast<size_t>(limit); ++i)
+    picked.push_back(i * count / static_cast<size_t>(limit));
   return picked;
 }
 
@@ -95,7 +97,8 @@ std::string movingai_map_class(const std::string& maps_dir, const std::string& m
     std::getline(fields, source_path, '\t');
     // "maps/<folder>/<file>": the folder names the benchmark set.
     const std::filesystem::path source(source_path);
-    if (source.has_parent_path()) return class_of_source_folder(source.parent_path().filename().string());
+    if (source.has_parent_path())
+      return class_of_source_folder(source.parent_path().filename().string());
   }
   return class_of_name(map_file_name);
 }
@@ -163,11 +166,13 @@ int run_movingai(const MovingAiOptions& options) {
           const std::string status(core::to_string(timed.result.status.code));
           if (run.ok)
             std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.3f\n", loaded->name.c_str(),
-                        s.line, planner_name.c_str(), status.c_str(), s.optimal_length, m.raw_cost_cells, m.length_cells, m.turns,
-                        m.turn_angle_deg, static_cast<long long>(m.expanded), timed.time_us);
+                        s.line, planner_name.c_str(), status.c_str(), s.optimal_length,
+                        m.raw_cost_cells, m.length_cells, m.turns, m.turn_angle_deg,
+                        static_cast<long long>(m.expanded), timed.time_us);
           else
             std::printf("%s,%d,%s,%s,%.8f,,,,,%lld,%.3f\n", loaded->name.c_str(), s.line,
-                        planner_name.c_str(), status.c_str(), s.optimal_length, static_cast<long long>(m.expanded), timed.time_us);
+                        planner_name.c_str(), status.c_str(), s.optimal_length,
+                        static_cast<long long>(m.expanded), timed.time_us);
         }
       }
     }
@@ -180,12 +185,10 @@ int run_movingai(const MovingAiOptions& options) {
   if (options.csv) return kExitOk;
 
   std::string md = "### Moving AI benchmarks, per map class\n\n";
-  md += std::to_string(scenario_total) + " scenarios on " + std::to_string(maps->size()) +
-        " maps" +
-        (options.max_scenarios > 0
-             ? " (at most " + std::to_string(options.max_scenarios) +
-                   " per map, spread evenly over each scenario file)"
-             : " (every scenario)") +
+  md += std::to_string(scenario_total) + " scenarios on " + std::to_string(maps->size()) + " maps" +
+        (options.max_scenarios > 0 ? " (at most " + std::to_string(options.max_scenarios) +
+                                         " per map, spread evenly over each scenario file)"
+                                   : " (every scenario)") +
         ", each planner in its paper configuration" +
         (options.with_post_processing
              ? std::string(" and each baseline also with VNS-BA*'s pruning and smoothing")
@@ -216,12 +219,13 @@ int run_movingai(const MovingAiOptions& options) {
         expanded.push_back(r.expanded);
         time.push_back(r.time_us);
       }
-      table.add_row({configurations[c].label(),
-                     std::to_string(count),
-                     format(count ? 100.0 * static_cast<double>(ok) / static_cast<double>(count) : NAN, 1) + " %",
-                     format(mean(ratio), 4), format(mean(raw), 4), format(mean(turns), 1),
-                     format(mean(angle), 0), format(mean(expanded), 0), format(median(time), 0),
-                     format(percentile(time, 95), 0)});
+      table.add_row(
+          {configurations[c].label(), std::to_string(count),
+           format(count ? 100.0 * static_cast<double>(ok) / static_cast<double>(count) : NAN, 1) +
+               " %",
+           format(mean(ratio), 4), format(mean(raw), 4), format(mean(turns), 1),
+           format(mean(angle), 0), format(mean(expanded), 0), format(median(time), 0),
+           format(percentile(time, 95), 0)});
     }
     md += table.str() + "\n";
   }

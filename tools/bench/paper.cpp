@@ -17,14 +17,16 @@ namespace {
 using core::PlannerKind;
 
 struct PaperMap {
-  const char* name;    // file stem and table label
-  const char* size;    // "20 x 20"
-  int table;           // the paper's table number
-  int figure;          // the paper's figure number
+  const char* name;  // file stem and table label
+  const char* size;  // "20 x 20"
+  int table;         // the paper's table number
+  int figure;        // the paper's figure number
 };
 
-constexpr PaperMap kPaperMaps[] = {
-    {"A", "20 x 20", 2, 8}, {"B", "40 x 40", 3, 9}, {"C", "60 x 60", 4, 10}, {"D", "80 x 80", 5, 11}};
+constexpr PaperMap kPaperMaps[] = {{"A", "20 x 20", 2, 8},
+                                   {"B", "40 x 40", 3, 9},
+                                   {"C", "60 x 60", 4, 10},
+                                   {"D", "80 x 80", 5, 11}};
 
 // A planner in one configuration: the paper's, or a baseline with our post-processing, or
 // VNS-BA*'s search alone.
@@ -32,9 +34,12 @@ enum class Config { kPaper, kPostProcessed, kSearchOnly };
 
 const char* config_name(Config config) {
   switch (config) {
-    case Config::kPaper: return "paper";
-    case Config::kPostProcessed: return "+prune+smooth";
-    case Config::kSearchOnly: return "search only";
+    case Config::kPaper:
+      return "paper";
+    case Config::kPostProcessed:
+      return "+prune+smooth";
+    case Config::kSearchOnly:
+      return "search only";
   }
   return "?";
 }
@@ -82,7 +87,9 @@ double overall(const std::vector<double>& rates) {
   return mean(finite);
 }
 
-std::string percent(double value) { return std::isfinite(value) ? format(value, 1) + " %" : "n/a"; }
+std::string percent(double value) {
+  return std::isfinite(value) ? format(value, 1) + " %" : "n/a";
+}
 
 }  // namespace
 
@@ -154,8 +161,8 @@ int run_paper(const PaperOptions& options) {
           picture.title = std::string("map ") + paper_map.name + " (figure " +
                           std::to_string(paper_map.figure) + ")";
           char name[96];
-          std::snprintf(name, sizeof name, "figure%02d_%s_%s.svg", paper_map.figure,
-                        paper_map.name, std::string(core::to_string(kind)).c_str());
+          std::snprintf(name, sizeof name, "figure%02d_%s_%s.svg", paper_map.figure, paper_map.name,
+                        std::string(core::to_string(kind)).c_str());
           if (!write_file_or_report(options.out_dir + "/" + name, render::render_svg(picture)))
             return kExitBadInput;
         }
@@ -190,10 +197,12 @@ int run_paper(const PaperOptions& options) {
   // --- Tables 2-5. ---
   std::string md;
   md += "### Tables 2-5: the five planners on maps A-D\n\n";
-  md += "Length in cells (1 cell = 1 m here), final path (after smoothing where it is on); ratio: "
-        "that length / the optimal 8-connected grid cost (A*); turn angle: total, in degrees; "
-        "time: median of " + std::to_string(options.repetitions) +
-        " plans, microseconds, search plus post-processing.\n\n";
+  md +=
+      "Length in cells (1 cell = 1 m here), final path (after smoothing where it is on); ratio: "
+      "that length / the optimal 8-connected grid cost (A*); turn angle: total, in degrees; "
+      "time: median of " +
+      std::to_string(options.repetitions) +
+      " plans, microseconds, search plus post-processing.\n\n";
   for (const auto& paper_map : kPaperMaps) {
     md += "**Table " + std::to_string(paper_map.table) + ": map " + paper_map.name + " (" +
           paper_map.size + ")** (figure " + std::to_string(paper_map.figure) + ")\n\n";
@@ -203,8 +212,8 @@ int run_paper(const PaperOptions& options) {
       const Row& r = find(paper_map.name, kind, Config::kPaper);
       const auto& m = r.result.metrics;
       if (!r.result.status.is_ok()) {
-        table.add_row({paper_name(kind), std::string(core::to_string(r.result.status.code)), "",
-                       "", "", "", ""});
+        table.add_row({paper_name(kind), std::string(core::to_string(r.result.status.code)), "", "",
+                       "", "", ""});
         continue;
       }
       table.add_row({paper_name(kind), format(m.length_cells, 2), format(m.length_ratio, 3),
@@ -215,14 +224,16 @@ int run_paper(const PaperOptions& options) {
   }
 
   // --- Table 6 and Figure 12. ---
-  md += "### Table 6: improvement rate of VNS-BA* over each baseline, (baseline - ours) / "
-        "baseline\n\n";
-  md += "Positive: VNS-BA* is better (shorter, fewer turns, less turning, fewer expansions, "
-        "faster). Overall: the arithmetic mean of the five rates (the paper's \"arithmetic mean "
-        "method\", section 4); a rate that is undefined (baseline 0, ours not) is left out of "
-        "the mean and shown as n/a.\n\n";
-  MarkdownTable table6({"map", "baseline", "length", "turns", "turn angle", "expanded", "time",
-                        "overall"});
+  md +=
+      "### Table 6: improvement rate of VNS-BA* over each baseline, (baseline - ours) / "
+      "baseline\n\n";
+  md +=
+      "Positive: VNS-BA* is better (shorter, fewer turns, less turning, fewer expansions, "
+      "faster). Overall: the arithmetic mean of the five rates (the paper's \"arithmetic mean "
+      "method\", section 4); a rate that is undefined (baseline 0, ours not) is left out of "
+      "the mean and shown as n/a.\n\n";
+  MarkdownTable table6(
+      {"map", "baseline", "length", "turns", "turn angle", "expanded", "time", "overall"});
   render::BarChart figure12;
   figure12.title = "Figure 12: overall improvement rate of VNS-BA* per map";
   figure12.y_label = "overall improvement rate (%)";
@@ -268,7 +279,8 @@ int run_paper(const PaperOptions& options) {
     return std::make_pair(low, high);
   };
   const std::vector<std::string> all_maps = {"A", "B", "C", "D"};
-  const std::vector<PlannerKind> unidirectional = {PlannerKind::kAStar, PlannerKind::kWeightedAStar};
+  const std::vector<PlannerKind> unidirectional = {PlannerKind::kAStar,
+                                                   PlannerKind::kWeightedAStar};
   const std::vector<PlannerKind> bidirectional = {PlannerKind::kBidirectionalAStar,
                                                   PlannerKind::kAlternatingBidirectionalAStar};
   const auto yes_no = [](bool holds) { return holds ? "yes" : "**no**"; };
@@ -276,8 +288,9 @@ int run_paper(const PaperOptions& options) {
   MarkdownTable claims({"claim (paper, section 4)", "these runs", "reproduced here"});
   {
     const auto [low, high] = range_of(1, all_maps, baselines());
-    claims.add_row({"turns down by more than 40 % on every map, against every baseline (max 80.96 %)",
-                    "from " + percent(low) + " to " + percent(high), yes_no(low > 40.0)});
+    claims.add_row(
+        {"turns down by more than 40 % on every map, against every baseline (max 80.96 %)",
+         "from " + percent(low) + " to " + percent(high), yes_no(low > 40.0)});
   }
   {
     const auto [low, high] = range_of(2, all_maps, baselines());
@@ -316,24 +329,26 @@ int run_paper(const PaperOptions& options) {
   }
   {
     const auto [low, high] = range_of(0, all_maps, baselines());
-    claims.add_row({"path length (the paper reports gains; A* is optimal on the grid, but "
-                    "pruning and smoothing cut corners)",
-                    "from " + percent(low) + " to " + percent(high), yes_no(low >= 0.0)});
+    claims.add_row(
+        {"path length (the paper reports gains; A* is optimal on the grid, but "
+         "pruning and smoothing cut corners)",
+         "from " + percent(low) + " to " + percent(high), yes_no(low >= 0.0)});
   }
   md += claims.str() + "\n";
 
   // --- Ablation: how much of the turn reduction is post-processing? ---
   md += "### Ablation: the baselines with our pruning and smoothing, VNS-BA* without them\n\n";
-  md += "\"paper\": the configuration of Tables 2-5; \"+prune+smooth\": the same search followed "
-        "by the polyline pruning and corner smoothing of VNS-BA*; \"search only\": VNS-BA*'s "
-        "8-11-13 bidirectional search with neither.\n\n";
+  md +=
+      "\"paper\": the configuration of Tables 2-5; \"+prune+smooth\": the same search followed "
+      "by the polyline pruning and corner smoothing of VNS-BA*; \"search only\": VNS-BA*'s "
+      "8-11-13 bidirectional search with neither.\n\n";
   MarkdownTable ablation({"map", "planner", "configuration", "length", "ratio to optimal", "turns",
                           "turn angle (deg)", "expanded", "time (us)"});
   for (const auto& paper_map : kPaperMaps)
     for (const auto kind : core::all_planner_kinds())
       for (const Config config :
-           {Config::kPaper, kind == PlannerKind::kVnsBaStar ? Config::kSearchOnly
-                                                            : Config::kPostProcessed}) {
+           {Config::kPaper,
+            kind == PlannerKind::kVnsBaStar ? Config::kSearchOnly : Config::kPostProcessed}) {
         const Row& r = find(paper_map.name, kind, config);
         const auto& m = r.result.metrics;
         ablation.add_row({paper_map.name, paper_name(kind), config_name(config),
@@ -342,10 +357,11 @@ int run_paper(const PaperOptions& options) {
                           std::to_string(m.expanded), format(r.time_us, 1)});
       }
   md += ablation.str() + "\n";
-  md += "Improvement rate of VNS-BA* over the post-processed baselines (same formula as Table 6):"
-        "\n\n";
-  MarkdownTable fair({"map", "baseline +prune+smooth", "length", "turns", "turn angle",
-                      "expanded", "time", "overall"});
+  md +=
+      "Improvement rate of VNS-BA* over the post-processed baselines (same formula as Table 6):"
+      "\n\n";
+  MarkdownTable fair({"map", "baseline +prune+smooth", "length", "turns", "turn angle", "expanded",
+                      "time", "overall"});
   for (const auto& paper_map : kPaperMaps) {
     const Row& ours = find(paper_map.name, PlannerKind::kVnsBaStar, Config::kPaper);
     for (const auto kind : baselines()) {
@@ -362,8 +378,9 @@ int run_paper(const PaperOptions& options) {
   }
   md += fair.str() + "\n";
 
-  md += "Figures 8-11 (expansions: forward search yellow, backward blue; paths black, smoothed "
-        "corners red):\n\n";
+  md +=
+      "Figures 8-11 (expansions: forward search yellow, backward blue; paths black, smoothed "
+      "corners red):\n\n";
   MarkdownTable figures({"map", "A*", "improved A*", "BA*", "improved BA*", "VNS-BA*"});
   for (const auto& paper_map : kPaperMaps) {
     std::vector<std::string> cells = {std::string(paper_map.name)};

@@ -8,9 +8,9 @@
 namespace vnsba::bench {
 
 struct PaperOptions {
-  std::string maps_dir;   // holds A.map .. D.map, each with a one-line .map.scen
-  std::string out_dir;    // tables (Markdown, CSV) and SVG figures are written here
-  int repetitions = 51;   // timed plans per planner and map; the time is their median
+  std::string maps_dir;  // holds A.map .. D.map, each with a one-line .map.scen
+  std::string out_dir;   // tables (Markdown, CSV) and SVG figures are written here
+  int repetitions = 51;  // timed plans per planner and map; the time is their median
 };
 
 // The files `run_paper` writes into out_dir (names only), for tools and tests.

@@ -14,15 +14,18 @@ namespace {
 constexpr int kSteps = 11;  // 0, 0.1, ..., 1
 constexpr int kMiddle = 5;  // index of 0.5
 
-double weight(int index) { return index / 10.0; }
+double weight(int index) {
+  return index / 10.0;
+}
 
 struct Metric {
   const char* key;    // file names
   const char* label;  // tables and charts, with the unit
   int decimals;
 };
-constexpr Metric kSweepMetrics[] = {
-    {"expanded", "expanded nodes", 0}, {"time", "time (us, median)", 1}, {"length", "length (cells)", 2}};
+constexpr Metric kSweepMetrics[] = {{"expanded", "expanded nodes", 0},
+                                    {"time", "time (us, median)", 1},
+                                    {"length", "length (cells)", 2}};
 
 // values[metric][omega index][eta index]
 using Grid = std::vector<std::vector<double>>;
@@ -48,8 +51,8 @@ std::pair<int, int> best_cell(const Grid& grid) {
   std::pair<int, int> best{0, 0};
   for (int o = 0; o < kSteps; ++o)
     for (int e = 0; e < kSteps; ++e)
-      if (std::isfinite(grid[o][e]) &&
-          (!std::isfinite(grid[best.first][best.second]) || grid[o][e] < grid[best.first][best.second]))
+      if (std::isfinite(grid[o][e]) && (!std::isfinite(grid[best.first][best.second]) ||
+                                        grid[o][e] < grid[best.first][best.second]))
         best = {o, e};
   return best;
 }
@@ -78,18 +81,21 @@ int run_sweep(const SweepOptions& options) {
   std::string csv = "map,omega,eta,status,expanded,time_us_median,length,turns,turn_angle_deg\n";
   std::string md;
   md += "### Omega / eta sweep (Table 1, Figure 3)\n\n";
-  md += "VNS-BA* in its paper configuration with omega and eta from 0 to 1 in steps of 0.1; time "
-        "is the median of " + std::to_string(options.repetitions) +
-        " plans in microseconds, length the final path's in cells. Rank: the position of the pair "
-        "0.5 / 0.5 among the pairs (1 = lowest value; equal values share a rank). The pair 0 / 0 "
-        "is left blank: with both weights zero the heuristic vanishes and the planner refuses "
-        "it, so 120 pairs are ranked.\n\n";
+  md +=
+      "VNS-BA* in its paper configuration with omega and eta from 0 to 1 in steps of 0.1; time "
+      "is the median of " +
+      std::to_string(options.repetitions) +
+      " plans in microseconds, length the final path's in cells. Rank: the position of the pair "
+      "0.5 / 0.5 among the pairs (1 = lowest value; equal values share a rank). The pair 0 / 0 "
+      "is left blank: with both weights zero the heuristic vanishes and the planner refuses "
+      "it, so 120 pairs are ranked.\n\n";
   MarkdownTable summary({"map", "metric", "best pair (omega / eta)", "best value",
                          "value at 0.5 / 0.5", "rank of 0.5 / 0.5"});
   std::string full_tables;
   // Relative values (value / the map's best) summed over maps, per metric, to find the pair that
   // is best over all four maps together.
-  std::vector<Grid> relative_sum(std::size(kSweepMetrics), Grid(kSteps, std::vector<double>(kSteps, 0.0)));
+  std::vector<Grid> relative_sum(std::size(kSweepMetrics),
+                                 Grid(kSteps, std::vector<double>(kSteps, 0.0)));
   bool all_ok = true;
 
   for (const auto& name : sweep_map_names()) {
@@ -105,7 +111,8 @@ int run_sweep(const SweepOptions& options) {
     }
     const core::PlanQuery query{loaded->scenarios.front().start, loaded->scenarios.front().goal};
     core::Planner planner(loaded->map);
-    std::vector<Grid> values(std::size(kSweepMetrics), Grid(kSteps, std::vector<double>(kSteps, NAN)));
+    std::vector<Grid> values(std::size(kSweepMetrics),
+                             Grid(kSteps, std::vector<double>(kSteps, NAN)));
     for (int o = 0; o < kSteps; ++o) {
       for (int e = 0; e < kSteps; ++e) {
         core::PlannerOptions plan_options = core::default_options(core::PlannerKind::kVnsBaStar);
@@ -116,18 +123,19 @@ int run_sweep(const SweepOptions& options) {
         if (!r.status.is_ok()) {
           // omega = eta = 0 makes the heuristic vanish; the planner refuses it by design
           // (validate() in planner.hpp), so that pair is left blank rather than counted a failure.
-          const bool refused_by_design = o == 0 && e == 0 &&
-                                         r.status.code == core::StatusCode::kInvalidRequest;
+          const bool refused_by_design =
+              o == 0 && e == 0 && r.status.code == core::StatusCode::kInvalidRequest;
           if (!refused_by_design) all_ok = false;
           if (!refused_by_design)
-            std::fprintf(stderr, "%s omega %.1f eta %.1f: %s\n", name.c_str(), weight(o),
-                         weight(e), r.status.message.c_str());
+            std::fprintf(stderr, "%s omega %.1f eta %.1f: %s\n", name.c_str(), weight(o), weight(e),
+                         r.status.message.c_str());
           std::snprintf(line, sizeof line, "%s,%.1f,%.1f,%s,,,,,\n", name.c_str(), weight(o),
                         weight(e), std::string(core::to_string(r.status.code)).c_str());
           csv += line;
           continue;
         }
-        const double time_us = median_plan_time_us(planner, query, plan_options, options.repetitions);
+        const double time_us =
+            median_plan_time_us(planner, query, plan_options, options.repetitions);
         values[0][o][e] = static_cast<double>(r.metrics.expanded);
         values[1][o][e] = time_us;
         values[2][o][e] = r.metrics.length_cells;
@@ -184,10 +192,11 @@ int run_sweep(const SweepOptions& options) {
   }
 
   md += summary.str() + "\n";
-  md += "Over all four maps together (each value divided by its map's best, summed; 4.00 would be "
-        "best on every map):\n\n";
-  MarkdownTable together({"metric", "best pair (omega / eta)", "its sum", "sum at 0.5 / 0.5",
-                          "rank of 0.5 / 0.5"});
+  md +=
+      "Over all four maps together (each value divided by its map's best, summed; 4.00 would be "
+      "best on every map):\n\n";
+  MarkdownTable together(
+      {"metric", "best pair (omega / eta)", "its sum", "sum at 0.5 / 0.5", "rank of 0.5 / 0.5"});
   for (size_t m = 0; m < std::size(kSweepMetrics); ++m) {
     const auto best = best_cell(relative_sum[m]);
     together.add_row({kSweepMetrics[m].label, pair_name(best),
@@ -208,8 +217,9 @@ int run_sweep(const SweepOptions& options) {
     links.add_row(cells);
   }
   md += links.str() + "\n";
-  md += "The full 11 x 11 grids are in [sweep_full_tables](sweep_tables.md#full-grids) and "
-        "[sweep_results.csv](sweep_results.csv).\n\n";
+  md +=
+      "The full 11 x 11 grids are in [sweep_full_tables](sweep_tables.md#full-grids) and "
+      "[sweep_results.csv](sweep_results.csv).\n\n";
 
   const std::string tables_file = md + "### Full grids\n\n" + full_tables;
   if (!write_file_or_report(options.out_dir + "/sweep_results.csv", csv) ||

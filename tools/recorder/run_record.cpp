@@ -125,12 +125,14 @@ class Reader {
   }
   std::vector<Eigen::Vector2d> points(const json& j, const std::string& key,
                                       const std::string& path) {
-    return array_of<Eigen::Vector2d>(j, key, path, "an array of [x, y]",
-                                     [this](const json& e, const std::string& at) { return point_value(e, at); });
+    return array_of<Eigen::Vector2d>(
+        j, key, path, "an array of [x, y]",
+        [this](const json& e, const std::string& at) { return point_value(e, at); });
   }
   std::vector<core::Cell> cells(const json& j, const std::string& key, const std::string& path) {
-    return array_of<core::Cell>(j, key, path, "an array of [x, y] cells",
-                                [this](const json& e, const std::string& at) { return cell_value(e, at); });
+    return array_of<core::Cell>(
+        j, key, path, "an array of [x, y] cells",
+        [this](const json& e, const std::string& at) { return cell_value(e, at); });
   }
   // The elements of an array member read by `element` (which reports its own errors); elements
   // it cannot read are left out.
@@ -152,8 +154,7 @@ class Reader {
     return out;
   }
   std::optional<core::Cell> cell_value(const json& m, const std::string& path) {
-    if (!m.is_array() || m.size() != 2 || !m[0].is_number_integer() ||
-        !m[1].is_number_integer()) {
+    if (!m.is_array() || m.size() != 2 || !m[0].is_number_integer() || !m[1].is_number_integer()) {
       fail(path, "must be [x, y] with two integers");
       return std::nullopt;
     }
@@ -210,17 +211,18 @@ json to_json(const RunRecord& r) {
   j["path"] = points(r.path);
   if (r.debug) {
     const DebugRecord& d = *r.debug;
-    j["debug"] = {{"planner", d.planner},
-                  {"width", d.width},
-                  {"height", d.height},
-                  {"resolution", number(d.resolution)},
-                  {"origin", point({d.origin_x, d.origin_y})},
-                  {"expanded_forward", cells(d.expanded_forward)},
-                  {"expanded_backward", cells(d.expanded_backward)},
-                  {"meeting_cell", d.meeting_cell ? json::array({d.meeting_cell->x, d.meeting_cell->y})
-                                                  : json(nullptr)},
-                  {"raw_path", cells(d.raw_path)},
-                  {"pruned_waypoints", points(d.pruned_waypoints)}};
+    j["debug"] = {
+        {"planner", d.planner},
+        {"width", d.width},
+        {"height", d.height},
+        {"resolution", number(d.resolution)},
+        {"origin", point({d.origin_x, d.origin_y})},
+        {"expanded_forward", cells(d.expanded_forward)},
+        {"expanded_backward", cells(d.expanded_backward)},
+        {"meeting_cell",
+         d.meeting_cell ? json::array({d.meeting_cell->x, d.meeting_cell->y}) : json(nullptr)},
+        {"raw_path", cells(d.raw_path)},
+        {"pruned_waypoints", points(d.pruned_waypoints)}};
   } else {
     j["debug"] = nullptr;
   }
@@ -337,7 +339,7 @@ std::string safe_file_stem(const std::string& request_id) {
     // Different ids must not share a file: ids that were changed or cut get a hash of the
     // original appended.
     char hash[20];
-    std::snprintf(hash, sizeof hash, "-%08zx", std::hash<std::string>{}(request_id) & 0xffffffffu);
+    std::snprintf(hash, sizeof hash, "-%08zx", std::hash<std::string>{}(request_id)&0xffffffffu);
     if (stem.size() > kMaxLength) stem.resize(kMaxLength);
     stem += hash;
   }
@@ -449,10 +451,11 @@ render::RunPicture picture_of(const RunRecord& r, const core::OccupancyGrid* gri
   // Debug cells index the debug message's grid; they are drawn only when that grid is the one
   // in the picture (a slice replaced between the plan and the recording would misplace them).
   if (r.debug) {
-    const bool same_grid = r.debug->width == frame.width && r.debug->height == frame.height &&
-                           std::abs(r.debug->resolution - frame.resolution) <= 1e-6 * frame.resolution &&
-                           std::abs(r.debug->origin_x - frame.origin_x) <= 1e-6 * frame.resolution &&
-                           std::abs(r.debug->origin_y - frame.origin_y) <= 1e-6 * frame.resolution;
+    const bool same_grid =
+        r.debug->width == frame.width && r.debug->height == frame.height &&
+        std::abs(r.debug->resolution - frame.resolution) <= 1e-6 * frame.resolution &&
+        std::abs(r.debug->origin_x - frame.origin_x) <= 1e-6 * frame.resolution &&
+        std::abs(r.debug->origin_y - frame.origin_y) <= 1e-6 * frame.resolution;
     if (same_grid) {
       picture.expanded_forward = r.debug->expanded_forward;
       picture.expanded_backward = r.debug->expanded_backward;
@@ -499,11 +502,11 @@ core::Expected<std::string> render_record_file(const std::string& json_path) {
     // geometry where the file's agrees with it.
     grid = std::move(loaded).value();
     if (grid->width != record->map->width || grid->height != record->map->height)
-      return core::Status::error(core::StatusCode::kInvalidMap,
-                                 json_path + ": map.file is " + std::to_string(grid->width) + " x " +
-                                     std::to_string(grid->height) + " cells, the record says " +
-                                     std::to_string(record->map->width) + " x " +
-                                     std::to_string(record->map->height));
+      return core::Status::error(
+          core::StatusCode::kInvalidMap,
+          json_path + ": map.file is " + std::to_string(grid->width) + " x " +
+              std::to_string(grid->height) + " cells, the record says " +
+              std::to_string(record->map->width) + " x " + std::to_string(record->map->height));
     grid->resolution = record->map->resolution;
     grid->origin_x = record->map->origin_x;
     grid->origin_y = record->map->origin_y;

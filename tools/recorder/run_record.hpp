@@ -42,8 +42,8 @@ struct MapReference {
 };
 
 struct RequestRecord {
-  std::string source;   // "plan_request" or "goal_pose"
-  std::string planner;  // as requested (empty = the node's configured planner)
+  std::string source;                    // "plan_request" or "goal_pose"
+  std::string planner;                   // as requested (empty = the node's configured planner)
   std::optional<Eigen::Vector2d> start;  // metres; absent when not finite or not known
   std::optional<Eigen::Vector2d> goal;
 };

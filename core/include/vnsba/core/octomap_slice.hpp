@@ -24,8 +24,8 @@ struct SliceBounds {
 };
 
 struct SliceOptions {
-  double z_min = 0.1;       // metres: the height band [z_min, z_max]; z_min <= z_max
-  double z_max = 1.5;       // metres
+  double z_min = 0.1;  // metres: the height band [z_min, z_max]; z_min <= z_max
+  double z_max = 1.5;  // metres
   // Metres per output cell: 0 means the tree's leaf size; otherwise it must be a whole multiple
   // (1, 2, 3, ...) of the leaf size (within 1e-6 relative), so cells align with voxels.
   double resolution = 0.0;

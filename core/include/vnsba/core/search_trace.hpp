@@ -20,7 +20,7 @@ struct SearchTrace {
   double resolution = 0.0;  // metres per cell
   double origin_x = 0.0;    // metres
   double origin_y = 0.0;
-  std::vector<Cell> expanded_forward;   // closed cells, in order
+  std::vector<Cell> expanded_forward;  // closed cells, in order
   std::vector<Cell> expanded_backward;
   std::optional<Cell> meeting_cell;
   std::vector<Cell> raw_path;

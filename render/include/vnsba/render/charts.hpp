@@ -20,11 +20,11 @@ namespace vnsba::render {
 
 struct BarChart {
   std::string title;
-  std::string y_label;                    // e.g. "overall improvement rate (%)"
-  std::vector<std::string> groups;        // one cluster of bars per group (e.g. maps)
-  std::vector<std::string> series;        // one bar per series in every group (e.g. baselines)
+  std::string y_label;                      // e.g. "overall improvement rate (%)"
+  std::vector<std::string> groups;          // one cluster of bars per group (e.g. maps)
+  std::vector<std::string> series;          // one bar per series in every group (e.g. baselines)
   std::vector<std::vector<double>> values;  // [group][series]; NaN = no bar (shown as "n/a")
-  int value_decimals = 1;                 // labels printed above (or below) each bar
+  int value_decimals = 1;                   // labels printed above (or below) each bar
 };
 
 // Bars grow up from zero for positive values and down for negative ones; the value axis always
@@ -34,14 +34,14 @@ std::string render_bar_chart_svg(const BarChart& chart);
 
 struct HeatMap {
   std::string title;
-  std::string x_label;                    // e.g. "eta"
-  std::string y_label;                    // e.g. "omega"
-  std::vector<std::string> x_ticks;       // one per column, left to right
-  std::vector<std::string> y_ticks;       // one per row, bottom to top
+  std::string x_label;                      // e.g. "eta"
+  std::string y_label;                      // e.g. "omega"
+  std::vector<std::string> x_ticks;         // one per column, left to right
+  std::vector<std::string> y_ticks;         // one per row, bottom to top
   std::vector<std::vector<double>> values;  // [row][column], row 0 at the bottom; NaN = no data
-  std::string value_label;                // what a cell's value is, with its unit
-  bool lower_is_better = true;            // colours: the better end is light, the worse dark
-  int value_decimals = 0;                 // digits printed in each cell
+  std::string value_label;                  // what a cell's value is, with its unit
+  bool lower_is_better = true;              // colours: the better end is light, the worse dark
+  int value_decimals = 0;                   // digits printed in each cell
   std::optional<std::pair<int, int>> highlight;  // (row, column) outlined, e.g. the best pair
 };
 

@@ -31,11 +31,11 @@ enum class CellState : uint8_t {
 
 // The map as the picture shows it: one state per cell, row-major, row 0 at the origin.
 struct MapPicture {
-  int32_t width = 0;         // cells
-  int32_t height = 0;        // cells
-  double resolution = 1.0;   // metres per cell
-  double origin_x = 0.0;     // metres
-  double origin_y = 0.0;     // metres
+  int32_t width = 0;        // cells
+  int32_t height = 0;       // cells
+  double resolution = 1.0;  // metres per cell
+  double origin_x = 0.0;    // metres
+  double origin_y = 0.0;    // metres
   std::vector<CellState> cells;
   CellState at(int32_t x, int32_t y) const { return cells[static_cast<size_t>(y) * width + x]; }
 };
