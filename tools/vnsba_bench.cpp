@@ -34,35 +34,27 @@ namespace {
 using namespace vnsba::core;
 
 int run_optimality(const std::string& dir) {
-  if (!std::filesystem::is_directory(dir)) {
-    std::fprintf(stderr, "no such folder: %s\n", dir.c_str());
-    return 2;
+  const auto maps = vnsba::bench::list_scenario_maps(dir);
+  if (!maps) {
+    std::fprintf(stderr, "vnsba_bench optimality: --maps: %s\n", maps.error().message.c_str());
+    return vnsba::bench::kExitBadInput;
   }
-  std::vector<std::filesystem::path> maps;
-  for (const auto& entry : std::filesystem::directory_iterator(dir))
-    if (entry.path().extension() == ".map") maps.push_back(entry.path());
-  std::sort(maps.begin(), maps.end());
   std::printf("%-18s %10s %12s %12s %10s %10s\n", "map", "scenarios", "max_abs_err", "max_rel_err",
               "mismatch", "time_s");
   size_t total = 0, total_mismatch = 0;
-  for (const auto& path : maps) {
-    auto grid = load_movingai_map(path.string());
-    auto scenarios = load_movingai_scenarios(path.string() + ".scen");
-    if (!grid || !scenarios) {
-      std::fprintf(stderr, "%s\n", (!grid ? grid.error() : scenarios.error()).message.c_str());
-      return 2;
+  for (const auto& path : *maps) {
+    auto loaded = vnsba::bench::load_map_with_scenarios(path);
+    if (!loaded) {
+      std::fprintf(stderr, "vnsba_bench optimality: %s\n", loaded.error().message.c_str());
+      return vnsba::bench::kExitBadInput;
     }
-    auto built = GridMap::build(*grid);
-    if (!built) {
-      std::fprintf(stderr, "%s: %s\n", path.c_str(), built.error().message.c_str());
-      return 2;
-    }
-    Planner planner(std::make_shared<const GridMap>(std::move(built).value()));
+    const auto& scenarios = loaded->scenarios;
+    Planner planner(loaded->map);
     const PlannerOptions options = default_options(PlannerKind::kAStar);
     double max_abs = 0.0, max_rel = 0.0;
     size_t mismatch = 0;
     const auto t0 = std::chrono::steady_clock::now();
-    for (const auto& s : *scenarios) {
+    for (const auto& s : scenarios) {
       const PlanResult r = planner.plan({s.start, s.goal}, options);
       const double err =
           r.status.is_ok() ? std::abs(r.metrics.raw_cost_cells - s.optimal_length) : INFINITY;
@@ -71,19 +63,19 @@ int run_optimality(const std::string& dir) {
       // Relative 1e-6, or the printed precision where the file prints fewer digits.
       if (!(err <= std::max(1e-6 * s.optimal_length, s.optimal_resolution))) {
         ++mismatch;
-        std::fprintf(stderr, "%s line %d: %s, cost %.8f, optimum %.8f\n", path.filename().c_str(),
+        std::fprintf(stderr, "%s line %d: %s, cost %.8f, optimum %.8f\n", loaded->name.c_str(),
                      s.line, std::string(to_string(r.status.code)).c_str(),
                      r.metrics.raw_cost_cells, s.optimal_length);
       }
     }
     const double secs =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("%-18s %10zu %12.2e %12.2e %10zu %10.2f\n", path.stem().c_str(), scenarios->size(),
+    std::printf("%-18s %10zu %12.2e %12.2e %10zu %10.2f\n", loaded->name.c_str(), scenarios.size(),
                 max_abs, max_rel, mismatch, secs);
-    total += scenarios->size();
+    total += scenarios.size();
     total_mismatch += mismatch;
   }
-  std::printf("total: %zu scenarios on %zu maps, %zu mismatches\n", total, maps.size(),
+  std::printf("total: %zu scenarios on %zu maps, %zu mismatches\n", total, maps->size(),
               total_mismatch);
   return total_mismatch == 0 && total > 0 ? 0 : 1;
 }

@@ -240,7 +240,23 @@ TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
   {
     const auto [code, output] = run_to_exit(kBench, {"movingai", "--maps", "/no/such/folder"});
     EXPECT_EQ(code, 2);
-    EXPECT_NE(output.find("/no/such/folder"), std::string::npos) << output;
+    EXPECT_NE(output.find("--maps: no such folder: /no/such/folder"), std::string::npos) << output;
+  }
+  {
+    const auto [code, output] = run_to_exit(kBench, {"optimality", "--maps", "/no/such/folder"});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(output.find("--maps: no such folder: /no/such/folder"), std::string::npos) << output;
+  }
+  {
+    // A file where the output folder should go.
+    const std::string dir = fresh_folder("outfile");
+    std::ofstream(dir + "/taken") << "x";
+    const auto [code, output] =
+        run_to_exit(kBench, {"paper", "--maps", VNSBA_PAPER_MAPS_DIR, "--out", dir + "/taken"});
+    EXPECT_EQ(code, 2);
+    EXPECT_NE(output.find("--out: cannot create folder " + dir + "/taken"), std::string::npos)
+        << output;
+    fs::remove_all(dir);
   }
   {
     const auto [code, output] =
@@ -266,7 +282,7 @@ TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
   {
     const auto [code, output] = run_to_exit(kBench, {"sweep", "--maps", "/no/such/maps"});
     EXPECT_EQ(code, 2);
-    EXPECT_NE(output.find("/no/such/maps"), std::string::npos) << output;
+    EXPECT_NE(output.find("--maps: no such folder: /no/such/maps"), std::string::npos) << output;
   }
   {
     const auto [code, output] = run_to_exit(kBench, {"movingai", "--no-such-option"});

@@ -173,11 +173,11 @@ bool check_run_options(const char* command, int repetitions, const std::string& 
     return false;
   }
   if (!std::filesystem::is_directory(maps_dir)) {
-    std::fprintf(stderr, "vnsba_bench %s: no such folder: %s\n", command, maps_dir.c_str());
+    std::fprintf(stderr, "vnsba_bench %s: --maps: no such folder: %s\n", command, maps_dir.c_str());
     return false;
   }
   if (const auto s = ensure_directory(out_dir); !s.is_ok()) {
-    std::fprintf(stderr, "vnsba_bench %s: %s\n", command, s.message.c_str());
+    std::fprintf(stderr, "vnsba_bench %s: --out: %s\n", command, s.message.c_str());
     return false;
   }
   return true;

@@ -106,7 +106,7 @@ std::string movingai_map_class(const std::string& maps_dir, const std::string& m
 int run_movingai(const MovingAiOptions& options) {
   auto maps = list_scenario_maps(options.maps_dir);
   if (!maps) {
-    std::fprintf(stderr, "vnsba_bench movingai: %s\n", maps.error().message.c_str());
+    std::fprintf(stderr, "vnsba_bench movingai: --maps: %s\n", maps.error().message.c_str());
     return kExitBadInput;
   }
   if (options.max_scenarios < 0) {
