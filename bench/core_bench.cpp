@@ -8,6 +8,16 @@
 //   median_us           median wall time of one query (search + post-processing)
 //   state_B/cell/dir    peak bytes of search state per map cell per search direction
 // Compare planners as ratios within one run: the machines are shared and noisy.
+//
+// centre_los/<map>/<policy>/{bit_walk,scalar}: line of sight between two cell centres; one
+// iteration answers the same 4096 fixed random segments, by the bit-grid walk that
+// line_of_sight_in_map uses (detail::centre_segment_clear) or by the scalar supercover
+// traversal it replaced (detail::line_of_sight_centres_scalar). Only segments that the
+// summed-area shortcuts do not settle are used (not axis-aligned, a blocked cell in their
+// rectangle), since both variants share those shortcuts. Run just these with
+//   vnsba_core_bench --benchmark_filter=centre_los
+// and read the ratio of the two times (or segments/s) per map and policy. clear_%: segments with
+// line of sight (the same for both variants, or one of them is wrong).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -15,9 +25,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "vnsba/core/line_of_sight.hpp"
 #include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
 
@@ -69,6 +81,83 @@ void run_planner(benchmark::State& state, const BenchMap* bench, PlannerKind kin
   state.counters["state_B/cell/dir"] = planner.peak_bytes_per_cell_per_direction();
 }
 
+// --- Line of sight between cell centres. ---
+
+constexpr size_t kSegmentsPerMap = 4096;
+// A street map and a game map (Moving AI); a random map stands in when the data is absent.
+const char* const kLineOfSightMaps[] = {"Boston_0_512", "ost100d"};
+
+struct LineOfSightBench {
+  std::string name;
+  std::shared_ptr<const GridMap> map;
+  std::vector<std::pair<Cell, Cell>> segments;
+};
+
+std::vector<LineOfSightBench>& line_of_sight_maps() {
+  static std::vector<LineOfSightBench> maps;
+  return maps;
+}
+
+// Random pairs of free cells (fixed seed) that the summed-area shortcuts leave to the walk.
+std::vector<std::pair<Cell, Cell>> walked_segments(const GridMap& map) {
+  std::vector<Cell> free;
+  for (int32_t y = 0; y < map.height(); ++y)
+    for (int32_t x = 0; x < map.width(); ++x)
+      if (!map.blocked(x, y)) free.push_back({x, y});
+  std::vector<std::pair<Cell, Cell>> segments;
+  if (free.size() < 2) return segments;
+  std::mt19937 rng(42);
+  std::uniform_int_distribution<size_t> pick(0, free.size() - 1);
+  for (size_t tries = 0; segments.size() < kSegmentsPerMap && tries < 100 * kSegmentsPerMap;
+       ++tries) {
+    const Cell a = free[pick(rng)], b = free[pick(rng)];
+    if (a.x != b.x && a.y != b.y && map.blocked_in_rect(a, b) > 0) segments.push_back({a, b});
+  }
+  return segments;
+}
+
+void add_line_of_sight_map(const std::string& name, GridMap map) {
+  LineOfSightBench bench{name, std::make_shared<const GridMap>(std::move(map)), {}};
+  bench.segments = walked_segments(*bench.map);
+  if (!bench.segments.empty()) line_of_sight_maps().push_back(std::move(bench));
+}
+
+void load_line_of_sight_maps(const std::string& dir) {
+  for (const char* name : kLineOfSightMaps) {
+    auto grid = load_movingai_map(dir + "/" + name + ".map");
+    if (!grid) continue;
+    auto built = GridMap::build(*grid);
+    if (built) add_line_of_sight_map(name, std::move(built).value());
+  }
+  if (!line_of_sight_maps().empty()) return;
+  OccupancyGrid grid;  // 512 x 512, 20 % of the cells blocked at random
+  grid.width = grid.height = 512;
+  std::mt19937 rng(7);
+  std::bernoulli_distribution blocked(0.2);
+  for (int32_t i = 0; i < grid.width * grid.height; ++i)
+    grid.data.push_back(blocked(rng) ? kOccupancyOccupied : kOccupancyFree);
+  add_line_of_sight_map("random512-20", std::move(GridMap::build(grid)).value());
+}
+
+void run_centre_los(benchmark::State& state, const LineOfSightBench* bench, CornerPolicy policy,
+                    bool bit_walk) {
+  const GridMap& map = *bench->map;
+  int64_t clear = 0;
+  for (auto _ : state) {
+    clear = 0;
+    for (const auto& [a, b] : bench->segments) {
+      const bool visible = bit_walk ? detail::centre_segment_clear(map, a, b, policy)
+                                    : detail::line_of_sight_centres_scalar(map, a, b, policy);
+      clear += visible;
+    }
+    benchmark::DoNotOptimize(clear);
+  }
+  const double segments = static_cast<double>(bench->segments.size());
+  state.counters["segments/s"] =
+      benchmark::Counter(segments, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["clear_%"] = 100.0 * static_cast<double>(clear) / segments;
+}
+
 bool load_maps(const std::string& dir) {
   for (const char* name : kBenchMaps) {
     const std::string path = dir + "/" + name + ".map";
@@ -96,12 +185,25 @@ bool load_maps(const std::string& dir) {
 int main(int argc, char** argv) {
   const char* env_dir = std::getenv("VNSBA_DATA_DIR");
   const std::string dir = std::string(env_dir ? env_dir : VNSBA_DATA_DIR) + "/movingai";
+  load_line_of_sight_maps(dir);
+  for (const LineOfSightBench& bench : line_of_sight_maps()) {
+    for (CornerPolicy policy :
+         {CornerPolicy::kNever, CornerPolicy::kTouch, CornerPolicy::kAlways}) {
+      for (bool bit_walk : {true, false}) {
+        const std::string name = "centre_los/" + bench.name + "/" + std::string(to_string(policy)) +
+                                 (bit_walk ? "/bit_walk" : "/scalar");
+        benchmark::RegisterBenchmark(name.c_str(), run_centre_los, &bench, policy, bit_walk)
+            ->Unit(benchmark::kMicrosecond)
+            ->MinTime(0.5);
+      }
+    }
+  }
   if (!std::filesystem::exists(dir) || !load_maps(dir)) {
     std::fprintf(stderr,
-                 "Moving AI data not found at %s: nothing to benchmark "
+                 "Moving AI data not found at %s: no planner benchmarks, line of sight on "
+                 "whatever maps were found or a random one "
                  "(set VNSBA_DATA_DIR to the folder holding movingai/)\n",
                  dir.c_str());
-    return 0;
   }
   for (const BenchMap& bench : bench_maps()) {
     for (PlannerKind kind : all_planner_kinds()) {

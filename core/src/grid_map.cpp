@@ -12,17 +12,31 @@ bool is_blocked_char(char c) {
   return c == '#' || c == '@' || c == 'O' || c == 'T' || c == 'W';
 }
 
-// Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre.
+// A radius / resolution quotient this close to an integer n (in cells) means exactly n cells:
+// 0.15 m / 0.05 m evaluates to 2.9999999999999996 in doubles, and a radius of 3 cells must
+// inflate the cell 3 cells away (ALGORITHM.md section 1).
+constexpr double kWholeCellsTolerance = 1e-9;
+
+// Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre: offsets
+// (dx, dy) in cells with dx*dx + dy*dy <= r*r, r the radius snapped to a whole number of cells
+// when within kWholeCellsTolerance of one (then compared in integers, exactly).
 // Uses a precomputed disc of offsets; cost O(blocked boundary cells x disc area).
 void inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, double radius_cells) {
-  const int32_t reach = static_cast<int32_t>(std::floor(radius_cells));
-  if (reach < 1) return;  // no other centre is within less than one cell
-  const double r2 = radius_cells * radius_cells;
+  const double nearest = std::round(radius_cells);
+  const bool whole = std::abs(radius_cells - nearest) <= kWholeCellsTolerance;
+  const int32_t reach = static_cast<int32_t>(whole ? nearest : std::floor(radius_cells));
+  // No other centre is within less than one cell.
+  if (reach < 1) return;
+  const int64_t whole_r2 = int64_t{reach} * reach;  // cells^2, used when `whole`
+  const double r2 = radius_cells * radius_cells;    // cells^2, used otherwise
   std::vector<std::pair<int32_t, int32_t>> disc;
-  for (int32_t dy = -reach; dy <= reach; ++dy)
-    for (int32_t dx = -reach; dx <= reach; ++dx)
-      if ((dx != 0 || dy != 0) && double(dx) * dx + double(dy) * dy <= r2)
+  for (int32_t dy = -reach; dy <= reach; ++dy) {
+    for (int32_t dx = -reach; dx <= reach; ++dx) {
+      const int64_t d2 = int64_t{dx} * dx + int64_t{dy} * dy;
+      if (d2 != 0 && (whole ? d2 <= whole_r2 : static_cast<double>(d2) <= r2))
         disc.emplace_back(dx, dy);
+    }
+  }
 
   const int32_t stride = width + 2;
   const std::vector<uint8_t> source = blocked;
@@ -100,6 +114,7 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
   }
   inflate(map.blocked_, map.width_, map.height_, options.robot_radius / grid.resolution);
   map.build_summed_area_table();
+  map.build_bit_grids();
   return map;
 }
 
@@ -139,6 +154,26 @@ void GridMap::build_summed_area_table() {
     }
   }
   blocked_total_ = summed_area_.back();
+}
+
+void GridMap::build_bit_grids() {
+  row_words_ = (static_cast<size_t>(width_) + 63) / 64;
+  column_words_ = (static_cast<size_t>(height_) + 63) / 64;
+  // One spare word after the last line of each grid (see BlockedBits).
+  row_bits_.assign(static_cast<size_t>(height_) * row_words_ + 1, 0);
+  column_bits_.assign(static_cast<size_t>(width_) * column_words_ + 1, 0);
+  for (int32_t y = 0; y < height_; ++y) {
+    const uint8_t* row = &blocked_[padded_index(0, y)];
+    uint64_t* row_words = &row_bits_[static_cast<size_t>(y) * row_words_];
+    // Row y is bit y % 64 of word y / 64 of every column; column x starts x * column_words_ on.
+    const uint64_t bit_of_y = uint64_t{1} << (y & 63);
+    uint64_t* column_word = &column_bits_[static_cast<size_t>(y) >> 6];
+    for (int32_t x = 0; x < width_; ++x) {
+      if (!row[x]) continue;
+      row_words[x >> 6] |= uint64_t{1} << (x & 63);
+      column_word[static_cast<size_t>(x) * column_words_] |= bit_of_y;
+    }
+  }
 }
 
 double GridMap::density(const Cell& a, const Cell& b) const {

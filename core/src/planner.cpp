@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "search_space.hpp"
+#include "vnsba/core/budget.hpp"
 #include "vnsba/core/heuristics.hpp"
 #include "vnsba/core/postprocess.hpp"
 
@@ -13,19 +14,7 @@ namespace vnsba::core {
 namespace {
 
 using detail::SearchSpace;
-using Clock = std::chrono::steady_clock;
-
-struct PlannerName {
-  PlannerKind kind;
-  std::string_view name;
-};
-constexpr PlannerName kPlannerNames[] = {
-    {PlannerKind::kAStar, "astar"},
-    {PlannerKind::kWeightedAStar, "weighted_astar"},
-    {PlannerKind::kBidirectionalAStar, "bidirectional_astar"},
-    {PlannerKind::kAlternatingBidirectionalAStar, "alternating_bidirectional_astar"},
-    {PlannerKind::kVnsBaStar, "vns_bastar"},
-};
+using Clock = PlanningBudget::Clock;
 
 // ---------------------------------------------------------------------------------------------
 // Heuristic functors over heuristics.hpp.
@@ -58,31 +47,6 @@ struct DensityWeightedHeuristic {
 // ---------------------------------------------------------------------------------------------
 // Search engines.
 
-// Polls the cancel flag and the clock every kPollInterval expansions: cheap enough to be
-// invisible, frequent enough (a few hundred microseconds at most) for preemption.
-class Deadline {
- public:
-  Deadline(Clock::time_point start, std::chrono::microseconds budget,
-           const std::atomic<bool>* cancel)
-      : cancel_(cancel), has_budget_(budget.count() > 0), end_(start + budget) {}
-
-  // kOk to go on, else kTimeout or kCanceled.
-  StatusCode poll() {
-    if (++count_ % kPollInterval != 0) return StatusCode::kOk;
-    if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed))
-      return StatusCode::kCanceled;
-    if (has_budget_ && Clock::now() >= end_) return StatusCode::kTimeout;
-    return StatusCode::kOk;
-  }
-
- private:
-  static constexpr uint32_t kPollInterval = 256;
-  const std::atomic<bool>* cancel_;
-  bool has_budget_;
-  Clock::time_point end_;
-  uint32_t count_ = kPollInterval - 1;  // the first call polls: a pre-raised flag stops at once
-};
-
 struct SearchConfig {
   Neighborhood neighborhood;
   CornerPolicy policy;
@@ -107,8 +71,9 @@ std::vector<Cell> trace(const GridMap& map, const SearchSpace& space, uint32_t n
   return cells;
 }
 
-// Relaxes the move n -> m in `space`: opens m or lowers its g. Returns nothing; closed nodes
-// are skipped by the caller.
+// Relaxes the move n -> m in `space`: opens m, or lowers its g and re-keys it (its f may rise:
+// h is evaluated anew against the opposite current node of this moment). Closed nodes are
+// skipped by the caller.
 template <class Heuristic>
 inline void relax(SearchSpace& space, uint32_t n, uint32_t m, const Cell& m_cell, double cost,
                   const Heuristic& h) {
@@ -116,7 +81,7 @@ inline void relax(SearchSpace& space, uint32_t n, uint32_t m, const Cell& m_cell
   if (!space.seen(m)) {
     space.push(m, g, g + h(m_cell), n);
   } else if (g < space.g(m)) {
-    space.decrease(m, g, g + h(m_cell), n);
+    space.update(m, g, g + h(m_cell), n);
   }
 }
 
@@ -124,14 +89,14 @@ inline void relax(SearchSpace& space, uint32_t n, uint32_t m, const Cell& m_cell
 template <class Heuristic>
 SearchOutcome search_unidirectional(const GridMap& map, SearchSpace& space, const Cell& start,
                                     const Cell& goal, const Heuristic& h, const SearchConfig& cfg,
-                                    Deadline& deadline, std::vector<Cell>* expanded_cells) {
+                                    PlanningBudget& budget, std::vector<Cell>* expanded_cells) {
   SearchOutcome out;
   space.begin_query(map.padded_size());
   const uint32_t goal_index = map.padded_index(goal);
   const int32_t stride = map.stride();
   space.push(map.padded_index(start), 0.0, h(start), SearchSpace::kNoParent);
   while (!space.empty()) {
-    if (StatusCode code = deadline.poll(); code != StatusCode::kOk) {
+    if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
       out.code = code;
       return out;
     }
@@ -152,25 +117,31 @@ SearchOutcome search_unidirectional(const GridMap& map, SearchSpace& space, cons
   return out;
 }
 
-// How a bidirectional search decides that its two halves have met.
+// How a bidirectional search decides that its two halves have met. Under both rules, a search
+// that pops (closes) a node the other search has already closed has met it: with the 8-11-13
+// neighbourhood the two move sets differ (a long move y -> x can exist while x -> y does not), so
+// this can happen without any generated neighbour having been seen closed by the other side
+// (ALGORITHM.md section 3). Checking it keeps every cell closed by at most one search, so the
+// two parent chains are disjoint and the joined raw path never visits a cell twice.
 enum class MeetingRule {
-  // ALGORITHM.md section 3: a search generates a neighbour the other search has closed.
+  // ALGORITHM.md section 3: a search generates a neighbour the other search has closed (or pops
+  // one, see above).
   kGenerateClosedByOther,
-  // The improved BA* of Li et al.: a search closes a node the other has closed (which includes
-  // the case of both current nodes coinciding).
+  // The improved BA* of Li et al.: only a search closing a node the other has closed (which
+  // includes the case of both current nodes coinciding).
   kCloseClosedByOther,
 };
 
 // Two searches in strict alternation, one expansion each. `current[0]` / `current[1]` are the
 // forward / backward current nodes (the last expanded), which the heuristics read through
-// pointers, and which guide the 8-11-13 neighbourhood when `guide_by_current` is set (else each
-// search is guided by the other's start).
+// pointers, and which guide each search's 8-11-13 neighbourhood (ALGORITHM.md section 2: the
+// guide of a bidirectional search is the opposite search's current node, for every planner).
 template <class ForwardH, class BackwardH>
 SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, SearchSpace& backward,
                                    const Cell& start, const Cell& goal, Cell (&current)[2],
                                    const ForwardH& h_forward, const BackwardH& h_backward,
-                                   MeetingRule rule, bool guide_by_current, const SearchConfig& cfg,
-                                   Deadline& deadline, std::vector<Cell>* expanded_forward,
+                                   MeetingRule rule, const SearchConfig& cfg,
+                                   PlanningBudget& budget, std::vector<Cell>* expanded_forward,
                                    std::vector<Cell>* expanded_backward) {
   SearchOutcome out;
   const int32_t stride = map.stride();
@@ -207,12 +178,12 @@ SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, Sea
     const Cell nc = map.cell_of(n);
     current[s] = nc;
     if (cfg.record) record->push_back(nc);
-    if (rule == MeetingRule::kCloseClosedByOther && other.closed(n)) {
+    if (other.closed(n)) {
       out.meeting = nc;
       join(s == 0, n, n);
       return true;
     }
-    const Cell& guide = guide_by_current ? current[1 - s] : (s == 0 ? goal : start);
+    const Cell& guide = current[1 - s];
     bool met = false;
     for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
       const uint32_t m = n + dy * stride + dx;
@@ -230,7 +201,7 @@ SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, Sea
   };
 
   for (;;) {
-    if (StatusCode code = deadline.poll(); code != StatusCode::kOk) {
+    if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
       out.code = code;
       return out;
     }
@@ -246,60 +217,6 @@ std::string describe(const Cell& c) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Names, defaults, validation.
-
-std::string_view to_string(PlannerKind kind) {
-  for (const auto& entry : kPlannerNames)
-    if (entry.kind == kind) return entry.name;
-  return "unknown";
-}
-
-std::optional<PlannerKind> planner_kind_from_string(std::string_view name) {
-  for (const auto& entry : kPlannerNames)
-    if (entry.name == name) return entry.kind;
-  return std::nullopt;
-}
-
-const std::vector<PlannerKind>& all_planner_kinds() {
-  static const std::vector<PlannerKind> kinds = [] {
-    std::vector<PlannerKind> out;
-    for (const auto& entry : kPlannerNames) out.push_back(entry.kind);
-    return out;
-  }();
-  return kinds;
-}
-
-PlannerOptions default_options(PlannerKind kind) {
-  PlannerOptions options;
-  options.planner = kind;
-  const bool paper_method = kind == PlannerKind::kVnsBaStar;
-  options.neighborhood = paper_method ? Neighborhood::kEightElevenThirteen : Neighborhood::kEight;
-  options.prune = paper_method;
-  options.smooth = paper_method;
-  return options;
-}
-
-Status validate(const PlannerOptions& o) {
-  std::ostringstream err;
-  auto weight_ok = [](double w) { return std::isfinite(w) && w >= 0.0 && w <= 1e6; };
-  if (!weight_ok(o.omega)) err << "omega must be finite and in [0, 1e6] (got " << o.omega << "); ";
-  if (!weight_ok(o.eta)) err << "eta must be finite and in [0, 1e6] (got " << o.eta << "); ";
-  if (o.planner == PlannerKind::kVnsBaStar && weight_ok(o.omega) && weight_ok(o.eta) &&
-      o.omega == 0.0 && o.eta == 0.0) {
-    err << "omega and eta must not both be 0 (the heuristic would vanish); ";
-  }
-  if (!std::isfinite(o.smoothing_distance) || o.smoothing_distance <= 0.0)
-    err << "smoothing_distance must be finite and > 0 cells (got " << o.smoothing_distance << "); ";
-  if (!std::isfinite(o.sample_step) || o.sample_step <= 0.0 || o.sample_step > 10.0)
-    err << "sample_step must be in (0, 10] cells (got " << o.sample_step << "); ";
-  if (!planner_kind_from_string(to_string(o.planner))) err << "planner is not a known planner; ";
-  std::string message = err.str();
-  if (message.empty()) return Status::ok();
-  message.resize(message.size() - 2);
-  return Status::error(StatusCode::kInvalidRequest, "invalid options: " + message);
-}
-
-// ---------------------------------------------------------------------------------------------
 // Planner.
 
 struct Planner::Impl {
@@ -313,27 +230,25 @@ struct Planner::Impl {
   }
 
   SearchOutcome run(const GridMap& map, const PlanQuery& q, const PlannerOptions& o,
-                    Deadline& deadline, std::vector<Cell>* rec_f, std::vector<Cell>* rec_b) {
+                    PlanningBudget& budget, std::vector<Cell>* rec_f, std::vector<Cell>* rec_b) {
     const SearchConfig cfg{o.neighborhood, o.corner_policy, o.record_expansions};
     switch (o.planner) {
       case PlannerKind::kAStar:
         return search_unidirectional(map, forward, q.start, q.goal, OctileHeuristic{&q.goal}, cfg,
-                                     deadline, rec_f);
+                                     budget, rec_f);
       case PlannerKind::kWeightedAStar: {
         const DensityWeightedHeuristic h{&map, &q.goal, q.goal, 1.0, 0.0, o.corner_policy};
-        return search_unidirectional(map, forward, q.start, q.goal, h, cfg, deadline, rec_f);
+        return search_unidirectional(map, forward, q.start, q.goal, h, cfg, budget, rec_f);
       }
       case PlannerKind::kBidirectionalAStar:
         return search_bidirectional(map, forward, backward, q.start, q.goal, current,
                                     OctileHeuristic{&q.goal}, OctileHeuristic{&q.start},
-                                    MeetingRule::kGenerateClosedByOther, /*guide_by_current=*/false,
-                                    cfg, deadline, rec_f, rec_b);
+                                    MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
       case PlannerKind::kAlternatingBidirectionalAStar: {
         const DensityWeightedHeuristic hf{&map, &current[1], q.goal, 1.0, 0.0, o.corner_policy};
         const DensityWeightedHeuristic hb{&map, &current[0], q.start, 1.0, 0.0, o.corner_policy};
         return search_bidirectional(map, forward, backward, q.start, q.goal, current, hf, hb,
-                                    MeetingRule::kCloseClosedByOther, /*guide_by_current=*/true,
-                                    cfg, deadline, rec_f, rec_b);
+                                    MeetingRule::kCloseClosedByOther, cfg, budget, rec_f, rec_b);
       }
       case PlannerKind::kVnsBaStar: {
         const DensityWeightedHeuristic hf{&map,    &current[1], q.goal,
@@ -341,8 +256,7 @@ struct Planner::Impl {
         const DensityWeightedHeuristic hb{&map,    &current[0], q.start,
                                           o.omega, o.eta,       o.corner_policy};
         return search_bidirectional(map, forward, backward, q.start, q.goal, current, hf, hb,
-                                    MeetingRule::kGenerateClosedByOther, /*guide_by_current=*/true,
-                                    cfg, deadline, rec_f, rec_b);
+                                    MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
       }
     }
     SearchOutcome broken;
@@ -352,7 +266,13 @@ struct Planner::Impl {
 };
 
 Planner::Planner(std::shared_ptr<const GridMap> map)
-    : map_(std::move(map)), impl_(std::make_unique<Impl>()) {}
+    : map_(std::move(map)), impl_(std::make_unique<Impl>()) {
+  if (map_) {
+    impl_->forward.allocate(map_->padded_size());
+    impl_->backward.allocate(map_->padded_size());
+    impl_->note_peak();
+  }
+}
 Planner::~Planner() = default;
 Planner::Planner(Planner&&) noexcept = default;
 Planner& Planner::operator=(Planner&&) noexcept = default;
@@ -371,8 +291,14 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   const Clock::time_point started = Clock::now();
   PlanResult result;
   result.planner = options.planner;
+  // Every outcome, failures included, reports the time spent and the nodes expanded so far.
+  auto stop_clock = [&] {
+    result.metrics.planning_time_us =
+        std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - started).count();
+  };
   auto fail = [&](StatusCode code, std::string message) {
     result.status = Status::error(code, std::move(message));
+    stop_clock();
     return result;
   };
   if (!map_ || map_->cell_count() == 0) return fail(StatusCode::kInvalidMap, "no map to plan on");
@@ -391,13 +317,20 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     return fail(StatusCode::kGoalOccupied,
                 "goal " + describe(query.goal) + " is in a blocked cell");
 
+  // One budget for search, pruning and smoothing.
+  PlanningBudget budget(started, options.max_planning_time, cancel);
+  auto budget_failure = [&](StatusCode code, const char* stage) {
+    if (code == StatusCode::kCanceled) return fail(code, std::string("planning canceled ") + stage);
+    return fail(code, std::string("max_planning_time of ") +
+                          std::to_string(options.max_planning_time.count()) + " us elapsed " +
+                          stage);
+  };
   SearchOutcome outcome;
   if (query.start == query.goal) {
     outcome.code = StatusCode::kOk;
     outcome.path = {query.start};
   } else {
-    Deadline deadline(started, options.max_planning_time, cancel);
-    outcome = impl_->run(map, query, options, deadline, &result.expanded_forward,
+    outcome = impl_->run(map, query, options, budget, &result.expanded_forward,
                          &result.expanded_backward);
     impl_->note_peak();
   }
@@ -410,18 +343,18 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
       return fail(outcome.code, "no path from start " + describe(query.start) + " to goal " +
                                     describe(query.goal) + ": they are not connected");
     case StatusCode::kTimeout:
-      return fail(outcome.code, "no path found within max_planning_time of " +
-                                    std::to_string(options.max_planning_time.count()) + " us");
     case StatusCode::kCanceled:
-      return fail(outcome.code, "planning canceled");
+      return budget_failure(outcome.code, "before a path was found");
     default:
       return fail(StatusCode::kInternalError, "search ended in an unexpected state");
   }
 
   result.raw_path = std::move(outcome.path);
   result.metrics.raw_cost_cells = polyline_length(cell_centres(result.raw_path));
-  result.waypoints = options.prune ? prune_path(map, result.raw_path, options.corner_policy)
-                                   : cell_centres(result.raw_path);
+  result.waypoints = options.prune
+                         ? prune_path(map, result.raw_path, options.corner_policy, &budget)
+                         : cell_centres(result.raw_path);
+  if (budget.expired()) return budget_failure(budget.state(), "while pruning the path");
   const TurnStats turns = turn_stats(result.waypoints);
   result.metrics.turns = turns.turns;
   result.metrics.turn_angle_deg = turns.total_angle_deg;
@@ -430,7 +363,8 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     smoothing.smoothing_distance = options.smoothing_distance;
     smoothing.sample_step = options.sample_step;
     smoothing.corner_policy = options.corner_policy;
-    result.path = smooth_path(map, result.waypoints, smoothing);
+    result.path = smooth_path(map, result.waypoints, smoothing, &budget);
+    if (budget.expired()) return budget_failure(budget.state(), "while smoothing the path");
   } else {
     result.path = result.waypoints;
   }
@@ -438,18 +372,22 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   for (const Point2& p : result.path) result.world_path.push_back(map.grid_to_world(p));
   result.metrics.length_cells = polyline_length(result.path);
   result.metrics.length_m = result.metrics.length_cells * map.resolution();
-  result.metrics.planning_time_us =
-      std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - started).count();
+  result.status = Status::ok();
+  stop_clock();
 
+  // After the clock has stopped: the reference search is not part of the planning time. It has
+  // no time budget but honours the cancel flag (a canceled reference leaves the ratio NaN).
   if (options.compute_length_ratio) {
     PlannerOptions optimal = default_options(PlannerKind::kAStar);
     optimal.corner_policy = options.corner_policy;
-    Deadline unlimited(Clock::now(), std::chrono::microseconds{0}, nullptr);
-    const SearchOutcome best = impl_->run(map, query, optimal, unlimited, nullptr, nullptr);
-    const double best_cost = polyline_length(cell_centres(best.path));
-    result.metrics.length_ratio = best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;
+    PlanningBudget cancel_only(Clock::now(), std::chrono::microseconds{0}, cancel);
+    const SearchOutcome best = impl_->run(map, query, optimal, cancel_only, nullptr, nullptr);
+    if (best.code == StatusCode::kOk) {
+      const double best_cost = polyline_length(cell_centres(best.path));
+      result.metrics.length_ratio =
+          best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;
+    }
   }
-  result.status = Status::ok();
   return result;
 }
 

@@ -11,13 +11,14 @@
 namespace vnsba::core {
 
 std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path,
-                               CornerPolicy policy) {
+                               CornerPolicy policy, PlanningBudget* budget) {
   std::vector<Point2> out;
   if (path.empty()) return out;
   out.push_back(cell_centre(path.front()));
   size_t anchor = 0;  // index into path
   size_t i = 1;
   while (i < path.size()) {
+    if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
     if (line_of_sight(map, path[anchor], path[i], policy)) {
       ++i;
     } else if (anchor + 1 == i) {
@@ -147,7 +148,7 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
 }  // namespace
 
 std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& waypoints,
-                                const SmoothingOptions& options) {
+                                const SmoothingOptions& options, PlanningBudget* budget) {
   // Nothing to smooth, or no usable sampling (a non-positive step would never terminate).
   if (waypoints.size() < 3 || !std::isfinite(options.sample_step) || options.sample_step <= 0.0) {
     return waypoints;
@@ -166,6 +167,7 @@ std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& w
     std::optional<std::vector<Point2>> curve;
     if (!straight && std::isfinite(d) && d > 0.0) {
       for (int attempt = 0; attempt <= std::max(0, options.max_halvings); ++attempt, d /= 2) {
+        if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
         curve = smooth_corner(map, out.back(), a, t, b, d, options);
         if (curve) break;
       }

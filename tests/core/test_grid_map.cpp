@@ -126,6 +126,95 @@ TEST(GridMap, InflationMatchesBruteForce) {
   }
 }
 
+// Independent integer oracle for inflation: cell (x, y) is blocked iff some originally blocked
+// cell's centre is at squared distance <= max_d2 (cells^2, an integer given by the test).
+std::vector<bool> inflated_by_definition(const OccupancyGrid& g, int64_t max_d2) {
+  std::vector<bool> out(g.data.size(), false);
+  for (int y = 0; y < g.height; ++y)
+    for (int x = 0; x < g.width; ++x)
+      for (int oy = 0; oy < g.height && !out[y * g.width + x]; ++oy)
+        for (int ox = 0; ox < g.width && !out[y * g.width + x]; ++ox)
+          out[y * g.width + x] = g.at(ox, oy) == 100 &&
+                                 int64_t{ox - x} * (ox - x) + int64_t{oy - y} * (oy - y) <= max_d2;
+  return out;
+}
+
+// ALGORITHM.md section 1: a radius that is a whole number of cells in decimal metres is exactly
+// that many cells, although radius / resolution falls just short of it in doubles (0.15 / 0.05
+// = 2.9999999999999996); the cell that far away is inflated. A radius between whole cells
+// keeps its value (0.12 m / 0.05 m = 2.4 cells: squared distances up to 5).
+TEST(GridMap, InflationSnapsWholeCellRadii) {
+  struct Case {
+    double radius, resolution;  // metres
+    int64_t max_d2;             // cells^2: the intended bound on dx*dx + dy*dy
+    int isolated_disc;          // cells blocked around one isolated obstacle
+    bool whole;                 // the radius is meant to be a whole number of cells
+  };
+  const Case cases[] = {{0.15, 0.05, 9, 29, true},
+                        {0.30, 0.05, 36, 113, true},
+                        {0.30, 0.10, 9, 29, true},
+                        {0.12, 0.05, 5, 21, false},
+                        {0.35, 0.10, 12, 37, false}};
+  std::mt19937 rng(23);
+  for (const Case& c : cases) {
+    const double quotient = c.radius / c.resolution;
+    if (c.whole) {
+      EXPECT_NE(quotient, std::round(quotient));  // the floating-point trap is real
+    }
+    GridBuildOptions options;
+    options.robot_radius = c.radius;
+    // One isolated obstacle in the middle of a 21 x 21 map.
+    OccupancyGrid single = grid_of(21, 21);
+    single.resolution = c.resolution;
+    single.data[10 * 21 + 10] = 100;
+    auto map = GridMap::build(single, options);
+    ASSERT_TRUE(map);
+    EXPECT_EQ(map->blocked_count(), c.isolated_disc) << c.radius << " m at " << c.resolution;
+    // Random maps of several sizes and densities.
+    for (int trial = 0; trial < 12; ++trial) {
+      OccupancyGrid g = grid_of(6 + trial * 3 % 23, 5 + trial * 5 % 19);
+      g.resolution = c.resolution;
+      std::bernoulli_distribution blocked(0.01 + 0.02 * (trial % 5));
+      for (auto& v : g.data) v = blocked(rng) ? 100 : 0;
+      const std::vector<bool> expected = inflated_by_definition(g, c.max_d2);
+      auto built = GridMap::build(g, options);
+      ASSERT_TRUE(built);
+      for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x)
+          ASSERT_EQ(built->blocked(x, y), expected[y * g.width + x])
+              << "cell " << x << "," << y << ", " << c.radius << " m at " << c.resolution;
+    }
+  }
+}
+
+// The bit grids for line of sight hold exactly the blocked flags, in rows and in columns, for
+// sizes that are and are not multiples of the 64-cell word, and nothing in the padding bits.
+TEST(GridMap, BitGridsMirrorBlockedFlags) {
+  std::mt19937 rng(31);
+  const int sizes[] = {1, 2, 63, 64, 65, 127, 128, 130};
+  for (int w : sizes) {
+    for (int h : sizes) {
+      auto map = GridMap::from_rows(random_rows(rng, w, h, 0.3));
+      ASSERT_TRUE(map);
+      const core::BlockedBits rows = map->blocked_rows(), columns = map->blocked_columns();
+      ASSERT_EQ(rows.words_per_line, static_cast<size_t>((w + 63) / 64));
+      ASSERT_EQ(columns.words_per_line, static_cast<size_t>((h + 63) / 64));
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          ASSERT_EQ(rows.blocked(y, x), map->blocked(x, y))
+              << w << "x" << h << " " << x << "," << y;
+          ASSERT_EQ(columns.blocked(x, y), map->blocked(x, y)) << x << "," << y;
+        }
+      for (int y = 0; y < h; ++y)
+        for (int x = w; x < static_cast<int>(64 * rows.words_per_line); ++x)
+          ASSERT_FALSE(rows.blocked(y, x));
+      for (int x = 0; x < w; ++x)
+        for (int y = h; y < static_cast<int>(64 * columns.words_per_line); ++y)
+          ASSERT_FALSE(columns.blocked(x, y));
+    }
+  }
+}
+
 TEST(GridMap, SummedAreaDensityEqualsBruteForce) {
   std::mt19937 rng(11);
   auto map = GridMap::from_rows(random_rows(rng, 37, 23, 0.3));

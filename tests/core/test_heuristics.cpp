@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
+#include <vector>
 
 #include "core/test_support.hpp"
 #include "vnsba/core/heuristics.hpp"
@@ -12,9 +15,35 @@ using core::density_weighted_heuristic;
 using core::switching_distance;
 
 TEST(Heuristics, OctileDistance) {
-  EXPECT_DOUBLE_EQ(core::octile({0, 0}, {3, 1}), 2 + std::sqrt(2.0));
-  EXPECT_DOUBLE_EQ(core::octile({5, 5}, {5, 0}), 5.0);
-  EXPECT_DOUBLE_EQ(core::octile({2, 2}, {0, 0}), 2 * std::sqrt(2.0));
+  // Within the step costs' quantization (relative 1e-8) of the Euclidean octile distance.
+  EXPECT_NEAR(core::octile({0, 0}, {3, 1}), 2 + std::sqrt(2.0), 3e-8);
+  EXPECT_EQ(core::octile({5, 5}, {5, 0}), 5.0);
+  EXPECT_NEAR(core::octile({2, 2}, {0, 0}), 2 * std::sqrt(2.0), 3e-8);
+}
+
+TEST(Heuristics, EqualCostPathsGiveBitIdenticalCosts) {
+  // Three straight and three diagonal steps in every order (20 orders): with the searches' step
+  // costs one value, bit for bit, equal to the octile distance of the same displacement (so A*'s
+  // f ties exactly between such nodes); with the raw sqrt(2), two different values.
+  auto sums = [](double straight, double diagonal) {
+    std::vector<double> steps = {straight, straight, straight, diagonal, diagonal, diagonal};
+    std::sort(steps.begin(), steps.end());
+    std::set<double> values;
+    int orders = 0;
+    do {
+      double g = 0.0;
+      for (double step : steps) g += step;
+      values.insert(g);
+      ++orders;
+    } while (std::next_permutation(steps.begin(), steps.end()));
+    EXPECT_EQ(orders, 20);
+    return values;
+  };
+  const std::set<double> quantized =
+      sums(core::detail::kStepCostStraight, core::detail::kStepCostDiagonal);
+  ASSERT_EQ(quantized.size(), 1u);
+  EXPECT_EQ(*quantized.begin(), core::octile({0, 0}, {6, 3}));
+  EXPECT_GT(sums(1.0, std::sqrt(2.0)).size(), 1u);
 }
 
 TEST(Heuristics, EuclidWhenVisibleManhattanWhenNot) {

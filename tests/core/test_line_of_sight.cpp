@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "core/test_support.hpp"
 #include "vnsba/core/line_of_sight.hpp"
@@ -9,6 +13,8 @@ namespace vnsba::test {
 namespace {
 
 using core::line_of_sight;
+using core::detail::centre_segment_clear;
+using core::detail::line_of_sight_centres_scalar;
 
 const CornerPolicy kPolicies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
                                   CornerPolicy::kAlways};
@@ -95,6 +101,220 @@ TEST(LineOfSight, ContinuousSegmentsAreSound) {
       }
     }
   }
+}
+
+// --- The bit-grid walk between cell centres (centre_segment_clear) against the scalar
+// supercover traversal it replaces, which stays the definition. ---
+
+// A segment through an exact corner, row 0 -> row 1 across a word boundary: (0,0) -> (199,1)
+// crosses the row boundary at x = 0.5 + 199/2 = 100 exactly, so the open spans are row 0
+// cells 0..99 and row 1 cells 100..199, and the corner's side cells are (100,0) and (99,1).
+TEST(LineOfSight, LongSegmentThroughACornerAcrossWords) {
+  auto expect = [](const std::vector<Cell>& blocked, bool never, bool touch, bool always) {
+    for (bool steep : {false, true}) {
+      std::vector<std::string> rows = steep ? std::vector<std::string>(200, "..")
+                                            : std::vector<std::string>(2, std::string(200, '.'));
+      auto put = [&](Cell c) { return steep ? Cell{c.y, c.x} : c; };  // transposed map
+      for (Cell c : blocked) {
+        const Cell t = put(c);
+        rows[rows.size() - 1 - t.y][t.x] = '#';
+      }
+      auto map = GridMap::from_rows(rows);
+      ASSERT_TRUE(map);
+      const Cell a = put({0, 0}), b = put({199, 1});
+      const bool want[3] = {never, touch, always};
+      for (int i = 0; i < 3; ++i) {
+        for (auto [from, to] : {std::pair{a, b}, std::pair{b, a}}) {
+          EXPECT_EQ(line_of_sight(*map, from, to, kPolicies[i]), want[i])
+              << "steep " << steep << " policy " << core::to_string(kPolicies[i]);
+          EXPECT_EQ(line_of_sight_centres_scalar(*map, from, to, kPolicies[i]), want[i]);
+        }
+      }
+    }
+  };
+  expect({}, true, true, true);
+  expect({{100, 0}}, false, true, true);            // one side of the corner
+  expect({{99, 1}}, false, true, true);             // the other side
+  expect({{100, 0}, {99, 1}}, false, false, true);  // both sides
+  for (int x : {1, 62, 63, 64, 65, 99}) expect({{x, 0}}, false, false, false);    // row 0's span
+  for (int x : {100, 127, 128, 129, 198}) expect({{x, 1}}, false, false, false);  // row 1's
+  expect({{101, 0}, {98, 1}, {150, 0}, {50, 1}}, true, true, true);  // beside the spans
+}
+
+// Spans around the widest one 8-byte load covers (57 cells from any start within a byte) and
+// just past it, where the word loop takes over: a single blocked cell at every position of a
+// 200 x 4 map, against segments whose middle lines have 54..60 cells each, starting at every
+// offset within a byte, upwards and downwards.
+TEST(LineOfSight, SpansAroundOneLoadWideSeeEveryCell) {
+  int64_t compared = 0, blocked = 0;
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 200; ++x) {
+      std::vector<std::string> rows(4, std::string(200, '.'));
+      rows[3 - y][x] = '#';
+      auto map = GridMap::from_rows(rows);
+      ASSERT_TRUE(map);
+      for (int n : {2, 3}) {
+        for (int du = 54 * n; du <= 60 * n; ++du) {
+          for (int u0 = 0; u0 < 8; ++u0) {
+            for (bool up : {true, false}) {
+              const Cell a{u0, up ? 0 : n}, b{u0 + du, up ? n : 0};
+              for (CornerPolicy p : kPolicies) {
+                const bool expected = line_of_sight_centres_scalar(*map, a, b, p);
+                ASSERT_EQ(centre_segment_clear(*map, a, b, p), expected)
+                    << "blocked " << x << "," << y << " a=" << a.x << "," << a.y << " b=" << b.x
+                    << "," << b.y << " policy " << core::to_string(p);
+                ++compared;
+                blocked += !expected;
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(blocked, compared / 20);
+}
+
+// Slopes -1/3, -3, -3/5 and -5/3 (down-right and up-left), each passing lattice corners: the
+// answers are those of the exact definition.
+TEST(LineOfSight, SmallSlopesThroughCornersMatchTheDefinition) {
+  std::mt19937 rng(17);
+  const std::array<Cell, 4> steps = {Cell{3, -1}, Cell{-5, 3}, Cell{1, -3}, Cell{-3, 5}};
+  for (int trial = 0; trial < 400; ++trial) {
+    auto map = GridMap::from_rows(random_rows(rng, 16, 16, 0.15));
+    ASSERT_TRUE(map);
+    const Cell step = steps[trial % 4];
+    const Cell a{step.x < 0 ? 15 : 0, step.y < 0 ? 15 : 0};
+    for (int m = 1; m <= 3; ++m) {
+      const Cell b{a.x + m * step.x, a.y + m * step.y};
+      for (CornerPolicy p : kPolicies)
+        ASSERT_EQ(line_of_sight(*map, a, b, p), reference_los_centres(*map, a, b, p));
+    }
+  }
+}
+
+// A random map for the comparisons below: independent cells blocked with probability
+// `density`, or, for `rooms`, free space cut by random blocked rectangles (long clear segments
+// next to obstacles, where long walks end late).
+GridMap random_test_map(std::mt19937& rng, int width, int height, double density, bool rooms) {
+  std::vector<std::string> rows;
+  if (!rooms) {
+    rows = random_rows(rng, width, height, density);
+  } else {
+    rows.assign(height, std::string(width, '.'));
+    std::uniform_int_distribution<int> rx(0, width - 1), ry(0, height - 1), size(0, 6);
+    const int rectangles = static_cast<int>(density * width * height / 12.0);
+    for (int i = 0; i < rectangles; ++i) {
+      const int x0 = rx(rng), y0 = ry(rng), x1 = std::min(width - 1, x0 + size(rng)),
+                y1 = std::min(height - 1, y0 + size(rng));
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) rows[y][x] = '#';
+    }
+  }
+  return std::move(GridMap::from_rows(rows)).value();
+}
+
+// Segments of four kinds: uniform end cells; short ones; ones through exact lattice corners
+// (steps (p, q) with p, q odd and coprime, e.g. slopes 1, 1/3, 3/5, repeated m times: the
+// segment then passes a corner at every odd multiple of half the step); and axis-aligned ones.
+Cell random_segment_end(std::mt19937& rng, const GridMap& map, const Cell& a) {
+  static constexpr std::array<Cell, 8> kOddSteps = {Cell{1, 1}, Cell{1, 3}, Cell{3, 1}, Cell{3, 5},
+                                                    Cell{5, 3}, Cell{1, 5}, Cell{7, 3}, Cell{5, 7}};
+  const int w = map.width(), h = map.height();
+  std::uniform_int_distribution<int> kind(0, 9), rx(0, w - 1), ry(0, h - 1), near(-4, 4);
+  const int k = kind(rng);
+  if (k < 4) return {rx(rng), ry(rng)};
+  if (k < 6) return {std::clamp(a.x + near(rng), 0, w - 1), std::clamp(a.y + near(rng), 0, h - 1)};
+  if (k < 9) {
+    Cell step = kOddSteps[std::uniform_int_distribution<size_t>(0, kOddSteps.size() - 1)(rng)];
+    if (rng() & 1) step.x = -step.x;
+    if (rng() & 1) step.y = -step.y;
+    const int room_x = step.x > 0 ? w - 1 - a.x : a.x, room_y = step.y > 0 ? h - 1 - a.y : a.y;
+    const int most = std::min(room_x / std::abs(step.x), room_y / std::abs(step.y));
+    if (most < 1) return {rx(rng), ry(rng)};
+    const int m = std::uniform_int_distribution<int>(1, most)(rng);
+    return {a.x + m * step.x, a.y + m * step.y};
+  }
+  return (rng() & 1) ? Cell{rx(rng), a.y} : Cell{a.x, ry(rng)};
+}
+
+// Per policy: how many segments were compared and what the answers were, so that the test
+// shows both answers (and long blocked segments) were exercised.
+struct AnswerCounts {
+  int64_t segments = 0, clear = 0, blocked_long = 0;
+};
+
+// The bit-grid walk, and the public API with its summed-area shortcuts, equal the scalar
+// traversal on > 10^6 segments per policy: maps from 1 to 300 cells wide (not only multiples of
+// 64), densities 0 to 60 %, long segments over many words, and segments through exact corners.
+TEST(LineOfSight, BitGridWalkEqualsScalarTraversalOnMillionsOfSegments) {
+  constexpr int kMaps = 1000, kSegmentsPerMap = 1050;
+  const int widths[] = {1, 2, 3, 5, 17, 63, 64, 65, 100, 127, 128, 129, 190, 255, 257, 300};
+  const double densities[] = {0.0, 0.01, 0.03, 0.05, 0.1, 0.2, 0.3, 0.45, 0.6};
+  std::mt19937 rng(2024);
+  std::array<AnswerCounts, 3> seen{};
+  int64_t policy_dependent = 0;
+  for (int trial = 0; trial < kMaps; ++trial) {
+    const int w = widths[trial % 16], h = widths[(trial / 16 + trial * 7) % 16];
+    const double density = densities[trial % 9];
+    const GridMap map = random_test_map(rng, w, h, density, trial % 3 == 0);
+    std::uniform_int_distribution<int> rx(0, w - 1), ry(0, h - 1);
+    for (int q = 0; q < kSegmentsPerMap; ++q) {
+      const Cell a{rx(rng), ry(rng)};
+      const Cell b = random_segment_end(rng, map, a);
+      bool answers[3];
+      for (int i = 0; i < 3; ++i) {
+        const CornerPolicy p = kPolicies[i];
+        const bool expected = line_of_sight_centres_scalar(map, a, b, p);
+        const bool walked = centre_segment_clear(map, a, b, p);
+        if (walked != expected || line_of_sight(map, a, b, p) != expected) {
+          FAIL() << "map " << trial << " (" << w << " x " << h << ", density " << density
+                 << ") a=" << a.x << "," << a.y << " b=" << b.x << "," << b.y << " policy "
+                 << core::to_string(p) << ": scalar " << expected << ", walk " << walked;
+        }
+        answers[i] = expected;
+        AnswerCounts& s = seen[i];
+        ++s.segments;
+        s.clear += expected;
+        // Blocked segments longer than a word between free end cells: the blocking cell may lie
+        // anywhere along many words of spans.
+        s.blocked_long += !expected && map.blocked_in_rect(a, b) > 0 &&
+                          std::max(std::abs(a.x - b.x), std::abs(a.y - b.y)) > 64 && map.free(a) &&
+                          map.free(b);
+      }
+      policy_dependent += answers[0] != answers[2];
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    const AnswerCounts& s = seen[i];
+    EXPECT_GE(s.segments, 1'000'000) << core::to_string(kPolicies[i]);
+    EXPECT_GT(s.clear, s.segments / 5) << core::to_string(kPolicies[i]);
+    EXPECT_GT(s.segments - s.clear, s.segments / 5) << core::to_string(kPolicies[i]);
+    EXPECT_GT(s.blocked_long, 10'000) << core::to_string(kPolicies[i]);
+  }
+  EXPECT_GT(policy_dependent, 10'000);  // never and always differed: corners were decisive
+}
+
+// On small maps the walk also equals the independent definition in test_support.hpp.
+TEST(LineOfSight, BitGridWalkEqualsExactDefinition) {
+  std::mt19937 rng(99);
+  int64_t compared = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int w = 1 + trial % 70, h = 1 + (trial * 13) % 41;
+    const GridMap map = random_test_map(rng, w, h, 0.02 + 0.5 * (trial % 6) / 6.0, trial % 2);
+    std::uniform_int_distribution<int> rx(0, w - 1), ry(0, h - 1);
+    for (int q = 0; q < 300; ++q) {
+      const Cell a{rx(rng), ry(rng)};
+      const Cell b = random_segment_end(rng, map, a);
+      for (CornerPolicy p : kPolicies) {
+        ASSERT_EQ(centre_segment_clear(map, a, b, p), reference_los_centres(map, a, b, p))
+            << "trial " << trial << " a=" << a.x << "," << a.y << " b=" << b.x << "," << b.y
+            << " policy " << core::to_string(p);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 200 * 300 * 3);
 }
 
 TEST(CornerPolicy, NamesRoundTrip) {

@@ -52,8 +52,13 @@ TEST(Neighborhood, EightElevenThirteenForAllDirections) {
         EXPECT_EQ(offsets_of(moves), expected) << "direction " << sx << "," << sy;
         const size_t size = (sx == 0 && sy == 0) ? 8 : (sx == 0 || sy == 0) ? 11 : 13;
         EXPECT_EQ(static_cast<size_t>(moves.count), size);
-        for (const auto& m : moves)
-          EXPECT_DOUBLE_EQ(m.cost, std::hypot(m.dx, m.dy)) << int(m.dx) << "," << int(m.dy);
+        for (const auto& m : moves) {
+          // The Euclidean length, quantized to a multiple of 2^-26 cells (exact sums).
+          const double length = std::hypot(m.dx, m.dy);
+          EXPECT_NEAR(m.cost, length, 1e-8 * length) << int(m.dx) << "," << int(m.dy);
+          const double quanta = m.cost * 67108864.0;
+          EXPECT_EQ(quanta, std::round(quanta)) << int(m.dx) << "," << int(m.dy);
+        }
       }
     }
   }

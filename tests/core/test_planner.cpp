@@ -5,6 +5,7 @@
 
 #include "core/test_support.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/core/postprocess.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -243,17 +244,59 @@ TEST(Planner, AStarIsOptimalAndOthersAreNotShorter) {
   }
 }
 
-TEST(Planner, UnidirectionalPlannersNeverAllocateTheBackwardSearch) {
+TEST(Planner, ConstructionAllocatesBothSearchDirections) {
+  // The node makes its Planner when it installs a map, so that no query pays for the arrays.
   auto map = open_map(50, 50);
   core::Planner planner(map);
-  EXPECT_EQ(planner.search_state_bytes(), 0u);
-  ASSERT_TRUE(
-      planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kAStar)).status.is_ok());
-  const size_t one_direction = planner.search_state_bytes();
-  EXPECT_GT(one_direction, 0u);
+  const size_t allocated = planner.search_state_bytes();
+  // Two directions of one 20-byte record per padded cell at least.
+  EXPECT_GE(allocated, 2u * 20u * map->padded_size());
   ASSERT_TRUE(
       planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kVnsBaStar)).status.is_ok());
-  EXPECT_GT(planner.search_state_bytes(), one_direction);
+  // Only the open lists grew: far less than the per-cell arrays.
+  EXPECT_LT(planner.search_state_bytes(), allocated + allocated / 4);
+}
+
+// A* on a query with no path closes exactly the start's component: its expansion count is the
+// component's size, and its time is what it took, not 0.
+TEST(Planner, FailedPlansReportTheirRealExpansionsAndTime) {
+  std::vector<std::string> rows(300, std::string(300, '.'));
+  for (int row = 0; row < 300; ++row) rows[row][200] = '#';
+  auto map = shared(rows);
+  const Cell start{0, 0}, goal{299, 299};
+  // A wall across the whole height at column 200: the start's component is columns 0..199.
+  const PlanResult r = core::plan_once(map, {start, goal}, default_options(PlannerKind::kAStar));
+  ASSERT_EQ(r.status.code, StatusCode::kNoValidPath);
+  EXPECT_EQ(r.metrics.expanded, 200 * 300);  // every cell left of the wall
+  EXPECT_GT(r.metrics.planning_time_us, 0);
+  for (PlannerKind k : core::all_planner_kinds()) {
+    const PlanResult other = core::plan_once(map, {start, goal}, default_options(k));
+    EXPECT_EQ(other.status.code, StatusCode::kNoValidPath) << core::to_string(k);
+    EXPECT_GT(other.metrics.expanded, 0) << core::to_string(k);
+    EXPECT_GT(other.metrics.planning_time_us, 0) << core::to_string(k);
+  }
+}
+
+// Pruning and smoothing poll the same budget as the search: a budget that has run out stops
+// them (the plan reports TIMEOUT or CANCELED, never an unbounded post-processing step).
+TEST(Planner, PostProcessingHonoursTheBudget) {
+  auto map = shared(kWallMap);
+  const std::vector<Cell> raw = {{0, 2}, {1, 2}, {2, 2}, {3, 1}, {4, 1}, {5, 1}, {6, 2}, {9, 2}};
+  std::atomic<bool> cancel{true};
+  core::PlanningBudget canceled(core::PlanningBudget::Clock::now(), std::chrono::microseconds{0},
+                                &cancel);
+  EXPECT_TRUE(core::prune_path(*map, raw, CornerPolicy::kNever, &canceled).empty());
+  EXPECT_EQ(canceled.state(), StatusCode::kCanceled);
+  core::PlanningBudget late(core::PlanningBudget::Clock::now() - std::chrono::seconds(1),
+                            std::chrono::microseconds{1}, nullptr);
+  const std::vector<Point2> corner = {{0.5, 0.5}, {5.5, 0.5}, {5.5, 5.5}};
+  EXPECT_TRUE(core::smooth_path(*open_map(8, 8), corner, {}, &late).empty());
+  EXPECT_EQ(late.state(), StatusCode::kTimeout);
+  // Without a budget, or with one left, both do their work.
+  EXPECT_FALSE(core::prune_path(*map, raw, CornerPolicy::kNever).empty());
+  core::PlanningBudget plenty(core::PlanningBudget::Clock::now(), std::chrono::seconds(60),
+                              nullptr);
+  EXPECT_GT(core::smooth_path(*open_map(8, 8), corner, {}, &plenty).size(), corner.size());
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <random>
 
 #include "core/test_support.hpp"
@@ -19,6 +20,19 @@ using core::PlannerOptions;
 using core::PlanResult;
 
 constexpr int kMaps = 2000;
+
+// "" when no cell occurs twice in `path`, else the cell and its two positions.
+std::string first_revisit(const std::vector<Cell>& path) {
+  std::map<std::pair<int32_t, int32_t>, size_t> seen;
+  for (size_t i = 0; i < path.size(); ++i) {
+    const auto [it, fresh] = seen.emplace(std::make_pair(path[i].x, path[i].y), i);
+    if (!fresh) {
+      return "cell (" + std::to_string(path[i].x) + ", " + std::to_string(path[i].y) +
+             ") at steps " + std::to_string(it->second) + " and " + std::to_string(i);
+    }
+  }
+  return "";
+}
 
 struct Tally {
   int solvable = 0, unsolvable = 0, checked_plans = 0, smoothed_corners = 0;
@@ -50,6 +64,7 @@ void check_plan(const GridMap& map, const core::PlanQuery& q, const PlannerOptio
     raw_cost += std::hypot(a.x - b.x, a.y - b.y);
   }
   ASSERT_NEAR(r.metrics.raw_cost_cells, raw_cost, 1e-9);
+  ASSERT_EQ(first_revisit(r.raw_path), "");
   if (o.neighborhood == core::Neighborhood::kEight) {
     ASSERT_GE(raw_cost, optimal - 1e-9);
   }
@@ -123,6 +138,53 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
   EXPECT_GT(tally.solvable, kMaps / 3);
   EXPECT_GT(tally.unsolvable, kMaps / 20);
   EXPECT_GT(tally.smoothed_corners, kMaps);
+}
+
+// ALGORITHM.md section 3: the joined raw path of a bidirectional search never visits a cell
+// twice, also with the asymmetric 8-11-13 moves (where a search can pop a node the other has
+// closed without any generated neighbour showing it). 50,000+ plans: every planner in both
+// neighbourhoods and every corner policy, on small random maps (narrow ones too, where the two
+// searches meet in corridors).
+TEST(PlannerProperties, RawPathsNeverVisitACellTwice) {
+  std::mt19937 rng(108014);
+  std::uniform_int_distribution<int> size(4, 110);
+  std::uniform_real_distribution<double> density(0.0, 0.4);
+  const CornerPolicy policies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
+                                   CornerPolicy::kAlways};
+  int plans = 0, paths = 0;
+  while (plans < 51000) {
+    auto built = GridMap::from_rows(random_rows(rng, size(rng), size(rng), density(rng)));
+    ASSERT_TRUE(built);
+    auto map = std::make_shared<const GridMap>(std::move(built).value());
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    std::uniform_int_distribution<size_t> pick(0, cells.size() - 1);
+    core::Planner planner(map);
+    for (int query = 0; query < 4; ++query) {
+      const core::PlanQuery q{cells[pick(rng)], cells[pick(rng)]};
+      for (PlannerKind kind : core::all_planner_kinds()) {
+        for (core::Neighborhood hood :
+             {core::Neighborhood::kEight, core::Neighborhood::kEightElevenThirteen}) {
+          for (CornerPolicy policy : policies) {
+            PlannerOptions o = core::default_options(kind);
+            o.corner_policy = policy;
+            o.neighborhood = hood;
+            o.prune = o.smooth = false;
+            const PlanResult r = planner.plan(q, o);
+            ++plans;
+            if (!r.status.is_ok()) continue;
+            ++paths;
+            ASSERT_EQ(first_revisit(r.raw_path), "")
+                << core::to_string(kind) << " " << core::to_string(hood) << " "
+                << core::to_string(policy) << " on a " << map->width() << " x " << map->height()
+                << " map, start (" << q.start.x << ", " << q.start.y << "), goal (" << q.goal.x
+                << ", " << q.goal.y << ")";
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(paths, plans / 3);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "bench/common.hpp"
@@ -51,9 +52,9 @@ struct Configuration {
     return paper_name(planner) + (post_processed ? " +prune+smooth" : "") + " (`" + name() + "`)";
   }
   core::PlannerOptions options() const {
-    core::PlannerOptions options = core::default_options(planner);
-    if (post_processed) options.prune = options.smooth = true;
-    return options;
+    core::PlannerSettings settings;
+    if (post_processed) settings.prune = settings.smooth = true;
+    return core::make_options(planner, settings);
   }
 };
 
@@ -101,6 +102,47 @@ std::string movingai_map_class(const std::string& maps_dir, const std::string& m
       return class_of_source_folder(source.parent_path().filename().string());
   }
   return class_of_name(map_file_name);
+}
+
+// Per class and over all classes: VNS-BA*'s median time as a ratio of A*'s (both over the same
+// queries, one run), and every configuration's cost per expansion (its total time / its total
+// expansions, in nanoseconds). Times and expansions of failed plans count too: they were spent.
+std::string speed_summary(const std::vector<Run>& runs,
+                          const std::vector<Configuration>& configurations) {
+  auto index_of = [&](core::PlannerKind kind) -> std::optional<size_t> {
+    for (size_t c = 0; c < configurations.size(); ++c)
+      if (configurations[c].planner == kind && !configurations[c].post_processed) return c;
+    return std::nullopt;
+  };
+  const auto astar = index_of(core::PlannerKind::kAStar);
+  const auto vns = index_of(core::PlannerKind::kVnsBaStar);
+  std::vector<std::string> headers = {"class"};
+  if (astar && vns) headers.push_back("VNS-BA* / A* median time");
+  for (const auto& c : configurations) headers.push_back(c.name() + " ns / expansion");
+  MarkdownTable table(headers);
+  std::vector<std::string> classes = kClasses;
+  classes.push_back("all");
+  for (const std::string& map_class : classes) {
+    std::vector<std::vector<double>> time(configurations.size());
+    std::vector<double> total_us(configurations.size(), 0.0), total_expanded(configurations.size());
+    for (const Run& r : runs) {
+      if (map_class != "all" && r.map_class != map_class) continue;
+      time[r.configuration].push_back(r.time_us);
+      total_us[r.configuration] += r.time_us;
+      total_expanded[r.configuration] += r.expanded;
+    }
+    if (time[0].empty()) continue;
+    std::vector<std::string> row = {map_class};
+    if (astar && vns) row.push_back(format(median(time[*vns]) / median(time[*astar]), 3));
+    for (size_t c = 0; c < configurations.size(); ++c)
+      row.push_back(format(total_expanded[c] > 0 ? 1000.0 * total_us[c] / total_expanded[c] : NAN,
+                           0));
+    table.add_row(row);
+  }
+  return "**Speed.** VNS-BA*'s median planning time as a ratio of A*'s over the same queries, and "
+         "each configuration's cost per expansion (total planning time / total expanded nodes, "
+         "ns; post-processing included where it is on).\n\n" +
+         table.str() + "\n";
 }
 
 int run_movingai(const MovingAiOptions& options) {
@@ -158,9 +200,9 @@ int run_movingai(const MovingAiOptions& options) {
           }
           run.turns = m.turns;
           run.turn_angle_deg = m.turn_angle_deg;
-          run.expanded = static_cast<double>(m.expanded);
-          run.time_us = timed.time_us;
         }
+        run.expanded = static_cast<double>(m.expanded);
+        run.time_us = timed.time_us;
         runs.push_back(run);
         if (options.csv) {
           const std::string status(core::to_string(timed.result.status.code));
@@ -229,6 +271,7 @@ int run_movingai(const MovingAiOptions& options) {
     }
     md += table.str() + "\n";
   }
+  md += speed_summary(runs, configurations);
   std::fputs(md.c_str(), stdout);
   return kExitOk;
 }

@@ -43,9 +43,27 @@ struct GridBuildOptions {
 // Checks an OccupancyGrid and build options; the message names the field at fault.
 Status validate(const OccupancyGrid& grid, const GridBuildOptions& options = {});
 
+// Blocked flags packed one bit per cell (1 = blocked) along lines of cells: the rows of a map
+// (bit x of row y) or its columns (bit y of column x). Cell i of a line is bit i % 64 of word
+// i / 64, and every line starts on a word boundary (its last word's unused bits are 0). After
+// the last line comes one spare word (0), so that the word after any cell's word can be read.
+// Line of sight reads a whole span of a line with a few word masks instead of one cell per step.
+struct BlockedBits {
+  const uint64_t* words = nullptr;
+  size_t words_per_line = 0;
+
+  const uint64_t* line(int32_t index) const {
+    return words + static_cast<size_t>(index) * words_per_line;
+  }
+  bool blocked(int32_t line_index, int32_t cell) const {
+    return (line(line_index)[cell >> 6] >> (cell & 63)) & 1;
+  }
+};
+
 class GridMap {
  public:
-  // Validates, thresholds, inflates and builds the summed-area table. O(cells + inflation).
+  // Validates, thresholds, inflates and builds the summed-area table and the bit grids.
+  // O(cells + inflation).
   static Expected<GridMap> build(const OccupancyGrid& grid, const GridBuildOptions& options = {});
 
   // Test and tool convenience: '#' '@' 'O' 'T' 'W' are blocked, anything else free. The first
@@ -111,9 +129,18 @@ class GridMap {
   }
   const uint8_t* blocked_data() const { return blocked_.data(); }
 
+  // --- Bit grids for line of sight between cell centres (line_of_sight.cpp). ---
+  // The same blocked flags as blocked(), without the padding: rows for segments that are
+  // shallower than 45 degrees, columns (the transpose) for steeper ones, so that a segment
+  // always walks its lines along their words. 1 bit per cell in each: 2 bits = 0.25 bytes per
+  // cell together, plus up to 63 bits of padding at the end of every row and column.
+  BlockedBits blocked_rows() const { return {row_bits_.data(), row_words_}; }
+  BlockedBits blocked_columns() const { return {column_bits_.data(), column_words_}; }
+
  private:
   GridMap() = default;
   void build_summed_area_table();
+  void build_bit_grids();
 
   int32_t width_ = 0;
   int32_t height_ = 0;
@@ -123,6 +150,10 @@ class GridMap {
   std::vector<uint8_t> blocked_;      // padded, 1 = blocked
   std::vector<int32_t> summed_area_;  // (width+1) x (height+1) blocked counts
   int64_t blocked_total_ = 0;
+  std::vector<uint64_t> row_bits_;     // height rows of row_words_ words each, a spare word
+  std::vector<uint64_t> column_bits_;  // width columns of column_words_ words each, a spare word
+  size_t row_words_ = 0;               // ceil(width / 64)
+  size_t column_words_ = 0;            // ceil(height / 64)
 };
 
 }  // namespace vnsba::core

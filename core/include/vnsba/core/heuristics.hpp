@@ -13,10 +13,12 @@
 
 namespace vnsba::core {
 
-// Length of the shortest 8-connected path on an empty grid, in cells.
+// Length of the shortest 8-connected path on an empty grid, in cells, in the searches' step
+// costs (neighborhood.hpp: sqrt 2 quantized), so that A*'s f = g + octile is exact and equal-cost
+// nodes tie exactly; within a relative 1e-8 of the Euclidean octile distance.
 inline double octile(const Cell& a, const Cell& b) {
   const double dx = std::abs(a.x - b.x), dy = std::abs(a.y - b.y);
-  return dx + dy + (detail::kSqrt2 - 2.0) * std::min(dx, dy);
+  return dx + dy + (detail::kStepCostDiagonal - 2.0) * std::min(dx, dy);
 }
 
 // dist(a, b) of the paper (section 2): Euclidean when a and b have line of sight, Manhattan

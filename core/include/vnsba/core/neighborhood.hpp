@@ -22,12 +22,30 @@ std::optional<Neighborhood> neighborhood_from_string(std::string_view name);  //
 struct Move {
   int8_t dx = 0;
   int8_t dy = 0;
-  double cost = 0.0;  // Euclidean length in cells: 1, sqrt 2, 2, sqrt 5 or 2 sqrt 2
+  double cost = 0.0;  // step cost in cells: 1, sqrt 2, 2, sqrt 5 or 2 sqrt 2 (see kStepCost*)
 };
 
 namespace detail {
 constexpr double kSqrt2 = 1.4142135623730950488;
 constexpr double kSqrt5 = 2.2360679774997896964;
+
+// Step costs as every search adds them up into g: each Euclidean length rounded to the nearest
+// multiple of 2^-26 cells (relative error below 1e-8). Sums of multiples of 2^-26 below 2^27
+// cells are exact in double arithmetic, so two paths with the same numbers of each kind of step
+// get bit-identical g whatever the order of their steps, and equal-cost nodes compare equal. With
+// the irrational lengths themselves, rounding in the last bits made equal-f nodes differ and the
+// open list's tie-break towards larger g fail (many more expansions on open ground for the same
+// optimal cost). Costs are only ordered with these values; every reported length is measured on
+// the path's geometry. A* stays optimal to within that relative 1e-8.
+constexpr double kCostQuantum = 1.0 / 67108864.0;  // 2^-26 cells
+constexpr double quantized_cost(double length) {
+  return static_cast<double>(static_cast<int64_t>(length / kCostQuantum + 0.5)) * kCostQuantum;
+}
+constexpr double kStepCostStraight = 1.0;
+constexpr double kStepCostDiagonal = quantized_cost(kSqrt2);
+constexpr double kStepCostTwoStraight = 2.0;
+constexpr double kStepCostKnight = quantized_cost(kSqrt5);
+constexpr double kStepCostTwoDiagonal = 2.0 * kStepCostDiagonal;
 
 inline int sign(int v) {
   return (v > 0) - (v < 0);
@@ -67,14 +85,18 @@ inline void for_each_move(const GridMap& map, const Cell& from, const Cell& guid
   const bool north = is_blocked(0, 1), south = is_blocked(0, -1);
   const bool ne = is_blocked(1, 1), nw = is_blocked(-1, 1);
   const bool se = is_blocked(1, -1), sw = is_blocked(-1, -1);
-  if (!east) visit(1, 0, 1.0);
-  if (!west) visit(-1, 0, 1.0);
-  if (!north) visit(0, 1, 1.0);
-  if (!south) visit(0, -1, 1.0);
-  if (!ne && corner_passable(east, north, policy)) visit(1, 1, detail::kSqrt2);
-  if (!nw && corner_passable(west, north, policy)) visit(-1, 1, detail::kSqrt2);
-  if (!se && corner_passable(east, south, policy)) visit(1, -1, detail::kSqrt2);
-  if (!sw && corner_passable(west, south, policy)) visit(-1, -1, detail::kSqrt2);
+  using detail::kStepCostDiagonal;
+  using detail::kStepCostKnight;
+  using detail::kStepCostStraight;
+  using detail::kStepCostTwoStraight;
+  if (!east) visit(1, 0, kStepCostStraight);
+  if (!west) visit(-1, 0, kStepCostStraight);
+  if (!north) visit(0, 1, kStepCostStraight);
+  if (!south) visit(0, -1, kStepCostStraight);
+  if (!ne && corner_passable(east, north, policy)) visit(1, 1, kStepCostDiagonal);
+  if (!nw && corner_passable(west, north, policy)) visit(-1, 1, kStepCostDiagonal);
+  if (!se && corner_passable(east, south, policy)) visit(1, -1, kStepCostDiagonal);
+  if (!sw && corner_passable(west, south, policy)) visit(-1, -1, kStepCostDiagonal);
 
   if (neighborhood == Neighborhood::kEight) return;
   if (east | west | north | south | ne | nw | se | sw) return;  // an obstacle near: 8 only
@@ -85,21 +107,21 @@ inline void for_each_move(const GridMap& map, const Cell& from, const Cell& guid
     // 11-neighbourhood: 3 cells two steps along the axis, e.g. for +x: (2,-1), (2,0), (2,1).
     const int px = -sy, py = sx;  // perpendicular to the axis
     const int cx = 2 * sx, cy = 2 * sy;
-    if (!is_blocked(cx, cy)) visit(cx, cy, 2.0);
-    if (!is_blocked(cx + px, cy + py)) visit(cx + px, cy + py, detail::kSqrt5);
-    if (!is_blocked(cx - px, cy - py)) visit(cx - px, cy - py, detail::kSqrt5);
+    if (!is_blocked(cx, cy)) visit(cx, cy, kStepCostTwoStraight);
+    if (!is_blocked(cx + px, cy + py)) visit(cx + px, cy + py, kStepCostKnight);
+    if (!is_blocked(cx - px, cy - py)) visit(cx - px, cy - py, kStepCostKnight);
     return;
   }
   // 13-neighbourhood: (2sx,0), (2sx,sy), (2sx,2sy), (sx,2sy), (0,2sy).
   const bool b_2x_0 = is_blocked(2 * sx, 0), b_2x_1 = is_blocked(2 * sx, sy);
   const bool b_2x_2 = is_blocked(2 * sx, 2 * sy);
   const bool b_1_2y = is_blocked(sx, 2 * sy), b_0_2y = is_blocked(0, 2 * sy);
-  if (!b_2x_0) visit(2 * sx, 0, 2.0);
-  if (!b_2x_1) visit(2 * sx, sy, detail::kSqrt5);
+  if (!b_2x_0) visit(2 * sx, 0, kStepCostTwoStraight);
+  if (!b_2x_1) visit(2 * sx, sy, kStepCostKnight);
   if (!b_2x_2 && corner_passable(b_2x_1, b_1_2y, policy))
-    visit(2 * sx, 2 * sy, 2.0 * detail::kSqrt2);
-  if (!b_1_2y) visit(sx, 2 * sy, detail::kSqrt5);
-  if (!b_0_2y) visit(0, 2 * sy, 2.0);
+    visit(2 * sx, 2 * sy, detail::kStepCostTwoDiagonal);
+  if (!b_1_2y) visit(sx, 2 * sy, kStepCostKnight);
+  if (!b_0_2y) visit(0, 2 * sy, kStepCostTwoStraight);
 }
 
 // The same moves as a list (for tests and tools; the searches use for_each_move).

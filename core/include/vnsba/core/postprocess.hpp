@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "vnsba/core/budget.hpp"
 #include "vnsba/core/geometry.hpp"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/line_of_sight.hpp"
@@ -13,8 +14,10 @@ namespace vnsba::core {
 // Turning points of a grid path: keeps P[0], then each P[i-1] where line of sight from the
 // current anchor to P[i] first fails, then P[k]. The result is a subsequence of the input
 // (as cell centres), collision-free by construction. An empty input gives an empty output.
+// With a `budget` that expires part-way (polled once per line-of-sight check) the result is
+// empty and budget->state() says why.
 std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path,
-                               CornerPolicy policy);
+                               CornerPolicy policy, PlanningBudget* budget = nullptr);
 
 struct SmoothingOptions {
   double smoothing_distance = 1.5;  // cells: the d of section 5 before the |TA|/4, |TB|/4 caps
@@ -26,8 +29,9 @@ struct SmoothingOptions {
 // Replaces each interior corner T of `waypoints` by samples of a clamped parametric cubic
 // spline through P1..P4 (chord-length parameter), keeping straight sections straight. A corner
 // whose smoothed version fails line of sight after max_halvings retries stays sharp, so the
-// result never enters a blocked cell when the input does not.
+// result never enters a blocked cell when the input does not. With a `budget` that expires
+// part-way (polled once per corner attempt) the result is empty and budget->state() says why.
 std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& waypoints,
-                                const SmoothingOptions& options);
+                                const SmoothingOptions& options, PlanningBudget* budget = nullptr);
 
 }  // namespace vnsba::core

@@ -1,0 +1,84 @@
+// Which planner runs, with which options, and the one way to build those options from what a
+// user configured (a config file, a command line, a benchmark's setup).
+//
+//   PlannerSettings configured;                 // only what the user set; the rest stays unset
+//   configured.prune = false;
+//   PlannerOptions astar = make_options(PlannerKind::kAStar, configured);
+//   PlannerOptions vns = make_options(PlannerKind::kVnsBaStar, configured);  // prune still off
+//
+// The node (its config and every per-request planner override), vnsba_plan and vnsba_bench build
+// their options through make_options only: switching planners keeps every configured setting,
+// and only the settings nobody configured follow the new planner's paper configuration.
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "vnsba/core/line_of_sight.hpp"
+#include "vnsba/core/neighborhood.hpp"
+#include "vnsba/core/status.hpp"
+
+namespace vnsba::core {
+
+enum class PlannerKind {
+  kAStar,                          // "astar": classic A*, octile heuristic, optimal
+  kWeightedAStar,                  // "weighted_astar": the paper's "improved A*" (Liao et al.)
+  kBidirectionalAStar,             // "bidirectional_astar": the paper's "BA*"
+  kAlternatingBidirectionalAStar,  // "alternating_bidirectional_astar": "improved BA*" (Li 2022)
+  kVnsBaStar,                      // "vns_bastar": the paper's VNS-BA*
+};
+
+std::string_view to_string(PlannerKind kind);
+std::optional<PlannerKind> planner_kind_from_string(std::string_view name);
+// All planners, in the paper's table order.
+const std::vector<PlannerKind>& all_planner_kinds();
+
+struct PlannerOptions {
+  PlannerKind planner = PlannerKind::kVnsBaStar;
+  double omega = 0.5;  // weight of dist(n, opposite_current) in p(n); [0, 1e6], finite
+  double eta = 0.5;    // weight of dist(n, opposite_start) in p(n); [0, 1e6], finite
+  Neighborhood neighborhood = Neighborhood::kEightElevenThirteen;
+  CornerPolicy corner_policy = CornerPolicy::kNever;
+  bool prune = true;                // polyline pruning (section 4)
+  bool smooth = true;               // cubic-spline corner smoothing (section 5); needs prune
+                                    // or works on the raw path's corners when prune is off
+  double smoothing_distance = 1.5;  // cells, > 0
+  double sample_step = 0.25;        // cells, in (0, 10]
+  // Wall-clock budget for search plus post-processing; zero or negative means unlimited.
+  std::chrono::microseconds max_planning_time{0};
+  bool record_expansions = false;  // fill PlanResult::expanded_* (for debug pictures)
+  // Also run optimal A* on the same query to fill Metrics::length_ratio (costs a second search).
+  bool compute_length_ratio = false;
+};
+
+// The paper's configuration of each planner: VNS-BA* with the 8-11-13 neighbourhood, pruning
+// and smoothing; the baselines with the 8-neighbourhood and no post-processing.
+PlannerOptions default_options(PlannerKind kind);
+
+// Checks ranges and finiteness; the message names the option at fault.
+Status validate(const PlannerOptions& options);
+
+// What a user configured, field by field: every PlannerOptions field except the planner itself,
+// unset (std::nullopt) where the user left it to the planner's paper configuration. Units and
+// ranges as in PlannerOptions; make_options does not check them (validate() and Planner::plan
+// do).
+struct PlannerSettings {
+  std::optional<double> omega;
+  std::optional<double> eta;
+  std::optional<Neighborhood> neighborhood;
+  std::optional<CornerPolicy> corner_policy;
+  std::optional<bool> prune;
+  std::optional<bool> smooth;
+  std::optional<double> smoothing_distance;  // cells
+  std::optional<double> sample_step;         // cells
+  std::optional<std::chrono::microseconds> max_planning_time;
+  std::optional<bool> record_expansions;
+  std::optional<bool> compute_length_ratio;
+};
+
+// The options of a run: default_options(kind), then every setting that is set.
+PlannerOptions make_options(PlannerKind kind, const PlannerSettings& settings);
+
+}  // namespace vnsba::core

@@ -1,0 +1,92 @@
+#include "vnsba/core/planner_options.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace vnsba::core {
+
+namespace {
+
+struct PlannerName {
+  PlannerKind kind;
+  std::string_view name;
+};
+constexpr PlannerName kPlannerNames[] = {
+    {PlannerKind::kAStar, "astar"},
+    {PlannerKind::kWeightedAStar, "weighted_astar"},
+    {PlannerKind::kBidirectionalAStar, "bidirectional_astar"},
+    {PlannerKind::kAlternatingBidirectionalAStar, "alternating_bidirectional_astar"},
+    {PlannerKind::kVnsBaStar, "vns_bastar"},
+};
+
+}  // namespace
+
+std::string_view to_string(PlannerKind kind) {
+  for (const auto& entry : kPlannerNames)
+    if (entry.kind == kind) return entry.name;
+  return "unknown";
+}
+
+std::optional<PlannerKind> planner_kind_from_string(std::string_view name) {
+  for (const auto& entry : kPlannerNames)
+    if (entry.name == name) return entry.kind;
+  return std::nullopt;
+}
+
+const std::vector<PlannerKind>& all_planner_kinds() {
+  static const std::vector<PlannerKind> kinds = [] {
+    std::vector<PlannerKind> out;
+    for (const auto& entry : kPlannerNames) out.push_back(entry.kind);
+    return out;
+  }();
+  return kinds;
+}
+
+PlannerOptions default_options(PlannerKind kind) {
+  PlannerOptions options;
+  options.planner = kind;
+  const bool paper_method = kind == PlannerKind::kVnsBaStar;
+  options.neighborhood = paper_method ? Neighborhood::kEightElevenThirteen : Neighborhood::kEight;
+  options.prune = paper_method;
+  options.smooth = paper_method;
+  return options;
+}
+
+Status validate(const PlannerOptions& o) {
+  std::ostringstream err;
+  auto weight_ok = [](double w) { return std::isfinite(w) && w >= 0.0 && w <= 1e6; };
+  if (!weight_ok(o.omega)) err << "omega must be finite and in [0, 1e6] (got " << o.omega << "); ";
+  if (!weight_ok(o.eta)) err << "eta must be finite and in [0, 1e6] (got " << o.eta << "); ";
+  if (o.planner == PlannerKind::kVnsBaStar && weight_ok(o.omega) && weight_ok(o.eta) &&
+      o.omega == 0.0 && o.eta == 0.0) {
+    err << "omega and eta must not both be 0 (the heuristic would vanish); ";
+  }
+  if (!std::isfinite(o.smoothing_distance) || o.smoothing_distance <= 0.0)
+    err << "smoothing_distance must be finite and > 0 cells (got " << o.smoothing_distance << "); ";
+  if (!std::isfinite(o.sample_step) || o.sample_step <= 0.0 || o.sample_step > 10.0)
+    err << "sample_step must be in (0, 10] cells (got " << o.sample_step << "); ";
+  if (!planner_kind_from_string(to_string(o.planner))) err << "planner is not a known planner; ";
+  std::string message = err.str();
+  if (message.empty()) return Status::ok();
+  message.resize(message.size() - 2);
+  return Status::error(StatusCode::kInvalidRequest, "invalid options: " + message);
+}
+
+PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
+  PlannerOptions o = default_options(kind);
+  if (s.omega) o.omega = *s.omega;
+  if (s.eta) o.eta = *s.eta;
+  if (s.neighborhood) o.neighborhood = *s.neighborhood;
+  if (s.corner_policy) o.corner_policy = *s.corner_policy;
+  if (s.prune) o.prune = *s.prune;
+  if (s.smooth) o.smooth = *s.smooth;
+  if (s.smoothing_distance) o.smoothing_distance = *s.smoothing_distance;
+  if (s.sample_step) o.sample_step = *s.sample_step;
+  if (s.max_planning_time) o.max_planning_time = *s.max_planning_time;
+  if (s.record_expansions) o.record_expansions = *s.record_expansions;
+  if (s.compute_length_ratio) o.compute_length_ratio = *s.compute_length_ratio;
+  return o;
+}
+
+}  // namespace vnsba::core

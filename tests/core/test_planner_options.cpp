@@ -1,0 +1,149 @@
+// Planner options: names, the paper configurations, and make_options, the one function that turns
+// what a user configured into the options of a run.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/planner_options.hpp"
+
+namespace vnsba::core {
+namespace {
+
+using std::chrono::microseconds;
+
+// Every field of PlannerOptions, so that a test fails when a field is added here but not to
+// PlannerSettings and make_options (the list below must then grow too).
+void ExpectSameOptions(const PlannerOptions& a, const PlannerOptions& b) {
+  EXPECT_EQ(a.planner, b.planner);
+  EXPECT_EQ(a.omega, b.omega);
+  EXPECT_EQ(a.eta, b.eta);
+  EXPECT_EQ(a.neighborhood, b.neighborhood);
+  EXPECT_EQ(a.corner_policy, b.corner_policy);
+  EXPECT_EQ(a.prune, b.prune);
+  EXPECT_EQ(a.smooth, b.smooth);
+  EXPECT_EQ(a.smoothing_distance, b.smoothing_distance);
+  EXPECT_EQ(a.sample_step, b.sample_step);
+  EXPECT_EQ(a.max_planning_time, b.max_planning_time);
+  EXPECT_EQ(a.record_expansions, b.record_expansions);
+  EXPECT_EQ(a.compute_length_ratio, b.compute_length_ratio);
+}
+
+// One setting: how to set it, and what it does to a planner's options. Each value differs from
+// every planner's paper configuration where the field does not depend on the planner; the
+// planner-dependent ones (neighborhood, prune, smooth) are listed with both values.
+struct OneSetting {
+  std::string name;
+  std::function<void(PlannerSettings&)> set;
+  std::function<void(PlannerOptions&)> expect;
+};
+
+std::vector<OneSetting> every_setting() {
+  return {
+      {"omega", [](auto& s) { s.omega = 2.0; }, [](auto& o) { o.omega = 2.0; }},
+      {"eta", [](auto& s) { s.eta = 3.0; }, [](auto& o) { o.eta = 3.0; }},
+      {"neighborhood 8", [](auto& s) { s.neighborhood = Neighborhood::kEight; },
+       [](auto& o) { o.neighborhood = Neighborhood::kEight; }},
+      {"neighborhood 8-11-13", [](auto& s) { s.neighborhood = Neighborhood::kEightElevenThirteen; },
+       [](auto& o) { o.neighborhood = Neighborhood::kEightElevenThirteen; }},
+      {"corner_policy", [](auto& s) { s.corner_policy = CornerPolicy::kTouch; },
+       [](auto& o) { o.corner_policy = CornerPolicy::kTouch; }},
+      {"prune false", [](auto& s) { s.prune = false; }, [](auto& o) { o.prune = false; }},
+      {"prune true", [](auto& s) { s.prune = true; }, [](auto& o) { o.prune = true; }},
+      {"smooth false", [](auto& s) { s.smooth = false; }, [](auto& o) { o.smooth = false; }},
+      {"smooth true", [](auto& s) { s.smooth = true; }, [](auto& o) { o.smooth = true; }},
+      {"smoothing_distance", [](auto& s) { s.smoothing_distance = 2.5; },
+       [](auto& o) { o.smoothing_distance = 2.5; }},
+      {"sample_step", [](auto& s) { s.sample_step = 0.5; }, [](auto& o) { o.sample_step = 0.5; }},
+      {"max_planning_time", [](auto& s) { s.max_planning_time = microseconds(250000); },
+       [](auto& o) { o.max_planning_time = microseconds(250000); }},
+      {"record_expansions", [](auto& s) { s.record_expansions = true; },
+       [](auto& o) { o.record_expansions = true; }},
+      {"compute_length_ratio", [](auto& s) { s.compute_length_ratio = true; },
+       [](auto& o) { o.compute_length_ratio = true; }},
+  };
+}
+
+TEST(PlannerOptions, NothingConfiguredIsThePapersConfiguration) {
+  for (PlannerKind kind : all_planner_kinds()) {
+    SCOPED_TRACE(std::string(to_string(kind)));
+    ExpectSameOptions(make_options(kind, {}), default_options(kind));
+  }
+}
+
+TEST(PlannerOptions, EachSettingChangesOnlyItsField) {
+  for (PlannerKind kind : all_planner_kinds()) {
+    for (const OneSetting& one : every_setting()) {
+      SCOPED_TRACE(std::string(to_string(kind)) + ", " + one.name);
+      PlannerSettings settings;
+      one.set(settings);
+      PlannerOptions expected = default_options(kind);
+      one.expect(expected);
+      ExpectSameOptions(make_options(kind, settings), expected);
+    }
+  }
+}
+
+// The configured planner and every other one as an override: each configured field is kept,
+// every other field is the chosen planner's paper configuration.
+TEST(PlannerOptions, AnOverrideKeepsEveryConfiguredFieldAndTakesTheRestFromItsPlanner) {
+  // Subsets of settings (as a config file would give them): none, each alone, every pair of
+  // neighbours in the list, all of them with each planner-dependent value.
+  const std::vector<OneSetting> all = every_setting();
+  std::vector<std::vector<size_t>> subsets = {{}};
+  for (size_t i = 0; i < all.size(); ++i) subsets.push_back({i});
+  for (size_t i = 0; i + 1 < all.size(); ++i) subsets.push_back({i, i + 1});
+  for (const bool vns_values : {false, true}) {
+    std::vector<size_t> everything;
+    for (size_t i = 0; i < all.size(); ++i) {
+      const bool vns_only = all[i].name == "neighborhood 8-11-13" || all[i].name == "prune true" ||
+                            all[i].name == "smooth true";
+      const bool baseline_only = all[i].name == "neighborhood 8" || all[i].name == "prune false" ||
+                                 all[i].name == "smooth false";
+      if ((vns_values && !baseline_only) || (!vns_values && !vns_only)) everything.push_back(i);
+    }
+    subsets.push_back(everything);
+  }
+  for (const auto& subset : subsets) {
+    PlannerSettings configured;
+    std::string names;
+    for (size_t i : subset) {
+      all[i].set(configured);
+      names += all[i].name + "; ";
+    }
+    for (PlannerKind kind : all_planner_kinds()) {
+      SCOPED_TRACE("override " + std::string(to_string(kind)) + " with " + names);
+      PlannerOptions expected = default_options(kind);
+      for (size_t i : subset) all[i].expect(expected);
+      ExpectSameOptions(make_options(kind, configured), expected);
+    }
+  }
+}
+
+TEST(PlannerOptions, MakeOptionsLeavesRangeChecksToValidate) {
+  PlannerSettings settings;
+  settings.omega = 0.0;
+  settings.eta = 0.0;
+  // Legal for A* (it ignores the weights), refused for VNS-BA* (its heuristic would vanish).
+  EXPECT_TRUE(validate(make_options(PlannerKind::kAStar, settings)).is_ok());
+  const Status vns = validate(make_options(PlannerKind::kVnsBaStar, settings));
+  EXPECT_FALSE(vns.is_ok());
+  EXPECT_NE(vns.message.find("omega and eta"), std::string::npos) << vns.message;
+  settings.sample_step = 11.0;
+  EXPECT_NE(validate(make_options(PlannerKind::kAStar, settings)).message.find("sample_step"),
+            std::string::npos);
+}
+
+TEST(PlannerOptions, NamesRoundTrip) {
+  ASSERT_EQ(all_planner_kinds().size(), 5u);
+  for (PlannerKind kind : all_planner_kinds()) {
+    EXPECT_EQ(planner_kind_from_string(to_string(kind)), kind);
+  }
+  EXPECT_EQ(planner_kind_from_string("vns_bastar"), PlannerKind::kVnsBaStar);
+  EXPECT_FALSE(planner_kind_from_string("dijkstra").has_value());
+}
+
+}  // namespace
+}  // namespace vnsba::core

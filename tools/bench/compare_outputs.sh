@@ -1,0 +1,78 @@
+#!/bin/sh
+# Proves that a speed-up changes no output: builds vnsba_bench at two revisions, runs every
+# planner on the same Moving AI scenarios with each, and compares everything but the time:
+# status, raw grid path cost, final length, turns, turn angle and expanded nodes, per scenario.
+#
+#   tools/bench/compare_outputs.sh BASE [HEAD]     # revisions; HEAD defaults to the work tree
+#   tools/bench/compare_outputs.sh 1a2b3c4 HEAD
+#
+# Exit 0 when every row is identical, 1 when any differs (the first differences are printed),
+# 2 on bad use. Environment: VNSBA_DATA_DIR (default ../shared/data beside the project),
+# VNSBA_MOVINGAI_SCENARIOS (per map, default 300; 0 = all), VNSBA_COMPARE_DIR (where the two
+# builds and the CSV files go; default a temporary folder, removed afterwards), VNSBA_PLANNERS
+# (comma-separated, default all). About 10-15 minutes on 2 cores for two fresh builds and 300
+# scenarios per map.
+set -eu
+root=$(cd "$(dirname "$0")/../.." && pwd)
+if [ $# -lt 1 ] || [ $# -gt 2 ]; then
+  sed -n '2,14p' "$0" >&2
+  exit 2
+fi
+base=$1
+head=${2:-}
+data=${VNSBA_DATA_DIR:-$(cd "$root/.." && pwd)/shared/data}
+scenarios=${VNSBA_MOVINGAI_SCENARIOS:-300}
+if [ ! -d "$data/movingai" ]; then
+  echo "compare_outputs: no Moving AI data in $data/movingai (set VNSBA_DATA_DIR)" >&2
+  exit 2
+fi
+if [ -n "${VNSBA_COMPARE_DIR:-}" ]; then
+  work=$VNSBA_COMPARE_DIR
+  mkdir -p "$work"
+else
+  work=$(mktemp -d)
+  trap 'git -C "$root" worktree remove --force "$work/base-src" >/dev/null 2>&1 || true;
+        git -C "$root" worktree remove --force "$work/head-src" >/dev/null 2>&1 || true;
+        rm -rf "$work"' EXIT
+fi
+
+# Builds vnsba_bench from the revision $1 (or the work tree when empty) into $work/$2.
+build_bench() {
+  revision=$1
+  name=$2
+  if [ -n "$revision" ]; then
+    src="$work/$name-src"
+    git -C "$root" worktree remove --force "$src" >/dev/null 2>&1 || true
+    git -C "$root" worktree add --detach "$src" "$revision" >/dev/null
+  else
+    src=$root
+  fi
+  echo "building vnsba_bench at ${revision:-the work tree} ..." >&2
+  cmake -S "$src" -B "$work/$name-build" -DCMAKE_BUILD_TYPE=Release -DVNSBA_CORE_ONLY=ON \
+    -DVNSBA_BUILD_TESTS=OFF -DVNSBA_BUILD_BENCH=OFF -DVNSBA_DATA_DIR="$data" >/dev/null
+  cmake --build "$work/$name-build" --target vnsba_bench -j"$(nproc)" >/dev/null
+}
+
+# Runs every planner on the scenarios and keeps all columns but the last (the time).
+run_bench() {
+  name=$1
+  echo "running $name on $scenarios scenarios per map ..." >&2
+  set -- movingai --maps "$data/movingai" --max-scenarios "$scenarios" --csv
+  if [ -n "${VNSBA_PLANNERS:-}" ]; then set -- "$@" --planners "$VNSBA_PLANNERS"; fi
+  "$work/$name-build/tools/vnsba_bench" "$@" | sed 's/,[^,]*$//' > "$work/$name.csv"
+}
+
+build_bench "$base" base
+build_bench "$head" head
+run_bench base
+run_bench head
+
+rows=$(($(wc -l < "$work/base.csv") - 1))
+if cmp -s "$work/base.csv" "$work/head.csv"; then
+  echo "identical: $rows plans (map, scenario, planner: status, raw cost, length, turns, turn angle, expanded)"
+  exit 0
+fi
+changed=$(diff "$work/base.csv" "$work/head.csv" | grep -c '^>' || true)
+echo "DIFFERENT: $changed of $rows rows changed; first differences (< ${base}, > ${head:-work tree}):"
+diff "$work/base.csv" "$work/head.csv" | head -20
+exit 1
