@@ -180,7 +180,7 @@ void run_map(const char* label, int size, int queries) {
     }
     e2e_us.push_back(std::chrono::duration<double, std::micro>(*received_at - sent).count());
     const auto t0 = Clock::now();
-    const core::PlanResult r = reference.plan({a, b}, s.cfg.planner);
+    const core::PlanResult r = reference.plan({a, b}, s.cfg.planner.options());
     core_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
     if (!r.status.is_ok()) ++failures;
   }
@@ -211,7 +211,7 @@ void run_large_slice() {
 
 int main() {
   std::printf("vnsba_node end-to-end latency over loopback DDS (planner %s, indoor maps)\n",
-              std::string(core::to_string(node::NodeConfig().planner.planner)).c_str());
+              std::string(core::to_string(node::NodeConfig().planner.kind)).c_str());
   std::printf("%-10s %8s %10s %10s %10s %10s %12s %9s\n", "map", "queries", "e2e_p50_us",
               "e2e_p99_us", "core_p50_us", "core_p99_us", "overhead_us", "failures");
   run_map("100x100", 100, 300);

@@ -3,12 +3,19 @@
 //   vnsba_plan MAP --start X Y --goal X Y [--planner NAME] [--svg out.svg] [--cells]
 //              [--z-min A --z-max B] [--resolution R]   (OctoMap files)
 //              [--allow-unknown] [--robot-radius M] [--occupied-threshold T]
+//              [--neighborhood 8|8-11-13] [--corner-policy never|touch|always]
+//              [--prune|--no-prune] [--smooth|--no-smooth] [--omega W] [--eta W]
 //
 // MAP is a Moving AI `.map` (1 m cells, origin (0, 0), row 0 at the bottom), a map_server
 // `.yaml` (with its `.pgm`), or an OctoMap `.bt`/`.ot` sliced at the height band given.
 // Start and goal are world coordinates in metres in the map's frame; with --cells they are cell
 // indices (column, row counted from the bottom). Prints one line: planner, status, length in
-// metres, turns, turn angle, expansions, time.
+// metres, turns, turn angle, expansions, time, and the length ratio to optimal A* (a second
+// search, which the time does not include).
+//
+// The planner options are core::make_options(--planner, the option flags given): a flag left out
+// follows the chosen planner's paper configuration, exactly as a config key left out does in
+// vnsba_node.
 //
 // Exit codes: 0 a path was found, 1 the planner answered another status (printed), 2 bad
 // arguments or map file.
@@ -122,6 +129,33 @@ int main(int argc, char** argv) {
                  "occupancy percent at or above which a cell is blocked (1..100)");
   app.add_flag("--allow-unknown", build.allow_unknown, "plan through unknown cells");
   app.add_option("--robot-radius", build.robot_radius, "inflate obstacles by this, metres");
+  // Planner options: each flag left out follows the planner's paper configuration.
+  std::string neighborhood, corner_policy;
+  bool prune = false, smooth = false;
+  double omega = 0.0, eta = 0.0;
+  auto* neighborhood_flag =
+      app.add_option("--neighborhood", neighborhood,
+                     "8 or 8-11-13 (default: 8-11-13 for vns_bastar, 8 for the others)")
+          ->check(CLI::IsMember({"8", "8-11-13"}));
+  auto* corner_policy_flag =
+      app.add_option("--corner-policy", corner_policy,
+                     "diagonal moves past blocked cells: never (both side cells free, the "
+                     "default), touch (one free), always")
+          ->check(CLI::IsMember({"never", "touch", "always"}));
+  auto* prune_flag = app.add_flag("--prune,!--no-prune", prune,
+                                  "prune the grid path to its turning points (default: on for "
+                                  "vns_bastar, off for the others)");
+  auto* smooth_flag = app.add_flag("--smooth,!--no-smooth", smooth,
+                                   "smooth the path's corners with cubic splines (default: on for "
+                                   "vns_bastar, off for the others)");
+  auto* omega_flag = app.add_option("--omega", omega,
+                                    "vns_bastar: weight of the distance to the other search's "
+                                    "current node, 0..1e6 (default 0.5)")
+                         ->check(CLI::Range(0.0, 1e6));
+  auto* eta_flag = app.add_option("--eta", eta,
+                                  "vns_bastar: weight of the distance to the other search's "
+                                  "start, 0..1e6 (default 0.5)")
+                       ->check(CLI::Range(0.0, 1e6));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -132,6 +166,20 @@ int main(int argc, char** argv) {
   const auto kind = core::planner_kind_from_string(planner_name);
   if (!kind) {
     std::fprintf(stderr, "--planner: unknown planner '%s'\n", planner_name.c_str());
+    return kBadInput;
+  }
+  core::PlannerSettings settings;
+  if (*neighborhood_flag) settings.neighborhood = core::neighborhood_from_string(neighborhood);
+  if (*corner_policy_flag) settings.corner_policy = core::corner_policy_from_string(corner_policy);
+  if (*prune_flag) settings.prune = prune;
+  if (*smooth_flag) settings.smooth = smooth;
+  if (*omega_flag) settings.omega = omega;
+  if (*eta_flag) settings.eta = eta;
+  settings.record_expansions = !svg_path.empty();
+  settings.compute_length_ratio = true;
+  const core::PlannerOptions options = core::make_options(*kind, settings);
+  if (const core::Status valid = core::validate(options); !valid.is_ok()) {
+    std::fprintf(stderr, "%s\n", valid.message.c_str());  // names the option at fault
     return kBadInput;
   }
   auto grid = load_map(map_path, slice);
@@ -153,9 +201,6 @@ int main(int argc, char** argv) {
       return kBadInput;
     }
 
-  core::PlannerOptions options = core::default_options(*kind);
-  options.record_expansions = !svg_path.empty();
-  options.compute_length_ratio = true;
   const core::PlanQuery query{*start_cell, *goal_cell};
   core::Planner planner(map);
   const core::PlanResult result = planner.plan(query, options);

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -109,6 +110,28 @@ std::string without_leading_slash(const std::string& name) {
   return !name.empty() && name[0] == '/' ? name.substr(1) : name;
 }
 
+// A getter's target is a plain field (an absent key keeps its value) or an optional setting
+// (an absent key leaves it unset); value_of<Out> is what the check reads either way.
+template <class T>
+struct ValueOf {
+  using type = T;
+};
+template <class T>
+struct ValueOf<std::optional<T>> {
+  using type = T;
+};
+template <class Out>
+using value_of = typename ValueOf<Out>::type;
+
+template <class T>
+T current(const T& out) {
+  return out;
+}
+template <class T>
+T current(const std::optional<T>& out) {
+  return out.value_or(T{});
+}
+
 class Section {
  public:
   // `node` may be absent or null (an empty section); `path` is its dotted key ("" at the top).
@@ -132,14 +155,14 @@ class Section {
     return Section(node ? *node : YAML::Node(), key_path(key), *errors_);
   }
 
-  // Every getter: an absent key keeps `out` and returns true. Otherwise `check(node, value)`
-  // returns "" and sets `value` when the node is acceptable, else what was expected; the error
-  // is recorded, `out` keeps its value and the getter returns false.
-  template <class T, class Check>
-  bool get(const std::string& key, T& out, Check check) {
+  // Every getter: an absent key keeps `out` (a std::optional stays unset) and returns true.
+  // Otherwise `check(node, value)` returns "" and sets `value` when the node is acceptable, else
+  // what was expected; the error is recorded, `out` keeps its value and the getter returns false.
+  template <class Out, class Check>
+  bool get(const std::string& key, Out& out, Check check) {
     const YAML::Node* node = find(key);
     if (!node) return true;
-    T value = out;
+    value_of<Out> value = current(out);
     const std::string expected = check(*node, value);
     if (expected.empty())
       out = std::move(value);
@@ -160,8 +183,8 @@ class Section {
   }
 
   // A finite number accepted by `in_range`; `expected` says what that is.
-  template <class InRange>
-  bool number(const std::string& key, double& out, const std::string& expected, InRange in_range) {
+  template <class Out, class InRange>
+  bool number(const std::string& key, Out& out, const std::string& expected, InRange in_range) {
     return get(key, out, [&](const YAML::Node& node, double& value) {
       const bool ok = node.IsScalar() && YAML::convert<double>::decode(node, value) &&
                       std::isfinite(value) && in_range(value);
@@ -169,7 +192,8 @@ class Section {
     });
   }
 
-  bool boolean(const std::string& key, bool& out) {
+  template <class Out>
+  bool boolean(const std::string& key, Out& out) {
     return get(key, out, [](const YAML::Node& node, bool& value) {
       const bool ok = node.IsScalar() && YAML::convert<bool>::decode(node, value);
       return std::string(ok ? "" : "true or false");
@@ -187,9 +211,10 @@ class Section {
   }
 
   // One of `names`; `parse` maps a name to the value (an optional).
-  template <class T, class Parse>
-  bool choice(const std::string& key, T& out, Parse parse, const std::vector<std::string>& names) {
-    return get(key, out, [&](const YAML::Node& node, T& value) {
+  template <class Out, class Parse>
+  bool choice(const std::string& key, Out& out, Parse parse,
+              const std::vector<std::string>& names) {
+    return get(key, out, [&](const YAML::Node& node, value_of<Out>& value) {
       if (auto parsed = node.IsScalar() ? parse(node.Scalar()) : std::nullopt) {
         value = *parsed;
         return std::string();
@@ -300,37 +325,39 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   map.integer("max_cells", c.map.max_cells, 1, 1LL << 28);
   map.finish();
 
-  // The chosen planner's paper defaults first, then every key the file gives.
+  // Every key the file gives becomes a setting; a key left out stays unset, so that it follows
+  // the paper configuration of whichever planner runs (the configured one or a request's).
   Section planner = top.child("planner");
-  core::PlannerKind kind = core::PlannerKind::kVnsBaStar;
+  core::PlannerKind& kind = c.planner.kind;
   std::vector<std::string> planner_names;
   for (core::PlannerKind k : core::all_planner_kinds()) planner_names.emplace_back(to_string(k));
   planner.choice("name", kind, core::planner_kind_from_string, planner_names);
-  core::PlannerOptions& p = c.planner;
-  p = default_planner_options(kind);
+  core::PlannerSettings& s = c.planner.settings;
   auto weight = [](double v) { return v >= 0.0 && v <= 1e6; };
-  const bool omega_ok = planner.number("omega", p.omega, "a number in [0, 1e6]", weight);
-  const bool eta_ok = planner.number("eta", p.eta, "a number in [0, 1e6]", weight);
-  if (kind == core::PlannerKind::kVnsBaStar && omega_ok && eta_ok && p.omega == 0.0 &&
-      p.eta == 0.0) {
+  const bool omega_ok = planner.number("omega", s.omega, "a number in [0, 1e6]", weight);
+  const bool eta_ok = planner.number("eta", s.eta, "a number in [0, 1e6]", weight);
+  const core::PlannerOptions weights = c.planner.options();
+  if (kind == core::PlannerKind::kVnsBaStar && omega_ok && eta_ok && weights.omega == 0.0 &&
+      weights.eta == 0.0) {
     errors.push_back("planner.omega, planner.eta: found both 0, expected at least one > 0 for " +
                      std::string(to_string(kind)) + " (its heuristic would vanish)");
   }
-  planner.choice("neighborhood", p.neighborhood, core::neighborhood_from_string,
+  planner.choice("neighborhood", s.neighborhood, core::neighborhood_from_string,
                  names_of({core::Neighborhood::kEight, core::Neighborhood::kEightElevenThirteen}));
-  planner.choice("corner_policy", p.corner_policy, core::corner_policy_from_string,
+  planner.choice("corner_policy", s.corner_policy, core::corner_policy_from_string,
                  names_of({core::CornerPolicy::kNever, core::CornerPolicy::kTouch,
                            core::CornerPolicy::kAlways}));
-  planner.boolean("prune", p.prune);
-  planner.boolean("smooth", p.smooth);
-  planner.number("smoothing_distance", p.smoothing_distance, "a finite number of cells > 0",
+  planner.boolean("prune", s.prune);
+  planner.boolean("smooth", s.smooth);
+  planner.number("smoothing_distance", s.smoothing_distance, "a finite number of cells > 0",
                  [](double v) { return v > 0.0; });
-  planner.number("sample_step", p.sample_step, "a number of cells in (0, 10]",
+  planner.number("sample_step", s.sample_step, "a number of cells in (0, 10]",
                  [](double v) { return v > 0.0 && v <= 10.0; });
-  double seconds = std::chrono::duration<double>(p.max_planning_time).count();
+  std::optional<double> seconds;
   planner.number("max_planning_time", seconds, "a number of seconds in [0, 3600] (0 = unlimited)",
                  [](double v) { return v >= 0.0 && v <= kMaxPlanningSeconds; });
-  p.max_planning_time = to_microseconds(seconds);
+  if (seconds) s.max_planning_time = to_microseconds(*seconds);
+  planner.boolean("compute_length_ratio", s.compute_length_ratio);
   planner.finish();
 
   Section requests = top.child("requests");
@@ -370,7 +397,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
 
   // Safety net: core's own checks must agree (they can only fire if core grows new rules).
   if (errors.empty()) {
-    if (core::Status s = core::validate(c.planner); !s.is_ok())
+    if (core::Status s = core::validate(c.planner.options()); !s.is_ok())
       errors.push_back("planner: " + s.message);
     const core::OccupancyGrid one_cell{1, 1, 1.0, 0.0, 0.0, {0}};
     if (core::Status s = core::validate(one_cell, c.map); !s.is_ok())

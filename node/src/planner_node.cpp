@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
@@ -62,10 +63,17 @@ struct Job {
   std::shared_ptr<Interruption> interruption = std::make_shared<Interruption>();
 };
 
+// A map as the worker plans on it. The map thread builds the planner with the grid, so that its
+// search arrays (both directions, tens of bytes per cell) are allocated before the map goes live,
+// not in the first plan on it (about 230 ms at 4096 x 4096, which would also delay that plan's
+// cancel). A plan holds its ActiveMap until it is answered: a plan in flight finishes on the
+// map, and the planner, it started with.
 struct ActiveMap {
   std::shared_ptr<const core::GridMap> grid;
   TimeMsg stamp;
-  uint64_t generation = 0;
+  // Used by the worker thread only (a Planner is not thread-safe). Null only after an internal
+  // error dropped it (see worker_loop); the worker then builds a fresh one.
+  mutable std::unique_ptr<core::Planner> planner;
 };
 
 std::string describe_world_bounds(const core::GridMap& map) {
@@ -123,8 +131,9 @@ class PlannerNode::Impl {
   void on_goal(PoseStampedMsg&& goal);
   void map_loop();
   void worker_loop();
-  void handle(Job& job, core::Planner*& planner, std::unique_ptr<core::Planner>& owned,
-              uint64_t& planner_generation);
+  // Plans one job; `map` is set to the map it plans on (the worker drops its planner when the
+  // plan throws).
+  void handle(Job& job, std::shared_ptr<const ActiveMap>& map);
   void publish_status(const std::string& id, const WireStatus& status, const std::string& planner,
                       const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path,
                       bool answers_request = true);
@@ -302,7 +311,6 @@ void PlannerNode::Impl::enqueue(Job job) {
 // Map thread.
 
 void PlannerNode::Impl::map_loop() {
-  uint64_t generation = 0;
   for (;;) {
     OccupancyGridMsg msg;
     {
@@ -322,20 +330,36 @@ void PlannerNode::Impl::map_loop() {
         auto active = std::make_shared<ActiveMap>();
         active->grid = std::make_shared<const core::GridMap>(std::move(built).value());
         active->stamp = stamp;
-        active->generation = ++generation;
-        const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-        spdlog::info("map accepted: {} x {} cells at {} m, {} blocked, ready in {:.1f} ms",
-                     active->grid->width(), active->grid->height(), active->grid->resolution(),
-                     active->grid->blocked_count(), ms);
-        {
-          std::lock_guard<std::mutex> lock(map_mutex_);
-          active_map_ = std::move(active);
+        try {
+          active->planner = std::make_unique<core::Planner>(active->grid);  // see ActiveMap
+        } catch (const std::exception& e) {
+          // Resource exhaustion, never bad input: refuse this map, keep planning on the last one.
+          status = {wire::INTERNAL_ERROR,
+                    "cannot allocate the search state of " + std::to_string(active->grid->width()) +
+                        " x " + std::to_string(active->grid->height()) + " cells: " + e.what()};
         }
-        map_cv_.notify_all();
-        ++maps_accepted_;
-        continue;
+        if (status.ok()) {
+          const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+          spdlog::info(
+              "map accepted: {} x {} cells at {} m, {} blocked, {:.1f} MB of search state, ready "
+              "in {:.1f} ms",
+              active->grid->width(), active->grid->height(), active->grid->resolution(),
+              active->grid->blocked_count(), active->planner->search_state_bytes() / 1e6, ms);
+          std::shared_ptr<const ActiveMap> previous;
+          {
+            std::lock_guard<std::mutex> lock(map_mutex_);
+            previous = std::exchange(active_map_, std::move(active));
+          }
+          map_cv_.notify_all();
+          ++maps_accepted_;
+          // The previous map and its planner go here, outside the lock, unless a plan still
+          // holds them (then when that plan is answered).
+          previous.reset();
+          continue;
+        }
+      } else {
+        status = {to_wire_code(built.error().code), built.error().message};
       }
-      status = {to_wire_code(built.error().code), built.error().message};
     }
     ++maps_rejected_;
     spdlog::error("map rejected ({}): {}; keeping the previous map", code_name(status.code),
@@ -372,9 +396,6 @@ void PlannerNode::Impl::publish_status(const std::string& id, const WireStatus& 
 }
 
 void PlannerNode::Impl::worker_loop() {
-  core::Planner* planner = nullptr;
-  std::unique_ptr<core::Planner> owned;
-  uint64_t planner_generation = 0;
   for (;;) {
     Job job;
     {
@@ -389,14 +410,14 @@ void PlannerNode::Impl::worker_loop() {
       }
       current_ = job.interruption;
     }
+    std::shared_ptr<const ActiveMap> map;
     try {
-      handle(job, planner, owned, planner_generation);
+      handle(job, map);
     } catch (const std::exception& e) {
       // A bug or resource exhaustion, never bad input: the request still gets its one status,
-      // the planner is rebuilt, and the node keeps serving.
+      // the planner is rebuilt (at the next plan on this map), and the node keeps serving.
       spdlog::critical("request '{}': internal error: {}", job.id, e.what());
-      owned.reset();
-      planner = nullptr;
+      if (map) map->planner.reset();
       publish_status(job.id, {wire::INTERNAL_ERROR, std::string("internal error: ") + e.what()}, "",
                      nullptr, TimeMsg(), PathMsg());
     }
@@ -405,9 +426,7 @@ void PlannerNode::Impl::worker_loop() {
   }
 }
 
-void PlannerNode::Impl::handle(Job& job, core::Planner*& planner,
-                               std::unique_ptr<core::Planner>& owned,
-                               uint64_t& planner_generation) {
+void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) {
   const auto t0 = Clock::now();
   auto reject = [&](uint8_t code, const std::string& message, const std::string& planner_name = "",
                     const TimeMsg& stamp = TimeMsg()) {
@@ -420,7 +439,6 @@ void PlannerNode::Impl::handle(Job& job, core::Planner*& planner,
     if (job.interruption->flag) interrupted = job.interruption->reason;
   }
   if (!interrupted.empty()) return reject(wire::CANCELED, interrupted);
-  std::shared_ptr<const ActiveMap> map;
   {
     std::lock_guard<std::mutex> lock(map_mutex_);
     map = active_map_;
@@ -430,28 +448,21 @@ void PlannerNode::Impl::handle(Job& job, core::Planner*& planner,
     return reject(wire::NO_MAP, "no map has been accepted yet (slices arrive on '" +
                                     dds_topic_name(cfg_, cfg_.topics.projected_map) + "')");
   }
-  core::PlannerOptions options = cfg_.planner;
+  core::PlannerKind kind = cfg_.planner.kind;
   if (!job.planner.empty()) {
-    const auto kind = core::planner_kind_from_string(job.planner);
-    if (!kind) {
+    const auto requested = core::planner_kind_from_string(job.planner);
+    if (!requested) {
       std::string known;
       for (core::PlannerKind k : core::all_planner_kinds())
         known += (known.empty() ? "" : ", ") + std::string(core::to_string(k));
       return reject(wire::INVALID_REQUEST,
                     "planner: unknown planner '" + job.planner + "' (known: " + known + ")");
     }
-    if (*kind != options.planner) {
-      // Another planner in its paper configuration, with the node's map-related settings.
-      core::PlannerOptions chosen = core::default_options(*kind);
-      chosen.corner_policy = options.corner_policy;
-      chosen.max_planning_time = options.max_planning_time;
-      chosen.smoothing_distance = options.smoothing_distance;
-      chosen.sample_step = options.sample_step;
-      chosen.omega = options.omega;
-      chosen.eta = options.eta;
-      options = chosen;
-    }
+    kind = *requested;
   }
+  // Every configured planner key, whichever planner runs; the rest is that planner's paper
+  // configuration.
+  core::PlannerOptions options = cfg_.planner.options(kind);
   const std::string planner_name(core::to_string(options.planner));
   if (!job.missing_start.empty())
     return reject(wire::INVALID_REQUEST, job.missing_start, planner_name);
@@ -476,15 +487,11 @@ void PlannerNode::Impl::handle(Job& job, core::Planner*& planner,
                   planner_name, map->stamp);
   }
 
-  if (planner == nullptr || planner_generation != map->generation) {
-    owned = std::make_unique<core::Planner>(map->grid);
-    planner = owned.get();
-    planner_generation = map->generation;
-  }
+  if (!map->planner) map->planner = std::make_unique<core::Planner>(map->grid);  // see worker_loop
   const bool debug = debug_wanted();
   options.record_expansions = debug;
   core::PlanResult result =
-      planner->plan({*start_cell, *goal_cell}, options, &job.interruption->flag);
+      map->planner->plan({*start_cell, *goal_cell}, options, &job.interruption->flag);
 
   WireStatus status{to_wire_code(result.status.code), result.status.message};
   if (result.status.code == core::StatusCode::kCanceled) {

@@ -48,7 +48,7 @@ inline node::NodeConfig test_config(const std::string& tag) {
                             &t.plan_status, &t.planner_debug, &t.octomap}) {
     *name = p + *name;
   }
-  cfg.planner.max_planning_time = std::chrono::seconds(10);
+  cfg.planner.settings.max_planning_time = std::chrono::seconds(10);
   return cfg;
 }
 

@@ -19,6 +19,7 @@ using std::chrono::microseconds;
 using vnsba::core::CornerPolicy;
 using vnsba::core::Neighborhood;
 using vnsba::core::PlannerKind;
+using vnsba::core::PlannerOptions;
 using vnsba::node::ConfigResult;
 using vnsba::node::dds_topic_name;
 using vnsba::node::DebugPublishing;
@@ -39,12 +40,27 @@ std::string ReadText(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// What a loaded config holds when the file gives no keys: the struct defaults, except the
-// planning-time budget, which the loader sets to 5 s (see config.hpp).
+// What a loaded config holds when the file gives no keys: the struct defaults (whose planner
+// settings hold the node's 5 s planning-time budget, see config.hpp).
 NodeConfig LoadedDefaults() {
   NodeConfig config;
-  config.planner.max_planning_time = std::chrono::seconds(5);
+  EXPECT_EQ(config.planner.options().max_planning_time, std::chrono::seconds(5));
   return config;
+}
+
+void ExpectSameOptions(const PlannerOptions& a, const PlannerOptions& b) {
+  EXPECT_EQ(a.planner, b.planner);
+  EXPECT_EQ(a.omega, b.omega);
+  EXPECT_EQ(a.eta, b.eta);
+  EXPECT_EQ(a.neighborhood, b.neighborhood);
+  EXPECT_EQ(a.corner_policy, b.corner_policy);
+  EXPECT_EQ(a.prune, b.prune);
+  EXPECT_EQ(a.smooth, b.smooth);
+  EXPECT_EQ(a.smoothing_distance, b.smoothing_distance);
+  EXPECT_EQ(a.sample_step, b.sample_step);
+  EXPECT_EQ(a.max_planning_time.count(), b.max_planning_time.count());
+  EXPECT_EQ(a.record_expansions, b.record_expansions);
+  EXPECT_EQ(a.compute_length_ratio, b.compute_length_ratio);
 }
 
 std::string Joined(const std::vector<std::string>& errors) {
@@ -82,18 +98,13 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.map.allow_unknown, b.map.allow_unknown);
   EXPECT_EQ(a.map.robot_radius, b.map.robot_radius);
   EXPECT_EQ(a.map.max_cells, b.map.max_cells);
-  EXPECT_EQ(a.planner.planner, b.planner.planner);
-  EXPECT_EQ(a.planner.omega, b.planner.omega);
-  EXPECT_EQ(a.planner.eta, b.planner.eta);
-  EXPECT_EQ(a.planner.neighborhood, b.planner.neighborhood);
-  EXPECT_EQ(a.planner.corner_policy, b.planner.corner_policy);
-  EXPECT_EQ(a.planner.prune, b.planner.prune);
-  EXPECT_EQ(a.planner.smooth, b.planner.smooth);
-  EXPECT_EQ(a.planner.smoothing_distance, b.planner.smoothing_distance);
-  EXPECT_EQ(a.planner.sample_step, b.planner.sample_step);
-  EXPECT_EQ(a.planner.max_planning_time.count(), b.planner.max_planning_time.count());
-  EXPECT_EQ(a.planner.record_expansions, b.planner.record_expansions);
-  EXPECT_EQ(a.planner.compute_length_ratio, b.planner.compute_length_ratio);
+  EXPECT_EQ(a.planner.kind, b.planner.kind);
+  // The same options for the configured planner and for every per-request override.
+  ExpectSameOptions(a.planner.options(), b.planner.options());
+  for (PlannerKind kind : vnsba::core::all_planner_kinds()) {
+    SCOPED_TRACE(std::string(vnsba::core::to_string(kind)));
+    ExpectSameOptions(a.planner.options(kind), b.planner.options(kind));
+  }
   EXPECT_EQ(a.preempt, b.preempt);
   EXPECT_EQ(a.queue_capacity, b.queue_capacity);
   EXPECT_EQ(a.debug, b.debug);
@@ -150,6 +161,7 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "smoothing_distance:",
                           "sample_step:",
                           "max_planning_time:",
+                          "compute_length_ratio:",
                           "requests:",
                           "preempt:",
                           "queue_capacity:",
@@ -173,10 +185,12 @@ TEST(Config, ChangingOnlyThePlannerNameInDefaultYamlGivesThatPlannersDefaults) {
   text.replace(at, from.size(), "name: astar");
   const ConfigResult result = parse_config(text, "default.yaml with astar");
   ASSERT_TRUE(result.config.has_value()) << Joined(result.errors);
-  EXPECT_EQ(result.config->planner.planner, PlannerKind::kAStar);
-  EXPECT_EQ(result.config->planner.neighborhood, Neighborhood::kEight);
-  EXPECT_FALSE(result.config->planner.prune);
-  EXPECT_FALSE(result.config->planner.smooth);
+  EXPECT_EQ(result.config->planner.kind, PlannerKind::kAStar);
+  ExpectSameOptions(result.config->planner.options(),
+                    vnsba::core::make_options(PlannerKind::kAStar, NodeConfig().planner.settings));
+  EXPECT_EQ(result.config->planner.options().neighborhood, Neighborhood::kEight);
+  EXPECT_FALSE(result.config->planner.options().prune);
+  EXPECT_FALSE(result.config->planner.options().smooth);
 }
 
 TEST(Config, EmptyFileGivesTheDefaults) {
@@ -214,16 +228,20 @@ TEST(Config, EveryKeyReachesItsField) {
   EXPECT_TRUE(c.map.allow_unknown);
   EXPECT_DOUBLE_EQ(c.map.robot_radius, 0.25);
   EXPECT_EQ(c.map.max_cells, 1000000);
-  EXPECT_EQ(c.planner.planner, PlannerKind::kBidirectionalAStar);
-  EXPECT_DOUBLE_EQ(c.planner.omega, 2.0);
-  EXPECT_DOUBLE_EQ(c.planner.eta, 0.0);
-  EXPECT_EQ(c.planner.neighborhood, Neighborhood::kEightElevenThirteen);
-  EXPECT_EQ(c.planner.corner_policy, CornerPolicy::kTouch);
-  EXPECT_TRUE(c.planner.prune);
-  EXPECT_TRUE(c.planner.smooth);
-  EXPECT_DOUBLE_EQ(c.planner.smoothing_distance, 2.5);
-  EXPECT_DOUBLE_EQ(c.planner.sample_step, 0.5);
-  EXPECT_EQ(c.planner.max_planning_time, microseconds(250000));
+  EXPECT_EQ(c.planner.kind, PlannerKind::kBidirectionalAStar);
+  const PlannerOptions p = c.planner.options();
+  EXPECT_EQ(p.planner, PlannerKind::kBidirectionalAStar);
+  EXPECT_DOUBLE_EQ(p.omega, 2.0);
+  EXPECT_DOUBLE_EQ(p.eta, 0.0);
+  EXPECT_EQ(p.neighborhood, Neighborhood::kEightElevenThirteen);
+  EXPECT_EQ(p.corner_policy, CornerPolicy::kTouch);
+  EXPECT_TRUE(p.prune);
+  EXPECT_TRUE(p.smooth);
+  EXPECT_DOUBLE_EQ(p.smoothing_distance, 2.5);
+  EXPECT_DOUBLE_EQ(p.sample_step, 0.5);
+  EXPECT_EQ(p.max_planning_time, microseconds(250000));
+  EXPECT_TRUE(p.compute_length_ratio);
+  EXPECT_FALSE(p.record_expansions);  // the node sets it per request (debug readers)
   EXPECT_FALSE(c.preempt);
   EXPECT_EQ(c.queue_capacity, 8);
   EXPECT_EQ(c.debug, DebugPublishing::kAlways);
@@ -278,7 +296,7 @@ TEST(Config, BoundaryValuesAreAccepted) {
   ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
   EXPECT_EQ(r.config->domain_id, 232);
   EXPECT_EQ(r.config->map.max_cells, int64_t{1} << 28);
-  EXPECT_EQ(r.config->planner.max_planning_time, std::chrono::hours(1));
+  EXPECT_EQ(r.config->planner.options().max_planning_time, std::chrono::hours(1));
 }
 
 TEST(Config, NonFiniteAndMalformedNumbersAreRejected) {
@@ -432,31 +450,31 @@ TEST(Config, ManyErrorsAreAllReportedAtOnce) {
 TEST(Config, PlannerDefaultsFollowTheChosenPlanner) {
   const ConfigResult vns = parse_config("planner:\n  omega: 1.0\n");
   ASSERT_TRUE(vns.config.has_value());
-  EXPECT_EQ(vns.config->planner.planner, PlannerKind::kVnsBaStar);
-  EXPECT_TRUE(vns.config->planner.prune);
-  EXPECT_TRUE(vns.config->planner.smooth);
-  EXPECT_EQ(vns.config->planner.neighborhood, Neighborhood::kEightElevenThirteen);
+  EXPECT_EQ(vns.config->planner.kind, PlannerKind::kVnsBaStar);
+  EXPECT_TRUE(vns.config->planner.options().prune);
+  EXPECT_TRUE(vns.config->planner.options().smooth);
+  EXPECT_EQ(vns.config->planner.options().neighborhood, Neighborhood::kEightElevenThirteen);
 
   const ConfigResult astar = parse_config("planner:\n  name: astar\n");
   ASSERT_TRUE(astar.config.has_value());
-  EXPECT_EQ(astar.config->planner.planner, PlannerKind::kAStar);
-  EXPECT_FALSE(astar.config->planner.prune);
-  EXPECT_FALSE(astar.config->planner.smooth);
-  EXPECT_EQ(astar.config->planner.neighborhood, Neighborhood::kEight);
-  EXPECT_EQ(astar.config->planner.max_planning_time, std::chrono::seconds(5));
+  EXPECT_EQ(astar.config->planner.kind, PlannerKind::kAStar);
+  EXPECT_FALSE(astar.config->planner.options().prune);
+  EXPECT_FALSE(astar.config->planner.options().smooth);
+  EXPECT_EQ(astar.config->planner.options().neighborhood, Neighborhood::kEight);
+  EXPECT_EQ(astar.config->planner.options().max_planning_time, std::chrono::seconds(5));
 
   // Keys given explicitly override the planner's defaults, wherever they appear in the block.
   const ConfigResult pruned = parse_config("planner:\n  prune: true\n  name: astar\n");
   ASSERT_TRUE(pruned.config.has_value());
-  EXPECT_TRUE(pruned.config->planner.prune);
-  EXPECT_FALSE(pruned.config->planner.smooth);
+  EXPECT_TRUE(pruned.config->planner.options().prune);
+  EXPECT_FALSE(pruned.config->planner.options().smooth);
 }
 
 TEST(Config, MaxPlanningTimeIsSecondsToMicroseconds) {
   auto budget = [](const std::string& value) {
     const ConfigResult r = parse_config("planner:\n  max_planning_time: " + value + "\n");
     EXPECT_TRUE(r.config.has_value()) << value << Joined(r.errors);
-    return r.config ? r.config->planner.max_planning_time : microseconds(-1);
+    return r.config ? r.config->planner.options().max_planning_time : microseconds(-1);
   };
   EXPECT_EQ(budget("0.25"), microseconds(250000));
   EXPECT_EQ(budget("2"), microseconds(2000000));
@@ -464,12 +482,82 @@ TEST(Config, MaxPlanningTimeIsSecondsToMicroseconds) {
   EXPECT_EQ(budget("0.0000015"), microseconds(2));
   EXPECT_EQ(budget("1e-9"), microseconds(1));  // never rounds down to "unlimited"
   // Absent key, or absent planner block: 5 s.
-  EXPECT_EQ(parse_config("planner: {name: astar}\n").config->planner.max_planning_time,
+  EXPECT_EQ(parse_config("planner: {name: astar}\n").config->planner.options().max_planning_time,
             std::chrono::seconds(5));
-  EXPECT_EQ(parse_config("domain_id: 3\n").config->planner.max_planning_time,
+  EXPECT_EQ(parse_config("domain_id: 3\n").config->planner.options().max_planning_time,
             std::chrono::seconds(5));
   EXPECT_TRUE(
       HasError(parse_config("planner: {max_planning_time: -1}\n"), "planner.max_planning_time"));
+}
+
+// A request that picks another planner gets PlannerConfig::options(its planner), as the node's
+// worker builds it: every planner key the file gave is kept, whatever its value and whichever
+// planner the file named, and only the keys the file left out follow the chosen planner's paper
+// configuration.
+TEST(Config, PlannerOverrideKeepsEveryConfiguredKey) {
+  // The planner-dependent keys once with the baselines' paper values and once with VNS-BA*'s,
+  // so that each configured value differs from some override's paper configuration.
+  for (const bool vns_values : {false, true}) {
+    for (PlannerKind configured : vnsba::core::all_planner_kinds()) {
+      const std::string yaml =
+          "planner:\n  name: " + std::string(vnsba::core::to_string(configured)) +
+          "\n  omega: 2\n  eta: 3\n  neighborhood: \"" + (vns_values ? "8-11-13" : "8") +
+          "\"\n  corner_policy: always\n" + "  prune: " + (vns_values ? "true" : "false") +
+          "\n  smooth: " + (vns_values ? "true" : "false") +
+          "\n  smoothing_distance: 2.5\n  sample_step: 0.5\n"
+          "  max_planning_time: 0.25\n  compute_length_ratio: true\n";
+      const ConfigResult r = parse_config(yaml);
+      ASSERT_TRUE(r.config.has_value()) << yaml << Joined(r.errors);
+      EXPECT_EQ(r.config->planner.kind, configured);
+      for (PlannerKind kind : vnsba::core::all_planner_kinds()) {
+        SCOPED_TRACE(yaml + "override: " + std::string(vnsba::core::to_string(kind)));
+        const PlannerOptions o = r.config->planner.options(kind);
+        EXPECT_EQ(o.planner, kind);
+        EXPECT_EQ(o.omega, 2.0);
+        EXPECT_EQ(o.eta, 3.0);
+        EXPECT_EQ(o.neighborhood,
+                  vns_values ? Neighborhood::kEightElevenThirteen : Neighborhood::kEight);
+        EXPECT_EQ(o.corner_policy, CornerPolicy::kAlways);
+        EXPECT_EQ(o.prune, vns_values);
+        EXPECT_EQ(o.smooth, vns_values);
+        EXPECT_EQ(o.smoothing_distance, 2.5);
+        EXPECT_EQ(o.sample_step, 0.5);
+        EXPECT_EQ(o.max_planning_time, microseconds(250000));
+        EXPECT_TRUE(o.compute_length_ratio);
+        EXPECT_FALSE(o.record_expansions);  // not a config key: the node sets it per request
+        EXPECT_TRUE(vnsba::core::validate(o).is_ok()) << vnsba::core::validate(o).message;
+      }
+    }
+  }
+}
+
+TEST(Config, PlannerOverrideTakesTheKeysLeftOutFromTheChosenPlanner) {
+  const ConfigResult r = parse_config(
+      "planner:\n  name: astar\n  prune: false\n"
+      "  corner_policy: touch\n");
+  ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
+  for (PlannerKind kind : vnsba::core::all_planner_kinds()) {
+    SCOPED_TRACE(std::string(vnsba::core::to_string(kind)));
+    PlannerOptions expected = vnsba::core::default_options(kind);
+    expected.prune = false;                                // configured
+    expected.corner_policy = CornerPolicy::kTouch;         // configured
+    expected.max_planning_time = std::chrono::seconds(5);  // the node's default budget
+    ExpectSameOptions(r.config->planner.options(kind), expected);
+  }
+  // So VNS-BA* as an override still smooths with its 8-11-13 neighbourhood, but does not prune.
+  const PlannerOptions vns = r.config->planner.options(PlannerKind::kVnsBaStar);
+  EXPECT_EQ(vns.neighborhood, Neighborhood::kEightElevenThirteen);
+  EXPECT_TRUE(vns.smooth);
+  EXPECT_FALSE(vns.prune);
+}
+
+TEST(Config, ComputeLengthRatioIsOffUnlessConfigured) {
+  EXPECT_FALSE(parse_config("").config->planner.options().compute_length_ratio);
+  EXPECT_TRUE(parse_config("planner: {compute_length_ratio: true}\n")
+                  .config->planner.options(PlannerKind::kAStar)
+                  .compute_length_ratio);
+  EXPECT_TRUE(HasError(parse_config("planner: {compute_length_ratio: 1.5}\n"),
+                       "planner.compute_length_ratio", {"\"1.5\"", "true or false"}));
 }
 
 TEST(Config, DdsTopicName) {

@@ -117,7 +117,7 @@ TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
     auto map = std::make_shared<const core::GridMap>(
         core::GridMap::build(received, run.config.map).value());
     core::PlannerOptions options = core::default_options(kind);
-    options.corner_policy = run.config.planner.corner_policy;
+    options.corner_policy = run.config.planner.options().corner_policy;
     const core::PlanResult expected = core::plan_once(map, {{1, 1}, {12, 6}}, options);
     ASSERT_TRUE(expected.status.is_ok());
     const auto& poses = status->path().poses();
@@ -143,6 +143,62 @@ TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
     EXPECT_FALSE(d.expanded_forward().empty()) << d.request_id();
     EXPECT_FALSE(d.raw_path().empty());
     EXPECT_EQ(d.info().width(), 20u);
+  }
+}
+
+// planner.compute_length_ratio: true puts final length / the optimal A* cost into every status
+// (the node runs a second, optimal A* search after each plan); off, the default, it is NaN.
+TEST(NodeIntegration, LengthRatioIsFilledOnlyWhenConfigured) {
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  const core::Cell start{1, 1}, goal{12, 6};
+  const auto [sx, sy] = centre(grid, start.x, start.y);
+  const auto [gx, gy] = centre(grid, goal.x, goal.y);
+  for (const bool on : {true, false}) {
+    SCOPED_TRACE(on ? "compute_length_ratio: true" : "compute_length_ratio: false");
+    const node::NodeConfig bus = test_config(on ? "ratio_on" : "ratio_off");
+    const node::ConfigResult parsed = node::parse_config(
+        config_yaml(bus) + "planner:\n  compute_length_ratio: " + (on ? "true" : "false") + "\n");
+    ASSERT_TRUE(parsed.config.has_value()) << parsed.errors.front();
+    Running run(*parsed.config);
+    ASSERT_TRUE(run.start());
+    run.client.publish_slice(grid);
+    ASSERT_TRUE(run.node.wait_for_map(10s));
+
+    // The optimum, computed here: core's A* on the grid as the node receives it.
+    const core::OccupancyGrid received =
+        node::from_slice_msg(node::to_slice_msg(grid, "map", node::now_msg()), "map",
+                             run.config.map.max_cells)
+            .grid;
+    auto map = std::make_shared<const core::GridMap>(
+        core::GridMap::build(received, run.config.map).value());
+    const core::PlanResult best =
+        core::plan_once(map, {start, goal}, core::default_options(core::PlannerKind::kAStar));
+    ASSERT_TRUE(best.status.is_ok()) << best.status.message;
+    const double optimum = best.metrics.raw_cost_cells;
+    ASSERT_GT(optimum, 0.0);
+
+    for (core::PlannerKind kind : core::all_planner_kinds()) {
+      const std::string id = std::string(on ? "on-" : "off-") + std::string(core::to_string(kind));
+      run.client.publish_request(id, sx, sy, gx, gy, std::string(core::to_string(kind)));
+      const auto status = run.client.wait_status(id);
+      ASSERT_TRUE(status) << id;
+      ASSERT_EQ(status->code(), wire::OK) << id << ": " << status->message();
+      const double ratio = status->length_ratio();
+      if (!on) {
+        EXPECT_TRUE(std::isnan(ratio)) << id << ": " << ratio;
+        continue;
+      }
+      ASSERT_TRUE(std::isfinite(ratio)) << id;
+      EXPECT_NEAR(ratio, status->length_cells() / optimum, 1e-9) << id;
+      if (kind != core::PlannerKind::kVnsBaStar) {
+        // A grid path (no pruning or smoothing) is never shorter than the optimal one.
+        EXPECT_GE(ratio, 1.0 - 1e-9) << id;
+      } else {
+        // Pruning and smoothing leave the 8-connected grid, so VNS-BA* may beat A*'s cost,
+        // but never the straight line.
+        EXPECT_GE(ratio, std::hypot(goal.x - start.x, goal.y - start.y) / optimum - 1e-9) << id;
+      }
+    }
   }
 }
 
@@ -174,8 +230,8 @@ TEST(NodeIntegration, GoalPoseUsesTheLatestRobotPose) {
 
 TEST(NodeIntegration, NewerRequestPreemptsThePlanInProgress) {
   node::NodeConfig cfg = test_config("preempt");
-  cfg.planner = core::default_options(core::PlannerKind::kAStar);
-  cfg.planner.max_planning_time = std::chrono::seconds(60);
+  cfg.planner.kind = core::PlannerKind::kAStar;
+  cfg.planner.settings.max_planning_time = std::chrono::seconds(60);
   Running run(cfg);
   ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = detour_grid(1500);
@@ -198,7 +254,7 @@ TEST(NodeIntegration, NewerRequestPreemptsThePlanInProgress) {
 
 TEST(NodeIntegration, TinyTimeBudgetOnAHugeMapTimesOut) {
   node::NodeConfig cfg = test_config("timeout");
-  cfg.planner.max_planning_time = std::chrono::microseconds(200);
+  cfg.planner.settings.max_planning_time = std::chrono::microseconds(200);
   Running run(cfg);
   ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = detour_grid(1500);

@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 #include <tinyxml2.h>
 
+#include <cstdio>
 #include <fstream>
+#include <memory>
 
 #include "node/child_process.hpp"
 #include "svg_test_support.hpp"
+#include "vnsba/core/map_io.hpp"
+#include "vnsba/core/planner.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -38,6 +42,65 @@ TEST(VnsbaPlan, CellsAndOtherPlanners) {
       kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--planner", "astar"});
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("astar OK"), std::string::npos) << output;
+}
+
+// The planner flags become core::make_options(--planner, the flags given): the tool plans what
+// core plans with those settings, and a flag left out follows the chosen planner's paper
+// configuration.
+TEST(VnsbaPlan, PlannerFlagsAreSettingsOnTopOfThePlannersPaperConfiguration) {
+  auto map = std::make_shared<const core::GridMap>(
+      core::GridMap::build(core::load_movingai_map(kRooms).value()).value());
+  const core::PlanQuery query{{2, 2}, {29, 13}};
+  auto printed = [&](core::PlannerKind kind, const core::PlannerSettings& settings) {
+    const core::PlanResult r = core::plan_once(map, query, core::make_options(kind, settings));
+    EXPECT_TRUE(r.status.is_ok()) << r.status.message;
+    char line[160];
+    std::snprintf(line, sizeof line,
+                  "%s OK length_m=%.3f turns=%d turn_angle_deg=%.1f expanded=%lld",
+                  std::string(core::to_string(kind)).c_str(), r.metrics.length_m, r.metrics.turns,
+                  r.metrics.turn_angle_deg, static_cast<long long>(r.metrics.expanded));
+    return std::string(line);
+  };
+  struct Case {
+    std::vector<std::string> flags;
+    core::PlannerKind kind;
+    core::PlannerSettings settings;
+  };
+  std::vector<Case> cases(6);
+  cases[0] = {{}, core::PlannerKind::kVnsBaStar, {}};
+  cases[1] = {{"--no-prune", "--no-smooth"}, core::PlannerKind::kVnsBaStar, {}};
+  cases[1].settings.prune = cases[1].settings.smooth = false;
+  cases[2] = {{"--no-prune"}, core::PlannerKind::kVnsBaStar, {}};
+  cases[2].settings.prune = false;
+  cases[3] = {{"--planner", "astar", "--prune", "--smooth"}, core::PlannerKind::kAStar, {}};
+  cases[3].settings.prune = cases[3].settings.smooth = true;
+  cases[4] = {{"--planner", "astar", "--neighborhood", "8-11-13", "--corner-policy", "touch"},
+              core::PlannerKind::kAStar,
+              {}};
+  cases[4].settings.neighborhood = core::Neighborhood::kEightElevenThirteen;
+  cases[4].settings.corner_policy = core::CornerPolicy::kTouch;
+  cases[5] = {{"--omega", "1", "--eta", "0"}, core::PlannerKind::kVnsBaStar, {}};
+  cases[5].settings.omega = 1.0;
+  cases[5].settings.eta = 0.0;
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13"};
+    std::string flags;
+    for (const std::string& f : c.flags) {
+      args.push_back(f);
+      flags += f + " ";
+    }
+    SCOPED_TRACE(flags);
+    const std::string expected = printed(c.kind, c.settings);
+    // Each case plans differently from its planner's paper configuration, so a dropped flag
+    // shows.
+    if (!c.flags.empty()) {
+      EXPECT_NE(expected, printed(c.kind, {}));
+    }
+    const auto [code, output] = run_to_exit(kPlan, args);
+    ASSERT_EQ(code, 0) << output;
+    EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n"
+                                                        << output;
+  }
 }
 
 TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
@@ -89,6 +152,13 @@ TEST(VnsbaPlan, BadInputExitsTwoNamingTheOption) {
            Case{
                {kRooms, "--start", "2", "2", "--goal", "3", "3", "--svg", "/nonexistent-dir/x.svg"},
                "--svg"},
+           Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--neighborhood", "4"},
+                "--neighborhood"},
+           Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--corner-policy", "sometimes"},
+                "--corner-policy"},
+           Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--omega", "-1"}, "--omega"},
+           Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--omega", "0", "--eta", "0"},
+                "omega and eta"},
        }) {
     const auto [code, output] = run_to_exit(kPlan, c.args);
     EXPECT_EQ(code, 2) << output;

@@ -44,11 +44,12 @@ const char* config_name(Config config) {
   return "?";
 }
 
-core::PlannerOptions options_for(PlannerKind kind, Config config) {
-  core::PlannerOptions options = core::default_options(kind);
-  if (config == Config::kPostProcessed) options.prune = options.smooth = true;
-  if (config == Config::kSearchOnly) options.prune = options.smooth = false;
-  return options;
+// What a configuration sets; the rest is the planner's paper configuration (core::make_options).
+core::PlannerSettings settings_for(Config config) {
+  core::PlannerSettings settings;
+  if (config == Config::kPostProcessed) settings.prune = settings.smooth = true;
+  if (config == Config::kSearchOnly) settings.prune = settings.smooth = false;
+  return settings;
 }
 
 struct Row {
@@ -140,11 +141,11 @@ int run_paper(const PaperOptions& options) {
       configs.push_back(kind == PlannerKind::kVnsBaStar ? Config::kSearchOnly
                                                         : Config::kPostProcessed);
       for (const Config config : configs) {
-        core::PlannerOptions plan_options = options_for(kind, config);
+        core::PlannerSettings measured = settings_for(config);
+        measured.record_expansions = config == Config::kPaper;  // for the figures
+        measured.compute_length_ratio = true;
         Row row{paper_map.name, kind, config, {}, NAN};
-        plan_options.record_expansions = config == Config::kPaper;
-        plan_options.compute_length_ratio = true;
-        row.result = planner.plan(query, plan_options);
+        row.result = planner.plan(query, core::make_options(kind, measured));
         if (!row.result.status.is_ok()) {
           all_ok = false;
           std::fprintf(stderr, "\n%s on map %s (%s): %s: %s\n",
@@ -153,8 +154,8 @@ int run_paper(const PaperOptions& options) {
                        std::string(core::to_string(row.result.status.code)).c_str(),
                        row.result.status.message.c_str());
         } else {
-          row.time_us =
-              median_plan_time_us(planner, query, options_for(kind, config), options.repetitions);
+          row.time_us = median_plan_time_us(
+              planner, query, core::make_options(kind, settings_for(config)), options.repetitions);
         }
         if (config == Config::kPaper) {
           render::RunPicture picture = render::picture_of(picture_map, query, row.result);

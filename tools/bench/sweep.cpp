@@ -115,9 +115,11 @@ int run_sweep(const SweepOptions& options) {
                              Grid(kSteps, std::vector<double>(kSteps, NAN)));
     for (int o = 0; o < kSteps; ++o) {
       for (int e = 0; e < kSteps; ++e) {
-        core::PlannerOptions plan_options = core::default_options(core::PlannerKind::kVnsBaStar);
-        plan_options.omega = weight(o);
-        plan_options.eta = weight(e);
+        core::PlannerSettings settings;
+        settings.omega = weight(o);
+        settings.eta = weight(e);
+        const core::PlannerOptions plan_options =
+            core::make_options(core::PlannerKind::kVnsBaStar, settings);
         const core::PlanResult r = planner.plan(query, plan_options);
         char line[256];
         if (!r.status.is_ok()) {

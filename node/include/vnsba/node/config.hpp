@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "vnsba/core/grid_map.hpp"
-#include "vnsba/core/planner.hpp"
+#include "vnsba/core/planner_options.hpp"
 
 namespace vnsba::node {
 
@@ -53,11 +53,27 @@ inline core::GridBuildOptions default_map_options() {
   return options;
 }
 
-inline core::PlannerOptions default_planner_options(core::PlannerKind kind) {
-  core::PlannerOptions options = core::default_options(kind);
-  options.max_planning_time = kDefaultMaxPlanningTime;
-  return options;
-}
+// The planner.* keys. A key the file gives is a setting; a key it leaves out stays unset and
+// follows the paper configuration (core::default_options) of whichever planner runs. The options
+// of a request are make_options(the request's planner, or `kind`, settings), so a request that
+// picks another planner keeps every configured key. A NodeConfig starts with the node's own
+// defaults as settings (max_planning_time = 5 s), which hold for every planner too.
+struct PlannerConfig {
+  core::PlannerKind kind = core::PlannerKind::kVnsBaStar;  // planner.name
+  core::PlannerSettings settings = default_settings();     // every other planner.* key
+
+  // The options of a run with the configured planner, or with `override_kind`.
+  core::PlannerOptions options() const { return core::make_options(kind, settings); }
+  core::PlannerOptions options(core::PlannerKind override_kind) const {
+    return core::make_options(override_kind, settings);
+  }
+
+  static core::PlannerSettings default_settings() {
+    core::PlannerSettings s;
+    s.max_planning_time = kDefaultMaxPlanningTime;
+    return s;
+  }
+};
 
 struct NodeConfig {
   int domain_id = 0;             // DDS domain, 0..232 (the --domain flag overrides it)
@@ -69,11 +85,9 @@ struct NodeConfig {
   // robot_radius in metres, max_cells as the size limit of an accepted slice).
   core::GridBuildOptions map = default_map_options();
 
-  // The planner and its options; max_planning_time is read in seconds (0 = unlimited).
-  // load_config() / parse_config() start from core::default_options(planner.name) (the paper's
-  // configuration of that planner) with max_planning_time = 5 s, then apply every planner key
-  // the file gives. A default-constructed NodeConfig keeps core's 0 (unlimited) instead.
-  core::PlannerOptions planner = default_planner_options(core::PlannerKind::kVnsBaStar);
+  // The planner and what the file configured of its options (max_planning_time is read in
+  // seconds, 0 = unlimited; compute_length_ratio costs a second, optimal A* search per plan).
+  PlannerConfig planner;
 
   bool preempt = true;      // a newer request cancels the one being planned (Nav2-like)
   int queue_capacity = 64;  // requests waiting to be planned when preempt is false, 1..100000

@@ -1,14 +1,17 @@
 // vnsba_node's runtime: one participant, a map thread and one planning worker.
 //
 //   slice --listener--> newest-slice slot --map thread--> validate, convert, build (threshold,
-//                                                          inflation, density table), swap in
-//   plan_request / goal_pose --listener--> bounded queue --worker--> core::Planner -->
+//                                                          inflation, density table, the map's
+//                                                          core::Planner), swap in
+//   plan_request / goal_pose --listener--> bounded queue --worker--> the map's core::Planner -->
 //                                                          plan, plan_status, planner_debug
 //
-// Listeners never plan and never convert maps. A new map is swapped in atomically; a plan in
-// flight finishes on the map it started with. Every request gets exactly one PlanStatus: planned,
-// rejected as malformed, preempted (CANCELED), refused because the queue is full (CANCELED), or
-// drained at shutdown (CANCELED). A rejected map gets a PlanStatus with an empty request_id.
+// Listeners never plan and never convert maps. A new map is swapped in atomically, with its
+// planner's search arrays already allocated (so the first plan on it is as fast, and as quick to
+// cancel, as the next); a plan in flight finishes on the map and planner it started with. Every
+// request gets exactly one PlanStatus: planned, rejected as malformed, preempted (CANCELED),
+// refused because the queue is full (CANCELED), or drained at shutdown (CANCELED). A rejected map
+// gets a PlanStatus with an empty request_id.
 #pragma once
 
 #include <chrono>
