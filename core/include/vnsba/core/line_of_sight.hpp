@@ -126,7 +126,7 @@ inline bool line_of_sight_in_map(const GridMap& map, const Cell& a, const Cell& 
                                  int64_t blocked_between, CornerPolicy policy) {
   if (blocked_between == 0) return true;
   if (a.x == b.x || a.y == b.y) return false;
-  return detail::line_of_sight_centres_scalar(map, a, b, policy);
+  return detail::centre_segment_clear(map, a, b, policy);
 }
 
 inline bool line_of_sight(const GridMap& map, const Cell& a, const Cell& b, CornerPolicy policy) {
