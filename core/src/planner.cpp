@@ -13,6 +13,7 @@ namespace vnsba::core {
 
 namespace {
 
+using detail::CellStates;
 using detail::SearchSpace;
 using Clock = PlanningBudget::Clock;
 
@@ -75,10 +76,10 @@ std::vector<Cell> trace(const GridMap& map, const SearchSpace& space, uint32_t n
 // h is evaluated anew against the opposite current node of this moment). Closed nodes are
 // skipped by the caller.
 template <class Heuristic>
-inline void relax(SearchSpace& space, uint32_t n, uint32_t m, const Cell& m_cell, double cost,
-                  const Heuristic& h) {
+inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, uint32_t m,
+                  const Cell& m_cell, double cost, const Heuristic& h) {
   const double g = space.g(n) + cost;
-  if (!space.seen(m)) {
+  if ((m_flags & space.seen_flag()) == 0) {
     space.push(m, g, g + h(m_cell), n);
   } else if (g < space.g(m)) {
     space.update(m, g, g + h(m_cell), n);
@@ -87,10 +88,11 @@ inline void relax(SearchSpace& space, uint32_t n, uint32_t m, const Cell& m_cell
 
 // A unidirectional best-first search from start to goal; the neighbourhood's guide is the goal.
 template <class Heuristic>
-SearchOutcome search_unidirectional(const GridMap& map, SearchSpace& space, const Cell& start,
+SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& start,
                                     const Cell& goal, const Heuristic& h, const SearchConfig& cfg,
                                     PlanningBudget& budget, std::vector<Cell>* expanded_cells) {
   SearchOutcome out;
+  states.begin_query(map.padded_size());
   space.begin_query(map.padded_size());
   const uint32_t goal_index = map.padded_index(goal);
   const int32_t stride = map.stride();
@@ -111,7 +113,9 @@ SearchOutcome search_unidirectional(const GridMap& map, SearchSpace& space, cons
     }
     for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
       const uint32_t m = n + dy * stride + dx;
-      if (!space.closed(m)) relax(space, n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
+      const uint16_t flags = states.flags(m);
+      if ((flags & space.closed_flag()) == 0)
+        relax(space, flags, n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
     });
   }
   return out;
@@ -137,7 +141,8 @@ enum class MeetingRule {
 // pointers, and which guide each search's 8-11-13 neighbourhood (ALGORITHM.md section 2: the
 // guide of a bidirectional search is the opposite search's current node, for every planner).
 template <class ForwardH, class BackwardH>
-SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, SearchSpace& backward,
+SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, SearchSpace& forward,
+                                   SearchSpace& backward,
                                    const Cell& start, const Cell& goal, Cell (&current)[2],
                                    const ForwardH& h_forward, const BackwardH& h_backward,
                                    MeetingRule rule, const SearchConfig& cfg,
@@ -147,6 +152,7 @@ SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, Sea
   const int32_t stride = map.stride();
   current[0] = start;
   current[1] = goal;
+  states.begin_query(map.padded_size());
   forward.begin_query(map.padded_size());
   backward.begin_query(map.padded_size());
   forward.push(map.padded_index(start), 0.0, h_forward(start), SearchSpace::kNoParent);
@@ -167,7 +173,7 @@ SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, Sea
   };
 
   // One expansion of side `s` (0 forward, 1 backward). Returns true when the search is over.
-  auto step = [&](int s, SearchSpace& self, const SearchSpace& other, const auto& h,
+  auto step = [&](int s, SearchSpace& self, const auto& h,
                   std::vector<Cell>* record) -> bool {
     if (self.empty()) {
       out.code = StatusCode::kNoValidPath;
@@ -178,7 +184,7 @@ SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, Sea
     const Cell nc = map.cell_of(n);
     current[s] = nc;
     if (cfg.record) record->push_back(nc);
-    if (other.closed(n)) {
+    if (self.closed_by_other(n)) {
       out.meeting = nc;
       join(s == 0, n, n);
       return true;
@@ -187,15 +193,17 @@ SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, Sea
     bool met = false;
     for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
       const uint32_t m = n + dy * stride + dx;
-      if (met || self.closed(m)) return;
+      if (met) return;
+      const uint16_t flags = states.flags(m);
+      if ((flags & self.closed_flag()) != 0) return;
       const Cell mc{nc.x + dx, nc.y + dy};
-      if (rule == MeetingRule::kGenerateClosedByOther && other.closed(m)) {
+      if (rule == MeetingRule::kGenerateClosedByOther && (flags & self.other_closed_flag()) != 0) {
         out.meeting = mc;
         join(s == 0, n, m);
         met = true;
         return;
       }
-      relax(self, n, m, mc, cost, h);
+      relax(self, flags, n, m, mc, cost, h);
     });
     return met;
   };
@@ -205,8 +213,8 @@ SearchOutcome search_bidirectional(const GridMap& map, SearchSpace& forward, Sea
       out.code = code;
       return out;
     }
-    if (step(0, forward, backward, h_forward, expanded_forward)) return out;
-    if (step(1, backward, forward, h_backward, expanded_backward)) return out;
+    if (step(0, forward, h_forward, expanded_forward)) return out;
+    if (step(1, backward, h_backward, expanded_backward)) return out;
   }
 }
 
@@ -220,8 +228,9 @@ std::string describe(const Cell& c) {
 // Planner.
 
 struct Planner::Impl {
-  SearchSpace forward;
-  SearchSpace backward;
+  CellStates states;
+  SearchSpace forward{&states, 0};
+  SearchSpace backward{&states, 1};
   size_t peak_direction_bytes = 0;
   Cell current[2];
 
@@ -234,20 +243,20 @@ struct Planner::Impl {
     const SearchConfig cfg{o.neighborhood, o.corner_policy, o.record_expansions};
     switch (o.planner) {
       case PlannerKind::kAStar:
-        return search_unidirectional(map, forward, q.start, q.goal, OctileHeuristic{&q.goal}, cfg,
+        return search_unidirectional(map, states, forward, q.start, q.goal, OctileHeuristic{&q.goal}, cfg,
                                      budget, rec_f);
       case PlannerKind::kWeightedAStar: {
         const DensityWeightedHeuristic h{&map, &q.goal, q.goal, 1.0, 0.0, o.corner_policy};
-        return search_unidirectional(map, forward, q.start, q.goal, h, cfg, budget, rec_f);
+        return search_unidirectional(map, states, forward, q.start, q.goal, h, cfg, budget, rec_f);
       }
       case PlannerKind::kBidirectionalAStar:
-        return search_bidirectional(map, forward, backward, q.start, q.goal, current,
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current,
                                     OctileHeuristic{&q.goal}, OctileHeuristic{&q.start},
                                     MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
       case PlannerKind::kAlternatingBidirectionalAStar: {
         const DensityWeightedHeuristic hf{&map, &current[1], q.goal, 1.0, 0.0, o.corner_policy};
         const DensityWeightedHeuristic hb{&map, &current[0], q.start, 1.0, 0.0, o.corner_policy};
-        return search_bidirectional(map, forward, backward, q.start, q.goal, current, hf, hb,
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf, hb,
                                     MeetingRule::kCloseClosedByOther, cfg, budget, rec_f, rec_b);
       }
       case PlannerKind::kVnsBaStar: {
@@ -255,7 +264,7 @@ struct Planner::Impl {
                                           o.omega, o.eta,       o.corner_policy};
         const DensityWeightedHeuristic hb{&map,    &current[0], q.start,
                                           o.omega, o.eta,       o.corner_policy};
-        return search_bidirectional(map, forward, backward, q.start, q.goal, current, hf, hb,
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf, hb,
                                     MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
       }
     }
@@ -268,6 +277,7 @@ struct Planner::Impl {
 Planner::Planner(std::shared_ptr<const GridMap> map)
     : map_(std::move(map)), impl_(std::make_unique<Impl>()) {
   if (map_) {
+    impl_->states.allocate(map_->padded_size());
     impl_->forward.allocate(map_->padded_size());
     impl_->backward.allocate(map_->padded_size());
     impl_->note_peak();
@@ -278,7 +288,7 @@ Planner::Planner(Planner&&) noexcept = default;
 Planner& Planner::operator=(Planner&&) noexcept = default;
 
 size_t Planner::search_state_bytes() const {
-  return impl_->forward.bytes() + impl_->backward.bytes();
+  return impl_->states.bytes() + impl_->forward.bytes() + impl_->backward.bytes();
 }
 
 double Planner::peak_bytes_per_cell_per_direction() const {

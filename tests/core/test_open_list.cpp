@@ -15,11 +15,22 @@
 namespace vnsba::test {
 namespace {
 
+using core::detail::CellStates;
 using core::detail::SearchSpace;
 
+// One search space over `cells` cells with its cell states, at the start of a query.
+struct OneSearch {
+  explicit OneSearch(size_t cells) {
+    states.begin_query(cells);
+    space.begin_query(cells);
+  }
+  CellStates states;
+  SearchSpace space{&states, 0};
+};
+
 TEST(OpenList, ARisingKeySinksBelowTheOthers) {
-  SearchSpace space;
-  space.begin_query(16);
+  OneSearch search(16);
+  SearchSpace& space = search.space;
   space.push(1, 0.0, 1.0, SearchSpace::kNoParent);
   space.push(2, 0.0, 2.0, SearchSpace::kNoParent);
   space.push(3, 0.0, 3.0, SearchSpace::kNoParent);
@@ -35,8 +46,8 @@ TEST(OpenList, ARisingKeySinksBelowTheOthers) {
 }
 
 TEST(OpenList, EqualKeysPopTheLargerGFirst) {
-  SearchSpace space;
-  space.begin_query(8);
+  OneSearch search(8);
+  SearchSpace& space = search.space;
   space.push(1, 1.0, 5.0, SearchSpace::kNoParent);
   space.push(2, 3.0, 5.0, SearchSpace::kNoParent);
   space.push(3, 2.0, 5.0, SearchSpace::kNoParent);
@@ -53,8 +64,8 @@ TEST(OpenList, MatchesAnOrderedSetUnderRandomKeyChanges) {
   constexpr uint32_t kCells = 2000;
   int pops = 0, rises = 0, falls = 0;
   for (int round = 0; round < 50; ++round) {
-    SearchSpace space;
-    space.begin_query(kCells);
+    OneSearch search(kCells);
+    SearchSpace& space = search.space;
     std::map<uint32_t, std::pair<double, double>> open;  // node -> (f, g)
     std::set<std::tuple<double, double, uint32_t>> order;  // (f, -g, node)
     std::set<uint32_t> closed;

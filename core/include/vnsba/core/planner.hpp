@@ -8,10 +8,10 @@
 //
 // A Planner reuses its flat search arrays across queries on the same map; it is not
 // thread-safe (one Planner per thread), but any number of Planners may share one GridMap.
-// The constructor allocates the per-cell arrays of both search directions (20 bytes per cell
-// each, about 0.7 GB for 4096 x 4096 cells), so that no query pays for them: make the Planner
-// when a map is installed, not at its first query (at 4096 x 4096 the allocation takes a few
-// hundred milliseconds, which the first plan and its cancel latency would otherwise include).
+// The constructor allocates the per-cell arrays of both search directions (34 bytes per cell
+// together, about 570 MB for 4096 x 4096 cells), so that no query pays for them: make the
+// Planner when a map is installed, not at its first query (at 4096 x 4096 the allocation takes a
+// few hundred milliseconds, which the first plan and its cancel latency would otherwise include).
 #pragma once
 
 #include <atomic>
