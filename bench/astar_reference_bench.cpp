@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "scenario_maps.hpp"
 #include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
 
@@ -38,8 +39,7 @@ class ReferenceAStar {
       : width_(map.width() + 2), cells_(static_cast<size_t>(width_) * (map.height() + 2)) {
     free_.assign(cells_, 0);
     for (int32_t y = 0; y < map.height(); ++y)
-      for (int32_t x = 0; x < map.width(); ++x)
-        free_[index(x, y)] = map.blocked(x, y) ? 0 : 1;
+      for (int32_t x = 0; x < map.width(); ++x) free_[index(x, y)] = map.blocked(x, y) ? 0 : 1;
     g_.assign(cells_, 0.0);
     parent_.assign(cells_, 0);
     stamp_.assign(cells_, 0);
@@ -63,8 +63,13 @@ class ReferenceAStar {
       if (n == t) return g_[n];
       const double gn = g_[n];
       const bool e = free_[n + 1], west = free_[n - 1], north = free_[n + w], south = free_[n - w];
-      const bool ok[8] = {e, west, north, south, e && north && free_[n + w + 1],
-                          west && north && free_[n + w - 1], e && south && free_[n - w + 1],
+      const bool ok[8] = {e,
+                          west,
+                          north,
+                          south,
+                          e && north && free_[n + w + 1],
+                          west && north && free_[n + w - 1],
+                          e && south && free_[n - w + 1],
                           west && south && free_[n - w - 1]};
       for (int k = 0; k < 8; ++k) {
         if (!ok[k]) continue;
@@ -223,20 +228,13 @@ void reference(benchmark::State& state, const BenchMap* bench) {
 int main(int argc, char** argv) {
   const std::string dir = std::string(VNSBA_DATA_DIR) + "/movingai";
   for (const char* name : kBenchMaps) {
-    const std::string path = dir + "/" + name + ".map";
-    auto grid = load_movingai_map(path);
-    auto scenarios = load_movingai_scenarios(path + ".scen");
-    if (!grid || !scenarios) {
-      std::fprintf(stderr, "skipping %s: %s\n", name,
-                   (!grid ? grid.error() : scenarios.error()).message.c_str());
-      continue;
-    }
-    auto built = GridMap::build(*grid);
-    if (!built) continue;
-    BenchMap bench{name, std::make_shared<const GridMap>(std::move(built).value()), {}, {}, {}};
-    const size_t step = std::max<size_t>(1, scenarios->size() / kScenariosPerMap);
-    for (size_t i = 0; i < scenarios->size(); i += step) {
-      const MovingAiScenario& s = (*scenarios)[i];
+    auto loaded = vnsba::bench::load_scenario_map(dir, name);
+    if (!loaded) continue;
+    const auto& scenarios = loaded->scenarios;
+    BenchMap bench{name, loaded->map, {}, {}, {}};
+    const size_t step = std::max<size_t>(1, scenarios.size() / kScenariosPerMap);
+    for (size_t i = 0; i < scenarios.size(); i += step) {
+      const MovingAiScenario& s = scenarios[i];
       bench.queries.push_back({s.start, s.goal});
       bench.optimal.push_back(s.optimal_length);
       bench.tolerance.push_back(std::max(1e-6 * s.optimal_length, s.optimal_resolution));

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "scenario_maps.hpp"
 #include "vnsba/core/line_of_sight.hpp"
 #include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
@@ -160,21 +161,14 @@ void run_centre_los(benchmark::State& state, const LineOfSightBench* bench, Corn
 
 bool load_maps(const std::string& dir) {
   for (const char* name : kBenchMaps) {
-    const std::string path = dir + "/" + name + ".map";
-    auto grid = load_movingai_map(path);
-    auto scenarios = load_movingai_scenarios(path + ".scen");
-    if (!grid || !scenarios) {
-      std::fprintf(stderr, "skipping %s: %s\n", name,
-                   (!grid ? grid.error() : scenarios.error()).message.c_str());
-      continue;
-    }
-    auto built = GridMap::build(*grid);
-    if (!built) continue;
-    BenchMap bench{name, std::make_shared<const GridMap>(std::move(built).value()), {}};
-    const size_t step = std::max<size_t>(1, scenarios->size() / kScenariosPerMap);
-    for (size_t i = step - 1; i < scenarios->size() && bench.queries.size() < kScenariosPerMap;
+    auto loaded = vnsba::bench::load_scenario_map(dir, name);
+    if (!loaded) continue;
+    const auto& scenarios = loaded->scenarios;
+    BenchMap bench{name, loaded->map, {}};
+    const size_t step = std::max<size_t>(1, scenarios.size() / kScenariosPerMap);
+    for (size_t i = step - 1; i < scenarios.size() && bench.queries.size() < kScenariosPerMap;
          i += step)
-      bench.queries.push_back({(*scenarios)[i].start, (*scenarios)[i].goal});
+      bench.queries.push_back({scenarios[i].start, scenarios[i].goal});
     bench_maps().push_back(std::move(bench));
   }
   return !bench_maps().empty();

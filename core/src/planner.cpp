@@ -76,8 +76,8 @@ std::vector<Cell> trace(const GridMap& map, const SearchSpace& space, uint32_t n
 // h is evaluated anew against the opposite current node of this moment). Closed nodes are
 // skipped by the caller.
 template <class Heuristic>
-inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, uint32_t m,
-                  const Cell& m_cell, double cost, const Heuristic& h) {
+inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, uint32_t m, const Cell& m_cell,
+                  double cost, const Heuristic& h) {
   const double g = space.g(n) + cost;
   if ((m_flags & space.seen_flag()) == 0) {
     space.push(m, g, g + h(m_cell), n);
@@ -88,9 +88,10 @@ inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, uint32_t m,
 
 // A unidirectional best-first search from start to goal; the neighbourhood's guide is the goal.
 template <class Heuristic>
-SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& start,
-                                    const Cell& goal, const Heuristic& h, const SearchConfig& cfg,
-                                    PlanningBudget& budget, std::vector<Cell>* expanded_cells) {
+SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, SearchSpace& space,
+                                    const Cell& start, const Cell& goal, const Heuristic& h,
+                                    const SearchConfig& cfg, PlanningBudget& budget,
+                                    std::vector<Cell>* expanded_cells) {
   SearchOutcome out;
   states.begin_query(map.padded_size());
   space.begin_query(map.padded_size());
@@ -142,11 +143,11 @@ enum class MeetingRule {
 // guide of a bidirectional search is the opposite search's current node, for every planner).
 template <class ForwardH, class BackwardH>
 SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, SearchSpace& forward,
-                                   SearchSpace& backward,
-                                   const Cell& start, const Cell& goal, Cell (&current)[2],
-                                   const ForwardH& h_forward, const BackwardH& h_backward,
-                                   MeetingRule rule, const SearchConfig& cfg,
-                                   PlanningBudget& budget, std::vector<Cell>* expanded_forward,
+                                   SearchSpace& backward, const Cell& start, const Cell& goal,
+                                   Cell (&current)[2], const ForwardH& h_forward,
+                                   const BackwardH& h_backward, MeetingRule rule,
+                                   const SearchConfig& cfg, PlanningBudget& budget,
+                                   std::vector<Cell>* expanded_forward,
                                    std::vector<Cell>* expanded_backward) {
   SearchOutcome out;
   const int32_t stride = map.stride();
@@ -173,8 +174,7 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
   };
 
   // One expansion of side `s` (0 forward, 1 backward). Returns true when the search is over.
-  auto step = [&](int s, SearchSpace& self, const auto& h,
-                  std::vector<Cell>* record) -> bool {
+  auto step = [&](int s, SearchSpace& self, const auto& h, std::vector<Cell>* record) -> bool {
     if (self.empty()) {
       out.code = StatusCode::kNoValidPath;
       return true;
@@ -243,8 +243,8 @@ struct Planner::Impl {
     const SearchConfig cfg{o.neighborhood, o.corner_policy, o.record_expansions};
     switch (o.planner) {
       case PlannerKind::kAStar:
-        return search_unidirectional(map, states, forward, q.start, q.goal, OctileHeuristic{&q.goal}, cfg,
-                                     budget, rec_f);
+        return search_unidirectional(map, states, forward, q.start, q.goal,
+                                     OctileHeuristic{&q.goal}, cfg, budget, rec_f);
       case PlannerKind::kWeightedAStar: {
         const DensityWeightedHeuristic h{&map, &q.goal, q.goal, 1.0, 0.0, o.corner_policy};
         return search_unidirectional(map, states, forward, q.start, q.goal, h, cfg, budget, rec_f);
@@ -256,16 +256,18 @@ struct Planner::Impl {
       case PlannerKind::kAlternatingBidirectionalAStar: {
         const DensityWeightedHeuristic hf{&map, &current[1], q.goal, 1.0, 0.0, o.corner_policy};
         const DensityWeightedHeuristic hb{&map, &current[0], q.start, 1.0, 0.0, o.corner_policy};
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf, hb,
-                                    MeetingRule::kCloseClosedByOther, cfg, budget, rec_f, rec_b);
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
+                                    hb, MeetingRule::kCloseClosedByOther, cfg, budget, rec_f,
+                                    rec_b);
       }
       case PlannerKind::kVnsBaStar: {
         const DensityWeightedHeuristic hf{&map,    &current[1], q.goal,
                                           o.omega, o.eta,       o.corner_policy};
         const DensityWeightedHeuristic hb{&map,    &current[0], q.start,
                                           o.omega, o.eta,       o.corner_policy};
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf, hb,
-                                    MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
+                                    hb, MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f,
+                                    rec_b);
       }
     }
     SearchOutcome broken;
@@ -394,8 +396,7 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     const SearchOutcome best = impl_->run(map, query, optimal, cancel_only, nullptr, nullptr);
     if (best.code == StatusCode::kOk) {
       const double best_cost = polyline_length(cell_centres(best.path));
-      result.metrics.length_ratio =
-          best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;
+      result.metrics.length_ratio = best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;
     }
   }
   return result;

@@ -66,7 +66,7 @@ TEST(OpenList, MatchesAnOrderedSetUnderRandomKeyChanges) {
   for (int round = 0; round < 50; ++round) {
     OneSearch search(kCells);
     SearchSpace& space = search.space;
-    std::map<uint32_t, std::pair<double, double>> open;  // node -> (f, g)
+    std::map<uint32_t, std::pair<double, double>> open;    // node -> (f, g)
     std::set<std::tuple<double, double, uint32_t>> order;  // (f, -g, node)
     std::set<uint32_t> closed;
     std::uniform_int_distribution<uint32_t> cell(0, kCells - 1);
@@ -115,13 +115,10 @@ TEST(OpenList, EveryPopIsTheLeastOnRandomMapsForEveryPlanner) {
   std::mt19937 rng(20241029);
   std::uniform_int_distribution<int> size(8, 120);
   std::uniform_real_distribution<double> density(0.0, 0.45);
-  const CornerPolicy policies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
-                                   CornerPolicy::kAlways};
   int plans = 0, found = 0;
   for (int m = 0; m < 300; ++m) {
-    auto built = GridMap::from_rows(random_rows(rng, size(rng), size(rng), density(rng)));
-    ASSERT_TRUE(built);
-    auto map = std::make_shared<const GridMap>(std::move(built).value());
+    auto map = random_shared_map(rng, size(rng), size(rng), density(rng));
+    ASSERT_TRUE(map);
     const auto cells = free_cells(*map);
     if (cells.size() < 2) continue;
     std::uniform_int_distribution<size_t> pick(0, cells.size() - 1);
@@ -131,7 +128,7 @@ TEST(OpenList, EveryPopIsTheLeastOnRandomMapsForEveryPlanner) {
       for (core::Neighborhood hood :
            {core::Neighborhood::kEight, core::Neighborhood::kEightElevenThirteen}) {
         core::PlannerOptions o = core::default_options(kind);
-        o.corner_policy = policies[m % 3];
+        o.corner_policy = kAllCornerPolicies[m % 3];
         o.neighborhood = hood;
         o.prune = o.smooth = false;
         const core::PlanResult r = planner.plan(q, o);

@@ -7,29 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "core/options_support.hpp"
 #include "vnsba/core/planner_options.hpp"
 
 namespace vnsba::core {
 namespace {
 
 using std::chrono::microseconds;
-
-// Every field of PlannerOptions, so that a test fails when a field is added here but not to
-// PlannerSettings and make_options (the list below must then grow too).
-void ExpectSameOptions(const PlannerOptions& a, const PlannerOptions& b) {
-  EXPECT_EQ(a.planner, b.planner);
-  EXPECT_EQ(a.omega, b.omega);
-  EXPECT_EQ(a.eta, b.eta);
-  EXPECT_EQ(a.neighborhood, b.neighborhood);
-  EXPECT_EQ(a.corner_policy, b.corner_policy);
-  EXPECT_EQ(a.prune, b.prune);
-  EXPECT_EQ(a.smooth, b.smooth);
-  EXPECT_EQ(a.smoothing_distance, b.smoothing_distance);
-  EXPECT_EQ(a.sample_step, b.sample_step);
-  EXPECT_EQ(a.max_planning_time, b.max_planning_time);
-  EXPECT_EQ(a.record_expansions, b.record_expansions);
-  EXPECT_EQ(a.compute_length_ratio, b.compute_length_ratio);
-}
+using test::ExpectSameOptions;
 
 // One setting: how to set it, and what it does to a planner's options. Each value differs from
 // every planner's paper configuration where the field does not depend on the planner; the

@@ -102,8 +102,6 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
   std::mt19937 rng(20241029);
   std::uniform_int_distribution<int> size(8, 200);
   std::uniform_real_distribution<double> density(0.0, 0.45);
-  const CornerPolicy policies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
-                                   CornerPolicy::kAlways};
   Tally tally;
   for (int m = 0; m < kMaps; ++m) {
     const int w = size(rng), h = size(rng);
@@ -114,7 +112,7 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
     if (cells.size() < 2) continue;
     std::uniform_int_distribution<size_t> pick(0, cells.size() - 1);
     const core::PlanQuery q{cells[pick(rng)], cells[pick(rng)]};
-    const CornerPolicy policy = policies[m % 3];
+    const CornerPolicy policy = kAllCornerPolicies[m % 3];
     const double optimal = reference_shortest_cost(*map, q.start, q.goal, policy);
     const bool reachable = std::isfinite(optimal);
     (reachable ? tally.solvable : tally.unsolvable)++;
@@ -149,13 +147,10 @@ TEST(PlannerProperties, RawPathsNeverVisitACellTwice) {
   std::mt19937 rng(108014);
   std::uniform_int_distribution<int> size(4, 110);
   std::uniform_real_distribution<double> density(0.0, 0.4);
-  const CornerPolicy policies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
-                                   CornerPolicy::kAlways};
   int plans = 0, paths = 0;
   while (plans < 51000) {
-    auto built = GridMap::from_rows(random_rows(rng, size(rng), size(rng), density(rng)));
-    ASSERT_TRUE(built);
-    auto map = std::make_shared<const GridMap>(std::move(built).value());
+    auto map = random_shared_map(rng, size(rng), size(rng), density(rng));
+    ASSERT_TRUE(map);
     const auto cells = free_cells(*map);
     if (cells.size() < 2) continue;
     std::uniform_int_distribution<size_t> pick(0, cells.size() - 1);
@@ -165,7 +160,7 @@ TEST(PlannerProperties, RawPathsNeverVisitACellTwice) {
       for (PlannerKind kind : core::all_planner_kinds()) {
         for (core::Neighborhood hood :
              {core::Neighborhood::kEight, core::Neighborhood::kEightElevenThirteen}) {
-          for (CornerPolicy policy : policies) {
+          for (CornerPolicy policy : kAllCornerPolicies) {
             PlannerOptions o = core::default_options(kind);
             o.corner_policy = policy;
             o.neighborhood = hood;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <random>
 #include <string>
@@ -164,6 +165,17 @@ inline std::vector<std::string> random_rows(std::mt19937& rng, int width, int he
   for (auto& row : rows)
     for (char& c : row) c = blocked(rng) ? '#' : '.';
   return rows;
+}
+
+constexpr CornerPolicy kAllCornerPolicies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
+                                               CornerPolicy::kAlways};
+
+// A random map of `width` x `height` cells (each blocked with probability `density`), shared
+// for planners.
+inline std::shared_ptr<const GridMap> random_shared_map(std::mt19937& rng, int width, int height,
+                                                        double density) {
+  auto built = GridMap::from_rows(random_rows(rng, width, height, density));
+  return built ? std::make_shared<const GridMap>(std::move(built).value()) : nullptr;
 }
 
 inline std::vector<Cell> free_cells(const GridMap& map) {

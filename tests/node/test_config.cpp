@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/options_support.hpp"
 #include "vnsba/node/config.hpp"
 
 namespace {
@@ -26,6 +27,7 @@ using vnsba::node::DebugPublishing;
 using vnsba::node::load_config;
 using vnsba::node::NodeConfig;
 using vnsba::node::parse_config;
+using vnsba::test::ExpectSameOptions;
 
 std::string Fixture(const std::string& name) {
   return std::string(VNSBA_FIXTURE_DIR) + "/config/" + name;
@@ -46,21 +48,6 @@ NodeConfig LoadedDefaults() {
   NodeConfig config;
   EXPECT_EQ(config.planner.options().max_planning_time, std::chrono::seconds(5));
   return config;
-}
-
-void ExpectSameOptions(const PlannerOptions& a, const PlannerOptions& b) {
-  EXPECT_EQ(a.planner, b.planner);
-  EXPECT_EQ(a.omega, b.omega);
-  EXPECT_EQ(a.eta, b.eta);
-  EXPECT_EQ(a.neighborhood, b.neighborhood);
-  EXPECT_EQ(a.corner_policy, b.corner_policy);
-  EXPECT_EQ(a.prune, b.prune);
-  EXPECT_EQ(a.smooth, b.smooth);
-  EXPECT_EQ(a.smoothing_distance, b.smoothing_distance);
-  EXPECT_EQ(a.sample_step, b.sample_step);
-  EXPECT_EQ(a.max_planning_time.count(), b.max_planning_time.count());
-  EXPECT_EQ(a.record_expansions, b.record_expansions);
-  EXPECT_EQ(a.compute_length_ratio, b.compute_length_ratio);
 }
 
 std::string Joined(const std::vector<std::string>& errors) {

@@ -92,6 +92,17 @@ TEST(NodeIntegration, LateJoiningNodeGetsTheLatchedSliceAndPlansOnIt) {
   EXPECT_EQ(code_name(status->code()), "OK") << status->message();
 }
 
+// The planning grid the node builds from `grid` once it has crossed the bus (the resolution is
+// float32 on the wire), with the node's map options.
+std::shared_ptr<const core::GridMap> map_as_received(const core::OccupancyGrid& grid,
+                                                     const node::NodeConfig& config) {
+  const core::OccupancyGrid received =
+      node::from_slice_msg(node::to_slice_msg(grid, "map", node::now_msg()), "map",
+                           config.map.max_cells)
+          .grid;
+  return std::make_shared<const core::GridMap>(core::GridMap::build(received, config.map).value());
+}
+
 // The path and metrics on the bus are what core computes for the same map and query.
 TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
   Running run(test_config("core"));
@@ -109,13 +120,8 @@ TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
     ASSERT_EQ(status->code(), wire::OK) << status->message();
     EXPECT_EQ(status->planner(), core::to_string(kind));
 
-    // The reference plans on the grid as the node receives it: resolution is float32 on the wire.
-    const core::OccupancyGrid received =
-        node::from_slice_msg(node::to_slice_msg(grid, "map", node::now_msg()), "map",
-                             run.config.map.max_cells)
-            .grid;
-    auto map = std::make_shared<const core::GridMap>(
-        core::GridMap::build(received, run.config.map).value());
+    // The reference plans on the grid as the node receives it.
+    auto map = map_as_received(grid, run.config);
     core::PlannerOptions options = core::default_options(kind);
     options.corner_policy = run.config.planner.options().corner_policy;
     const core::PlanResult expected = core::plan_once(map, {{1, 1}, {12, 6}}, options);
@@ -165,12 +171,7 @@ TEST(NodeIntegration, LengthRatioIsFilledOnlyWhenConfigured) {
     ASSERT_TRUE(run.node.wait_for_map(10s));
 
     // The optimum, computed here: core's A* on the grid as the node receives it.
-    const core::OccupancyGrid received =
-        node::from_slice_msg(node::to_slice_msg(grid, "map", node::now_msg()), "map",
-                             run.config.map.max_cells)
-            .grid;
-    auto map = std::make_shared<const core::GridMap>(
-        core::GridMap::build(received, run.config.map).value());
+    auto map = map_as_received(grid, run.config);
     const core::PlanResult best =
         core::plan_once(map, {start, goal}, core::default_options(core::PlannerKind::kAStar));
     ASSERT_TRUE(best.status.is_ok()) << best.status.message;

@@ -135,8 +135,8 @@ std::string speed_summary(const std::vector<Run>& runs,
     std::vector<std::string> row = {map_class};
     if (astar && vns) row.push_back(format(median(time[*vns]) / median(time[*astar]), 3));
     for (size_t c = 0; c < configurations.size(); ++c)
-      row.push_back(format(total_expanded[c] > 0 ? 1000.0 * total_us[c] / total_expanded[c] : NAN,
-                           0));
+      row.push_back(
+          format(total_expanded[c] > 0 ? 1000.0 * total_us[c] / total_expanded[c] : NAN, 0));
     table.add_row(row);
   }
   return "**Speed.** VNS-BA*'s median planning time as a ratio of A*'s over the same queries, and "
