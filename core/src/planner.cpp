@@ -74,11 +74,11 @@ std::vector<Cell> trace(const GridMap& map, const SearchSpace& space, uint32_t n
 
 // Relaxes the move n -> m in `space`: opens m, or lowers its g and re-keys it (its f may rise:
 // h is evaluated anew against the opposite current node of this moment). Closed nodes are
-// skipped by the caller.
+// skipped by the caller. `g_n` is g of n, read once per expansion by the caller.
 template <class Heuristic>
-inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, uint32_t m, const Cell& m_cell,
-                  double cost, const Heuristic& h) {
-  const double g = space.g(n) + cost;
+inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, double g_n, uint32_t m,
+                  const Cell& m_cell, double cost, const Heuristic& h) {
+  const double g = g_n + cost;
   if ((m_flags & space.seen_flag()) == 0) {
     space.push(m, g, g + h(m_cell), n);
   } else if (g < space.g(m)) {
@@ -112,11 +112,12 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
       out.path = trace(map, space, n, /*root_first=*/true);
       return out;
     }
+    const double g_n = space.g(n);
     for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
       const uint32_t m = n + dy * stride + dx;
       const uint16_t flags = states.flags(m);
       if ((flags & space.closed_flag()) == 0)
-        relax(space, flags, n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
+        relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
     });
   }
   return out;
@@ -191,6 +192,7 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
     }
     const Cell& guide = current[1 - s];
     bool met = false;
+    const double g_n = self.g(n);
     for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
       const uint32_t m = n + dy * stride + dx;
       if (met) return;
@@ -203,7 +205,7 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
         met = true;
         return;
       }
-      relax(self, flags, n, m, mc, cost, h);
+      relax(self, flags, n, g_n, m, mc, cost, h);
     });
     return met;
   };
