@@ -17,6 +17,11 @@ using detail::CellStates;
 using detail::SearchSpace;
 using Clock = PlanningBudget::Clock;
 
+// The move generation, its per-move visitors and relax() run 8 to 13 times per expansion; GCC
+// kept them out of line (a call per move), which made our A* slower than a hand-written loop
+// (bench/astar_reference_bench.cpp). for_each_move carries the same attribute.
+#define VNSBA_ALWAYS_INLINE __attribute__((always_inline))
+
 // ---------------------------------------------------------------------------------------------
 // Heuristic functors over heuristics.hpp.
 
@@ -76,8 +81,9 @@ std::vector<Cell> trace(const GridMap& map, const SearchSpace& space, uint32_t n
 // h is evaluated anew against the opposite current node of this moment). Closed nodes are
 // skipped by the caller. `g_n` is g of n, read once per expansion by the caller.
 template <class Heuristic>
-inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, double g_n, uint32_t m,
-                  const Cell& m_cell, double cost, const Heuristic& h) {
+VNSBA_ALWAYS_INLINE inline void relax(SearchSpace& space, uint16_t m_flags, uint32_t n, double g_n,
+                                      uint32_t m, const Cell& m_cell, double cost,
+                                      const Heuristic& h) {
   const double g = g_n + cost;
   if ((m_flags & space.seen_flag()) == 0) {
     space.push(m, g, g + h(m_cell), n);
@@ -113,12 +119,13 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
       return out;
     }
     const double g_n = space.g(n);
-    for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
-      const uint32_t m = n + dy * stride + dx;
-      const uint16_t flags = states.flags(m);
-      if ((flags & space.closed_flag()) == 0)
-        relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
-    });
+    for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy,
+                  [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
+                    const uint32_t m = n + dy * stride + dx;
+                    const uint16_t flags = states.flags(m);
+                    if ((flags & space.closed_flag()) == 0)
+                      relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
+                  });
   }
   return out;
 }
@@ -193,20 +200,22 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
     const Cell& guide = current[1 - s];
     bool met = false;
     const double g_n = self.g(n);
-    for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy, [&](int dx, int dy, double cost) {
-      const uint32_t m = n + dy * stride + dx;
-      if (met) return;
-      const uint16_t flags = states.flags(m);
-      if ((flags & self.closed_flag()) != 0) return;
-      const Cell mc{nc.x + dx, nc.y + dy};
-      if (rule == MeetingRule::kGenerateClosedByOther && (flags & self.other_closed_flag()) != 0) {
-        out.meeting = mc;
-        join(s == 0, n, m);
-        met = true;
-        return;
-      }
-      relax(self, flags, n, g_n, m, mc, cost, h);
-    });
+    for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy,
+                  [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
+                    const uint32_t m = n + dy * stride + dx;
+                    if (met) return;
+                    const uint16_t flags = states.flags(m);
+                    if ((flags & self.closed_flag()) != 0) return;
+                    const Cell mc{nc.x + dx, nc.y + dy};
+                    if (rule == MeetingRule::kGenerateClosedByOther &&
+                        (flags & self.other_closed_flag()) != 0) {
+                      out.meeting = mc;
+                      join(s == 0, n, m);
+                      met = true;
+                      return;
+                    }
+                    relax(self, flags, n, g_n, m, mc, cost, h);
+                  });
     return met;
   };
 
