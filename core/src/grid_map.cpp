@@ -19,24 +19,20 @@ constexpr double kWholeCellsTolerance = 1e-9;
 
 // Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre: offsets
 // (dx, dy) in cells with dx*dx + dy*dy <= r*r, r the radius snapped to a whole number of cells
-// when within kWholeCellsTolerance of one (then compared in integers, exactly).
+// when within kWholeCellsTolerance of one.
 // Uses a precomputed disc of offsets; cost O(blocked boundary cells x disc area).
 void inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, double radius_cells) {
   const double nearest = std::round(radius_cells);
-  const bool whole = std::abs(radius_cells - nearest) <= kWholeCellsTolerance;
-  const int32_t reach = static_cast<int32_t>(whole ? nearest : std::floor(radius_cells));
-  // No other centre is within less than one cell.
-  if (reach < 1) return;
-  const int64_t whole_r2 = int64_t{reach} * reach;  // cells^2, used when `whole`
-  const double r2 = radius_cells * radius_cells;    // cells^2, used otherwise
+  if (std::abs(radius_cells - nearest) <= kWholeCellsTolerance) radius_cells = nearest;
+  const int32_t reach = static_cast<int32_t>(std::floor(radius_cells));
+  if (reach < 1) return;  // no other centre is within less than one cell
+  // cells^2; for a whole radius both sides of the comparison below are exact integers.
+  const double r2 = radius_cells * radius_cells;
   std::vector<std::pair<int32_t, int32_t>> disc;
-  for (int32_t dy = -reach; dy <= reach; ++dy) {
-    for (int32_t dx = -reach; dx <= reach; ++dx) {
-      const int64_t d2 = int64_t{dx} * dx + int64_t{dy} * dy;
-      if (d2 != 0 && (whole ? d2 <= whole_r2 : static_cast<double>(d2) <= r2))
+  for (int32_t dy = -reach; dy <= reach; ++dy)
+    for (int32_t dx = -reach; dx <= reach; ++dx)
+      if ((dx != 0 || dy != 0) && double(dx) * dx + double(dy) * dy <= r2)
         disc.emplace_back(dx, dy);
-    }
-  }
 
   const int32_t stride = width + 2;
   const std::vector<uint8_t> source = blocked;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "search_space.hpp"
 #include "vnsba/core/budget.hpp"
@@ -327,12 +326,14 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   if (!map_ || map_->cell_count() == 0) return fail(StatusCode::kInvalidMap, "no map to plan on");
   const GridMap& map = *map_;
   if (Status s = validate(options); !s.is_ok()) return fail(s.code, s.message);
-  const std::string bounds = " is outside the map (" + std::to_string(map.width()) + " x " +
-                             std::to_string(map.height()) + " cells)";
+  auto outside = [&](const char* which, const Cell& c) {
+    return std::string(which) + " " + describe(c) + " is outside the map (" +
+           std::to_string(map.width()) + " x " + std::to_string(map.height()) + " cells)";
+  };
   if (!map.in_bounds(query.start))
-    return fail(StatusCode::kStartOutsideMap, "start " + describe(query.start) + bounds);
+    return fail(StatusCode::kStartOutsideMap, outside("start", query.start));
   if (!map.in_bounds(query.goal))
-    return fail(StatusCode::kGoalOutsideMap, "goal " + describe(query.goal) + bounds);
+    return fail(StatusCode::kGoalOutsideMap, outside("goal", query.goal));
   if (map.blocked(query.start))
     return fail(StatusCode::kStartOccupied,
                 "start " + describe(query.start) + " is in a blocked cell");

@@ -1,6 +1,7 @@
 #include "vnsba/core/planner_options.hpp"
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -54,21 +55,25 @@ PlannerOptions default_options(PlannerKind kind) {
 }
 
 Status validate(const PlannerOptions& o) {
-  std::ostringstream err;
+  // Called by every plan: the stream (and its locale) is made only when something is wrong.
+  std::optional<std::ostringstream> stream;
+  auto err = [&]() -> std::ostringstream& { return stream ? *stream : stream.emplace(); };
   auto weight_ok = [](double w) { return std::isfinite(w) && w >= 0.0 && w <= 1e6; };
-  if (!weight_ok(o.omega)) err << "omega must be finite and in [0, 1e6] (got " << o.omega << "); ";
-  if (!weight_ok(o.eta)) err << "eta must be finite and in [0, 1e6] (got " << o.eta << "); ";
+  if (!weight_ok(o.omega))
+    err() << "omega must be finite and in [0, 1e6] (got " << o.omega << "); ";
+  if (!weight_ok(o.eta)) err() << "eta must be finite and in [0, 1e6] (got " << o.eta << "); ";
   if (o.planner == PlannerKind::kVnsBaStar && weight_ok(o.omega) && weight_ok(o.eta) &&
       o.omega == 0.0 && o.eta == 0.0) {
-    err << "omega and eta must not both be 0 (the heuristic would vanish); ";
+    err() << "omega and eta must not both be 0 (the heuristic would vanish); ";
   }
   if (!std::isfinite(o.smoothing_distance) || o.smoothing_distance <= 0.0)
-    err << "smoothing_distance must be finite and > 0 cells (got " << o.smoothing_distance << "); ";
+    err() << "smoothing_distance must be finite and > 0 cells (got " << o.smoothing_distance
+          << "); ";
   if (!std::isfinite(o.sample_step) || o.sample_step <= 0.0 || o.sample_step > 10.0)
-    err << "sample_step must be in (0, 10] cells (got " << o.sample_step << "); ";
-  if (!planner_kind_from_string(to_string(o.planner))) err << "planner is not a known planner; ";
-  std::string message = err.str();
-  if (message.empty()) return Status::ok();
+    err() << "sample_step must be in (0, 10] cells (got " << o.sample_step << "); ";
+  if (!planner_kind_from_string(to_string(o.planner))) err() << "planner is not a known planner; ";
+  if (!stream) return Status::ok();
+  std::string message = stream->str();
   message.resize(message.size() - 2);
   return Status::error(StatusCode::kInvalidRequest, "invalid options: " + message);
 }

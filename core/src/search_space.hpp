@@ -32,8 +32,8 @@ namespace vnsba::core::detail {
 // planner: seen (pushed) by the forward or backward search, closed by either. One 16-bit word
 // per padded cell: the query's epoch (12 bits) and four flags, so a new query starts in O(1) (a
 // word of an older epoch reads as "nothing known"); the array is cleared once every 4095 queries.
-// A cell is closed by at most one search: a bidirectional search that pops a cell the other has
-// closed stops there (ALGORITHM.md section 3).
+// No search expands a cell the other has closed: a bidirectional search that pops such a cell
+// stops there (ALGORITHM.md section 3), so both closed flags of a cell are set only at a meeting.
 class CellStates {
  public:
   static constexpr uint16_t kSeen[2] = {1, 2};    // by side 0 (forward) / 1 (backward)
