@@ -1,6 +1,9 @@
 #include "vnsba/core/grid_map.hpp"
 
+#include "vnsba/core/distance_transform.hpp"
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
 
@@ -17,75 +20,103 @@ bool is_blocked_char(char c) {
 // inflate the cell 3 cells away (ALGORITHM.md section 1).
 constexpr double kWholeCellsTolerance = 1e-9;
 
-// Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre: offsets
-// (dx, dy) in cells with dx*dx + dy*dy <= r*r, r the radius snapped to a whole number of cells
-// when within kWholeCellsTolerance of one.
-// Uses a precomputed disc of offsets; cost O(blocked boundary cells x disc area).
-void inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, double radius_cells) {
+// Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre: squared
+// distance dx*dx + dy*dy <= r*r in cells, r the radius snapped to a whole number of cells when
+// within kWholeCellsTolerance of one. Through the exact distance transform, so the cost is
+// linear in the cells (4 bytes of scratch per cell) whatever the radius; validate() keeps the
+// radius within the map's diagonal. Returns false when `cancel` was raised.
+bool inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, double radius_cells,
+             const std::atomic<bool>* cancel) {
   const double nearest = std::round(radius_cells);
   if (std::abs(radius_cells - nearest) <= kWholeCellsTolerance) radius_cells = nearest;
+  if (radius_cells < 1.0) return true;  // no other centre is within less than one cell
   const int32_t reach = static_cast<int32_t>(std::floor(radius_cells));
-  if (reach < 1) return;  // no other centre is within less than one cell
   // cells^2; for a whole radius both sides of the comparison below are exact integers.
   const double r2 = radius_cells * radius_cells;
-  std::vector<std::pair<int32_t, int32_t>> disc;
-  for (int32_t dy = -reach; dy <= reach; ++dy)
-    for (int32_t dx = -reach; dx <= reach; ++dx)
-      if ((dx != 0 || dy != 0) && double(dx) * dx + double(dy) * dy <= r2)
-        disc.emplace_back(dx, dy);
-
   const int32_t stride = width + 2;
-  const std::vector<uint8_t> source = blocked;
-  auto src = [&](int32_t x, int32_t y) { return source[(y + 1) * stride + (x + 1)] != 0; };
-  for (int32_t y = 0; y < height; ++y) {
-    for (int32_t x = 0; x < width; ++x) {
-      if (!src(x, y)) continue;
-      // Interior obstacle cells (all 4 neighbours blocked) add nothing their boundary does not.
-      if (x > 0 && y > 0 && x + 1 < width && y + 1 < height && src(x - 1, y) && src(x + 1, y) &&
-          src(x, y - 1) && src(x, y + 1)) {
-        continue;
-      }
-      for (const auto& [dx, dy] : disc) {
-        const int32_t nx = x + dx, ny = y + dy;
-        if (nx >= 0 && ny >= 0 && nx < width && ny < height)
-          blocked[(ny + 1) * stride + nx + 1] = 1;
-      }
-    }
-  }
+  auto padded = [stride](int32_t x, int32_t y) { return static_cast<size_t>(y + 1) * stride + x + 1; };
+  // Phase 1 of the transform reads every source before the first row is written back.
+  return squared_distance_rows(
+      width, height, reach, [&](int32_t x, int32_t y) { return blocked[padded(x, y)] != 0; },
+      [&](int32_t y, const int64_t* squared) {
+        uint8_t* row = &blocked[padded(0, y)];
+        for (int32_t x = 0; x < width; ++x)
+          if (static_cast<double>(squared[x]) <= r2) row[x] = 1;
+      },
+      cancel);
 }
 
 }  // namespace
 
-Status validate(const OccupancyGrid& grid, const GridBuildOptions& options) {
-  std::ostringstream err;
-  if (grid.width <= 0) err << "width must be > 0 (got " << grid.width << "); ";
-  if (grid.height <= 0) err << "height must be > 0 (got " << grid.height << "); ";
-  if (grid.width > 0 && grid.height > 0) {
-    const int64_t cells = int64_t{grid.width} * grid.height;
-    if (cells > options.max_cells) {
-      err << "width x height = " << cells << " cells exceeds the limit of " << options.max_cells
-          << "; ";
-    } else if (grid.data.size() != static_cast<size_t>(cells)) {
-      err << "data has " << grid.data.size() << " values, expected width x height = " << cells
-          << "; ";
-    }
-  }
-  if (!std::isfinite(grid.resolution) || grid.resolution <= 0.0)
-    err << "resolution must be finite and > 0 (got " << grid.resolution << "); ";
-  if (!std::isfinite(grid.origin_x)) err << "origin x must be finite; ";
-  if (!std::isfinite(grid.origin_y)) err << "origin y must be finite; ";
+namespace {
+
+// The map-independent checks of validate(), as "...; " clauses.
+void check_options(const GridBuildOptions& options, std::ostringstream& err) {
   if (options.occupied_threshold < 1 || options.occupied_threshold > 100)
     err << "occupied_threshold must be in 1..100 (got " << options.occupied_threshold << "); ";
   if (!std::isfinite(options.robot_radius) || options.robot_radius < 0.0)
-    err << "robot_radius must be finite and >= 0 (got " << options.robot_radius << "); ";
+    err << "robot_radius must be finite and >= 0 metres (got " << options.robot_radius << "); ";
+  if (options.max_cells < 1 || options.max_cells > kMaxCellsLimit)
+    err << "max_cells must be in 1.." << kMaxCellsLimit << " (got " << options.max_cells << "); ";
+}
+
+Status invalid_map(std::ostringstream& err) {
   std::string message = err.str();
   if (message.empty()) return Status::ok();
   message.resize(message.size() - 2);  // drop the last "; "
   return Status::error(StatusCode::kInvalidMap, "invalid map: " + message);
 }
 
-Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptions& options) {
+}  // namespace
+
+Status validate(const GridBuildOptions& options) {
+  std::ostringstream err;
+  check_options(options, err);
+  return invalid_map(err);
+}
+
+Status validate(const OccupancyGrid& grid, const GridBuildOptions& options) {
+  std::ostringstream err;
+  const bool size_ok = grid.width > 0 && grid.height > 0;
+  if (grid.width <= 0) err << "width must be > 0 (got " << grid.width << "); ";
+  if (grid.height <= 0) err << "height must be > 0 (got " << grid.height << "); ";
+  if (size_ok) {
+    const int64_t cells = int64_t{grid.width} * grid.height;  // < 2^62: no overflow
+    if (cells > options.max_cells) {
+      err << "width x height = " << cells << " cells is too large: the limit is "
+          << options.max_cells << " cells; ";
+    } else if (grid.data.size() != static_cast<size_t>(cells)) {
+      err << "data has " << grid.data.size() << " values, expected width x height = " << cells
+          << "; ";
+    }
+  }
+  const bool resolution_ok = std::isfinite(grid.resolution) && grid.resolution > 0.0;
+  if (!resolution_ok) err << "resolution must be finite and > 0 (got " << grid.resolution << "); ";
+  if (!std::isfinite(grid.origin_x)) err << "origin x must be finite; ";
+  if (!std::isfinite(grid.origin_y)) err << "origin y must be finite; ";
+  check_options(options, err);
+  // The radius is bounded by the map it inflates: a robot wider than the whole map cannot be
+  // placed on it, and is almost always a unit mistake (millimetres given as metres).
+  if (size_ok && resolution_ok && std::isfinite(options.robot_radius) &&
+      options.robot_radius > 0.0) {
+    const double radius_cells = options.robot_radius / grid.resolution;
+    const double diagonal_cells = std::hypot(double(grid.width), double(grid.height));
+    if (!(radius_cells <= diagonal_cells)) {
+      err << "robot_radius " << options.robot_radius << " m is " << radius_cells
+          << " cells at the map's resolution of " << grid.resolution
+          << " m, more than the map's diagonal of " << diagonal_cells
+          << " cells (is the radius in metres?); ";
+    }
+  }
+  return invalid_map(err);
+}
+
+Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptions& options,
+                                 const std::atomic<bool>* cancel) {
   if (Status status = validate(grid, options); !status.is_ok()) return status;
+  const auto canceled = [] {
+    return Status::error(StatusCode::kCanceled, "map conversion canceled");
+  };
   for (size_t i = 0; i < grid.data.size(); ++i) {
     if (grid.data[i] < -1 || grid.data[i] > 100) {
       return Status::error(StatusCode::kInvalidMap, "invalid map: data[" + std::to_string(i) +
@@ -108,7 +139,12 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
       map.blocked_[map.padded_index(x, y)] = blocked ? 1 : 0;
     }
   }
-  inflate(map.blocked_, map.width_, map.height_, options.robot_radius / grid.resolution);
+  if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return canceled();
+  if (!inflate(map.blocked_, map.width_, map.height_, options.robot_radius / grid.resolution,
+               cancel)) {
+    return canceled();
+  }
+  if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return canceled();
   map.build_summed_area_table();
   map.build_bit_grids();
   return map;

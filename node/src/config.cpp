@@ -322,7 +322,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   map.boolean("allow_unknown", c.map.allow_unknown);
   map.number("robot_radius", c.map.robot_radius, "a finite number of metres >= 0",
              [](double v) { return v >= 0.0; });
-  map.integer("max_cells", c.map.max_cells, 1, 1LL << 28);
+  map.integer("max_cells", c.map.max_cells, 1, core::kMaxCellsLimit);
   map.finish();
 
   // Every key the file gives becomes a setting; a key left out stays unset, so that it follows
@@ -399,8 +399,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   if (errors.empty()) {
     if (core::Status s = core::validate(c.planner.options()); !s.is_ok())
       errors.push_back("planner: " + s.message);
-    const core::OccupancyGrid one_cell{1, 1, 1.0, 0.0, 0.0, {0}};
-    if (core::Status s = core::validate(one_cell, c.map); !s.is_ok())
+    if (core::Status s = core::validate(c.map); !s.is_ok())
       errors.push_back("map: " + s.message);
   }
 }

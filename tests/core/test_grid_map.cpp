@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <cmath>
 #include <random>
 
 #include "core/test_support.hpp"
@@ -74,7 +76,7 @@ TEST(GridMap, InvalidMapsNameTheField) {
   cases.push_back({bad_value, {}, "data[3] = 101"});
   GridBuildOptions big_limit;
   big_limit.max_cells = 3;
-  cases.push_back({grid_of(2, 2), big_limit, "exceeds the limit"});
+  cases.push_back({grid_of(2, 2), big_limit, "too large: the limit is 3 cells"});
   GridBuildOptions bad_threshold;
   bad_threshold.occupied_threshold = 0;
   cases.push_back({grid_of(2, 2), bad_threshold, "occupied_threshold"});
@@ -185,6 +187,60 @@ TEST(GridMap, InflationSnapsWholeCellRadii) {
               << "cell " << x << "," << y << ", " << c.radius << " m at " << c.resolution;
     }
   }
+}
+
+// A radius of up to the map's diagonal inflates as its definition says, at a cost linear in
+// the cells (before, the disc of (2r+1)^2 offsets alone was 10 GB for r = 1e5 / 0.05 m); one
+// beyond the diagonal is refused, naming robot_radius, instead of overflowing the radius in cells
+// to INT_MIN and skipping inflation (1e10 m) or exhausting memory.
+TEST(GridMap, LargeRadiiInflateByDefinitionOrAreRefused) {
+  std::mt19937 rng(99);
+  OccupancyGrid g = grid_of(60, 45);
+  g.resolution = 0.05;
+  std::bernoulli_distribution blocked(0.004);
+  for (auto& v : g.data) v = blocked(rng) ? 100 : 0;
+  g.data[7 * 60 + 50] = 100;  // at least one obstacle
+  const double diagonal = std::hypot(60.0, 45.0);  // cells
+  for (int64_t max_d2 : {int64_t{100}, int64_t{1000}, int64_t{4000}, int64_t{5600}}) {
+    GridBuildOptions options;
+    options.robot_radius = std::sqrt(double(max_d2)) * g.resolution;
+    ASSERT_LE(std::sqrt(double(max_d2)), diagonal);
+    auto map = GridMap::build(g, options);
+    ASSERT_TRUE(map) << map.error().message;
+    const std::vector<bool> expected = inflated_by_definition(g, max_d2);
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x)
+        ASSERT_EQ(map->blocked(x, y), expected[y * g.width + x]) << x << "," << y << " " << max_d2;
+  }
+  for (double radius : {diagonal * g.resolution * 1.001, 1e5, 1e10, 1e300}) {
+    GridBuildOptions options;
+    options.robot_radius = radius;
+    auto map = GridMap::build(g, options);
+    ASSERT_FALSE(map) << radius;
+    EXPECT_EQ(map.error().code, StatusCode::kInvalidMap);
+    EXPECT_NE(map.error().message.find("robot_radius"), std::string::npos) << map.error().message;
+    EXPECT_NE(map.error().message.find("diagonal"), std::string::npos) << map.error().message;
+  }
+  // The options alone (what a config checks) do not depend on any map.
+  GridBuildOptions huge;
+  huge.robot_radius = 1e5;
+  EXPECT_TRUE(core::validate(huge).is_ok());
+  huge.robot_radius = -1.0;
+  EXPECT_FALSE(core::validate(huge).is_ok());
+}
+
+// A conversion superseded by a newer map stops with kCanceled and builds nothing.
+TEST(GridMap, BuildStopsWhenCanceled) {
+  OccupancyGrid g = grid_of(64, 64);
+  g.data[100] = 100;
+  GridBuildOptions options;
+  options.robot_radius = 3.0;
+  std::atomic<bool> cancel{true};
+  auto map = GridMap::build(g, options, &cancel);
+  ASSERT_FALSE(map);
+  EXPECT_EQ(map.error().code, StatusCode::kCanceled);
+  cancel = false;
+  EXPECT_TRUE(GridMap::build(g, options, &cancel));
 }
 
 // The bit grids for line of sight hold exactly the blocked flags, in rows and in columns, for

@@ -5,6 +5,7 @@
 // being built elsewhere.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -32,15 +33,24 @@ constexpr int8_t kOccupancyUnknown = -1;
 constexpr int8_t kOccupancyFree = 0;
 constexpr int8_t kOccupancyOccupied = 100;
 
+// The largest max_cells any build accepts (cells): the summed-area table counts in int32 and
+// the padded index is uint32, and a search needs tens of bytes per cell (8 GB at this size).
+constexpr int64_t kMaxCellsLimit = int64_t{1} << 28;
+
 struct GridBuildOptions {
   int occupied_threshold = 65;  // values >= this are blocked (1..100)
   bool allow_unknown = false;   // unknown (-1) cells are free when true, blocked otherwise
   double robot_radius = 0.0;    // metres; cells whose centre is within this of a blocked centre
-                                // are blocked too (0 = no inflation)
-  int64_t max_cells = int64_t{1} << 28;  // refuse larger maps (memory guard), cells
+                                // are blocked too (0 = no inflation). At most the diagonal of
+                                // the map it inflates (checked per map by validate()).
+  int64_t max_cells = int64_t{1} << 28;  // refuse larger maps (memory guard), cells, at most
+                                         // kMaxCellsLimit
 };
 
-// Checks an OccupancyGrid and build options; the message names the field at fault.
+// Checks the options alone (what a config can check before any map arrives).
+Status validate(const GridBuildOptions& options);
+// Checks an OccupancyGrid and the build options for it (including robot_radius against the
+// map's size); the message names the field at fault.
 Status validate(const OccupancyGrid& grid, const GridBuildOptions& options = {});
 
 // Blocked flags packed one bit per cell (1 = blocked) along lines of cells: the rows of a map
@@ -63,8 +73,11 @@ struct BlockedBits {
 class GridMap {
  public:
   // Validates, thresholds, inflates and builds the summed-area table and the bit grids.
-  // O(cells + inflation).
-  static Expected<GridMap> build(const OccupancyGrid& grid, const GridBuildOptions& options = {});
+  // O(cells) whatever the robot radius (inflation goes through the exact distance transform),
+  // about 10 bytes of scratch per cell. Polls `cancel` (may be null) once per row and stops
+  // with kCanceled when it is raised (a newer map supersedes this one).
+  static Expected<GridMap> build(const OccupancyGrid& grid, const GridBuildOptions& options = {},
+                                 const std::atomic<bool>* cancel = nullptr);
 
   // Test and tool convenience: '#' '@' 'O' 'T' 'W' are blocked, anything else free. The first
   // string is the *top* row (as the text reads), so it becomes row height-1.
