@@ -297,6 +297,25 @@ Planner::Planner(std::shared_ptr<const GridMap> map)
 }
 Planner::~Planner() = default;
 Planner::Planner(Planner&&) noexcept = default;
+Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOptions& options) {
+  if (Status s = validate(options); !s.is_ok()) return s;
+  auto outside = [&](const char* which, const Cell& c) {
+    return std::string(which) + " " + describe(c) + " is outside the map (" +
+           std::to_string(map.width()) + " x " + std::to_string(map.height()) + " cells)";
+  };
+  if (!map.in_bounds(query.start))
+    return Status::error(StatusCode::kStartOutsideMap, outside("start", query.start));
+  if (!map.in_bounds(query.goal))
+    return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal));
+  if (map.blocked(query.start))
+    return Status::error(StatusCode::kStartOccupied,
+                         "start " + describe(query.start) + " is in a blocked cell");
+  if (map.blocked(query.goal))
+    return Status::error(StatusCode::kGoalOccupied,
+                         "goal " + describe(query.goal) + " is in a blocked cell");
+  return Status::ok();
+}
+
 Planner& Planner::operator=(Planner&&) noexcept = default;
 
 size_t Planner::search_state_bytes() const {
@@ -325,21 +344,7 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   };
   if (!map_ || map_->cell_count() == 0) return fail(StatusCode::kInvalidMap, "no map to plan on");
   const GridMap& map = *map_;
-  if (Status s = validate(options); !s.is_ok()) return fail(s.code, s.message);
-  auto outside = [&](const char* which, const Cell& c) {
-    return std::string(which) + " " + describe(c) + " is outside the map (" +
-           std::to_string(map.width()) + " x " + std::to_string(map.height()) + " cells)";
-  };
-  if (!map.in_bounds(query.start))
-    return fail(StatusCode::kStartOutsideMap, outside("start", query.start));
-  if (!map.in_bounds(query.goal))
-    return fail(StatusCode::kGoalOutsideMap, outside("goal", query.goal));
-  if (map.blocked(query.start))
-    return fail(StatusCode::kStartOccupied,
-                "start " + describe(query.start) + " is in a blocked cell");
-  if (map.blocked(query.goal))
-    return fail(StatusCode::kGoalOccupied,
-                "goal " + describe(query.goal) + " is in a blocked cell");
+  if (Status s = check_query(map, query, options); !s.is_ok()) return fail(s.code, s.message);
 
   // One budget for search, pruning and smoothing.
   PlanningBudget budget(started, options.max_planning_time, cancel);

@@ -1,6 +1,7 @@
 #include "vnsba/core/planner_options.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -22,6 +23,23 @@ constexpr PlannerName kPlannerNames[] = {
 };
 
 }  // namespace
+
+std::string OptionRange::describe() const {
+  // Shortest form a user would type: 0.05, 10, 1e6 (not 1e+06).
+  auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%g", v);
+    std::string s = text;
+    if (const size_t e = s.find("e+"); e != std::string::npos) {
+      size_t digits = e + 2;
+      while (digits + 1 < s.size() && s[digits] == '0') ++digits;
+      s = s.substr(0, e + 1) + s.substr(digits);
+    }
+    return s;
+  };
+  return (*unit ? std::string("a number of ") + unit : std::string("a number")) + " in " +
+         (min_excluded ? "(" : "[") + number(min) + ", " + number(max) + "]";
+}
 
 std::string_view to_string(PlannerKind kind) {
   for (const auto& entry : kPlannerNames)
@@ -58,19 +76,21 @@ Status validate(const PlannerOptions& o) {
   // Called by every plan: the stream (and its locale) is made only when something is wrong.
   std::optional<std::ostringstream> stream;
   auto err = [&]() -> std::ostringstream& { return stream ? *stream : stream.emplace(); };
-  auto weight_ok = [](double w) { return std::isfinite(w) && w >= 0.0 && w <= 1e6; };
-  if (!weight_ok(o.omega))
-    err() << "omega must be finite and in [0, 1e6] (got " << o.omega << "); ";
-  if (!weight_ok(o.eta)) err() << "eta must be finite and in [0, 1e6] (got " << o.eta << "); ";
-  if (o.planner == PlannerKind::kVnsBaStar && weight_ok(o.omega) && weight_ok(o.eta) &&
-      o.omega == 0.0 && o.eta == 0.0) {
+  auto check = [&](const OptionRange& range, double value) {
+    if (range.contains(value)) return true;
+    err() << range.key << " must be " << range.describe() << " (got " << value << "); ";
+    return false;
+  };
+  const bool omega_ok = check(kOmegaRange, o.omega);
+  const bool eta_ok = check(kEtaRange, o.eta);
+  if (o.planner == PlannerKind::kVnsBaStar && omega_ok && eta_ok && o.omega == 0.0 &&
+      o.eta == 0.0) {
     err() << "omega and eta must not both be 0 (the heuristic would vanish); ";
   }
-  if (!std::isfinite(o.smoothing_distance) || o.smoothing_distance <= 0.0)
-    err() << "smoothing_distance must be finite and > 0 cells (got " << o.smoothing_distance
-          << "); ";
-  if (!std::isfinite(o.sample_step) || o.sample_step <= 0.0 || o.sample_step > 10.0)
-    err() << "sample_step must be in (0, 10] cells (got " << o.sample_step << "); ";
+  check(kSmoothingDistanceRange, o.smoothing_distance);
+  check(kSampleStepRange, o.sample_step);
+  const double seconds = std::chrono::duration<double>(o.max_planning_time).count();
+  check(kMaxPlanningTimeRange, seconds);
   if (!planner_kind_from_string(to_string(o.planner))) err() << "planner is not a known planner; ";
   if (!stream) return Status::ok();
   std::string message = stream->str();

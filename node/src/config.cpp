@@ -6,6 +6,7 @@
 // reported in one pass, and the schema is the sequence of getter calls in read_config().
 #include "vnsba/node/config.hpp"
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -22,8 +23,6 @@ namespace vnsba::node {
 namespace {
 
 using Errors = std::vector<std::string>;
-
-constexpr double kMaxPlanningSeconds = 3600.0;
 
 // Optimal string alignment distance (Levenshtein plus swapped neighbours), capped at 3.
 size_t edit_distance(const std::string& a, const std::string& b) {
@@ -333,9 +332,13 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   for (core::PlannerKind k : core::all_planner_kinds()) planner_names.emplace_back(to_string(k));
   planner.choice("name", kind, core::planner_kind_from_string, planner_names);
   core::PlannerSettings& s = c.planner.settings;
-  auto weight = [](double v) { return v >= 0.0 && v <= 1e6; };
-  const bool omega_ok = planner.number("omega", s.omega, "a number in [0, 1e6]", weight);
-  const bool eta_ok = planner.number("eta", s.eta, "a number in [0, 1e6]", weight);
+  // Ranges, units and messages come from core's one table (kOmegaRange, ...).
+  auto number_in = [&](const core::OptionRange& range, std::optional<double>& out) {
+    return planner.number(range.key, out, range.describe(),
+                          [&range](double v) { return range.contains(v); });
+  };
+  const bool omega_ok = number_in(core::kOmegaRange, s.omega);
+  const bool eta_ok = number_in(core::kEtaRange, s.eta);
   const core::PlannerOptions weights = c.planner.options();
   if (kind == core::PlannerKind::kVnsBaStar && omega_ok && eta_ok && weights.omega == 0.0 &&
       weights.eta == 0.0) {
@@ -349,13 +352,12 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
                            core::CornerPolicy::kAlways}));
   planner.boolean("prune", s.prune);
   planner.boolean("smooth", s.smooth);
-  planner.number("smoothing_distance", s.smoothing_distance, "a finite number of cells > 0",
-                 [](double v) { return v > 0.0; });
-  planner.number("sample_step", s.sample_step, "a number of cells in (0, 10]",
-                 [](double v) { return v > 0.0 && v <= 10.0; });
+  number_in(core::kSmoothingDistanceRange, s.smoothing_distance);
+  number_in(core::kSampleStepRange, s.sample_step);
   std::optional<double> seconds;
-  planner.number("max_planning_time", seconds, "a number of seconds in [0, 3600] (0 = unlimited)",
-                 [](double v) { return v >= 0.0 && v <= kMaxPlanningSeconds; });
+  planner.number(core::kMaxPlanningTimeRange.key, seconds,
+                 core::kMaxPlanningTimeRange.describe() + " (0 = unlimited)",
+                 [](double v) { return core::kMaxPlanningTimeRange.contains(v); });
   if (seconds) s.max_planning_time = to_microseconds(*seconds);
   planner.boolean("compute_length_ratio", s.compute_length_ratio);
   planner.finish();
@@ -422,6 +424,27 @@ ConfigResult parse_config(const std::string& yaml_text, const std::string& sourc
       read_config(root, config, result.errors);
     }
     if (result.errors.empty()) result.config = std::move(config);
+  } catch (const YAML::DeepRecursion& e) {
+    // yaml-cpp's parser recurses once a level and stops at a fixed depth (500 in 0.7) rather
+    // than overflow the stack; its message ("bad file") does not say so. A config nests 3 deep.
+    // The mark is where its scanner was: at most the end of the nested collection. Having read
+    // through a newline, that is the end of the line before.
+    std::string where = source;
+    if (!e.mark.is_null()) {
+      int line = e.mark.line, column = e.mark.column;
+      const auto pos = static_cast<size_t>(std::max(e.mark.pos, 0));
+      if (column == 0 && line > 0 && pos > 0 && pos <= yaml_text.size() &&
+          yaml_text[pos - 1] == '\n') {
+        const size_t previous = pos >= 2 ? yaml_text.rfind('\n', pos - 2) : std::string::npos;
+        const size_t begin = previous == std::string::npos ? 0 : previous + 1;
+        --line;
+        column = static_cast<int>(pos - 1 - begin);
+      }
+      where += ": line " + std::to_string(line + 1) + ", column " + std::to_string(column + 1);
+    }
+    result = {std::nullopt,
+              {where + ": the YAML is nested deeper than " + std::to_string(e.depth() - 1) +
+               " levels, the most yaml-cpp reads (a config nests 3 levels)"}};
   } catch (const YAML::ParserException& e) {
     std::string where = source;
     if (!e.mark.is_null())

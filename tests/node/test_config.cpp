@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -267,8 +268,8 @@ TEST(Config, OutOfRangeValuesAreReportedWithTheirKeys) {
   EXPECT_TRUE(HasError(r, "map.max_cells", {"\"268435457\"", "1..268435456"}));
   EXPECT_TRUE(HasError(r, "planner.omega", {"\"1.0e7\"", "[0, 1e6]"}));
   EXPECT_TRUE(HasError(r, "planner.eta", {"\".inf\"", "[0, 1e6]"}));
-  EXPECT_TRUE(HasError(r, "planner.smoothing_distance", {"\"0\"", "> 0"}));
-  EXPECT_TRUE(HasError(r, "planner.sample_step", {"\"10.5\"", "(0, 10]"}));
+  EXPECT_TRUE(HasError(r, "planner.smoothing_distance", {"\"0\"", "cells in (0, 1e6]"}));
+  EXPECT_TRUE(HasError(r, "planner.sample_step", {"\"10.5\"", "cells in [0.05, 10]"}));
   EXPECT_TRUE(HasError(r, "planner.max_planning_time", {"\"3601\"", "seconds in [0, 3600]"}));
   EXPECT_TRUE(HasError(r, "requests.queue_capacity", {"\"100001\"", "1..100000"}));
   EXPECT_TRUE(HasError(r, "slicer.z_max", {"\"1\"", ">= slicer.z_min (2)"}));
@@ -284,6 +285,23 @@ TEST(Config, BoundaryValuesAreAccepted) {
   EXPECT_EQ(r.config->domain_id, 232);
   EXPECT_EQ(r.config->map.max_cells, int64_t{1} << 28);
   EXPECT_EQ(r.config->planner.options().max_planning_time, std::chrono::hours(1));
+}
+
+// Issue 13: planner.sample_step 1e-6, inside the old (0, 10], asked for billions of spline
+// samples and ended in bad_alloc. The range is core's (kSampleStepRange), so the config, the
+// tools and core::validate refuse the same values.
+TEST(Config, OptionRangesAreCoresOwn) {
+  for (const char* value : {"1e-6", "0.0499"}) {
+    const ConfigResult r = parse_config(std::string("planner:\n  sample_step: ") + value + "\n");
+    EXPECT_TRUE(HasError(r, "planner.sample_step", {vnsba::core::kSampleStepRange.describe()})) << value;
+    vnsba::core::PlannerOptions options = vnsba::core::default_options(vnsba::core::PlannerKind::kVnsBaStar);
+    options.sample_step = std::stod(value);
+    EXPECT_FALSE(vnsba::core::validate(options).is_ok()) << value;
+  }
+  const ConfigResult ok = parse_config("planner:\n  sample_step: 0.05\n");
+  EXPECT_TRUE(ok.config.has_value()) << Joined(ok.errors);
+  EXPECT_EQ(vnsba::core::kSampleStepRange.describe(), "a number of cells in [0.05, 10]");
+  EXPECT_EQ(vnsba::core::kOmegaRange.describe(), "a number in [0, 1e6]");
 }
 
 TEST(Config, NonFiniteAndMalformedNumbersAreRejected) {
@@ -391,6 +409,50 @@ TEST(Config, SyntaxErrorGivesOneErrorWithLineAndColumn) {
   ASSERT_EQ(text.errors.size(), 1u);
   EXPECT_EQ(text.errors[0].rfind("inline.yaml: YAML syntax error at line ", 0), 0u)
       << text.errors[0];
+}
+
+// yaml-cpp refuses documents nested 500 levels deep (its DepthGuard): that is reported as the
+// nesting it is, with the file and the line, not as a syntax error; 100,000 levels neither crash
+// (stack) nor hang.
+TEST(Config, DeepNestingIsReportedAsSuchWithFileAndLine) {
+  auto repeat = [](const std::string& unit, int times) {
+    std::string out;
+    for (int i = 0; i < times; ++i) out += unit;
+    return out;
+  };
+  struct Case {
+    std::string name;
+    std::string text;
+    int line;   // where the nesting passes the limit: the error must point there,
+    int slack;  // give or take this (a block level a line: yaml-cpp stops on that line or before)
+  };
+  std::string indented;  // a block mapping 600 levels deep, one level (and space) more a line
+  for (int i = 0; i < 600; ++i) indented += std::string(i, ' ') + "k:\n";
+  const std::vector<Case> cases = {
+      {"flow sequences", "slicer:\n  z_min: " + repeat("[", 600) + repeat("]", 600) + "\n", 2, 0},
+      {"flow maps", "map: " + repeat("{a: ", 600) + "1" + repeat("}", 600) + "\n", 1, 0},
+      {"block sequences", repeat("- ", 600) + "x\n", 1, 0},
+      {"block maps", indented, 500, 1},
+      {"100,000 flow", repeat("[", 100000) + repeat("]", 100000) + "\n", 1, 0},
+      {"100,000 block", repeat("- ", 100000) + "x\n", 1, 0},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const ConfigResult r = parse_config(c.text, "deep.yaml");
+    EXPECT_FALSE(r.config.has_value());
+    ASSERT_EQ(r.errors.size(), 1u) << Joined(r.errors);
+    const std::string prefix = "deep.yaml: line ";
+    ASSERT_EQ(r.errors[0].rfind(prefix, 0), 0u) << r.errors[0];
+    const int line = std::atoi(r.errors[0].c_str() + prefix.size());
+    EXPECT_LE(std::abs(line - c.line), c.slack) << r.errors[0];
+    EXPECT_NE(r.errors[0].find("nested deeper than 499 levels"), std::string::npos)
+        << r.errors[0];
+    EXPECT_EQ(r.errors[0].find("syntax error"), std::string::npos) << r.errors[0];
+  }
+  // 498 levels is still a document (here a wrong type for the key, reported as such).
+  const ConfigResult ok = parse_config("slicer:\n  z_min: " + repeat("[", 497) + repeat("]", 497));
+  ASSERT_EQ(ok.errors.size(), 1u) << Joined(ok.errors);
+  EXPECT_NE(ok.errors[0].find("slicer.z_min"), std::string::npos) << ok.errors[0];
 }
 
 TEST(Config, MissingOrUnreadableFileGivesOneErrorNamingIt) {

@@ -59,6 +59,10 @@ struct PlanResult {
   Metrics metrics;
 };
 
+// What Planner::plan checks before it searches: the options, then start and goal inside the
+// map and on free cells. The message names the field at fault.
+Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOptions& options);
+
 class Planner {
  public:
   // Allocates the search arrays for `map` (see above).

@@ -12,7 +12,9 @@
 #pragma once
 
 #include <chrono>
+#include <cmath>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -35,18 +37,45 @@ std::optional<PlannerKind> planner_kind_from_string(std::string_view name);
 // All planners, in the paper's table order.
 const std::vector<PlannerKind>& all_planner_kinds();
 
+// The range of a numeric option: the one place validate(), the node's config, request overrides
+// and the tools read it from. Every range keeps a plan's memory and time bounded (a sample_step
+// of 1e-6 cells asked for billions of spline samples).
+struct OptionRange {
+  const char* key;   // the option's name, as in the config file
+  const char* unit;  // "cells", "seconds", or "" for a plain number
+  double min;
+  double max;
+  bool min_excluded;  // (min, max] instead of [min, max]
+
+  bool contains(double v) const {
+    return std::isfinite(v) && (min_excluded ? v > min : v >= min) && v <= max;
+  }
+  // "a number of cells in [0.05, 10]" (what a config error message expects).
+  std::string describe() const;
+};
+inline constexpr OptionRange kOmegaRange{"omega", "", 0.0, 1e6, false};
+inline constexpr OptionRange kEtaRange{"eta", "", 0.0, 1e6, false};
+inline constexpr OptionRange kSmoothingDistanceRange{"smoothing_distance", "cells", 0.0, 1e6, true};
+// Spline samples at most this far apart: at 0.05 cells a corner of d cells gives about 90 d
+// samples, so a path never holds more than a few dozen points per cell of its length.
+inline constexpr OptionRange kSampleStepRange{"sample_step", "cells", 0.05, 10.0, false};
+// 0 means unlimited.
+inline constexpr OptionRange kMaxPlanningTimeRange{"max_planning_time", "seconds", 0.0, 3600.0,
+                                                   false};
+
 struct PlannerOptions {
   PlannerKind planner = PlannerKind::kVnsBaStar;
-  double omega = 0.5;  // weight of dist(n, opposite_current) in p(n); [0, 1e6], finite
-  double eta = 0.5;    // weight of dist(n, opposite_start) in p(n); [0, 1e6], finite
+  double omega = 0.5;  // weight of dist(n, opposite_current) in p(n); kOmegaRange
+  double eta = 0.5;    // weight of dist(n, opposite_start) in p(n); kEtaRange
   Neighborhood neighborhood = Neighborhood::kEightElevenThirteen;
   CornerPolicy corner_policy = CornerPolicy::kNever;
   bool prune = true;                // polyline pruning (section 4)
   bool smooth = true;               // cubic-spline corner smoothing (section 5); needs prune
                                     // or works on the raw path's corners when prune is off
-  double smoothing_distance = 1.5;  // cells, > 0
-  double sample_step = 0.25;        // cells, in (0, 10]
-  // Wall-clock budget for search plus post-processing; zero or negative means unlimited.
+  double smoothing_distance = 1.5;  // cells, kSmoothingDistanceRange
+  double sample_step = 0.25;        // cells, kSampleStepRange
+  // Wall-clock budget for search plus post-processing; zero means unlimited (at most
+  // kMaxPlanningTimeRange; negative is refused).
   std::chrono::microseconds max_planning_time{0};
   bool record_expansions = false;  // fill PlanResult::expanded_* (for debug pictures)
   // Also run optimal A* on the same query to fill Metrics::length_ratio (costs a second search).
