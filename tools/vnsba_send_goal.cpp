@@ -29,6 +29,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/rtps/common/WriteParams.h>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -97,9 +98,11 @@ class RequestWriterListener : public node::dds::DataWriterListener {
   MatchedParticipants readers;  // the request readers: node, recorder, ...
 };
 
-// Keeps the first status whose request_id is ours (the transient-local history may replay the
-// node's older answers to other clients: those are skipped), and which participants write
-// statuses.
+// Keeps the status that answers our request: the one carrying the sample identity our write got
+// (request_writer_guid, request_sequence_number). The request id alone is not enough: the
+// transient-local history replays the node's older answers, and an earlier run with the same
+// --id got one too. Statuses with our id that arrive before the write returned are held until
+// the identity is known; all others are skipped.
 class StatusReaderListener : public node::dds::DataReaderListener {
  public:
   explicit StatusReaderListener(std::string request_id) : request_id_(std::move(request_id)) {}
@@ -108,10 +111,16 @@ class StatusReaderListener : public node::dds::DataReaderListener {
     node::PlanStatusMsg msg;
     node::dds::SampleInfo info;
     while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data || msg.request_id() != request_id_) continue;
+      if (!info.valid_data || msg.subject() == node::wire::SUBJECT_MAP ||
+          msg.request_id() != request_id_) {
+        continue;
+      }
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!status_) {
-        status_ = msg;
+      if (status_) continue;
+      if (!expected_) {
+        held_.push_back(std::move(msg));
+      } else if (answers(msg, *expected_)) {
+        status_ = std::move(msg);
         arrived_.notify_all();
       }
     }
@@ -119,6 +128,17 @@ class StatusReaderListener : public node::dds::DataReaderListener {
   void on_subscription_matched(node::dds::DataReader*,
                                const node::dds::SubscriptionMatchedStatus& status) override {
     writers.on_match(status.last_publication_handle, status.current_count_change);
+  }
+
+  // Our request went out with `identity`: from now on only its answer counts.
+  void expect(const node::RequestIdentity& identity) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    expected_ = identity;
+    for (node::PlanStatusMsg& msg : held_) {
+      if (!status_ && answers(msg, identity)) status_ = std::move(msg);
+    }
+    held_.clear();
+    if (status_) arrived_.notify_all();
   }
 
   // Waits up to `timeout` for our status.
@@ -131,9 +151,16 @@ class StatusReaderListener : public node::dds::DataReaderListener {
   MatchedParticipants writers;  // the status writers: planner nodes
 
  private:
+  static bool answers(const node::PlanStatusMsg& msg, const node::RequestIdentity& identity) {
+    return msg.request_writer_guid() == identity.writer_guid &&
+           msg.request_sequence_number() == identity.sequence_number;
+  }
+
   const std::string request_id_;
   std::mutex mutex_;
   std::condition_variable arrived_;
+  std::optional<node::RequestIdentity> expected_;
+  std::vector<node::PlanStatusMsg> held_;  // ours by id, before the write returned
   std::optional<node::PlanStatusMsg> status_;
 };
 
@@ -352,12 +379,15 @@ int main(int argc, char** argv) {
   request.start(node::to_pose_msg(start[0], start[1], 0.0, config.frame_id, stamp));
   request.goal(node::to_pose_msg(goal[0], goal[1], 0.0, config.frame_id, stamp));
   request.planner(planner);
-  if (!request_writer->write(&request)) {
+  eprosima::fastrtps::rtps::WriteParams write_params;  // gets the request's sample identity
+  if (!request_writer->write(&request, write_params)) {
     spdlog::error("could not write the request on '{}'", request_topic_name);
     bus.shutdown();
     return kDdsFailure;
   }
-  spdlog::debug("sent '{}' on '{}' (domain {})", request_id, request_topic_name, config.domain_id);
+  status_events.expect(node::identity_of(write_params, node::wire::SUBJECT_REQUEST));
+  spdlog::debug("sent '{}' on '{}' (domain {})", node::printable(request_id), request_topic_name,
+                config.domain_id);
 
   std::optional<node::PlanStatusMsg> status;
   while (!status) {
@@ -369,19 +399,19 @@ int main(int argc, char** argv) {
   bus.shutdown();
   if (!status) {
     if (stopped_by_signal) {
-      spdlog::error("interrupted before the status of '{}' came", request_id);
+      spdlog::error("interrupted before the status of '{}' came", node::printable(request_id));
     } else {
-      spdlog::error("no status for '{}' on '{}' within {} s", request_id, status_topic_name,
-                    wait_seconds);
+      spdlog::error("no status for '{}' on '{}' within {} s", node::printable(request_id),
+                    status_topic_name, wait_seconds);
     }
     return kNoStatus;
   }
-  std::printf("%s %s %s %d %lld\n", status->request_id().c_str(),
+  std::printf("%s %s %s %d %lld\n", node::printable(status->request_id()).c_str(),
               node::code_name(status->code()).c_str(), format_metres(status->length_m()).c_str(),
               static_cast<int>(status->turns()),
               static_cast<long long>(status->planning_time_us()));
   if (status->code() != node::wire::OK) {
-    spdlog::warn("{}", status->message());
+    spdlog::warn("{}", node::printable(status->message(), 4096));
     return kOtherStatusOrBadInput;
   }
   return kStatusOk;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <sstream>
 
 namespace vnsba::node {
@@ -25,7 +27,59 @@ std::string num(double v) {
   return out.str();
 }
 
+// Length of the well-formed UTF-8 character at text[i] (1..4), or 0 when it is not one.
+size_t utf8_length(std::string_view text, size_t i) {
+  const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char c = byte(i);
+  size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xe ? 3 : (c >> 3) == 0x1e ? 4 : 0;
+  if (n == 0 || i + n > text.size()) return 0;
+  for (size_t k = 1; k < n; ++k)
+    if ((byte(i + k) & 0xc0) != 0x80) return 0;
+  if (n == 2 && c < 0xc2) return 0;  // overlong
+  return n;
+}
+
+std::string hex_escape(unsigned char c) {
+  char text[8];
+  std::snprintf(text, sizeof(text), "\\x%02x", c);
+  return text;
+}
+
 }  // namespace
+
+std::string printable(std::string_view text, size_t max_bytes) {
+  std::string out;
+  size_t i = 0;
+  for (; i < text.size() && i < max_bytes;) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    const size_t n = utf8_length(text, i);
+    if (n == 0) {  // not UTF-8: shown byte by byte
+      out += hex_escape(c);
+      ++i;
+      continue;
+    }
+    if (i + n > max_bytes) break;  // never cut a character
+    if (n == 1) {
+      if (c == '\n') out += "\\n";
+      else if (c == '\t') out += "\\t";
+      else if (c == '\r') out += "\\r";
+      else if (c == '\\') out += "\\\\";
+      else if (c < 0x20 || c == 0x7f) out += hex_escape(c);
+      else out += static_cast<char>(c);
+    } else if (n == 2 && c == 0xc2 && static_cast<unsigned char>(text[i + 1]) < 0xa0) {
+      out += hex_escape(0xc2) + hex_escape(static_cast<unsigned char>(text[i + 1]));  // C1
+    } else {
+      out.append(text.substr(i, n));
+    }
+    i += n;
+  }
+  if (i < text.size()) out += "... (" + std::to_string(text.size()) + " bytes)";
+  return out;
+}
+
+bool RequestIdentity::same_client(const RequestIdentity& other) const {
+  return std::memcmp(writer_guid.data(), other.writer_guid.data(), 12) == 0;
+}
 
 uint8_t to_wire_code(core::StatusCode code) {
   switch (code) {
@@ -90,7 +144,7 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   SliceCheck out;
   const std::string& frame = msg.header().frame_id();
   if (!frame.empty() && frame != expected_frame) {
-    out.status = error(wire::FRAME_MISMATCH, "slice header.frame_id is '" + frame +
+    out.status = error(wire::FRAME_MISMATCH, "slice header.frame_id is '" + printable(frame) +
                                                  "', the node plans in '" + expected_frame + "'");
     return out;
   }
@@ -99,11 +153,12 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   if (info.width() == 0 || info.height() == 0)
     bad << "info.width x info.height is " << info.width() << " x " << info.height()
         << ", must be > 0; ";
-  const int64_t cells = int64_t{info.width()} * info.height();
-  if (cells > max_cells)
-    bad << "info.width x info.height = " << cells << " cells exceeds map.max_cells = " << max_cells
-        << "; ";
-  else if (static_cast<int64_t>(msg.data().size()) != cells)
+  // Both are uint32: their product is below 2^64, exact in uint64 (in int64 it overflowed).
+  const uint64_t cells = uint64_t{info.width()} * uint64_t{info.height()};
+  if (max_cells < 0 || cells > static_cast<uint64_t>(max_cells))
+    bad << "info.width x info.height = " << info.width() << " x " << info.height() << " = "
+        << cells << " cells is too large: the limit is map.max_cells = " << max_cells << "; ";
+  else if (msg.data().size() != cells)
     bad << "data has " << msg.data().size()
         << " values, expected info.width x info.height = " << cells << "; ";
   if (!finite(info.resolution()) || info.resolution() <= 0.0f)
@@ -190,7 +245,7 @@ PoseCheck check_pose(const PoseStampedMsg& pose, const std::string& field,
   PoseCheck out;
   const std::string& frame = pose.header().frame_id();
   if (!frame.empty() && frame != expected_frame) {
-    out.status = error(wire::FRAME_MISMATCH, field + ".header.frame_id is '" + frame +
+    out.status = error(wire::FRAME_MISMATCH, field + ".header.frame_id is '" + printable(frame) +
                                                  "', the map's frame is '" + expected_frame + "'");
     return out;
   }
@@ -243,11 +298,18 @@ PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame,
   return msg;
 }
 
-PlanStatusMsg to_status_msg(const std::string& request_id, const WireStatus& status,
-                            const std::string& planner, const core::Metrics* metrics,
-                            const TimeMsg& map_stamp, PathMsg path) {
+PlanStatusMsg to_status_msg(const std::string& request_id, const RequestIdentity* identity,
+                            const WireStatus& status, const std::string& planner,
+                            const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path) {
   PlanStatusMsg msg;
   msg.request_id(request_id);
+  if (identity != nullptr) {
+    msg.subject(identity->subject);
+    msg.request_writer_guid(identity->writer_guid);
+    msg.request_sequence_number(identity->sequence_number);
+  } else {
+    msg.subject(wire::SUBJECT_MAP);
+  }
   msg.code(status.code);
   msg.code_name(code_name(status.code));
   msg.message(status.message);

@@ -3,6 +3,10 @@
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/rtps/common/WriteParams.h>
+
+#include <algorithm>
+#include <iterator>
 
 namespace vnsba::node {
 
@@ -153,6 +157,35 @@ int matched_readers(dds::DataWriter* writer) {
       writer->get_publication_matched_status(status) != ReturnCode_t::RETCODE_OK)
     return 0;
   return status.current_count;
+}
+
+std::array<uint8_t, 16> guid_bytes(const eprosima::fastrtps::rtps::GUID_t& guid) {
+  std::array<uint8_t, 16> out{};
+  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), out.begin());
+  std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value), out.begin() + 12);
+  return out;
+}
+
+namespace {
+
+RequestIdentity identity_from(const eprosima::fastrtps::rtps::SampleIdentity& sample,
+                              uint8_t subject) {
+  RequestIdentity id;
+  id.subject = subject;
+  id.writer_guid = guid_bytes(sample.writer_guid());
+  id.sequence_number = sample.sequence_number().to64long();
+  return id;
+}
+
+}  // namespace
+
+RequestIdentity identity_of(const dds::SampleInfo& info, uint8_t subject) {
+  return identity_from(info.sample_identity, subject);
+}
+
+RequestIdentity identity_of(const eprosima::fastrtps::rtps::WriteParams& params,
+                            uint8_t subject) {
+  return identity_from(params.sample_identity(), subject);
 }
 
 }  // namespace vnsba::node

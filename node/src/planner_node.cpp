@@ -15,6 +15,8 @@
 #include "nav_msgs/msg/PathPubSubTypes.h"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
+#include "vnsba/node/requests.hpp"
+#include "vnsba/node/slice_slot.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 #include "vnsba_msgs/msg/PlannerDebugPubSubTypes.h"
@@ -25,7 +27,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Takes every valid sample of a reader and hands it to `on_sample`; runs on a DDS thread.
+// Takes every valid sample of a reader and hands it, with its SampleInfo, to `on_sample`; runs
+// on a DDS thread. Nothing escapes it: an exception (resource exhaustion) is logged, the sample
+// is lost to that exception only, and the listener goes on with the next one.
 template <class Msg, class OnSample>
 class TakeListener : public dds::DataReaderListener {
  public:
@@ -33,8 +37,14 @@ class TakeListener : public dds::DataReaderListener {
   void on_data_available(dds::DataReader* reader) override {
     Msg msg;
     dds::SampleInfo info;
-    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (info.valid_data) on_sample_(std::move(msg));
+    for (;;) {
+      try {
+        if (reader->take_next_sample(&msg, &info) != ReturnCode_t::RETCODE_OK) return;
+        if (info.valid_data) on_sample_(std::move(msg), info);
+      } catch (const std::exception& e) {
+        spdlog::critical("a sample on '{}' could not be handled: {}",
+                         reader->get_topicdescription()->get_name(), e.what());
+      }
       msg = Msg();
     }
   }
@@ -48,21 +58,6 @@ std::unique_ptr<dds::DataReaderListener> make_listener(OnSample on_sample) {
   return std::make_unique<TakeListener<Msg, OnSample>>(std::move(on_sample));
 }
 
-// Why a request must not be planned (or stop being planned); set under the queue lock.
-struct Interruption {
-  std::atomic<bool> flag{false};  // polled by the search
-  std::string reason;             // the CANCELED message
-};
-
-struct Job {
-  std::string id;
-  PoseStampedMsg start;
-  PoseStampedMsg goal;
-  std::string planner;        // empty: the configured planner
-  std::string missing_start;  // set when a goal_pose came before any robot_pose
-  std::shared_ptr<Interruption> interruption = std::make_shared<Interruption>();
-};
-
 // A map as the worker plans on it. The map thread builds the planner with the grid, so that its
 // search arrays (both directions, tens of bytes per cell) are allocated before the map goes live,
 // not in the first plan on it (about 230 ms at 4096 x 4096, which would also delay that plan's
@@ -75,15 +70,6 @@ struct ActiveMap {
   // error dropped it (see worker_loop); the worker then builds a fresh one.
   mutable std::unique_ptr<core::Planner> planner;
 };
-
-std::string describe_world_bounds(const core::GridMap& map) {
-  const Eigen::Vector2d lo = map.grid_to_world({0, 0});
-  const Eigen::Vector2d hi = map.grid_to_world({double(map.width()), double(map.height())});
-  char text[160];
-  std::snprintf(text, sizeof(text), "[%.3f, %.3f] x [%.3f, %.3f] m", lo.x(), hi.x(), lo.y(),
-                hi.y());
-  return text;
-}
 
 }  // namespace
 
@@ -101,17 +87,16 @@ class PlannerNode::Impl {
   dds::DataWriter* debug_writer_ = nullptr;
   std::vector<std::unique_ptr<dds::DataReaderListener>> listeners_;
 
-  // Maps: the newest unconverted slice, and the active one.
+  // Maps: the newest unconverted slice and the one being converted, and the active map.
   mutable std::mutex map_mutex_;
   mutable std::condition_variable map_cv_;
-  std::optional<OccupancyGridMsg> pending_slice_;
+  SliceSlot slices_;
   std::shared_ptr<const ActiveMap> active_map_;
 
   // Requests.
   std::mutex queue_mutex_;
   std::condition_variable queue_cv_;
-  std::deque<Job> queue_;
-  std::shared_ptr<Interruption> current_;  // of the request being planned
+  RequestQueue queue_{static_cast<size_t>(cfg_.queue_capacity), cfg_.preempt};
   uint64_t goal_counter_ = 0;
 
   std::mutex pose_mutex_;
@@ -123,20 +108,30 @@ class PlannerNode::Impl {
   std::thread map_thread_;
 
   std::atomic<uint64_t> requests_received_{0}, statuses_published_{0}, maps_accepted_{0},
-      maps_rejected_{0}, plans_ok_{0};
+      maps_rejected_{0}, maps_superseded_{0}, plans_ok_{0};
   std::atomic<size_t> queue_peak_{0};
 
-  void enqueue(Job job);
+  std::shared_ptr<const ActiveMap> current_map() const {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    return active_map_;
+  }
+  void on_request(Job job);
   void on_slice(OccupancyGridMsg&& msg);
-  void on_goal(PoseStampedMsg&& goal);
+  void on_goal(PoseStampedMsg&& goal, const dds::SampleInfo& info);
   void map_loop();
+  // Converts one slice; returns what to report (OK when it went live).
+  WireStatus convert_slice(SliceSlot::Taken taken);
   void worker_loop();
   // Plans one job; `map` is set to the map it plans on (the worker drops its planner when the
   // plan throws).
   void handle(Job& job, std::shared_ptr<const ActiveMap>& map);
-  void publish_status(const std::string& id, const WireStatus& status, const std::string& planner,
-                      const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path,
-                      bool answers_request = true);
+  // A request's one status.
+  void answer(const Job& job, const WireStatus& status, const std::string& planner = "",
+              const core::Metrics* metrics = nullptr, const TimeMsg& map_stamp = TimeMsg(),
+              PathMsg path = PathMsg());
+  // A report about a slice (SUBJECT_MAP).
+  void report_map(const WireStatus& status, const TimeMsg& map_stamp);
+  void write_status(PlanStatusMsg& msg, const std::string& what);
   bool debug_wanted() const;
 };
 
@@ -187,22 +182,25 @@ core::Status PlannerNode::Impl::start() {
       name(cfg_.topics.plan_request));
   if (!request_topic) return request_topic.error();
 
+  listeners_.push_back(make_listener<OccupancyGridMsg>(
+      [this](OccupancyGridMsg&& m, const dds::SampleInfo&) { on_slice(std::move(m)); }));
+  listeners_.push_back(make_listener<PoseStampedMsg>(
+      [this](PoseStampedMsg&& m, const dds::SampleInfo& info) { on_goal(std::move(m), info); }));
   listeners_.push_back(
-      make_listener<OccupancyGridMsg>([this](OccupancyGridMsg&& m) { on_slice(std::move(m)); }));
+      make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m, const dds::SampleInfo&) {
+        std::lock_guard<std::mutex> lock(pose_mutex_);
+        robot_pose_ = std::move(m);
+      }));
   listeners_.push_back(
-      make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m) { on_goal(std::move(m)); }));
-  listeners_.push_back(make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m) {
-    std::lock_guard<std::mutex> lock(pose_mutex_);
-    robot_pose_ = std::move(m);
-  }));
-  listeners_.push_back(make_listener<PlanRequestMsg>([this](PlanRequestMsg&& m) {
-    Job job;
-    job.id = m.id();
-    job.start = std::move(m.start());
-    job.goal = std::move(m.goal());
-    job.planner = m.planner();
-    enqueue(std::move(job));
-  }));
+      make_listener<PlanRequestMsg>([this](PlanRequestMsg&& m, const dds::SampleInfo& info) {
+        Job job;
+        job.id = std::move(m.id());
+        job.identity = identity_of(info, wire::SUBJECT_REQUEST);
+        job.start = std::move(m.start());
+        job.goal = std::move(m.goal());
+        job.planner = std::move(m.planner());
+        on_request(std::move(job));
+      }));
   const std::pair<dds::Topic*, TopicQos> readers[] = {{*slice_topic, TopicQos::kLatched},
                                                       {*goal_topic, TopicQos::kEvents},
                                                       {*pose_topic, TopicQos::kLatest},
@@ -223,10 +221,7 @@ void PlannerNode::Impl::stop() {
   stopping_ = true;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (current_) {
-      current_->reason = "node is shutting down";
-      current_->flag = true;
-    }
+    queue_.interrupt_current("node is shutting down");
   }
   queue_cv_.notify_all();
   map_cv_.notify_all();
@@ -241,19 +236,23 @@ void PlannerNode::Impl::stop() {
 // Input (DDS listener threads): cheap, never plans.
 
 void PlannerNode::Impl::on_slice(OccupancyGridMsg&& msg) {
+  SliceSlot::PutResult put;
   {
     std::lock_guard<std::mutex> lock(map_mutex_);
-    pending_slice_ = std::move(msg);  // only the newest unconverted slice matters
+    put = slices_.put(std::move(msg));  // only the newest slice matters
   }
+  if (put.superseded_converting)
+    spdlog::info("a newer slice arrived: the conversion in progress stops");
   map_cv_.notify_all();
 }
 
-void PlannerNode::Impl::on_goal(PoseStampedMsg&& goal) {
+void PlannerNode::Impl::on_goal(PoseStampedMsg&& goal, const dds::SampleInfo& info) {
   Job job;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     job.id = "goal-" + std::to_string(++goal_counter_);
   }
+  job.identity = identity_of(info, wire::SUBJECT_GOAL_POSE);
   job.goal = std::move(goal);
   {
     std::lock_guard<std::mutex> lock(pose_mutex_);
@@ -264,46 +263,38 @@ void PlannerNode::Impl::on_goal(PoseStampedMsg&& goal) {
                           dds_topic_name(cfg_, cfg_.topics.robot_pose) + "'";
     }
   }
-  enqueue(std::move(job));
+  on_request(std::move(job));
 }
 
-void PlannerNode::Impl::enqueue(Job job) {
+void PlannerNode::Impl::on_request(Job job) {
   ++requests_received_;
-  std::optional<Job> refused;
+  // Checked before it may touch anything: only a request that would be planned preempts,
+  // replaces or queues (see requests.hpp). The worker checks again against its map.
+  const std::shared_ptr<const ActiveMap> map = current_map();
+  const ResolvedRequest resolved =
+      resolve_request(job, cfg_, map ? map->grid.get() : nullptr);
+  if (!resolved.status.ok()) {
+    spdlog::warn("request '{}': {} ({})", printable(job.id), code_name(resolved.status.code),
+                 resolved.status.message);
+    answer(job, resolved.status, resolved.planner_name, nullptr, map ? map->stamp : TimeMsg());
+    return;
+  }
+  std::vector<Job> canceled;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (cfg_.preempt) {
-      const std::string reason = "preempted by newer request '" + job.id + "'";
-      for (Job& waiting : queue_) {
-        if (!waiting.interruption->flag) {
-          waiting.interruption->reason = reason;
-          waiting.interruption->flag = true;
-        }
-      }
-      if (current_ && !current_->flag) {
-        current_->reason = reason;
-        current_->flag = true;
-      }
-    }
-    if (queue_.size() >= static_cast<size_t>(cfg_.queue_capacity)) {
-      if (cfg_.preempt) {
-        // The oldest waiting request is already preempted: answer it now to make room.
-        refused = std::move(queue_.front());
-        queue_.pop_front();
-      } else {
-        refused = std::move(job);
-        refused->interruption->reason = "request queue is full (requests.queue_capacity = " +
-                                        std::to_string(cfg_.queue_capacity) + ")";
-      }
-    }
-    if (!refused || cfg_.preempt) queue_.push_back(std::move(job));
-    queue_peak_ = std::max(queue_peak_.load(), queue_.size());
+    canceled = queue_.admit(std::move(job));
+    queue_peak_ = std::max(queue_peak_.load(), queue_.waiting());
   }
   queue_cv_.notify_one();
-  if (refused) {
-    // Writers are thread-safe; this answer does not wait for the worker.
-    publish_status(refused->id, {wire::CANCELED, refused->interruption->reason}, "", nullptr,
-                   TimeMsg(), PathMsg());
+  // Writers are thread-safe; these answers do not wait for the worker.
+  for (const Job& old : canceled) {
+    std::string reason;
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      reason = old.interruption->reason;
+    }
+    spdlog::info("request '{}': CANCELED ({})", printable(old.id), reason);
+    answer(old, {wire::CANCELED, reason});
   }
 }
 
@@ -312,61 +303,85 @@ void PlannerNode::Impl::enqueue(Job job) {
 
 void PlannerNode::Impl::map_loop() {
   for (;;) {
-    OccupancyGridMsg msg;
+    std::optional<SliceSlot::Taken> taken;
     {
       std::unique_lock<std::mutex> lock(map_mutex_);
-      map_cv_.wait(lock, [&] { return stopping_ || pending_slice_.has_value(); });
+      map_cv_.wait(lock, [&] { return stopping_ || slices_.has_waiting(); });
       if (stopping_) return;
-      msg = std::move(*pending_slice_);
-      pending_slice_.reset();
+      taken = slices_.take();
     }
-    const auto t0 = Clock::now();
-    const TimeMsg stamp = msg.header().stamp();
-    SliceCheck check = from_slice_msg(std::move(msg), cfg_.frame_id, cfg_.map.max_cells);
-    WireStatus status = check.status;
-    if (status.ok()) {
-      auto built = core::GridMap::build(check.grid, cfg_.map);
-      if (built) {
-        auto active = std::make_shared<ActiveMap>();
-        active->grid = std::make_shared<const core::GridMap>(std::move(built).value());
-        active->stamp = stamp;
-        try {
-          active->planner = std::make_unique<core::Planner>(active->grid);  // see ActiveMap
-        } catch (const std::exception& e) {
-          // Resource exhaustion, never bad input: refuse this map, keep planning on the last one.
-          status = {wire::INTERNAL_ERROR,
-                    "cannot allocate the search state of " + std::to_string(active->grid->width()) +
-                        " x " + std::to_string(active->grid->height()) + " cells: " + e.what()};
-        }
-        if (status.ok()) {
-          const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-          spdlog::info(
-              "map accepted: {} x {} cells at {} m, {} blocked, {:.1f} MB of search state, ready "
-              "in {:.1f} ms",
-              active->grid->width(), active->grid->height(), active->grid->resolution(),
-              active->grid->blocked_count(), active->planner->search_state_bytes() / 1e6, ms);
-          std::shared_ptr<const ActiveMap> previous;
-          {
-            std::lock_guard<std::mutex> lock(map_mutex_);
-            previous = std::exchange(active_map_, std::move(active));
-          }
-          map_cv_.notify_all();
-          ++maps_accepted_;
-          // The previous map and its planner go here, outside the lock, unless a plan still
-          // holds them (then when that plan is answered).
-          previous.reset();
-          continue;
-        }
-      } else {
-        status = {to_wire_code(built.error().code), built.error().message};
-      }
+    const TimeMsg stamp = taken->slice.header().stamp();
+    WireStatus status;
+    try {
+      status = convert_slice(std::move(*taken));
+    } catch (const std::exception& e) {
+      // Resource exhaustion, never bad input (that is refused before any allocation): refuse
+      // this map, keep planning on the last one, and keep the thread alive.
+      status = {wire::INTERNAL_ERROR, std::string("cannot convert the slice: ") + e.what()};
     }
-    ++maps_rejected_;
-    spdlog::error("map rejected ({}): {}; keeping the previous map", code_name(status.code),
-                  status.message);
-    // A report on the status topic, with no request id, so tools on the bus see it too.
-    publish_status("", status, "", nullptr, stamp, PathMsg(), /*answers_request=*/false);
+    {
+      std::lock_guard<std::mutex> lock(map_mutex_);
+      slices_.finish();
+    }
+    if (status.ok()) continue;
+    if (status.code == wire::CANCELED) {
+      ++maps_superseded_;
+      spdlog::info("slice superseded by a newer one before its conversion finished");
+    } else {
+      ++maps_rejected_;
+      spdlog::error("map rejected ({}): {}; keeping the previous map", code_name(status.code),
+                    status.message);
+    }
+    // A report on the status topic (SUBJECT_MAP), so tools on the bus see it too.
+    report_map(status, stamp);
   }
+}
+
+WireStatus PlannerNode::Impl::convert_slice(SliceSlot::Taken taken) {
+  const auto t0 = Clock::now();
+  const std::atomic<bool>* superseded = taken.superseded.get();
+  const TimeMsg stamp = taken.slice.header().stamp();
+  // Every check that bounds the conversion's cost (size against map.max_cells, robot_radius
+  // against the map) comes before any allocation; the conversion is then linear in the cells.
+  SliceCheck check = from_slice_msg(std::move(taken.slice), cfg_.frame_id, cfg_.map.max_cells);
+  if (!check.status.ok()) return check.status;
+  auto built = core::GridMap::build(check.grid, cfg_.map, superseded);
+  if (!built) {
+    return {to_wire_code(built.error().code),
+            built.error().code == core::StatusCode::kCanceled
+                ? "superseded by a newer slice while being converted"
+                : built.error().message};
+  }
+  check.grid = core::OccupancyGrid();  // the raw values are not needed any more
+  auto active = std::make_shared<ActiveMap>();
+  active->grid = std::make_shared<const core::GridMap>(std::move(built).value());
+  active->stamp = stamp;
+  if (superseded->load()) return {wire::CANCELED, "superseded by a newer slice while being converted"};
+  try {
+    active->planner = std::make_unique<core::Planner>(active->grid);  // see ActiveMap
+  } catch (const std::exception& e) {
+    return {wire::INTERNAL_ERROR, "cannot allocate the search state of " +
+                                      std::to_string(active->grid->width()) + " x " +
+                                      std::to_string(active->grid->height()) +
+                                      " cells: " + e.what()};
+  }
+  const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  spdlog::info(
+      "map accepted: {} x {} cells at {} m, {} blocked, {:.1f} MB of search state, ready in "
+      "{:.1f} ms",
+      active->grid->width(), active->grid->height(), active->grid->resolution(),
+      active->grid->blocked_count(), active->planner->search_state_bytes() / 1e6, ms);
+  std::shared_ptr<const ActiveMap> previous;
+  {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    previous = std::exchange(active_map_, std::move(active));
+  }
+  map_cv_.notify_all();
+  ++maps_accepted_;
+  // The previous map and its planner go here, outside the lock, unless a plan still holds
+  // them (then when that plan is answered).
+  previous.reset();
+  return {};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -384,15 +399,23 @@ bool PlannerNode::Impl::debug_wanted() const {
   return false;
 }
 
-void PlannerNode::Impl::publish_status(const std::string& id, const WireStatus& status,
-                                       const std::string& planner, const core::Metrics* metrics,
-                                       const TimeMsg& map_stamp, PathMsg path,
-                                       bool answers_request) {
-  PlanStatusMsg msg = to_status_msg(id, status, planner, metrics, map_stamp, std::move(path));
-  if (status_writer_ == nullptr || !status_writer_->write(&msg)) {
-    spdlog::error("could not publish the status of request '{}'", id);
-  }
-  if (answers_request) ++statuses_published_;
+void PlannerNode::Impl::write_status(PlanStatusMsg& msg, const std::string& what) {
+  if (status_writer_ == nullptr || !status_writer_->write(&msg))
+    spdlog::error("could not publish the status of {}", what);
+}
+
+void PlannerNode::Impl::answer(const Job& job, const WireStatus& status,
+                               const std::string& planner, const core::Metrics* metrics,
+                               const TimeMsg& map_stamp, PathMsg path) {
+  PlanStatusMsg msg = to_status_msg(echoed_id(job.id), &job.identity, status, planner, metrics,
+                                    map_stamp, std::move(path));
+  write_status(msg, "request '" + printable(job.id) + "'");
+  ++statuses_published_;
+}
+
+void PlannerNode::Impl::report_map(const WireStatus& status, const TimeMsg& map_stamp) {
+  PlanStatusMsg msg = to_status_msg("", nullptr, status, "", nullptr, map_stamp, PathMsg());
+  write_status(msg, "a slice");
 }
 
 void PlannerNode::Impl::worker_loop() {
@@ -400,15 +423,11 @@ void PlannerNode::Impl::worker_loop() {
     Job job;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_cv_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
-      if (queue_.empty()) return;  // stopping, and everything is answered
-      job = std::move(queue_.front());
-      queue_.pop_front();
-      if (stopping_ && !job.interruption->flag) {
-        job.interruption->reason = "node is shutting down";
-        job.interruption->flag = true;
-      }
-      current_ = job.interruption;
+      queue_cv_.wait(lock, [&] { return stopping_ || queue_.waiting() > 0; });
+      std::optional<Job> next = queue_.next();
+      if (!next) return;  // stopping, and everything is answered
+      job = std::move(*next);
+      if (stopping_) queue_.interrupt_current("node is shutting down");
     }
     std::shared_ptr<const ActiveMap> map;
     try {
@@ -416,82 +435,41 @@ void PlannerNode::Impl::worker_loop() {
     } catch (const std::exception& e) {
       // A bug or resource exhaustion, never bad input: the request still gets its one status,
       // the planner is rebuilt (at the next plan on this map), and the node keeps serving.
-      spdlog::critical("request '{}': internal error: {}", job.id, e.what());
+      spdlog::critical("request '{}': internal error: {}", printable(job.id), e.what());
       if (map) map->planner.reset();
-      publish_status(job.id, {wire::INTERNAL_ERROR, std::string("internal error: ") + e.what()}, "",
-                     nullptr, TimeMsg(), PathMsg());
+      answer(job, {wire::INTERNAL_ERROR, std::string("internal error: ") + e.what()});
     }
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    current_.reset();
+    queue_.finish_current();
   }
 }
 
 void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) {
   const auto t0 = Clock::now();
-  auto reject = [&](uint8_t code, const std::string& message, const std::string& planner_name = "",
+  const std::string id = printable(job.id);
+  auto reject = [&](const WireStatus& status, const std::string& planner_name = "",
                     const TimeMsg& stamp = TimeMsg()) {
-    publish_status(job.id, {code, message}, planner_name, nullptr, stamp, PathMsg());
-    spdlog::warn("request '{}': {} ({})", job.id, code_name(code), message);
+    answer(job, status, planner_name, nullptr, stamp);
+    spdlog::warn("request '{}': {} ({})", id, code_name(status.code), status.message);
   };
   std::string interrupted;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     if (job.interruption->flag) interrupted = job.interruption->reason;
   }
-  if (!interrupted.empty()) return reject(wire::CANCELED, interrupted);
-  {
-    std::lock_guard<std::mutex> lock(map_mutex_);
-    map = active_map_;
-  }
-  if (job.id.empty()) return reject(wire::INVALID_REQUEST, "id: must not be empty");
-  if (!map) {
-    return reject(wire::NO_MAP, "no map has been accepted yet (slices arrive on '" +
-                                    dds_topic_name(cfg_, cfg_.topics.projected_map) + "')");
-  }
-  core::PlannerKind kind = cfg_.planner.kind;
-  if (!job.planner.empty()) {
-    const auto requested = core::planner_kind_from_string(job.planner);
-    if (!requested) {
-      std::string known;
-      for (core::PlannerKind k : core::all_planner_kinds())
-        known += (known.empty() ? "" : ", ") + std::string(core::to_string(k));
-      return reject(wire::INVALID_REQUEST,
-                    "planner: unknown planner '" + job.planner + "' (known: " + known + ")");
-    }
-    kind = *requested;
-  }
-  // Every configured planner key, whichever planner runs; the rest is that planner's paper
-  // configuration.
-  core::PlannerOptions options = cfg_.planner.options(kind);
-  const std::string planner_name(core::to_string(options.planner));
-  if (!job.missing_start.empty())
-    return reject(wire::INVALID_REQUEST, job.missing_start, planner_name);
-  const PoseCheck start = check_pose(job.start, "start", cfg_.frame_id);
-  if (!start.status.ok()) return reject(start.status.code, start.status.message, planner_name);
-  const PoseCheck goal = check_pose(job.goal, "goal", cfg_.frame_id);
-  if (!goal.status.ok()) return reject(goal.status.code, goal.status.message, planner_name);
-  const core::GridMap& grid = *map->grid;
-  const auto start_cell = grid.world_to_cell(start.x, start.y);
-  const auto goal_cell = grid.world_to_cell(goal.x, goal.y);
-  char where[96];
-  if (!start_cell) {
-    std::snprintf(where, sizeof(where), "start (%.3f, %.3f) m", start.x, start.y);
-    return reject(wire::START_OUTSIDE_MAP,
-                  std::string(where) + " is outside the map " + describe_world_bounds(grid),
-                  planner_name, map->stamp);
-  }
-  if (!goal_cell) {
-    std::snprintf(where, sizeof(where), "goal (%.3f, %.3f) m", goal.x, goal.y);
-    return reject(wire::GOAL_OUTSIDE_MAP,
-                  std::string(where) + " is outside the map " + describe_world_bounds(grid),
-                  planner_name, map->stamp);
-  }
+  if (!interrupted.empty()) return reject({wire::CANCELED, interrupted});
+  map = current_map();
+  // Checked again: the map may have changed since the request arrived.
+  ResolvedRequest resolved = resolve_request(job, cfg_, map ? map->grid.get() : nullptr);
+  if (!resolved.status.ok())
+    return reject(resolved.status, resolved.planner_name, map ? map->stamp : TimeMsg());
+  const std::string& planner_name = resolved.planner_name;
+  core::PlannerOptions& options = resolved.options;
 
   if (!map->planner) map->planner = std::make_unique<core::Planner>(map->grid);  // see worker_loop
   const bool debug = debug_wanted();
   options.record_expansions = debug;
-  core::PlanResult result =
-      map->planner->plan({*start_cell, *goal_cell}, options, &job.interruption->flag);
+  core::PlanResult result = map->planner->plan(resolved.query, options, &job.interruption->flag);
 
   WireStatus status{to_wire_code(result.status.code), result.status.message};
   if (result.status.code == core::StatusCode::kCanceled) {
@@ -502,13 +480,13 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
   PathMsg path;
   if (status.ok()) {
     path = to_path_msg(result, cfg_.frame_id, stamp);
-    if (!plan_writer_->write(&path)) spdlog::error("could not publish the path of '{}'", job.id);
+    if (!plan_writer_->write(&path)) spdlog::error("could not publish the path of '{}'", id);
     ++plans_ok_;
   }
-  publish_status(job.id, status, planner_name, &result.metrics, map->stamp, std::move(path));
+  answer(job, status, planner_name, &result.metrics, map->stamp, std::move(path));
   if (debug && result.metrics.expanded > 0) {
-    PlannerDebugMsg msg = to_debug_msg(job.id, result, grid, cfg_.frame_id, stamp);
-    if (!debug_writer_->write(&msg)) spdlog::warn("could not publish the debug of '{}'", job.id);
+    PlannerDebugMsg msg = to_debug_msg(echoed_id(job.id), result, *map->grid, cfg_.frame_id, stamp);
+    if (!debug_writer_->write(&msg)) spdlog::warn("could not publish the debug of '{}'", id);
   }
   const auto total_us =
       std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - t0).count();
@@ -516,7 +494,7 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
       status.ok() ? spdlog::level::info : spdlog::level::warn,
       "plan '{}' {} {}: length {:.2f} m, {} turns, {:.1f} deg, {} expanded, {} us planning, "
       "{} us total{}{}",
-      job.id, planner_name, code_name(status.code), result.metrics.length_m, result.metrics.turns,
+      id, planner_name, code_name(status.code), result.metrics.length_m, result.metrics.turns,
       result.metrics.turn_angle_deg, result.metrics.expanded, result.metrics.planning_time_us,
       total_us, status.ok() ? "" : ": ", status.message);
 }
@@ -544,6 +522,7 @@ PlannerNode::Stats PlannerNode::stats() const {
   s.statuses_published = impl_->statuses_published_;
   s.maps_accepted = impl_->maps_accepted_;
   s.maps_rejected = impl_->maps_rejected_;
+  s.maps_superseded = impl_->maps_superseded_;
   s.plans_ok = impl_->plans_ok_;
   s.queue_peak = impl_->queue_peak_;
   return s;

@@ -26,6 +26,8 @@
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 #include "vnsba_msgs/msg/PlannerDebugPubSubTypes.h"
+#include <fastdds/rtps/common/WriteParams.h>
+#include <gtest/gtest.h>
 
 namespace vnsba::test {
 
@@ -172,16 +174,22 @@ class BusClient {
   }
   void publish_slice_msg(node::OccupancyGridMsg msg) { slice_->write(&msg); }
 
-  void publish_request(const std::string& id, double sx, double sy, double gx, double gy,
-                       const std::string& planner = "", const std::string& frame = "map") {
+  // Each returns the request's sample identity, which its status carries.
+  node::RequestIdentity publish_request(const std::string& id, double sx, double sy, double gx,
+                                        double gy, const std::string& planner = "",
+                                        const std::string& frame = "map") {
     node::PlanRequestMsg msg;
     msg.id(id);
     msg.start(node::to_pose_msg(sx, sy, 0.0, frame, node::now_msg()));
     msg.goal(node::to_pose_msg(gx, gy, 0.0, frame, node::now_msg()));
     msg.planner(planner);
-    request_->write(&msg);
+    return publish_request_msg(std::move(msg));
   }
-  void publish_request_msg(node::PlanRequestMsg msg) { request_->write(&msg); }
+  node::RequestIdentity publish_request_msg(node::PlanRequestMsg msg) {
+    eprosima::fastrtps::rtps::WriteParams params;
+    EXPECT_TRUE(request_->write(&msg, params)) << "request write failed";
+    return node::identity_of(params, node::wire::SUBJECT_REQUEST);
+  }
 
   void publish_goal(double x, double y) {
     auto msg = node::to_pose_msg(x, y, 0.0, "map", node::now_msg());
@@ -199,6 +207,43 @@ class BusClient {
         [&](const std::vector<PlanStatusMsg>& all) {
           for (const auto& s : all) {
             if (s.request_id() == id) {
+              found = s;
+              return true;
+            }
+          }
+          return false;
+        },
+        timeout);
+    return found;
+  }
+
+  // The status answering the request sent with `identity`.
+  std::optional<PlanStatusMsg> wait_status_for(const node::RequestIdentity& identity,
+                                               std::chrono::milliseconds timeout = 15s) {
+    std::optional<PlanStatusMsg> found;
+    statuses.wait(
+        [&](const std::vector<PlanStatusMsg>& all) {
+          for (const auto& s : all) {
+            if (s.request_writer_guid() == identity.writer_guid &&
+                s.request_sequence_number() == identity.sequence_number) {
+              found = s;
+              return true;
+            }
+          }
+          return false;
+        },
+        timeout);
+    return found;
+  }
+  // The first report about a slice (SUBJECT_MAP) after the first `skip` ones.
+  std::optional<PlanStatusMsg> wait_map_report(size_t skip = 0,
+                                               std::chrono::milliseconds timeout = 15s) {
+    std::optional<PlanStatusMsg> found;
+    statuses.wait(
+        [&](const std::vector<PlanStatusMsg>& all) {
+          size_t seen = 0;
+          for (const auto& s : all) {
+            if (s.subject() == node::wire::SUBJECT_MAP && seen++ == skip) {
               found = s;
               return true;
             }

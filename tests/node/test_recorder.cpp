@@ -257,11 +257,12 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
   bad_path.poses().resize(3);
   bad_path.poses()[1].pose().position().x(NAN);
   bad_path.poses()[2].pose().position().x(1e300);
-  PlanStatusMsg junk = node::to_status_msg("junk", {node::wire::OK, ""}, "vns_bastar", nullptr,
-                                           node::now_msg(), bad_path);
+  const node::RequestIdentity request;  // the recorder keys runs by request_id
+  PlanStatusMsg junk = node::to_status_msg("junk", &request, {node::wire::OK, ""}, "vns_bastar",
+                                           nullptr, node::now_msg(), bad_path);
   ASSERT_TRUE(status_writer->write(&junk));
-  PlanStatusMsg fine = node::to_status_msg("fine", {node::wire::NO_VALID_PATH, "no path"}, "astar",
-                                           nullptr, node::now_msg(), PathMsg());
+  PlanStatusMsg fine = node::to_status_msg("fine", &request, {node::wire::NO_VALID_PATH, "no path"},
+                                           "astar", nullptr, node::now_msg(), PathMsg());
   ASSERT_TRUE(status_writer->write(&fine));
 
   ASSERT_EQ(recorder.wait(), 0) << recorder.output();

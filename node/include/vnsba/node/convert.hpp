@@ -4,8 +4,10 @@
 
 #include <chrono>
 #include <cstdint>
+#include <array>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "builtin_interfaces/msg/Time.h"
@@ -38,6 +40,21 @@ struct WireStatus {
   uint8_t code = wire::OK;
   std::string message;
   bool ok() const { return code == wire::OK; }
+};
+
+// `text` made safe to log or echo: control characters (C0, DEL, C1) and bytes that are not
+// UTF-8 become \n, \t, \r, \\ or \xNN, so an id cannot forge log lines or drive a terminal;
+// beyond `max_bytes` of input it is cut (on a character boundary) and says how long it was.
+std::string printable(std::string_view text, size_t max_bytes = 128);
+
+// The DDS sample identity of a request: unique per request even when a client reuses an id.
+struct RequestIdentity {
+  uint8_t subject = wire::SUBJECT_REQUEST;  // SUBJECT_REQUEST or SUBJECT_GOAL_POSE
+  std::array<uint8_t, 16> writer_guid{};    // GUID prefix (12 bytes) + entity id (4 bytes)
+  int64_t sequence_number = 0;
+
+  // Same DDS participant (GUID prefix) as `other`: the same client.
+  bool same_client(const RequestIdentity& other) const;
 };
 
 uint8_t to_wire_code(core::StatusCode code);
@@ -91,9 +108,10 @@ PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& fr
 // The final path as nav_msgs/Path; each pose faces along the path (the last one as its leg).
 PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp);
 
-PlanStatusMsg to_status_msg(const std::string& request_id, const WireStatus& status,
-                            const std::string& planner, const core::Metrics* metrics,
-                            const TimeMsg& map_stamp, PathMsg path);
+// A status answering the request `identity` (null: a report about a map, SUBJECT_MAP).
+PlanStatusMsg to_status_msg(const std::string& request_id, const RequestIdentity* identity,
+                            const WireStatus& status, const std::string& planner,
+                            const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path);
 
 PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResult& result,
                              const core::GridMap& map, const std::string& frame,

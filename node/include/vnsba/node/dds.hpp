@@ -16,11 +16,13 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
 
 #include "vnsba/core/status.hpp"
+#include "vnsba/node/convert.hpp"
 
 namespace vnsba::node {
 
@@ -89,5 +91,12 @@ class Participant {
 
 // Matched readers of a writer right now (0 when the call fails).
 int matched_readers(dds::DataWriter* writer);
+
+// A GUID as the 16 bytes PlanStatus carries (prefix, then entity id).
+std::array<uint8_t, 16> guid_bytes(const eprosima::fastrtps::rtps::GUID_t& guid);
+// The sample identity of a received sample, as PlanStatus carries it.
+RequestIdentity identity_of(const dds::SampleInfo& info, uint8_t subject);
+// The identity `params` got from DataWriter::write(data, params), as PlanStatus echoes it.
+RequestIdentity identity_of(const eprosima::fastrtps::rtps::WriteParams& params, uint8_t subject);
 
 }  // namespace vnsba::node

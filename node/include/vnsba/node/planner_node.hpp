@@ -8,10 +8,11 @@
 //
 // Listeners never plan and never convert maps. A new map is swapped in atomically, with its
 // planner's search arrays already allocated (so the first plan on it is as fast, and as quick to
-// cancel, as the next); a plan in flight finishes on the map and planner it started with. Every
-// request gets exactly one PlanStatus: planned, rejected as malformed, preempted (CANCELED),
-// refused because the queue is full (CANCELED), or drained at shutdown (CANCELED). A rejected map
-// gets a PlanStatus with an empty request_id.
+// cancel, as the next); a plan in flight finishes on the map and planner it started with; a
+// newer slice stops the conversion of an older one. Every request gets exactly one PlanStatus
+// carrying its sample identity: planned, rejected (checked on arrival, see requests.hpp),
+// replaced or preempted (CANCELED), refused because the queue is full (CANCELED), or drained at
+// shutdown (CANCELED). A rejected or superseded map gets a PlanStatus with subject SUBJECT_MAP.
 #pragma once
 
 #include <chrono>
@@ -44,6 +45,7 @@ class PlannerNode {
     uint64_t statuses_published = 0;  // request statuses (not map reports)
     uint64_t maps_accepted = 0;
     uint64_t maps_rejected = 0;
+    uint64_t maps_superseded = 0;  // a newer slice arrived while this one was being converted
     uint64_t plans_ok = 0;
     size_t queue_peak = 0;  // most requests ever waiting at once
   };

@@ -1,0 +1,106 @@
+// What happens to a request between the bus and the planner, without DDS: the checks that decide
+// whether it would be planned (resolve_request), and the queueing rules (RequestQueue). The node
+// calls both under its own locks; the tests call them directly.
+//
+// Rules (README "Requests and answers"):
+// - A request is checked when it arrives. One that would not be planned (malformed, too long, no
+//   map yet, start or goal outside the map or blocked) is answered at once and touches nothing
+//   else: it preempts nothing and takes no place in the queue.
+// - A request with the id of one still waiting or being planned *from the same client* (DDS
+//   participant) replaces it: the older is answered CANCELED with "replaced by a newer request
+//   with the same id ...". Different clients may use the same id independently.
+// - With requests.preempt, an accepted request cancels every older one (waiting or being
+//   planned): "preempted by newer request ...". Without it, requests wait in arrival order, at
+//   most requests.queue_capacity of them; one more is answered CANCELED "request queue is full".
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/planner.hpp"
+#include "vnsba/node/config.hpp"
+#include "vnsba/node/convert.hpp"
+
+namespace vnsba::node {
+
+// Longest string fields a request may carry, in bytes; longer ones are refused with
+// INVALID_REQUEST naming the field (1,024 requests of 500 kB ids once took the node to 1 GB).
+constexpr size_t kMaxIdBytes = 256;
+constexpr size_t kMaxPlannerNameBytes = 64;
+constexpr size_t kMaxFrameIdBytes = 256;
+
+// Why a request must not be planned (or stop being planned); set under the queue's lock.
+struct Interruption {
+  std::atomic<bool> flag{false};  // polled by the search
+  std::string reason;             // the CANCELED message
+};
+
+struct Job {
+  std::string id;
+  RequestIdentity identity;
+  PoseStampedMsg start;
+  PoseStampedMsg goal;
+  std::string planner;        // empty: the configured planner
+  std::string missing_start;  // set when a goal_pose came before any robot_pose
+  std::shared_ptr<Interruption> interruption = std::make_shared<Interruption>();
+};
+
+// The id as a status echoes it: at most kMaxIdBytes of it.
+std::string echoed_id(const std::string& id);
+
+// A request checked against the configuration and (when there is one) the active map.
+struct ResolvedRequest {
+  WireStatus status;             // OK: the request would be planned
+  std::string planner_name;      // set once the planner is known
+  core::PlannerOptions options;  // valid when status.ok()
+  core::PlanQuery query;         // valid when status.ok()
+};
+// `map` may be null (no map yet: NO_MAP). Checks, first failure wins: the string fields' lengths,
+// the id, the planner name, the start (a goal_pose without robot_pose), both poses (frame,
+// finite), then start and goal against the map (inside it, on free cells).
+ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
+                                const core::GridMap* map);
+
+// The waiting requests and the one being planned. Not thread-safe: the node holds its lock.
+class RequestQueue {
+ public:
+  RequestQueue(size_t capacity, bool preempt) : capacity_(capacity), preempt_(preempt) {}
+
+  // Admits a request resolve_request accepted. Returns the requests to answer CANCELED now
+  // (their interruption's reason says why): replaced or preempted waiting ones, or `job`
+  // itself when the queue is full. The one being planned, when replaced or preempted, is only
+  // flagged: its planner stops and the worker answers it.
+  std::vector<Job> admit(Job job);
+
+  // The oldest waiting request, which becomes the one being planned; nullopt when none waits.
+  std::optional<Job> next();
+  // The request being planned has been answered.
+  void finish_current() { current_.reset(); }
+  // Flags the one being planned (shutdown); the waiting ones are answered by the worker.
+  void interrupt_current(const std::string& reason);
+
+  size_t waiting() const { return queue_.size(); }
+
+ private:
+  struct Current {
+    std::string id;
+    RequestIdentity identity;
+    std::shared_ptr<Interruption> interruption;
+  };
+  static void interrupt(Interruption& interruption, const std::string& reason);
+
+  size_t capacity_;
+  bool preempt_;
+  std::deque<Job> queue_;
+  std::optional<Current> current_;
+};
+
+}  // namespace vnsba::node

@@ -1,0 +1,237 @@
+// The request rules without DDS (requests.hpp, slice_slot.hpp): what is checked on arrival,
+// what preempts or replaces what, and how a newer slice supersedes an older one.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "vnsba/node/requests.hpp"
+#include "vnsba/node/slice_slot.hpp"
+
+namespace vnsba::test {
+namespace {
+
+using node::Job;
+using node::RequestIdentity;
+namespace wire = node::wire;
+
+RequestIdentity client(uint8_t participant, int64_t sequence) {
+  RequestIdentity id;
+  id.writer_guid.fill(participant);
+  id.writer_guid[15] = 0x03;  // entity id: the same writer kind in every client
+  id.sequence_number = sequence;
+  return id;
+}
+
+Job job(const std::string& id, double sx, double sy, double gx, double gy,
+        RequestIdentity identity = client(1, 1)) {
+  Job j;
+  j.id = id;
+  j.identity = identity;
+  j.start = node::to_pose_msg(sx, sy, 0.0, "map", node::now_msg());
+  j.goal = node::to_pose_msg(gx, gy, 0.0, "map", node::now_msg());
+  return j;
+}
+
+// A 10 x 5 map at 1 m, origin (0, 0), with a wall cell at (5, 2).
+core::GridMap small_map() {
+  core::OccupancyGrid g;
+  g.width = 10;
+  g.height = 5;
+  g.resolution = 1.0;
+  g.data.assign(50, 0);
+  g.data[2 * 10 + 5] = 100;
+  return std::move(core::GridMap::build(g)).value();
+}
+
+TEST(Printable, EscapesControlCharactersAndCutsLongText) {
+  EXPECT_EQ(node::printable("plain id-7"), "plain id-7");
+  EXPECT_EQ(node::printable("a\nb\tc\rd\\e"), "a\\nb\\tc\\rd\\\\e");
+  EXPECT_EQ(node::printable("x\x1b[31mred"), "x\\x1b[31mred");
+  EXPECT_EQ(node::printable(std::string("\0z", 2)), "\\x00z");
+  EXPECT_EQ(node::printable("\x7f"), "\\x7f");
+  EXPECT_EQ(node::printable("\xc2\x9b" "2J"), "\\xc2\\x9b2J");  // C1 CSI, UTF-8 encoded
+  EXPECT_EQ(node::printable("caf\xc3\xa9"), "caf\xc3\xa9");       // UTF-8 stays
+  EXPECT_EQ(node::printable("\xff\xfe"), "\\xff\\xfe");           // not UTF-8
+  const std::string log_forgery = "id\n[2026-12-01 00:00:00.000] [error] fake";
+  EXPECT_EQ(node::printable(log_forgery).find('\n'), std::string::npos);
+  const std::string huge(500000, 'a');
+  const std::string shown = node::printable(huge, 64);
+  EXPECT_EQ(shown, std::string(64, 'a') + "... (500000 bytes)");
+  // A multi-byte character is never cut in half.
+  EXPECT_EQ(node::printable("ab\xc3\xa9", 3), "ab... (4 bytes)");
+}
+
+TEST(ResolveRequest, StringFieldsAreBoundedAndNamed) {
+  const node::NodeConfig cfg;
+  const core::GridMap map = small_map();
+  Job long_id = job(std::string(node::kMaxIdBytes + 1, 'i'), 0.5, 0.5, 8.5, 0.5);
+  auto r = node::resolve_request(long_id, cfg, &map);
+  EXPECT_EQ(r.status.code, wire::INVALID_REQUEST);
+  EXPECT_NE(r.status.message.find("id: 257 bytes"), std::string::npos) << r.status.message;
+  EXPECT_NE(r.status.message.find("limit of 256 bytes"), std::string::npos);
+  EXPECT_EQ(node::echoed_id(long_id.id).size(), node::kMaxIdBytes);
+  Job at_limit = job(std::string(node::kMaxIdBytes, 'i'), 0.5, 0.5, 8.5, 0.5);
+  EXPECT_TRUE(node::resolve_request(at_limit, cfg, &map).status.ok());
+
+  Job long_planner = job("p", 0.5, 0.5, 8.5, 0.5);
+  long_planner.planner = std::string(500000, 'x');
+  r = node::resolve_request(long_planner, cfg, &map);
+  EXPECT_EQ(r.status.code, wire::INVALID_REQUEST);
+  EXPECT_EQ(r.status.message.find("planner: 500000 bytes"), 0u) << r.status.message;
+
+  Job long_frame = job("f", 0.5, 0.5, 8.5, 0.5);
+  long_frame.goal.header().frame_id(std::string(300, 'm'));
+  r = node::resolve_request(long_frame, cfg, &map);
+  EXPECT_EQ(r.status.code, wire::INVALID_REQUEST);
+  EXPECT_EQ(r.status.message.find("goal.header.frame_id: 300 bytes"), 0u) << r.status.message;
+
+  Job evil_planner = job("e", 0.5, 0.5, 8.5, 0.5);
+  evil_planner.planner = "x\n[error] forged\x1b[2J";
+  r = node::resolve_request(evil_planner, cfg, &map);
+  EXPECT_EQ(r.status.code, wire::INVALID_REQUEST);
+  EXPECT_EQ(r.status.message.find('\n'), std::string::npos) << r.status.message;
+  EXPECT_EQ(r.status.message.find('\x1b'), std::string::npos) << r.status.message;
+  EXPECT_NE(r.status.message.find("x\\n[error] forged\\x1b[2J"), std::string::npos);
+}
+
+TEST(ResolveRequest, EveryCheckNamesItsField) {
+  const node::NodeConfig cfg;
+  const core::GridMap map = small_map();
+  struct Case {
+    Job job;
+    const core::GridMap* map;
+    uint8_t code;
+    std::string words;
+  };
+  Job wrong_frame = job("w", 0.5, 0.5, 8.5, 0.5);
+  wrong_frame.start.header().frame_id("odom");
+  Job no_start = job("s", 0.5, 0.5, 8.5, 0.5);
+  no_start.missing_start = "start: no robot_pose received yet";
+  Job unknown_planner = job("u", 0.5, 0.5, 8.5, 0.5);
+  unknown_planner.planner = "dijkstra";
+  const Case cases[] = {
+      {job("", 0.5, 0.5, 8.5, 0.5), &map, wire::INVALID_REQUEST, "id: must not be empty"},
+      {unknown_planner, &map, wire::INVALID_REQUEST, "planner: unknown planner 'dijkstra'"},
+      {no_start, &map, wire::INVALID_REQUEST, "no robot_pose"},
+      {wrong_frame, &map, wire::FRAME_MISMATCH, "start.header.frame_id is 'odom'"},
+      {job("n", std::nan(""), 0.5, 8.5, 0.5), &map, wire::INVALID_REQUEST, "start.pose.position.x"},
+      {job("m", 0.5, 0.5, 8.5, 0.5), nullptr, wire::NO_MAP, "no map"},
+      {job("o", -3.0, 0.5, 8.5, 0.5), &map, wire::START_OUTSIDE_MAP, "start (-3.000, 0.500) m"},
+      {job("h", 0.5, 0.5, 1e300, 0.5), &map, wire::GOAL_OUTSIDE_MAP, "goal (1e+300, 0.500) m"},
+      {job("b", 5.5, 2.5, 8.5, 0.5), &map, wire::START_OCCUPIED, "start"},
+      {job("g", 0.5, 0.5, 5.5, 2.5), &map, wire::GOAL_OCCUPIED, "goal"},
+  };
+  for (const Case& c : cases) {
+    const auto r = node::resolve_request(c.job, cfg, c.map);
+    EXPECT_EQ(node::code_name(r.status.code), node::code_name(c.code)) << c.job.id;
+    EXPECT_NE(r.status.message.find(c.words), std::string::npos)
+        << c.job.id << ": " << r.status.message;
+  }
+  const auto ok = node::resolve_request(job("ok", 0.5, 0.5, 8.5, 4.5), cfg, &map);
+  ASSERT_TRUE(ok.status.ok()) << ok.status.message;
+  EXPECT_EQ(ok.query.start, (core::Cell{0, 0}));
+  EXPECT_EQ(ok.query.goal, (core::Cell{8, 4}));
+  EXPECT_EQ(ok.planner_name, "vns_bastar");
+}
+
+std::vector<std::string> ids(const std::vector<Job>& jobs) {
+  std::vector<std::string> out;
+  for (const Job& j : jobs) out.push_back(j.id);
+  return out;
+}
+
+TEST(RequestQueue, PreemptCancelsEveryOlderRequest) {
+  node::RequestQueue queue(8, /*preempt=*/true);
+  EXPECT_TRUE(queue.admit(job("a", 0, 0, 1, 1, client(1, 1))).empty());
+  const std::optional<Job> planning = queue.next();
+  ASSERT_TRUE(planning);
+  EXPECT_TRUE(queue.admit(job("b", 0, 0, 1, 1, client(2, 1))).empty());
+  EXPECT_TRUE(planning->interruption->flag) << "the plan in progress is preempted";
+  EXPECT_EQ(planning->interruption->reason, "preempted by newer request 'b'");
+  const auto answered = queue.admit(job("c", 0, 0, 1, 1, client(3, 1)));
+  EXPECT_EQ(ids(answered), std::vector<std::string>{"b"});
+  EXPECT_EQ(answered[0].interruption->reason, "preempted by newer request 'c'");
+  EXPECT_EQ(queue.waiting(), 1u);
+}
+
+// Issue 13: two back-to-back requests with one id gave CANCELED then OK with no word on why.
+// The newer replaces the older of the same client, whether it waits or is being planned, and
+// with or without preemption; another client's request with the same id is left alone.
+TEST(RequestQueue, ANewerRequestWithTheSameIdFromTheSameClientReplacesTheOlder) {
+  for (bool preempt : {false, true}) {
+    node::RequestQueue queue(8, preempt);
+    queue.admit(job("x", 0, 0, 1, 1, client(1, 1)));
+    const std::optional<Job> planning = queue.next();
+    ASSERT_TRUE(planning);
+    EXPECT_TRUE(queue.admit(job("y", 0, 0, 1, 1, client(1, 2))).empty() || preempt);
+    const auto answered = queue.admit(job("x", 0, 0, 1, 1, client(1, 3)));
+    EXPECT_TRUE(planning->interruption->flag) << "preempt " << preempt;
+    EXPECT_EQ(planning->interruption->reason.rfind(preempt ? "preempted" : "replaced by a newer "
+                                                             "request with the same id 'x'",
+                                                   0),
+              0u)
+        << planning->interruption->reason;
+    if (!preempt) {
+      EXPECT_TRUE(answered.empty()) << "'y' keeps its place";
+      EXPECT_EQ(queue.waiting(), 2u);
+      // Another client's "x" replaces nothing.
+      EXPECT_TRUE(queue.admit(job("x", 0, 0, 1, 1, client(2, 1))).empty());
+      EXPECT_EQ(queue.waiting(), 3u);
+      // The same client's third "x" replaces its waiting second one only.
+      const auto replaced = queue.admit(job("x", 0, 0, 1, 1, client(1, 4)));
+      ASSERT_EQ(replaced.size(), 1u);
+      EXPECT_EQ(replaced[0].identity.sequence_number, 3);
+      EXPECT_EQ(replaced[0].interruption->reason,
+                "replaced by a newer request with the same id 'x' from the same client");
+      EXPECT_EQ(queue.waiting(), 3u);
+    }
+  }
+}
+
+TEST(RequestQueue, AFullQueueRefusesTheNewRequestOnly) {
+  node::RequestQueue queue(2, /*preempt=*/false);
+  queue.admit(job("a", 0, 0, 1, 1, client(1, 1)));
+  queue.admit(job("b", 0, 0, 1, 1, client(1, 2)));
+  const auto refused = queue.admit(job("c", 0, 0, 1, 1, client(1, 3)));
+  ASSERT_EQ(ids(refused), std::vector<std::string>{"c"});
+  EXPECT_EQ(refused[0].interruption->reason, "request queue is full (requests.queue_capacity = 2)");
+  EXPECT_EQ(queue.next()->id, "a");
+  EXPECT_EQ(queue.next()->id, "b");
+  EXPECT_FALSE(queue.next());
+}
+
+// Issue 13: a 400 x 400 slice took 113 s to convert and a valid map sent 0.5 s later waited for
+// it. A newer slice replaces a waiting one and tells the conversion in progress to stop.
+TEST(SliceSlot, ANewerSliceSupersedesTheWaitingAndTheConvertingOne) {
+  node::SliceSlot slot;
+  EXPECT_FALSE(slot.take());
+  node::OccupancyGridMsg first, second, third;
+  first.info().width(1);
+  second.info().width(2);
+  third.info().width(3);
+  auto put = slot.put(std::move(first));
+  EXPECT_FALSE(put.replaced_waiting);
+  EXPECT_FALSE(put.superseded_converting);
+  auto converting = slot.take();
+  ASSERT_TRUE(converting);
+  EXPECT_EQ(converting->slice.info().width(), 1u);
+  EXPECT_FALSE(converting->superseded->load());
+  put = slot.put(std::move(second));
+  EXPECT_TRUE(put.superseded_converting);
+  EXPECT_TRUE(converting->superseded->load()) << "GridMap::build polls this flag";
+  put = slot.put(std::move(third));
+  EXPECT_TRUE(put.replaced_waiting);
+  EXPECT_FALSE(put.superseded_converting) << "told once";
+  slot.finish();
+  auto next = slot.take();
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->slice.info().width(), 3u) << "only the newest slice is converted";
+  EXPECT_FALSE(next->superseded->load());
+  slot.finish();
+  node::OccupancyGridMsg fourth;
+  EXPECT_FALSE(slot.put(std::move(fourth)).superseded_converting) << "nothing in conversion";
+}
+
+}  // namespace
+}  // namespace vnsba::test
