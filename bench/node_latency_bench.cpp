@@ -148,7 +148,10 @@ void run_map(const char* label, int size, int queries) {
   }
   const core::OccupancyGrid grid = indoor_map(size, 0.05);
   auto slice = node::to_slice_msg(grid, "map", node::now_msg());
-  s.slice->write(&slice);
+  if (!s.slice->write(&slice)) {
+    std::printf("%-10s could not write the slice\n", label);
+    return;
+  }
   if (!planner_node.wait_for_map(std::chrono::seconds(30))) return;
   // The reference plans on the grid the node received (float32 resolution on the wire).
   const core::OccupancyGrid received =
@@ -171,7 +174,10 @@ void run_map(const char* label, int size, int queries) {
     request.start(node::to_pose_msg(ca.x(), ca.y(), 0, "map", node::now_msg()));
     request.goal(node::to_pose_msg(cb.x(), cb.y(), 0, "map", node::now_msg()));
     const auto sent = Clock::now();
-    s.request->write(&request);
+    if (!s.request->write(&request)) {  // counted, never silently dropped
+      ++failures;
+      continue;
+    }
     bool ok = false;
     const auto received_at = s.waiter.wait(request.id(), &ok);
     if (!received_at || !ok) {
@@ -200,7 +206,10 @@ void run_large_slice() {
   const core::OccupancyGrid grid = indoor_map(4000, 0.05);
   auto slice = node::to_slice_msg(grid, "map", node::now_msg());
   const auto t0 = Clock::now();
-  s.slice->write(&slice);
+  if (!s.slice->write(&slice)) {
+    std::printf("4000 x 4000 slice: could not write it\n");
+    return;
+  }
   const bool ready = planner_node.wait_for_map(std::chrono::seconds(60));
   const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   std::printf("4000 x 4000 slice (16 MB): %s %.0f ms after publishing\n",

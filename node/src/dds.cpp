@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <sstream>
 
 namespace vnsba::node {
 
@@ -65,8 +66,8 @@ dds::DataReaderQos reader_qos(TopicQos profile) {
   return qos;
 }
 
-core::Expected<std::unique_ptr<Participant>> Participant::create(int domain_id,
-                                                                 const std::string& name) {
+core::Expected<std::unique_ptr<Participant>> Participant::create(
+    int domain_id, const std::string& name, dds::DomainParticipantListener* listener) {
   if (domain_id < 0 || domain_id > 232) {
     return core::Status::error(core::StatusCode::kInvalidRequest,
                                "domain id " + std::to_string(domain_id) + " is outside 0..232");
@@ -90,7 +91,8 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(int domain_id,
   qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
   qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
   self->participant_ =
-      dds::DomainParticipantFactory::get_instance()->create_participant(domain_id, qos);
+      dds::DomainParticipantFactory::get_instance()->create_participant(
+          domain_id, qos, listener, dds::StatusMask::none());  // discovery callbacks only
   if (self->participant_ == nullptr)
     return dds_error("create_participant(domain " + std::to_string(domain_id) + ")");
   self->publisher_ = self->participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
@@ -157,6 +159,45 @@ int matched_readers(dds::DataWriter* writer) {
       writer->get_publication_matched_status(status) != ReturnCode_t::RETCODE_OK)
     return 0;
   return status.current_count;
+}
+
+namespace {
+
+std::string prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+  std::ostringstream out;
+  out << prefix;
+  return out.str();
+}
+
+}  // namespace
+
+void OtherWritersWatch::on_participant_discovery(
+    dds::DomainParticipant*, eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  names_[prefix_text(info.info.m_guid.guidPrefix)] = info.info.m_participantName.to_string();
+}
+
+void OtherWritersWatch::on_publisher_discovery(
+    dds::DomainParticipant* participant, eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) {
+  using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+  if (info.status != Status::DISCOVERED_WRITER) return;
+  if (info.info.topicName().to_string() != topic_name_) return;
+  const auto& prefix = info.info.guid().guidPrefix;
+  if (participant != nullptr && prefix == participant->guid().guidPrefix) return;  // ours
+  const std::string key = prefix_text(prefix);
+  std::string name;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!reported_.insert(key).second) return;
+    const auto it = names_.find(key);
+    name = it != names_.end() ? it->second : "";
+  }
+  if (on_other_) on_other_(name, key);
+}
+
+size_t OtherWritersWatch::count() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return reported_.size();
 }
 
 std::array<uint8_t, 16> guid_bytes(const eprosima::fastrtps::rtps::GUID_t& guid) {

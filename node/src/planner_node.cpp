@@ -81,6 +81,8 @@ class PlannerNode::Impl {
   void stop();
 
   NodeConfig cfg_;
+  // Declared before the participant, which calls it, so that it is destroyed after it.
+  std::unique_ptr<OtherWritersWatch> other_nodes_;
   std::unique_ptr<Participant> participant_;
   dds::DataWriter* plan_writer_ = nullptr;
   dds::DataWriter* status_writer_ = nullptr;
@@ -139,10 +141,18 @@ class PlannerNode::Impl {
 // Start and stop.
 
 core::Status PlannerNode::Impl::start() {
-  auto participant = Participant::create(cfg_.domain_id, "vnsba_node");
+  auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
+  // Two nodes on one domain and topics answer every request twice: say so (issue 13).
+  other_nodes_ = std::make_unique<OtherWritersWatch>(
+      name(cfg_.topics.plan_status), [this, name](const std::string& who, const std::string& guid) {
+        spdlog::warn(
+            "another participant ('{}', GUID prefix {}) also writes '{}': every request on this "
+            "domain gets one answer from each; give each node its own domain_id or topics",
+            printable(who), guid, name(cfg_.topics.plan_status));
+      });
+  auto participant = Participant::create(cfg_.domain_id, "vnsba_node", other_nodes_.get());
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
-  auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
 
   // Writers first, so that every request read can be answered.
   auto plan_topic =
@@ -525,6 +535,7 @@ PlannerNode::Stats PlannerNode::stats() const {
   s.maps_superseded = impl_->maps_superseded_;
   s.plans_ok = impl_->plans_ok_;
   s.queue_peak = impl_->queue_peak_;
+  s.other_status_writers = impl_->other_nodes_ ? impl_->other_nodes_->count() : 0;
   return s;
 }
 

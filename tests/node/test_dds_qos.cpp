@@ -62,3 +62,4 @@ TEST(DdsQos, AnEventsBurstLargerThanTheHistoryIsNeverDropped) {
 
 }  // namespace
 }  // namespace vnsba::test
+

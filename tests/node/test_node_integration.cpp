@@ -9,6 +9,7 @@
 #include "bus_client.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/node/planner_node.hpp"
+#include "vnsba/node/requests.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -440,6 +441,224 @@ TEST(NodeIntegration, LargeSliceIsAccepted) {
   ASSERT_TRUE(status);
   EXPECT_EQ(code_name(status->code()), "OK") << status->message();
 }
+
+// ---------------------------------------------------------------------------------------------
+// Issue 13: the attacks on the landed build, each reproducer kept as a test over loopback.
+
+namespace attacks {
+
+// The status answering `identity`, and that it is the only one for it.
+std::optional<PlanStatusMsg> answer_to(BusClient& client, const node::RequestIdentity& identity,
+                                       std::chrono::milliseconds timeout = 20s) {
+  return client.wait_status_for(identity, timeout);
+}
+
+// Finding 1: map.robot_radius 1000 passed validation and the first map killed the node
+// (bad_alloc in the map thread). Now the map is refused naming robot_radius and the node serves.
+TEST(NodeAttacks, ARobotLargerThanTheMapIsRefusedAndTheNodeKeepsServing) {
+  node::NodeConfig cfg = test_config("radius");
+  cfg.map.robot_radius = 1000.0;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  run.client.publish_slice(grid_from_rows(kRoom));
+  const auto report = run.client.wait_map_report();
+  ASSERT_TRUE(report);
+  EXPECT_EQ(code_name(report->code()), "INVALID_MAP");
+  EXPECT_NE(report->message().find("robot_radius 1000 m"), std::string::npos) << report->message();
+  EXPECT_NE(report->message().find("diagonal"), std::string::npos) << report->message();
+  const auto status = answer_to(run.client, run.client.publish_request("after", 0, 2.5, 0.5, 2.5));
+  ASSERT_TRUE(status) << "the node still answers";
+  EXPECT_EQ(code_name(status->code()), "NO_MAP");
+}
+
+// Finding 2: with robot_radius 0.5 m, a 400 x 400 slice at 1e-4 m with 1,000 obstacles took
+// 113 s to convert and a valid map sent 0.5 s later took effect after 115 s. The heavy slice is
+// refused before any work (its robot is larger than the map), and the next map is planned on.
+TEST(NodeAttacks, AHeavySliceDoesNotStallTheNextMap) {
+  node::NodeConfig cfg = test_config("stall");
+  cfg.map.robot_radius = 0.5;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  core::OccupancyGrid heavy;
+  heavy.width = heavy.height = 400;
+  heavy.resolution = 1e-4;
+  heavy.data.assign(400 * 400, 0);
+  std::mt19937 rng(13);
+  for (int i = 0; i < 1000; ++i) heavy.data[rng() % heavy.data.size()] = 100;
+  run.client.publish_slice(heavy);
+  std::this_thread::sleep_for(500ms);
+  const core::OccupancyGrid valid = grid_from_rows(std::vector<std::string>(60, std::string(60, '.')),
+                                                   0.05, 0.0, 0.0);
+  run.client.publish_slice(valid);
+  const auto report = run.client.wait_map_report();
+  ASSERT_TRUE(report);
+  EXPECT_EQ(code_name(report->code()), "INVALID_MAP");
+  EXPECT_NE(report->message().find("robot_radius"), std::string::npos) << report->message();
+  ASSERT_TRUE(run.node.wait_for_map(20s)) << "the valid map must not wait behind the heavy one";
+  const auto status = answer_to(run.client, run.client.publish_request("ok", 1.5, 1.5, 1.5, 1.6));
+  ASSERT_TRUE(status);
+  EXPECT_EQ(code_name(status->code()), "OK") << status->message();
+}
+
+// Finding 3: 0xffffffff x 0xffffffff overflowed int64 (the sanitizer build died; release said
+// a negative product). Now: INVALID_MAP, "too large".
+TEST(NodeAttacks, ASliceSizeThatOverflowsIsTooLarge) {
+  Running run(test_config("overflow"));
+  ASSERT_TRUE(run.start());
+  node::OccupancyGridMsg msg = node::to_slice_msg(grid_from_rows(kRoom), "map", node::now_msg());
+  msg.info().width(0xffffffffu);
+  msg.info().height(0xffffffffu);
+  run.client.publish_slice_msg(msg);
+  const auto report = run.client.wait_map_report();
+  ASSERT_TRUE(report);
+  EXPECT_EQ(code_name(report->code()), "INVALID_MAP");
+  EXPECT_NE(report->message().find("4294967295 x 4294967295 = 18446744065119617025 cells is too large"),
+            std::string::npos)
+      << report->message();
+  EXPECT_EQ(report->subject(), wire::SUBJECT_MAP);
+  EXPECT_EQ(report->request_sequence_number(), 0);
+}
+
+// Finding 4: a reused id got the previous request's answer. Each status names its request's
+// sample identity; the second request's answer is its own.
+TEST(NodeAttacks, AReusedIdGetsItsOwnAnswer) {
+  Running run(test_config("reuse"));
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  const auto [ax, ay] = centre(grid, 1, 1);
+  const auto [bx, by] = centre(grid, 18, 8);
+  const auto [wx, wy] = centre(grid, 8, 5);  // a wall cell
+  const auto first = run.client.publish_request("X", ax, ay, bx, by);
+  const auto first_status = answer_to(run.client, first);
+  ASSERT_TRUE(first_status);
+  EXPECT_EQ(code_name(first_status->code()), "OK") << first_status->message();
+  const auto second = run.client.publish_request("X", ax, ay, wx, wy);
+  ASSERT_NE(first.sequence_number, second.sequence_number);
+  const auto second_status = answer_to(run.client, second);
+  ASSERT_TRUE(second_status);
+  EXPECT_EQ(code_name(second_status->code()), "GOAL_OCCUPIED") << second_status->message();
+  EXPECT_EQ(second_status->request_id(), "X");
+  EXPECT_EQ(second_status->subject(), wire::SUBJECT_REQUEST);
+}
+
+// Finding 5: with preempt, a request with start.x = NaN canceled the valid plan in progress and
+// was then rejected itself. Only a request that would be planned preempts.
+TEST(NodeAttacks, GarbageDoesNotPreemptAValidPlan) {
+  node::NodeConfig cfg = test_config("garbage");
+  cfg.preempt = true;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  run.client.publish_slice(detour_grid(1500));
+  ASSERT_TRUE(run.node.wait_for_map(30s));
+  const auto slow = run.client.publish_request("slow", 0.01, 0.01, 74.9, 0.01, "astar");
+  std::this_thread::sleep_for(20ms);
+  const auto nan = run.client.publish_request("nan", std::nan(""), 0.01, 74.9, 0.01);
+  const auto nan_status = answer_to(run.client, nan);
+  ASSERT_TRUE(nan_status);
+  EXPECT_EQ(code_name(nan_status->code()), "INVALID_REQUEST");
+  EXPECT_NE(nan_status->message().find("start.pose.position.x"), std::string::npos);
+  const auto slow_status = answer_to(run.client, slow, 60s);
+  ASSERT_TRUE(slow_status);
+  EXPECT_EQ(code_name(slow_status->code()), "OK") << slow_status->message();
+}
+
+// Finding 6: two back-to-back requests with one id gave CANCELED then OK, unexplained. The
+// newer replaces the older, and the older's status says so.
+TEST(NodeAttacks, ANewerRequestWithTheSameIdReplacesTheOlder) {
+  node::NodeConfig cfg = test_config("dupid");
+  cfg.preempt = false;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  run.client.publish_slice(detour_grid(1500));
+  ASSERT_TRUE(run.node.wait_for_map(30s));
+  const auto older = run.client.publish_request("twin", 0.01, 0.01, 74.9, 0.01, "astar");
+  const auto newer = run.client.publish_request("twin", 0.01, 0.01, 74.9, 0.01, "astar");
+  const auto older_status = answer_to(run.client, older, 60s);
+  const auto newer_status = answer_to(run.client, newer, 60s);
+  ASSERT_TRUE(older_status);
+  ASSERT_TRUE(newer_status);
+  EXPECT_EQ(code_name(older_status->code()), "CANCELED");
+  EXPECT_EQ(older_status->message(),
+            "replaced by a newer request with the same id 'twin' from the same client");
+  EXPECT_EQ(code_name(newer_status->code()), "OK") << newer_status->message();
+}
+
+// Finding 8: 500 kB ids took the node to 1 GB and wrote 977 MB of log; control characters went
+// verbatim to the log and statuses. Long fields are refused naming the field and the limit; the
+// echoed id is cut to the limit; messages carry no control characters.
+TEST(NodeAttacks, LongAndHostileStringsAreRefusedAndEscaped) {
+  Running run(test_config("strings"));
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  const auto [ax, ay] = centre(grid, 1, 1);
+  const auto [bx, by] = centre(grid, 18, 8);
+  const auto huge = run.client.publish_request(std::string(500000, 'i'), ax, ay, bx, by,
+                                               std::string(500000, 'p'));
+  const auto huge_status = answer_to(run.client, huge);
+  ASSERT_TRUE(huge_status);
+  EXPECT_EQ(code_name(huge_status->code()), "INVALID_REQUEST");
+  EXPECT_EQ(huge_status->message(), "id: 500000 bytes, longer than the limit of 256 bytes");
+  EXPECT_EQ(huge_status->request_id().size(), node::kMaxIdBytes);
+  const std::string hostile = "x\n[2026-12-01 00:00:00.000] [error] forged\x1b[31m";
+  const auto evil = run.client.publish_request(hostile, ax, ay, bx, by, "dijkstra\x1b[2J");
+  const auto evil_status = answer_to(run.client, evil);
+  ASSERT_TRUE(evil_status);
+  EXPECT_EQ(code_name(evil_status->code()), "INVALID_REQUEST");
+  for (char c : evil_status->message())
+    EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 || c == 0x7f) << evil_status->message();
+  EXPECT_NE(evil_status->message().find("dijkstra\\x1b[2J"), std::string::npos);
+  EXPECT_EQ(evil_status->request_id(), hostile) << "the id itself is echoed for matching";
+}
+
+// Finding 7: a client bursting 3,000 requests lost the one at index 2,048 (write() returned
+// false at once with a full history). Every write succeeds and every request is answered.
+TEST(NodeAttacks, ABurstLargerThanTheWriterHistoryIsAnsweredInFull) {
+  for (bool preempt : {true, false}) {
+  node::NodeConfig cfg = test_config(preempt ? "burst_preempt" : "burst");
+  cfg.preempt = preempt;
+  cfg.queue_capacity = 100000;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  const auto [ax, ay] = centre(grid, 1, 1);
+  const auto [bx, by] = centre(grid, 3, 1);
+  constexpr int kBurst = 3000;
+  for (int i = 0; i < kBurst; ++i)
+    run.client.publish_request("b" + std::to_string(i), ax, ay, bx, by, "astar");
+  EXPECT_TRUE(run.client.statuses.wait(
+      [](const auto& all) { return all.size() >= static_cast<size_t>(kBurst); }, 120s))
+      << run.client.statuses.snapshot().size() << " of " << kBurst << " answered";
+  EXPECT_EQ(run.node.stats().requests_received, static_cast<uint64_t>(kBurst));
+  }
+}
+
+// Finding 12: two nodes on one domain answered every request twice and nothing warned. Each
+// now sees the other writing plan_status.
+TEST(NodeAttacks, TwoNodesOnOneDomainNoticeEachOther) {
+  const node::NodeConfig cfg = test_config("twins");
+  node::PlannerNode first(cfg), second(cfg);
+  ASSERT_TRUE(first.start().is_ok());
+  ASSERT_TRUE(second.start().is_ok());
+  EXPECT_TRUE(wait_until(
+      [&] {
+        return first.stats().other_status_writers >= 1 && second.stats().other_status_writers >= 1;
+      },
+      20s));
+  EXPECT_EQ(first.stats().other_status_writers, 1u);
+  // A lone node sees nobody.
+  node::PlannerNode alone(test_config("alone"));
+  ASSERT_TRUE(alone.start().is_ok());
+  std::this_thread::sleep_for(1s);
+  EXPECT_EQ(alone.stats().other_status_writers, 0u);
+}
+
+}  // namespace attacks
 
 }  // namespace
 }  // namespace vnsba::test

@@ -135,6 +135,21 @@ TEST_F(SendGoal, GoalInAWallExitsTwoWithTheStatus) {
   EXPECT_EQ(line->length_m, 0.0);
 }
 
+// Issue 13: `--id X` twice, the second a goal in a wall, printed the first run's replayed OK
+// from the status history and exited 0. It matches the status on its request's sample identity.
+TEST_F(SendGoal, AReusedIdPrintsItsOwnAnswerNotTheEarlierOne) {
+  start_node("sg_reuse");
+  const auto [first_code, first_output] = run_to_exit(kSendGoal, args("X", 0.55, 0.55, 3.55, 0.55));
+  ASSERT_EQ(first_code, 0) << first_output;
+  ASSERT_TRUE(find_status_line(first_output, "X"));
+  EXPECT_EQ(find_status_line(first_output, "X")->status, "OK");
+  const auto [code, output] = run_to_exit(kSendGoal, args("X", 0.55, 0.55, 2.05, 1.05));
+  EXPECT_EQ(code, 2) << output;
+  const auto line = find_status_line(output, "X");
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "GOAL_OCCUPIED") << output;
+}
+
 TEST(SendGoalWithoutNode, NoAnswerExitsThreeWithinTheWait) {
   const node::NodeConfig cfg = test_config("sg_nobody");
   const std::string path = write_temp_file("sg_nobody.yaml", config_yaml(cfg));

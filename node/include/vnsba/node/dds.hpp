@@ -9,6 +9,7 @@
 #pragma once
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
@@ -17,7 +18,10 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <array>
+#include <functional>
 #include <map>
+#include <mutex>
+#include <set>
 #include <memory>
 #include <string>
 
@@ -45,12 +49,38 @@ constexpr int32_t kStatusHistory = 1024;
 dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples);
 dds::DataReaderQos reader_qos(TopicQos profile);
 
+// Reports, once per remote participant, a writer on `topic_name` in a participant other than
+// the one it listens on: on the status topic that is a second node answering every request.
+// Attach it at Participant::create so that writers discovered at once are seen too; it must
+// outlive the participant. `on_other(participant_name, guid_prefix)` runs on a DDS thread.
+class OtherWritersWatch : public dds::DomainParticipantListener {
+ public:
+  using OnOther = std::function<void(const std::string& name, const std::string& guid_prefix)>;
+  OtherWritersWatch(std::string topic_name, OnOther on_other)
+      : topic_name_(std::move(topic_name)), on_other_(std::move(on_other)) {}
+
+  void on_participant_discovery(dds::DomainParticipant* participant,
+                                eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
+  void on_publisher_discovery(dds::DomainParticipant* participant,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
+  // Remote participants seen writing the topic so far.
+  size_t count() const;
+
+ private:
+  const std::string topic_name_;
+  OnOther on_other_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::string> names_;  // guid prefix -> participant name
+  std::set<std::string> reported_;           // guid prefixes
+};
+
 // One DomainParticipant with a publisher and a subscriber. Not copyable; the destructor deletes
 // every contained entity, then the participant.
 class Participant {
  public:
-  static core::Expected<std::unique_ptr<Participant>> create(int domain_id,
-                                                             const std::string& name);
+  // `listener` (may be null) receives discovery events from the start; it must outlive this.
+  static core::Expected<std::unique_ptr<Participant>> create(
+      int domain_id, const std::string& name, dds::DomainParticipantListener* listener = nullptr);
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;

@@ -48,6 +48,8 @@ class PlannerNode {
     uint64_t maps_superseded = 0;  // a newer slice arrived while this one was being converted
     uint64_t plans_ok = 0;
     size_t queue_peak = 0;  // most requests ever waiting at once
+    // Other participants seen writing plan_status (another node on the same domain and topics).
+    size_t other_status_writers = 0;
   };
   Stats stats() const;
 
