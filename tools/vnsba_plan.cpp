@@ -1,13 +1,15 @@
 // vnsba_plan: plan offline on a map file and draw the run, for users without a DDS system.
 //
 //   vnsba_plan MAP --start X Y --goal X Y [--planner NAME] [--svg out.svg] [--cells]
-//              [--z-min A --z-max B] [--resolution R]   (OctoMap files)
+//              [--z-min A --z-max B] [--resolution R] [--bounds XMIN,YMIN,XMAX,YMAX]
+//                                                       (OctoMap files)
 //              [--allow-unknown] [--robot-radius M] [--occupied-threshold T]
 //              [--neighborhood 8|8-11-13] [--corner-policy never|touch|always]
 //              [--prune|--no-prune] [--smooth|--no-smooth] [--omega W] [--eta W]
 //
 // MAP is a Moving AI `.map` (1 m cells, origin (0, 0), row 0 at the bottom), a map_server
-// `.yaml` (with its `.pgm`), or an OctoMap `.bt`/`.ot` sliced at the height band given.
+// `.yaml` (with its `.pgm`), or an OctoMap `.bt`/`.ot` sliced at the height band given, over the
+// tree's extent or the --bounds given (metres, as vnsba_slicer takes them).
 // Start and goal are world coordinates in metres in the map's frame; with --cells they are cell
 // indices (column, row counted from the bottom). Prints one line: planner, status, length in
 // metres, turns, turn angle, expansions, time, and the length ratio to optimal A* (a second
@@ -62,7 +64,9 @@ core::Expected<core::OccupancyGrid> load_map(const std::string& path,
   if (has_suffix(path, ".bt") || has_suffix(path, ".ot")) {
     auto tree = core::load_octree(path);
     if (!tree) return tree.error();
-    return core::slice_octree(**tree, slice);
+    auto grid = core::slice_octree(**tree, slice);
+    if (!grid) return core::Status::error(grid.error().code, path + ": " + grid.error().message);
+    return grid;
   }
   return core::Status::error(core::StatusCode::kInvalidMap,
                              path + ": unknown map format (expected .map, .yaml, .pgm, .bt, .ot)");
@@ -107,6 +111,8 @@ int main(int argc, char** argv) {
   std::string svg_path;
   bool cells = false;
   core::SliceOptions slice;
+  slice.names = {"--z-min", "--z-max", "--resolution", "--bounds", "vnsba_plan's limit"};
+  std::vector<double> bounds;
   core::GridBuildOptions build;
   app.add_option("map", map_path, "map file: .map, .yaml/.pgm (map_server), .bt/.ot (OctoMap)")
       ->required();
@@ -121,10 +127,16 @@ int main(int argc, char** argv) {
                  "alternating_bidirectional_astar");
   app.add_option("--svg", svg_path, "write a picture of the run here");
   app.add_flag("--cells", cells, "start and goal are cell indices (column, row from the bottom)");
-  app.add_option("--z-min", slice.z_min, "OctoMap: bottom of the height band, metres");
-  app.add_option("--z-max", slice.z_max, "OctoMap: top of the height band, metres");
-  app.add_option("--resolution", slice.resolution,
-                 "OctoMap: metres per cell, a whole multiple of the leaf size (0 = leaf size)");
+  const std::vector<CLI::Option*> octomap_options = {
+      app.add_option("--z-min", slice.z_min, "OctoMap: bottom of the height band, metres"),
+      app.add_option("--z-max", slice.z_max, "OctoMap: top of the height band, metres"),
+      app.add_option("--resolution", slice.resolution,
+                     "OctoMap: metres per cell, a whole multiple of the leaf size (0 = leaf size)"),
+      app.add_option("--bounds", bounds,
+                     "OctoMap: the area to slice, x_min,y_min,x_max,y_max in metres (default: "
+                     "the tree's extent)")
+          ->expected(4)
+          ->delimiter(',')};
   app.add_option("--occupied-threshold", build.occupied_threshold,
                  "occupancy percent at or above which a cell is blocked (1..100)");
   app.add_flag("--allow-unknown", build.allow_unknown, "plan through unknown cells");
@@ -182,6 +194,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", valid.message.c_str());  // names the option at fault
     return kBadInput;
   }
+  const bool octomap = has_suffix(map_path, ".bt") || has_suffix(map_path, ".ot");
+  for (const CLI::Option* option : octomap_options)
+    if (option->count() > 0 && !octomap) {
+      std::fprintf(stderr, "%s: only for OctoMap files (.bt, .ot), not %s\n",
+                   option->get_name().c_str(), map_path.c_str());
+      return kBadInput;
+    }
+  if (!bounds.empty()) slice.bounds = core::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
   auto grid = load_map(map_path, slice);
   if (!grid) {
     std::fprintf(stderr, "%s\n", grid.error().message.c_str());

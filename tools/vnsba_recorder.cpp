@@ -2,6 +2,7 @@
 // and a run record.
 //
 //   vnsba_recorder --out DIR [--config FILE] [--domain N] [--duration S | --runs N]
+//                  [--debug-wait S] [--max-open-mb M]
 //   vnsba_recorder render RUN.json [--out RUN.svg]
 //
 // It subscribes to the slice, plan_request, goal_pose, robot_pose, plan, plan_status and
@@ -11,6 +12,11 @@
 // carry no id: the node names them goal-1, goal-2, ... and the recorder pairs them with the
 // goal poses it heard in order (start = the last robot_pose), so a recorder started after some
 // goals pairs goal poses only by arrival order.
+//
+// Runs heard of but not yet written are held in memory, at most 10,000 of them and at most
+// --max-open-mb (default 512 MiB) of their data: past that, the debug data of the oldest runs
+// is dropped first, then the oldest runs; every drop is logged (run id, bytes) and counted in
+// the summary at exit.
 //
 // Files are written to a temporary name and renamed, so a reader never sees half a file. A run
 // whose data cannot be drawn or written is logged and skipped; the others go on. SIGINT/SIGTERM
@@ -24,7 +30,7 @@
 #include <chrono>
 #include <deque>
 #include <filesystem>
-#include <map>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <variant>
@@ -32,6 +38,7 @@
 #include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "nav_msgs/msg/PathPubSubTypes.h"
+#include "recorder/open_runs.hpp"
 #include "recorder/run_record.hpp"
 #include "vnsba/core/map_io.hpp"
 #include "vnsba/node/config.hpp"
@@ -53,6 +60,7 @@ constexpr int kBadInput = 2;
 
 // Memory guards: the recorder may run for days next to a busy node.
 constexpr size_t kMaxOpenRuns = 10000;     // runs heard of but not yet written
+constexpr double kDefaultMaxOpenMb = 512;  // and their data, MiB (--max-open-mb)
 constexpr size_t kMaxPendingGoals = 1024;  // goal poses waiting for their status
 constexpr size_t kMaxKeptMaps = 4;         // recent slices kept to pair runs with
 
@@ -117,17 +125,20 @@ struct StoredMap {
   std::string file;  // relative to the output folder once saved
 };
 
-struct OpenRun {
-  tools::RunRecord record;
-  std::optional<Clock::time_point> status_time;
-  uint64_t opened = 0;  // order of arrival, to drop the oldest when too many are open
-};
+using tools::OpenRun;
+
+std::string megabytes(uint64_t bytes) {
+  return fmt::format("{:.3g} MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+}
 
 class Recorder {
  public:
   Recorder(node::NodeConfig config, std::filesystem::path out_dir,
-           std::chrono::milliseconds debug_wait)
-      : config_(std::move(config)), out_dir_(std::move(out_dir)), debug_wait_(debug_wait) {}
+           std::chrono::milliseconds debug_wait, size_t max_open_bytes)
+      : config_(std::move(config)),
+        out_dir_(std::move(out_dir)),
+        debug_wait_(debug_wait),
+        runs_(kMaxOpenRuns, max_open_bytes) {}
 
   void handle(Event&& event) {
     std::visit([this](auto&& e) { on(std::move(e)); }, std::move(event));
@@ -137,42 +148,39 @@ class Recorder {
   size_t write_ready(bool flush) {
     size_t written = 0;
     const auto now = Clock::now();
-    for (auto it = runs_.begin(); it != runs_.end();) {
-      OpenRun& run = it->second;
+    std::vector<OpenRun> ready = runs_.take([&](const OpenRun& run) {
       const bool has_status = run.status_time.has_value();
       // Topics are not ordered with respect to each other: the debug data, and even the request
       // or goal pose, may arrive after the status. A run waits for them up to debug_wait.
       const bool complete = has_status && run.record.request &&
                             (run.record.debug || run.record.status->metrics.expanded == 0);
-      const bool ready = flush || complete || (has_status && now - *run.status_time >= debug_wait_);
-      if (!ready) {
-        ++it;
-        continue;
-      }
-      written += write_run(run.record) ? 1 : 0;
-      it = runs_.erase(it);
-    }
+      return flush || complete || (has_status && now - *run.status_time >= debug_wait_);
+    });
+    for (OpenRun& run : ready) written += write_run(run.record) ? 1 : 0;
     return written;
   }
 
   size_t runs_written() const { return runs_written_; }
 
+  // What was dropped to stay within the memory limits, for the summary at exit.
+  std::string dropped_summary() const {
+    const tools::DropTotals& d = runs_.dropped();
+    if (d.runs == 0 && d.debug == 0) return "nothing dropped";
+    return fmt::format(
+        "dropped to stay within {} open runs and --max-open-mb ({}): {} whole run(s) and the "
+        "debug data of {} run(s), {} in all",
+        runs_.max_runs(), megabytes(runs_.max_bytes()), d.runs, d.debug, megabytes(d.bytes));
+  }
+
  private:
-  OpenRun& run_for(const std::string& id) {
-    auto it = runs_.find(id);
-    if (it != runs_.end()) return it->second;
-    if (runs_.size() >= kMaxOpenRuns) {
-      // Drop the oldest run that has no status (it may never get one) to stay bounded.
-      auto victim = std::min_element(runs_.begin(), runs_.end(), [](const auto& a, const auto& b) {
-        return a.second.opened < b.second.opened;
-      });
-      spdlog::warn("more than {} open runs: dropping '{}'", kMaxOpenRuns, victim->first);
-      runs_.erase(victim);
+  // Changes the open run of `id` (opened if new) and logs what the memory limits dropped.
+  void update_run(const std::string& id, const std::function<void(OpenRun&)>& change) {
+    for (const tools::DroppedPart& part : runs_.update(id, change)) {
+      spdlog::warn("{}: dropped {} of run '{}' ({} bytes){}", part.reason,
+                   part.whole_run ? "everything heard" : "the debug data", part.request_id,
+                   part.bytes,
+                   part.whole_run ? "" : "; its picture and record will have no expansions");
     }
-    OpenRun& run = runs_[id];
-    run.record.request_id = id;
-    run.opened = ++opened_counter_;
-    return run;
   }
 
   // The node names goal_pose goals goal-1, goal-2, ...
@@ -203,7 +211,7 @@ class Recorder {
     request.planner = msg.planner();
     request.start = node::position_of(msg.start());
     request.goal = node::position_of(msg.goal());
-    run_for(msg.id()).record.request = request;
+    update_run(msg.id(), [&](OpenRun& run) { run.record.request = request; });
   }
 
   void on(GoalEvent&& e) {
@@ -212,12 +220,12 @@ class Recorder {
     request.goal = node::position_of(e.goal);
     request.start = robot_pose_;
     // Its status may have come first: then the oldest goal run still without a request is it.
-    OpenRun* waiting = nullptr;
-    for (auto& [id, run] : runs_)
-      if (!run.record.request && is_goal_id(id) && (!waiting || run.opened < waiting->opened))
-        waiting = &run;
-    if (waiting != nullptr) {
-      waiting->record.request = request;
+    const std::optional<std::string> waiting =
+        runs_.oldest([](const std::string& id, const OpenRun& run) {
+          return !run.record.request && is_goal_id(id);
+        });
+    if (waiting) {
+      update_run(*waiting, [&](OpenRun& run) { run.record.request = request; });
       return;
     }
     goals_.push_back(request);
@@ -233,11 +241,17 @@ class Recorder {
   }
 
   void on(node::PlanStatusMsg&& msg) {
-    if (msg.request_id().empty()) {
-      spdlog::warn("the node rejected a slice: {}", msg.message());
+    // Map reports have their own subject; an empty request_id can also be a rejected request
+    // (issue 13: the recorder used to take that for a map).
+    if (msg.subject() == node::wire::SUBJECT_MAP) {
+      spdlog::warn("the node did not take a slice ({}): {}", msg.code_name(),
+                   node::printable(msg.message(), 1024));
       return;
     }
-    OpenRun& run = run_for(msg.request_id());
+    update_run(msg.request_id(), [&](OpenRun& run) { set_status(run, msg); });
+  }
+
+  void set_status(OpenRun& run, const node::PlanStatusMsg& msg) {
     tools::StatusRecord status;
     status.code = msg.code();
     status.code_name = msg.code_name();
@@ -259,7 +273,7 @@ class Recorder {
   void on(node::PlannerDebugMsg&& msg) {
     if (msg.request_id().empty()) return;
     node::DebugData d = node::from_debug_msg(msg);
-    run_for(d.request_id).record.debug = std::move(d.trace);
+    update_run(d.request_id, [&](OpenRun& run) { run.record.debug = std::move(d.trace); });
   }
 
   // The slice a run was planned on: the one whose stamp the status names, else the newest one
@@ -299,6 +313,11 @@ class Recorder {
         ref.robot_radius = config_.map.robot_radius;
         record.map = ref;
       }
+      // What the bus brought is recorded as it came; what cannot be drawn is said.
+      if (const core::Status checked = tools::check_record(record, map ? &map->grid : nullptr);
+          !checked.is_ok())
+        spdlog::warn("run '{}': {}; its picture leaves out what does not fit", record.request_id,
+                     checked.message);
       const std::string stem = tools::safe_file_stem(record.request_id);
       const std::string svg =
           render::render_svg(tools::picture_of(record, map ? &map->grid : nullptr));
@@ -348,8 +367,7 @@ class Recorder {
   node::NodeConfig config_;
   std::filesystem::path out_dir_;
   std::chrono::milliseconds debug_wait_;
-  std::map<std::string, OpenRun> runs_;
-  uint64_t opened_counter_ = 0;
+  tools::OpenRuns runs_;
   std::deque<StoredMap> maps_;
   std::deque<tools::RequestRecord> goals_;
   std::optional<Eigen::Vector2d> robot_pose_;
@@ -394,6 +412,7 @@ int main(int argc, char** argv) {
   std::optional<double> duration;
   std::optional<int64_t> runs_wanted;
   double debug_wait_s = 0.5;
+  double max_open_mb = kDefaultMaxOpenMb;
   app.add_option("--out", out_dir, "folder for <id>.svg and <id>.json (created if missing)");
   app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
@@ -402,6 +421,9 @@ int main(int argc, char** argv) {
       ->excludes(duration_opt);
   app.add_option("--debug-wait", debug_wait_s,
                  "seconds to wait for a run's debug data after its status")
+      ->capture_default_str();
+  app.add_option("--max-open-mb", max_open_mb,
+                 "MiB at most held for runs not yet written (their debug data is dropped first)")
       ->capture_default_str();
   auto* render_cmd = app.add_subcommand("render", "redraw a run record as SVG");
   std::string record_path, render_out;
@@ -429,6 +451,10 @@ int main(int argc, char** argv) {
   }
   if (!(debug_wait_s >= 0 && debug_wait_s <= 60)) {
     spdlog::error("--debug-wait: must be in [0, 60] seconds");
+    return kBadInput;
+  }
+  if (!(max_open_mb > 0 && max_open_mb <= 1e6)) {
+    spdlog::error("--max-open-mb: must be in (0, 1e6] MiB");
     return kBadInput;
   }
   std::error_code ec;
@@ -486,7 +512,8 @@ int main(int argc, char** argv) {
   spdlog::info("recorder: ready (domain {}, writing to {})", config.domain_id, out_dir);
 
   Recorder recorder(config, out_dir,
-                    std::chrono::milliseconds(static_cast<int64_t>(debug_wait_s * 1000)));
+                    std::chrono::milliseconds(static_cast<int64_t>(debug_wait_s * 1000)),
+                    static_cast<size_t>(max_open_mb * 1024 * 1024));
   // No deadline: the largest time point (a plain value keeps GCC's uninitialized check quiet).
   const Clock::time_point deadline =
       duration ? Clock::now() + std::chrono::microseconds(static_cast<int64_t>(*duration * 1e6))
@@ -508,6 +535,7 @@ int main(int argc, char** argv) {
   if (!runs_wanted || recorder.runs_written() < static_cast<size_t>(*runs_wanted))
     recorder.write_ready(true);
   bus.shutdown();
-  spdlog::info("recorder: {} run(s) written to {}", recorder.runs_written(), out_dir);
+  spdlog::info("recorder: {} run(s) written to {}; {}", recorder.runs_written(), out_dir,
+               recorder.dropped_summary());
   return 0;
 }

@@ -1,13 +1,15 @@
 // vnsba_slicer: OctoMap 3D maps -> 2D slices, to a map_server file or onto the bus.
 //
-//   vnsba_slicer FILE.bt|FILE.ot [--z-min A] [--z-max B] [--resolution R] [--out map.pgm]
+//   vnsba_slicer FILE.bt|FILE.ot [--z-min A] [--z-max B] [--resolution R]
+//                [--bounds XMIN,YMIN,XMAX,YMAX] [--out map.pgm]
 //   vnsba_slicer FILE.bt --publish [--watch] [--config FILE] [--domain N]
 //   vnsba_slicer --subscribe [--config FILE] [--domain N]
 //
 // Band, resolution and speckle removal default to the config's `slicer` section; the flags
-// override them. With --publish the slice goes out on the slice topic (transient local, so a
-// node started later still gets it) and the slicer stays up to serve it until SIGINT/SIGTERM;
-// --watch republishes when the file changes. --subscribe slices every binary octomap_msgs/Octomap
+// override them, and errors name the flag or the config key a value came from. With --publish
+// the slice goes out on the slice topic (transient local, so a node started later still gets it)
+// and the slicer stays up to serve it until SIGINT/SIGTERM; --watch republishes when the file
+// changes. --subscribe slices every binary octomap_msgs/Octomap
 // it receives on the `octomap` topic and publishes the result.
 //
 // Exit codes: 0 done (or stopped by a signal), 2 bad arguments, config, file or slice options,
@@ -69,11 +71,21 @@ std::filesystem::file_time_type modified(const std::string& path) {
   return ec ? std::filesystem::file_time_type::min() : t;
 }
 
+// Slicing errors start with what was sliced (the file, or "the received octomap").
+core::Expected<core::OccupancyGrid> slice_tree(const octomap::OcTree& tree,
+                                               const core::SliceOptions& options,
+                                               const std::string& source) {
+  auto sliced = core::slice_octree(tree, options);
+  if (!sliced)
+    return core::Status::error(sliced.error().code, source + ": " + sliced.error().message);
+  return sliced;
+}
+
 core::Expected<core::OccupancyGrid> slice_file(const std::string& path,
                                                const core::SliceOptions& options) {
   auto tree = core::load_octree(path);
   if (!tree) return tree.error();
-  return core::slice_octree(**tree, options);
+  return slice_tree(**tree, options, path);
 }
 
 void log_slice(const core::OccupancyGrid& g, const std::string& source) {
@@ -105,8 +117,9 @@ int main(int argc, char** argv) {
   app.add_option("--resolution", resolution,
                  "metres per cell: the leaf size or a whole multiple (0 = leaf size)");
   app.add_option("--bounds", bounds,
-                 "x_min y_min x_max y_max in metres (default: the tree's bounds)")
-      ->expected(4);
+                 "x_min,y_min,x_max,y_max in metres (default: the tree's bounds)")
+      ->expected(4)
+      ->delimiter(',');
   app.add_flag("--remove-speckles", speckles, "turn isolated occupied cells free");
   app.add_option("--out", out, "write a ROS map_server map: OUT (.pgm) and its .yaml");
   app.add_flag("--publish", publish, "publish the slice on the slice topic and keep serving it");
@@ -138,6 +151,13 @@ int main(int argc, char** argv) {
   options.resolution = resolution.value_or(config.slicer.resolution);
   options.remove_speckles = speckles || config.slicer.remove_speckles;
   options.max_cells = config.map.max_cells;
+  // Errors name where each value came from: the flag, or the config key (and its file).
+  const std::string in_config = " in " + config_path;
+  options.names.z_min = z_min ? "--z-min" : "slicer.z_min" + in_config;
+  options.names.z_max = z_max ? "--z-max" : "slicer.z_max" + in_config;
+  options.names.resolution = resolution ? "--resolution" : "slicer.resolution" + in_config;
+  options.names.bounds = "--bounds";
+  options.names.max_cells = "map.max_cells" + in_config;
   if (!bounds.empty())
     options.bounds = core::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
 
@@ -225,8 +245,9 @@ int main(int argc, char** argv) {
           publish_slice(*sliced);
         } else {
           // A file caught mid-write, or broken: keep serving the last good slice.
-          spdlog::warn("{} changed but cannot be sliced ({}); the last slice stays published",
-                       input, sliced.error().message);
+          // The message names the file.
+          spdlog::warn("changed but cannot be sliced: {}; the last slice stays published",
+                       sliced.error().message);
         }
       }
     }
@@ -236,9 +257,9 @@ int main(int argc, char** argv) {
         spdlog::error("octomap rejected: {}", check.status.message);
         continue;
       }
-      auto sliced = core::slice_octree(*check.tree, options);
+      auto sliced = slice_tree(*check.tree, options, "the received octomap");
       if (!sliced) {
-        spdlog::error("cannot slice the received octomap: {}", sliced.error().message);
+        spdlog::error("{}", sliced.error().message);
         continue;
       }
       log_slice(*sliced, "the received octomap");

@@ -19,6 +19,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string_view>
 #include <utility>
@@ -47,6 +48,24 @@ int64_t floor_div(int64_t a, int64_t b) {
 double snap(double v) {
   const double r = std::round(v);
   return std::abs(v - r) <= 1e-6 ? r : v;
+}
+
+// OctoMap trees are 2^16 leaves across (OcTree's tree depth).
+constexpr unsigned kTreeDepth = 16;
+
+// What is wrong with a tree's leaf size (its resolution: a .bt/.ot header's `res`, a message's
+// `resolution`), or "". A finite, positive leaf size can still be too large: the tree's extent,
+// 2^depth leaves, must be a finite number of metres, or every coordinate computed from it is
+// infinite.
+std::string leaf_size_problem(double leaf, unsigned depth) {
+  if (!std::isfinite(leaf) || leaf <= 0.0) return "is " + fmt(leaf) + ", not finite and > 0";
+  const double leaves = std::ldexp(1.0, static_cast<int>(depth));
+  if (!std::isfinite(leaf * leaves)) {
+    return "is " + fmt(leaf) + " m: too large, the tree's extent (" + fmt(leaves) +
+           " leaves across) would overflow a double; the largest leaf size is " +
+           fmt(std::numeric_limits<double>::max() / leaves) + " m";
+  }
+  return "";
 }
 
 // Smallest (or, when `upper`, largest) relative key along `axis` of any leaf under `node`, whose
@@ -159,12 +178,16 @@ void remove_speckles(OccupancyGrid& grid) {
 }
 
 Expected<OccupancyGrid> slice(const octomap::OcTree& tree, const SliceOptions& o) {
-  const std::string band = "[" + fmt(o.z_min) + ", " + fmt(o.z_max) + "]";
+  const SliceOptionNames& names = o.names;
+  const std::string band =
+      "[" + names.z_min + ", " + names.z_max + "] = [" + fmt(o.z_min) + ", " + fmt(o.z_max) + "] m";
   if (!std::isfinite(o.z_min) || !std::isfinite(o.z_max) || o.z_min > o.z_max) {
-    return bad_request("band [z_min, z_max] = " + band + " must be finite with z_min <= z_max");
+    return bad_request("band " + band + " must be finite with " + names.z_min +
+                       " <= " + names.z_max);
   }
   if (!std::isfinite(o.resolution) || o.resolution < 0.0) {
-    return bad_request("resolution " + fmt(o.resolution) + " is not 0 (the leaf size) or > 0");
+    return bad_request(names.resolution + " is " + fmt(o.resolution) +
+                       ", must be 0 (the tree's leaf size) or a positive number of metres");
   }
   if (tree.size() == 0 || tree.getRoot() == nullptr) {
     return invalid_map("the OctoMap tree is empty");
@@ -172,8 +195,8 @@ Expected<OccupancyGrid> slice(const octomap::OcTree& tree, const SliceOptions& o
   const double leaf = tree.getResolution();
   const unsigned depth = tree.getTreeDepth();
   const int64_t half_keys = int64_t{1} << (depth - 1);  // OctoMap's tree_max_val
-  if (!(leaf > 0.0) || !std::isfinite(leaf * 2.0 * half_keys)) {
-    return invalid_map("the tree's leaf size " + fmt(leaf) + " is not finite and positive");
+  if (const std::string problem = leaf_size_problem(leaf, depth); !problem.empty()) {
+    return invalid_map("the tree's resolution (leaf size) " + problem);
   }
   // Output cells of m leaves.
   int64_t m = 1;
@@ -181,8 +204,9 @@ Expected<OccupancyGrid> slice(const octomap::OcTree& tree, const SliceOptions& o
     const double ratio = o.resolution / leaf;
     m = std::llround(std::min(ratio, 1e9));
     if (m < 1 || std::abs(ratio - m) > 1e-6 * m || m > 2 * half_keys) {
-      return bad_request("resolution " + fmt(o.resolution) + " is not a whole multiple (1 to " +
-                         std::to_string(2 * half_keys) + ") of the tree's leaf size " + fmt(leaf));
+      return bad_request(names.resolution + " is " + fmt(o.resolution) +
+                         " m, not a whole multiple (1 to " + std::to_string(2 * half_keys) +
+                         ") of the tree's leaf size " + fmt(leaf) + " m");
     }
   }
   const double cell = leaf * m;
@@ -205,21 +229,25 @@ Expected<OccupancyGrid> slice(const octomap::OcTree& tree, const SliceOptions& o
   const auto z_lo = static_cast<int64_t>(std::floor(band_lo));
   const int64_t z_hi = band_hi > band_lo ? static_cast<int64_t>(std::ceil(band_hi)) - 1 : z_lo;
   if (z_lo > tree_hi[2] || z_hi < tree_lo[2]) {
-    return bad_request("band [z_min, z_max] = " + band + " is outside the tree's height range [" +
-                       fmt(tree_lo[2] * leaf) + ", " + fmt((tree_hi[2] + 1) * leaf) + "]");
+    return bad_request("band " + band + " is outside the tree's height range [" +
+                       fmt(tree_lo[2] * leaf) + ", " + fmt((tree_hi[2] + 1) * leaf) + "] m");
   }
 
   // Output cells [cx0, cx1) x [cy0, cy1), in cells of m leaves from 0.
   int64_t cx0, cx1, cy0, cy1;
   if (o.bounds) {
     const SliceBounds& b = *o.bounds;
+    const std::string given = names.bounds + " = " + fmt(b.x_min) + "," + fmt(b.y_min) + "," +
+                              fmt(b.x_max) + "," + fmt(b.y_max) + " m";
     for (const double v : {b.x_min, b.y_min, b.x_max, b.y_max}) {
       if (!std::isfinite(v) || std::abs(v / cell) > 1e12) {
-        return bad_request("bounds must be finite and within 1e12 cells of 0 (got " + fmt(v) + ")");
+        return bad_request(given + ": must be finite and within 1e12 cells of 0 (x_min,y_min," +
+                           "x_max,y_max in metres)");
       }
     }
     if (!(b.x_max > b.x_min) || !(b.y_max > b.y_min)) {
-      return bad_request("bounds are empty (need x_max > x_min and y_max > y_min)");
+      return bad_request(given + " is empty: need x_min,y_min,x_max,y_max with x_max > x_min " +
+                         "and y_max > y_min");
     }
     cx0 = static_cast<int64_t>(std::floor(snap(b.x_min / cell)));
     cy0 = static_cast<int64_t>(std::floor(snap(b.y_min / cell)));
@@ -234,9 +262,19 @@ Expected<OccupancyGrid> slice(const octomap::OcTree& tree, const SliceOptions& o
   const int64_t width = cx1 - cx0, height = cy1 - cy0;
   if (static_cast<double>(width) * static_cast<double>(height) > static_cast<double>(o.max_cells) ||
       width > INT32_MAX || height > INT32_MAX) {
-    return bad_request("the slice would have " + std::to_string(width) + " x " +
-                       std::to_string(height) + " cells, over max_cells (" +
-                       std::to_string(o.max_cells) + ")");
+    std::string area;
+    if (o.bounds) {
+      area = "the " + names.bounds + " given";
+    } else {
+      area = "the tree's extent [" + fmt(cx0 * cell) + ", " + fmt(cx1 * cell) + "] x [" +
+             fmt(cy0 * cell) + ", " + fmt(cy1 * cell) + "] m";
+    }
+    return bad_request(
+        "the slice would have " + std::to_string(width) + " x " + std::to_string(height) +
+        " cells of " + fmt(cell) + " m (" + area + "), over " + names.max_cells + " (" +
+        std::to_string(o.max_cells) + " cells): slice a smaller area with " + names.bounds +
+        " x_min,y_min,x_max,y_max (metres), or coarser cells with " + names.resolution +
+        " (a whole multiple of the leaf size " + fmt(leaf) + " m)");
   }
 
   OccupancyGrid grid;
@@ -328,6 +366,9 @@ Expected<std::shared_ptr<octomap::OcTree>> load(const std::string& path) {
   if (!in || !size || !std::isfinite(res) || res <= 0.0) {
     return bad("corrupt header: needs id, size (node count) and res (resolution > 0)");
   }
+  if (const std::string problem = leaf_size_problem(res, kTreeDepth); !problem.empty()) {
+    return bad("header res (the leaf size) " + problem);
+  }
   if (id != "OcTree") return bad("holds a " + id + ", not an OcTree");
   const auto data = std::string_view(bytes).substr(static_cast<size_t>(in.tellg()));
   if (*size == 0 && data.empty()) return std::make_shared<octomap::OcTree>(res);
@@ -357,8 +398,8 @@ Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(const std::ve
                                                                    const std::string& id) {
   const std::string what = "OctoMap message data: ";
   if (id != "OcTree") return invalid_map(what + "id '" + id + "' is not supported (only OcTree)");
-  if (!std::isfinite(resolution) || resolution <= 0.0) {
-    return invalid_map(what + "resolution " + fmt(resolution) + " is not finite and > 0");
+  if (const std::string problem = leaf_size_problem(resolution, kTreeDepth); !problem.empty()) {
+    return invalid_map(what + "resolution (the leaf size) " + problem);
   }
   try {
     const std::string_view bytes(reinterpret_cast<const char*>(data.data()), data.size());

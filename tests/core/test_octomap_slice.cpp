@@ -394,6 +394,72 @@ TEST(OctomapSlice, ErrorsNameTheOptionAtFault) {
   EXPECT_NE(h.error().message.find("leaf size"), std::string::npos) << h.error().message;
 }
 
+// A finite, positive leaf size can still be too large: the tree's 2^16 leaves across would span
+// more metres than a double holds. The error says that (not "not finite"), wherever the leaf size
+// comes from: a tree, a .bt header's res, a message's resolution.
+TEST(OctomapSlice, ALeafSizeWhoseExtentOverflowsIsSaidToBeTooLarge) {
+  auto expect_too_large = [](const auto& r, const std::string& field) {
+    ASSERT_FALSE(r) << field;
+    EXPECT_EQ(r.error().code, StatusCode::kInvalidMap);
+    const std::string& m = r.error().message;
+    EXPECT_NE(m.find(field + " is 1e+305 m: too large"), std::string::npos) << m;
+    EXPECT_NE(m.find("overflow"), std::string::npos) << m;
+    EXPECT_EQ(m.find("not finite"), std::string::npos) << m;
+  };
+  OcTree huge(1e305);
+  huge.setNodeValue(octomap::OcTreeKey(32768, 32768, 32768), kOccupied);
+  expect_too_large(slice_octree(huge, Band(0.0, 1e305)), "the tree's resolution (leaf size)");
+  expect_too_large(vnsba::core::octree_from_binary_data(vnsba::core::octree_to_binary_data(huge),
+                                                        1e305, "OcTree"),
+                   "resolution (the leaf size)");
+  const fs::path dir = FreshTempDir("huge_res");
+  WriteBytes(dir / "huge_res.bt",
+             "# Octomap OcTree binary file\nid OcTree\nsize 1\nres 1e305\ndata\n");
+  expect_too_large(vnsba::core::load_octree((dir / "huge_res.bt").string()),
+                   "header res (the leaf size)");
+  // Large leaves whose extent still fits are trees like any other.
+  OcTree large(1e300);
+  large.setNodeValue(octomap::OcTreeKey(32768, 32768, 32768), kOccupied);
+  const auto r = slice_octree(large, Band(0.0, 1e300));
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->resolution, 1e300);
+}
+
+// Errors call each option what the caller says it is (a tool's flag, a config key in a file),
+// and a slice over the cell limit says which options make it fit and how far the tree reaches.
+TEST(OctomapSlice, ErrorsUseTheCallersNamesAndSayWhatFixesThem) {
+  const auto tree = Scene(0.1, true);
+  const vnsba::core::SliceOptionNames names = {"--z-min", "--z-max",
+                                               "slicer.resolution in cfg.yaml", "--bounds",
+                                               "map.max_cells in cfg.yaml"};
+  auto message = [&](SliceOptions o) {
+    o.names = names;
+    const auto r = slice_octree(*tree, o);
+    EXPECT_FALSE(r);
+    return r ? std::string() : r.error().message;
+  };
+  EXPECT_NE(message(Band(0.1, 0.6, 0.15)).find("slicer.resolution in cfg.yaml is 0.15 m, not"),
+            std::string::npos)
+      << message(Band(0.1, 0.6, 0.15));
+  EXPECT_NE(message(Band(0.1, 0.6, -1)).find("slicer.resolution in cfg.yaml is -1"),
+            std::string::npos);
+  const std::string band = message(Band(1.0, 0.5));
+  EXPECT_NE(band.find("--z-min <= --z-max"), std::string::npos) << band;
+  SliceOptions o = Band(0.1, 0.6);
+  o.bounds = SliceBounds{1.0, 0.0, 1.0, 2.0};
+  const std::string empty = message(o);
+  EXPECT_NE(empty.find("--bounds = 1,0,1,2 m is empty"), std::string::npos) << empty;
+  o.bounds.reset();
+  o.max_cells = 100;
+  const std::string large = message(o);
+  for (const std::string& part :
+       {std::string("over map.max_cells in cfg.yaml (100 cells)"),
+        std::string("a smaller area with --bounds x_min,y_min,x_max,y_max (metres)"),
+        std::string("coarser cells with slicer.resolution in cfg.yaml"),
+        std::string("the tree's extent [")})
+    EXPECT_NE(large.find(part), std::string::npos) << part << " not in: " << large;
+}
+
 TEST(OctomapSlice, ArbitraryOptionsNeverCrash) {
   const auto tree = Scene(0.25, true);
   std::mt19937 rng(7);

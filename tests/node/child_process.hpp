@@ -43,6 +43,7 @@ class ChildProcess {
   ChildProcess& operator=(const ChildProcess&) = delete;
 
   bool running() const { return pid_ > 0 && exit_code_ < 0; }
+  pid_t pid() const { return pid_; }
   void signal(int sig) const { kill(pid_, sig); }
 
   // Waits for the exit; returns the exit code (128 + signal when killed by one).

@@ -445,8 +445,7 @@ TEST(Config, DeepNestingIsReportedAsSuchWithFileAndLine) {
     ASSERT_EQ(r.errors[0].rfind(prefix, 0), 0u) << r.errors[0];
     const int line = std::atoi(r.errors[0].c_str() + prefix.size());
     EXPECT_LE(std::abs(line - c.line), c.slack) << r.errors[0];
-    EXPECT_NE(r.errors[0].find("nested deeper than 499 levels"), std::string::npos)
-        << r.errors[0];
+    EXPECT_NE(r.errors[0].find("nested deeper than 499 levels"), std::string::npos) << r.errors[0];
     EXPECT_EQ(r.errors[0].find("syntax error"), std::string::npos) << r.errors[0];
   }
   // 498 levels is still a document (here a wrong type for the key, reported as such).

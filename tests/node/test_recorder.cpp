@@ -273,8 +273,42 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
     EXPECT_EQ(doc.LoadFile((out / (std::string(id) + ".svg")).c_str()), tinyxml2::XML_SUCCESS)
         << id;
   }
+  // What cannot be drawn is said, naming the field.
+  EXPECT_NE(recorder.output().find("run 'junk': debug: "), std::string::npos) << recorder.output();
   bus->shutdown();
   fs::remove_all(out);
+}
+
+// `render` refuses a record whose geometry cannot be drawn: exit 2, the file and the JSON field
+// named, no picture written. Bad memory limits are refused the same way (no DDS is started).
+TEST(RecorderRender, RefusesARecordItCannotDrawAndWritesNoPicture) {
+  const fs::path dir = fresh_dir("render_bad");
+  fs::create_directories(dir);
+  tools::RunRecord r;
+  r.request_id = "bad";
+  tools::MapReference map;
+  map.width = 4;
+  map.height = 2;
+  for (const double resolution : {-0.5, std::nan("")}) {
+    map.resolution = resolution;
+    r.map = map;
+    const fs::path json = dir / "bad.json", svg = dir / "bad.svg";
+    std::ofstream(json) << tools::to_json(r).dump(1);
+    const auto [code, output] =
+        run_to_exit(kRecorder, {"render", json.string(), "--out", svg.string()});
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find(json.string() + ": map: resolution must be finite and > 0"),
+              std::string::npos)
+        << output;
+    EXPECT_FALSE(fs::exists(svg)) << resolution;
+  }
+  for (const char* bad : {"0", "-1", "nan"}) {
+    const auto [code, output] =
+        run_to_exit(kRecorder, {"--out", dir.string(), "--max-open-mb", bad, "--duration", "1"});
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find("--max-open-mb"), std::string::npos) << output;
+  }
+  fs::remove_all(dir);
 }
 
 }  // namespace

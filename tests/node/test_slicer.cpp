@@ -76,7 +76,8 @@ TEST(SlicerProcess, BadFilesAndOptionsGiveClearErrors) {
   const std::vector<Case> cases = {
       {{"no/such/tree.bt", "--out", "x.pgm", "--config", def}, "no/such/tree.bt"},
       {{text, "--out", "x.pgm", "--config", def}, "not_a_tree.bt"},
-      {{bt, "--z-min", "1.0", "--z-max", "0.5", "--out", "x.pgm", "--config", def}, "z_min"},
+      {{bt, "--z-min", "1.0", "--z-max", "0.5", "--out", "x.pgm", "--config", def},
+       "--z-min <= --z-max"},
       {{bt, "--z-min", "5", "--z-max", "6", "--out", "x.pgm", "--config", def}, "height range"},
       {{bt, "--resolution", "0.15", "--out", "x.pgm", "--config", def}, "resolution"},
       {{bt, "--z-min", "0.2", "--z-max", "0.8", "--out", "x.pgm", "--config", small_limit},
@@ -88,6 +89,54 @@ TEST(SlicerProcess, BadFilesAndOptionsGiveClearErrors) {
     EXPECT_EQ(code, 2) << c.words << "\n" << output;
     EXPECT_NE(output.find(c.words), std::string::npos) << c.words << " not in:\n" << output;
   }
+}
+
+// Errors name where the value came from: the config key (slicer.resolution, map.max_cells, in
+// metres and cells, with the file) or the flag; a slice too large names the tree's file and what
+// makes it fit. --bounds takes x_min,y_min,x_max,y_max as one word or as four.
+TEST(SlicerProcess, ErrorsNameTheFlagOrTheConfigKeyAndBoundsTakeCommas) {
+  const std::string bt = write_tree(*room_tree(), "room_names.bt");
+  const std::string coarse = write_temp_file("coarse.yaml", "slicer:\n  resolution: 0.15\n");
+  const std::string small_limit = write_temp_file("small_names.yaml", "map:\n  max_cells: 100\n");
+  const std::string out = ::testing::TempDir() + "/" + std::to_string(getpid()) + "_names.pgm";
+  struct Case {
+    std::vector<std::string> args;
+    std::vector<std::string> words;
+  };
+  const std::vector<Case> cases = {
+      {{bt, "--out", out, "--config", coarse},
+       {bt + ": ", "slicer.resolution in " + coarse + " is 0.15 m, not a whole multiple",
+        "leaf size 0.1 m"}},
+      {{bt, "--resolution", "0.15", "--out", out, "--config", coarse}, {"--resolution is 0.15 m"}},
+      {{bt, "--out", out, "--config", small_limit},
+       {bt + ": the slice would have ", "map.max_cells in " + small_limit + " (100 cells)",
+        "--bounds x_min,y_min,x_max,y_max (metres)", "slicer.resolution in " + small_limit,
+        "the tree's extent ["}},
+      {{bt, "--bounds", "2,0,1,1", "--out", out, "--config", small_limit},
+       {"--bounds = 2,0,1,1 m is empty"}},
+  };
+  for (const Case& c : cases) {
+    const auto [code, output] = run_to_exit(kSlicer, c.args);
+    EXPECT_EQ(code, 2) << output;
+    for (const std::string& w : c.words)
+      EXPECT_NE(output.find(w), std::string::npos) << w << " not in:\n" << output;
+  }
+  // The same area, given either way, gives the same slice; it fits the small limit.
+  std::vector<std::string> grids;
+  for (const std::vector<std::string>& bounds :
+       {std::vector<std::string>{"--bounds", "0,0,0.9,0.9"},
+        std::vector<std::string>{"--bounds", "0", "0", "0.9", "0.9"}}) {
+    std::vector<std::string> args = {bt, "--out", out, "--config", small_limit};
+    args.insert(args.end(), bounds.begin(), bounds.end());
+    const auto [code, output] = run_to_exit(kSlicer, args);
+    ASSERT_EQ(code, 0) << output;
+    auto loaded = core::load_map_server(out.substr(0, out.size() - 4) + ".yaml");
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    EXPECT_EQ(loaded->width, 9);
+    EXPECT_EQ(loaded->height, 9);
+    grids.emplace_back(loaded->data.begin(), loaded->data.end());
+  }
+  EXPECT_EQ(grids[0], grids[1]);
 }
 
 TEST(SlicerBus, FileToSlicerToNodeToPlan) {

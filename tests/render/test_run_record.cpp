@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "recorder/open_runs.hpp"
 #include "recorder/run_record.hpp"
 #include "svg_test_support.hpp"
 #include "vnsba/core/map_io.hpp"
@@ -200,6 +201,184 @@ TEST(RunRecord, RenderRecordFileReadsTheMapBesideIt) {
   EXPECT_NE(missing.error().message.find("map.file"), std::string::npos) << missing.error().message;
   EXPECT_FALSE(tools::render_record_file((dir / "absent.json").string()));
   std::filesystem::remove_all(dir);
+}
+
+// A record whose geometry cannot be drawn is refused with the JSON field named, and no picture is
+// made: a negative or NaN resolution, no cells, an absurd size, a non-finite origin, a bad robot
+// radius, debug cells outside the debug grid. With the map file beside it and without.
+TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
+                                    ("vnsba_bad_geometry_" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir / "maps");
+  core::OccupancyGrid grid;
+  grid.width = 4;
+  grid.height = 2;
+  grid.resolution = 0.5;
+  grid.data = {0, 0, 100, 0, 0, 0, 0, 0};
+  ASSERT_TRUE(core::save_map_server(grid, (dir / "maps" / "m").string()));
+  RunRecord base = full_record();
+  base.map->robot_radius = 0.5;  // one cell: the obstacle's neighbours are drawn inflated
+  struct Case {
+    const char* pointer;
+    nlohmann::json value;
+    std::string named;  // in the message
+  };
+  const std::vector<Case> cases = {
+      {"/map/resolution", -0.5, "map: resolution must be finite and > 0"},
+      {"/map/resolution", nullptr, "map: resolution must be finite and > 0"},  // NaN
+      {"/map/resolution", 0, "map: resolution"},
+      {"/map/width", 0, "map: width must be > 0"},
+      {"/map/origin", nlohmann::json::array({nullptr, 0}), "map: origin x must be finite"},
+      {"/map/robot_radius", -1, "map: robot_radius"},
+      {"/map/robot_radius", nullptr, "map: robot_radius"},  // NaN
+      {"/debug/resolution", -1, "debug: resolution must be finite and > 0"},
+      {"/debug/resolution", nullptr, "debug: resolution must be finite and > 0"},
+      {"/debug/height", 0, "debug: height must be > 0"},
+      {"/debug/origin", nlohmann::json::array({0, nullptr}), "debug: origin y must be finite"},
+      {"/debug/expanded_forward/1", nlohmann::json::array({4, 0}),
+       "debug.expanded_forward[1] = [4, 0] is outside the debug grid"},
+      {"/debug/expanded_backward/0", nlohmann::json::array({0, -1}), "debug.expanded_backward[0]"},
+      {"/debug/raw_path/2", nlohmann::json::array({9, 9}), "debug.raw_path[2]"},
+      {"/debug/meeting_cell", nlohmann::json::array({0, 2}), "debug.meeting_cell"},
+  };
+  for (const bool with_file : {true, false}) {
+    RunRecord r = base;
+    if (!with_file) r.map->file.clear();
+    const nlohmann::json good = tools::to_json(r);
+    std::ofstream(dir / "good.json") << good.dump(1);
+    const auto drawn = tools::render_record_file((dir / "good.json").string());
+    ASSERT_TRUE(drawn) << drawn.error().message;
+    if (with_file) {
+      // The record's robot radius reaches the planning map the picture is drawn from.
+      tinyxml2::XMLDocument doc;
+      ASSERT_EQ(doc.Parse(drawn->c_str()), tinyxml2::XML_SUCCESS);
+      EXPECT_GT(data_count(find_id(doc.RootElement(), "map-inflated")), 0);
+    }
+    for (const Case& c : cases) {
+      SCOPED_TRACE(std::string(c.pointer) + (with_file ? " with the map file" : " without it"));
+      nlohmann::json bad = good;
+      bad[nlohmann::json::json_pointer(c.pointer)] = c.value;
+      const std::filesystem::path path = dir / "bad.json";
+      std::ofstream(path) << bad.dump(1);
+      const auto svg = tools::render_record_file(path.string());
+      ASSERT_FALSE(svg) << bad[nlohmann::json::json_pointer(c.pointer)];
+      EXPECT_EQ(svg.error().message.rfind(path.string() + ": ", 0), 0u) << svg.error().message;
+      EXPECT_NE(svg.error().message.find(c.named), std::string::npos) << svg.error().message;
+    }
+  }
+  // An absurd size is refused before any cell is allocated.
+  nlohmann::json absurd = tools::to_json(base);
+  absurd["map"]["file"] = "";
+  absurd["map"]["width"] = absurd["map"]["height"] = 2000000000;
+  std::ofstream(dir / "absurd.json") << absurd.dump();
+  const auto huge = tools::render_record_file((dir / "absurd.json").string());
+  ASSERT_FALSE(huge);
+  EXPECT_NE(huge.error().message.find("map: width x height"), std::string::npos)
+      << huge.error().message;
+  std::filesystem::remove_all(dir);
+}
+
+// --- Open runs: what the recorder holds until a run is complete, bounded in bytes. ---
+
+tools::DebugRecord debug_of(size_t cells) {
+  tools::DebugRecord d;
+  d.width = d.height = 1000;
+  d.resolution = 0.1;
+  d.expanded_forward.assign(cells, core::Cell{1, 2});
+  return d;
+}
+
+size_t sum_of_bytes(const tools::OpenRuns& runs, const std::vector<std::string>& ids) {
+  size_t sum = 0;
+  for (const std::string& id : ids)
+    if (const tools::OpenRun* run = runs.find(id)) sum += run->bytes;
+  return sum;
+}
+
+// Twice the cap of debug data goes in: the bytes held never pass the cap, the debug data of the
+// oldest runs goes first (the runs themselves stay, to be written without it), and every drop
+// names the run and the bytes it freed, in the totals too.
+TEST(OpenRuns, DebugDataPastTheByteCapIsDroppedOldestFirstAndReported) {
+  const size_t cells_per_run = 25000;
+  const size_t debug_bytes = cells_per_run * sizeof(core::Cell);
+  const size_t cap = 5 * debug_bytes;  // room for fewer than five runs with their overheads
+  tools::OpenRuns runs(1000, cap);
+  std::vector<std::string> ids;
+  std::vector<tools::DroppedPart> drops;
+  for (int i = 0; i < 10; ++i) {
+    ids.push_back("run-" + std::to_string(i));
+    const auto dropped = runs.update(
+        ids.back(), [&](tools::OpenRun& run) { run.record.debug = debug_of(cells_per_run); });
+    drops.insert(drops.end(), dropped.begin(), dropped.end());
+    EXPECT_LE(runs.bytes(), cap) << ids.back();
+    EXPECT_EQ(runs.bytes(), sum_of_bytes(runs, ids)) << ids.back();
+  }
+  EXPECT_EQ(runs.size(), 10u);  // every run is still open
+  ASSERT_GE(drops.size(), 5u);  // at least half the debug data did not fit
+  size_t freed = 0;
+  for (size_t k = 0; k < drops.size(); ++k) {
+    EXPECT_EQ(drops[k].request_id, ids[k]) << "oldest first";
+    EXPECT_FALSE(drops[k].whole_run);
+    EXPECT_GE(drops[k].bytes, debug_bytes);
+    EXPECT_NE(drops[k].reason.find(std::to_string(cap) + " bytes"), std::string::npos)
+        << drops[k].reason;
+    EXPECT_FALSE(runs.find(ids[k])->record.debug.has_value());
+    freed += drops[k].bytes;
+  }
+  EXPECT_TRUE(runs.find(ids.back())->record.debug.has_value());  // the newest kept theirs
+  EXPECT_EQ(runs.dropped().debug, drops.size());
+  EXPECT_EQ(runs.dropped().runs, 0u);
+  EXPECT_EQ(runs.dropped().bytes, freed);
+
+  // One debug message larger than the cap on its own is dropped at once; its run stays.
+  const auto alone = runs.update("huge", [&](tools::OpenRun& run) {
+    run.record.debug = debug_of(cap / sizeof(core::Cell) + 1);
+  });
+  ASSERT_FALSE(alone.empty());
+  EXPECT_EQ(alone.back().request_id, "huge");
+  EXPECT_GT(alone.back().bytes, cap);
+  EXPECT_LE(runs.bytes(), cap);
+  ASSERT_NE(runs.find("huge"), nullptr);
+  EXPECT_FALSE(runs.find("huge")->record.debug.has_value());
+
+  // Writing the runs out releases their bytes.
+  const auto taken = runs.take([](const tools::OpenRun&) { return true; });
+  EXPECT_EQ(taken.size(), 11u);
+  EXPECT_EQ(runs.bytes(), 0u);
+  EXPECT_EQ(runs.size(), 0u);
+}
+
+// When debug data is not what holds the bytes (here long paths), whole runs go, oldest first;
+// past the count limit too.
+TEST(OpenRuns, WholeRunsGoWhenDebugDataIsNotEnoughOrTooManyAreOpen) {
+  const size_t path_bytes = 10000 * sizeof(Eigen::Vector2d);
+  tools::OpenRuns by_bytes(1000, 3 * path_bytes);
+  std::vector<tools::DroppedPart> drops;
+  for (int i = 0; i < 6; ++i) {
+    const auto d = by_bytes.update("p" + std::to_string(i), [&](tools::OpenRun& run) {
+      run.record.path.assign(10000, Eigen::Vector2d(1, 2));
+    });
+    drops.insert(drops.end(), d.begin(), d.end());
+    EXPECT_LE(by_bytes.bytes(), 3 * path_bytes);
+  }
+  ASSERT_FALSE(drops.empty());
+  EXPECT_TRUE(drops.front().whole_run);
+  EXPECT_EQ(drops.front().request_id, "p0");
+  EXPECT_EQ(by_bytes.find("p0"), nullptr);
+  EXPECT_NE(by_bytes.find("p5"), nullptr);
+  EXPECT_EQ(by_bytes.dropped().runs, drops.size());
+
+  tools::OpenRuns by_count(3, size_t{1} << 30);
+  for (const char* id : {"a", "b", "c"})
+    EXPECT_TRUE(by_count.update(id, [](tools::OpenRun&) {}).empty());
+  const auto d = by_count.update("d", [](tools::OpenRun&) {});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].request_id, "a");
+  EXPECT_TRUE(d[0].whole_run);
+  EXPECT_NE(d[0].reason.find("more than 3 open runs"), std::string::npos) << d[0].reason;
+  EXPECT_EQ(by_count.size(), 3u);
+  // Changing an open run opens nothing and drops nothing.
+  EXPECT_TRUE(by_count.update("b", [](tools::OpenRun&) {}).empty());
 }
 
 }  // namespace

@@ -6,10 +6,12 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 #include "node/child_process.hpp"
 #include "svg_test_support.hpp"
 #include "vnsba/core/map_io.hpp"
+#include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/planner.hpp"
 
 namespace vnsba::test {
@@ -17,6 +19,20 @@ namespace {
 
 const std::string kPlan = VNSBA_PLAN_BINARY;
 const std::string kRooms = VNSBA_FIXTURE_DIR "/maps/rooms_32.map";
+
+// The line vnsba_plan prints for what core plans with these settings (up to the time).
+std::string printed_line(const std::shared_ptr<const core::GridMap>& map,
+                         const core::PlanQuery& query, core::PlannerKind kind,
+                         const core::PlannerSettings& settings) {
+  const core::PlanResult r = core::plan_once(map, query, core::make_options(kind, settings));
+  char line[160];
+  std::snprintf(line, sizeof line, "%s %s length_m=%.3f turns=%d turn_angle_deg=%.1f expanded=%lld",
+                std::string(core::to_string(kind)).c_str(),
+                std::string(core::to_string(r.status.code)).c_str(), r.metrics.length_m,
+                r.metrics.turns, r.metrics.turn_angle_deg,
+                static_cast<long long>(r.metrics.expanded));
+  return line;
+}
 
 TEST(VnsbaPlan, PlansAndDrawsTheRun) {
   const std::string svg = ::testing::TempDir() + "/plan_" + std::to_string(getpid()) + ".svg";
@@ -52,14 +68,9 @@ TEST(VnsbaPlan, PlannerFlagsAreSettingsOnTopOfThePlannersPaperConfiguration) {
       core::GridMap::build(core::load_movingai_map(kRooms).value()).value());
   const core::PlanQuery query{{2, 2}, {29, 13}};
   auto printed = [&](core::PlannerKind kind, const core::PlannerSettings& settings) {
-    const core::PlanResult r = core::plan_once(map, query, core::make_options(kind, settings));
-    EXPECT_TRUE(r.status.is_ok()) << r.status.message;
-    char line[160];
-    std::snprintf(line, sizeof line,
-                  "%s OK length_m=%.3f turns=%d turn_angle_deg=%.1f expanded=%lld",
-                  std::string(core::to_string(kind)).c_str(), r.metrics.length_m, r.metrics.turns,
-                  r.metrics.turn_angle_deg, static_cast<long long>(r.metrics.expanded));
-    return std::string(line);
+    const std::string line = printed_line(map, query, kind, settings);
+    EXPECT_NE(line.find(" OK "), std::string::npos) << line;
+    return line;
   };
   struct Case {
     std::vector<std::string> flags;
@@ -124,6 +135,75 @@ TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
   ASSERT_EQ(doc.LoadFile(svg.c_str()), tinyxml2::XML_SUCCESS);
   EXPECT_GT(data_count(find_id(doc.RootElement(), "map-occupied")), 100);
   std::remove(svg.c_str());
+}
+
+// simple.bt (a 1 m test tree of the OctoMap project) has leaves spanning its whole key space,
+// 65,536 m across: sliced whole it is refused, naming the file and the options that fix it; with
+// --bounds (x_min,y_min,x_max,y_max in metres, as vnsba_slicer takes them) vnsba_plan plans on a
+// part of it, exactly what core plans on the slice of that area.
+TEST(VnsbaPlan, BoundsPlanOnAPartOfATreeTooLargeToSliceWhole) {
+  const std::string bt = VNSBA_DATA_DIR "/octomap/simple.bt";
+  if (!std::ifstream(bt)) GTEST_SKIP() << bt << " is absent (third-party data beside the project)";
+  const auto [whole_code, whole] =
+      run_to_exit(kPlan, {bt, "--start", "0", "0", "--goal", "1", "1"});
+  EXPECT_EQ(whole_code, 2) << whole;
+  for (const std::string& part : {bt + ": the slice would have ", std::string("--bounds"),
+                                  std::string("--resolution"), std::string("the tree's extent")})
+    EXPECT_NE(whole.find(part), std::string::npos) << part << " not in: " << whole;
+
+  core::SliceOptions area;  // vnsba_plan's default band
+  area.bounds = core::SliceBounds{-10, -10, 10, 10};
+  const auto tree = core::load_octree(bt);
+  ASSERT_TRUE(tree) << tree.error().message;
+  const auto slice = core::slice_octree(**tree, area);
+  ASSERT_TRUE(slice) << slice.error().message;
+  auto map = std::make_shared<const core::GridMap>(core::GridMap::build(*slice).value());
+  // The first and the last free cell in row order, as start and goal.
+  std::optional<core::Cell> first, last;
+  for (int32_t y = 0; y < map->height(); ++y)
+    for (int32_t x = 0; x < map->width(); ++x)
+      if (map->free({x, y})) {
+        if (!first) first = core::Cell{x, y};
+        last = core::Cell{x, y};
+      }
+  ASSERT_TRUE(first && last && *first != *last) << "no two free cells in the area";
+  const core::PlanQuery query{*first, *last};
+  const std::string expected =
+      printed_line(map, query, core::PlannerKind::kVnsBaStar, core::PlannerSettings{});
+  ASSERT_NE(expected.find(" OK "), std::string::npos) << "the area holds a path: " << expected;
+  const Eigen::Vector2d start = map->cell_centre_world(*first),
+                        goal = map->cell_centre_world(*last);
+  auto metres = [](double v) { return std::to_string(v); };
+  for (const std::vector<std::string>& bounds :
+       {std::vector<std::string>{"--bounds", "-10,-10,10,10"},
+        std::vector<std::string>{"--bounds", "-10", "-10", "10", "10"}}) {
+    std::vector<std::string> args = {
+        bt,       "--start",        metres(start.x()), metres(start.y()),
+        "--goal", metres(goal.x()), metres(goal.y())};
+    args.insert(args.end(), bounds.begin(), bounds.end());
+    const auto [code, output] = run_to_exit(kPlan, args);
+    EXPECT_EQ(code, 0) << output;
+    EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n"
+                                                        << output;
+  }
+
+  struct Case {
+    std::vector<std::string> args;
+    std::string named;
+  };
+  for (const Case& c : {
+           Case{{bt, "--bounds", "-10,-10,10"}, "--bounds"},
+           Case{{bt, "--bounds", "10,-10,-10,10"}, "--bounds = 10,-10,-10,10 m is empty"},
+           Case{{bt, "--bounds", "-10,-10,nan,10"}, "--bounds"},
+           Case{{kRooms, "--bounds", "0,0,5,5"}, "--bounds: only for OctoMap files"},
+           Case{{kRooms, "--z-min", "0.5"}, "--z-min: only for OctoMap files"},
+       }) {
+    std::vector<std::string> args = c.args;
+    for (const char* a : {"--start", "1", "1", "--goal", "2", "2"}) args.push_back(a);
+    const auto [code, output] = run_to_exit(kPlan, args);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find(c.named), std::string::npos) << c.named << ": " << output;
+  }
 }
 
 TEST(VnsbaPlan, PlannerFailuresExitOneWithTheStatus) {

@@ -123,6 +123,21 @@ class Reader {
     }
     return Eigen::Vector2d(m[0].get<double>(), m[1].get<double>());
   }
+  // The origin of a grid, [x, y]; a null coordinate (written for a non-finite one) reads as NaN,
+  // so that the geometry check refuses it rather than reading 0.
+  std::optional<Eigen::Vector2d> origin(const json& j, const std::string& path) {
+    const json* m = member(j, "origin", path);
+    if (m == nullptr) return std::nullopt;
+    auto number_or_null = [](const json& v) { return v.is_number() || v.is_null(); };
+    if (!m->is_array() || m->size() != 2 || !number_or_null((*m)[0]) || !number_or_null((*m)[1])) {
+      fail(join(path, "origin"), "must be [x, y] with two numbers");
+      return std::nullopt;
+    }
+    auto coordinate = [](const json& v) {
+      return v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>();
+    };
+    return Eigen::Vector2d(coordinate((*m)[0]), coordinate((*m)[1]));
+  }
   std::vector<Eigen::Vector2d> points(const json& j, const std::string& key,
                                       const std::string& path) {
     return array_of<Eigen::Vector2d>(
@@ -287,7 +302,7 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     dbg.width = static_cast<int32_t>(in.integer(*d, "width", "debug", 0, INT32_MAX));
     dbg.height = static_cast<int32_t>(in.integer(*d, "height", "debug", 0, INT32_MAX));
     dbg.resolution = in.real(*d, "resolution", "debug");
-    if (auto o = in.point(*d, "origin", "debug")) {
+    if (auto o = in.origin(*d, "debug")) {
       dbg.origin_x = o->x();
       dbg.origin_y = o->y();
     }
@@ -311,14 +326,16 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     map.width = static_cast<int32_t>(in.integer(*m, "width", "map", 0, INT32_MAX));
     map.height = static_cast<int32_t>(in.integer(*m, "height", "map", 0, INT32_MAX));
     map.resolution = in.real(*m, "resolution", "map");
-    if (auto o = in.point(*m, "origin", "map")) {
+    if (auto o = in.origin(*m, "map")) {
       map.origin_x = o->x();
       map.origin_y = o->y();
     }
     map.occupied_threshold = static_cast<int>(in.integer(*m, "occupied_threshold", "map", 1, 100));
     map.allow_unknown = in.boolean(*m, "allow_unknown", "map");
+    // Absent (older records): no inflation. Null, written for a non-finite value, stays NaN, which
+    // check_record refuses.
     const double radius = in.real(*m, "robot_radius", "map");
-    map.robot_radius = std::isfinite(radius) ? radius : 0.0;
+    map.robot_radius = m->contains("robot_radius") ? radius : 0.0;
     r.map = map;
   }
   if (!in.ok()) return core::Status::error(core::StatusCode::kInvalidRequest, in.error());
@@ -398,7 +415,73 @@ Frame frame_around(const RunRecord& r) {
   return f;
 }
 
+// core::validate of one grid of the record; `data` (its cells) is taken when given, otherwise
+// free cells stand in for them (a geometry without occupancy, as the picture draws it).
+core::Status check_grid(const std::string& field, int32_t width, int32_t height, double resolution,
+                        double origin_x, double origin_y, const std::vector<int8_t>* data,
+                        const core::GridBuildOptions& options) {
+  core::OccupancyGrid g;
+  g.width = width;
+  g.height = height;
+  g.resolution = resolution;
+  g.origin_x = origin_x;
+  g.origin_y = origin_y;
+  const int64_t cells = int64_t{std::max(width, 0)} * std::max(height, 0);
+  if (data != nullptr)
+    g.data = *data;
+  else if (cells <= options.max_cells)
+    g.data.assign(static_cast<size_t>(cells), core::kOccupancyFree);
+  core::Status s = core::validate(g, options);
+  if (!s.is_ok()) {
+    // "invalid map: resolution must be ..." names the key; the record's section goes before it.
+    const std::string generic = "invalid map: ";
+    if (s.message.rfind(generic, 0) == 0) s.message.erase(0, generic.size());
+    s.message = field + ": " + s.message;
+  }
+  return s;
+}
+
 }  // namespace
+
+core::Status check_record(const RunRecord& r, const core::OccupancyGrid* grid, int64_t max_cells) {
+  core::GridBuildOptions options;
+  options.max_cells = max_cells;
+  const core::GridBuildOptions debug_options = options;
+  if (r.map) {
+    options.occupied_threshold = r.map->occupied_threshold;
+    options.robot_radius = r.map->robot_radius;
+    const core::Status s =
+        check_grid("map", r.map->width, r.map->height, r.map->resolution, r.map->origin_x,
+                   r.map->origin_y, grid != nullptr ? &grid->data : nullptr, options);
+    if (!s.is_ok()) return s;
+  }
+  if (!r.debug) return core::Status::ok();
+  const DebugRecord& d = *r.debug;
+  if (const core::Status s = check_grid("debug", d.width, d.height, d.resolution, d.origin_x,
+                                        d.origin_y, nullptr, debug_options);
+      !s.is_ok())
+    return s;
+  auto outside = [&](const core::Cell& c, const std::string& field) {
+    return core::Status::error(
+        core::StatusCode::kInvalidMap,
+        field + " = [" + std::to_string(c.x) + ", " + std::to_string(c.y) +
+            "] is outside the debug grid (debug.width x debug.height = " + std::to_string(d.width) +
+            " x " + std::to_string(d.height) + " cells)");
+  };
+  auto inside = [&](const core::Cell& c) {
+    return c.x >= 0 && c.y >= 0 && c.x < d.width && c.y < d.height;
+  };
+  for (const auto& [field, list] : {std::pair<const char*, const std::vector<core::Cell>*>{
+                                        "expanded_forward", &d.expanded_forward},
+                                    {"expanded_backward", &d.expanded_backward},
+                                    {"raw_path", &d.raw_path}})
+    for (size_t i = 0; i < list->size(); ++i)
+      if (!inside((*list)[i]))
+        return outside((*list)[i], "debug." + std::string(field) + "[" + std::to_string(i) + "]");
+  if (d.meeting_cell && !inside(*d.meeting_cell))
+    return outside(*d.meeting_cell, "debug.meeting_cell");
+  return core::Status::ok();
+}
 
 render::RunPicture picture_of(const RunRecord& r, const core::OccupancyGrid* grid) {
   render::RunPicture picture;
@@ -501,16 +584,22 @@ core::Expected<std::string> render_record_file(const std::string& json_path) {
     // map_server files store the image, not the exact origin digits: keep the record's
     // geometry where the file's agrees with it.
     grid = std::move(loaded).value();
-    if (grid->width != record->map->width || grid->height != record->map->height)
+    if (grid->width != record->map->width || grid->height != record->map->height) {
+      // A record that is wrong on its own says so first (map.width 0 rather than a mismatch).
+      if (const core::Status own = check_record(*record, nullptr); !own.is_ok())
+        return core::Status::error(own.code, json_path + ": " + own.message);
       return core::Status::error(
           core::StatusCode::kInvalidMap,
           json_path + ": map.file is " + std::to_string(grid->width) + " x " +
               std::to_string(grid->height) + " cells, the record says " +
               std::to_string(record->map->width) + " x " + std::to_string(record->map->height));
+    }
     grid->resolution = record->map->resolution;
     grid->origin_x = record->map->origin_x;
     grid->origin_y = record->map->origin_y;
   }
+  if (const core::Status checked = check_record(*record, grid ? &*grid : nullptr); !checked.is_ok())
+    return core::Status::error(checked.code, json_path + ": " + checked.message);
   return render::render_svg(picture_of(*record, grid ? &*grid : nullptr));
 }
 

@@ -80,13 +80,24 @@ core::Expected<RunRecord> run_record_from_json(const nlohmann::json& json);
 // never empty, never "." or "..", at most 120 characters (then a hash suffix keeps it unique).
 std::string safe_file_stem(const std::string& request_id);
 
+// Checks the geometry a record carries before it is drawn, with core::validate: the map
+// reference's (map.width, map.height, map.resolution, map.origin, map.occupied_threshold,
+// map.robot_radius; with `grid`, the map file's cells in that geometry) and the debug data's
+// (debug.width, ...), whose cells (debug.expanded_forward[i], ...) must lie in its grid. At most
+// `max_cells` cells per grid. The error (kInvalidMap) names the JSON field.
+core::Status check_record(const RunRecord& record, const core::OccupancyGrid* grid,
+                          int64_t max_cells = core::GridBuildOptions{}.max_cells);
+
 // The picture of a run. `grid` is the run's map when it is known (it must match the geometry
 // the record carries); otherwise the geometry of the debug data or, failing that, a frame around
 // the run's points is drawn without obstacles.
 render::RunPicture picture_of(const RunRecord& record, const core::OccupancyGrid* grid);
 
 // Reads RUN.json (and the map file it references, relative to the record's folder) and returns
-// the SVG. Errors name the file and the key at fault.
+// the SVG. Errors name the file and the key at fault; a record that check_record refuses is not
+// drawn. The map is built for planning as the node builds it (GridMap::build with the record's
+// occupied_threshold, allow_unknown and robot_radius), so inflated cells are drawn as the node
+// saw them.
 core::Expected<std::string> render_record_file(const std::string& json_path);
 
 }  // namespace vnsba::tools

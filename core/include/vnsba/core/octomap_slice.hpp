@@ -23,6 +23,17 @@ struct SliceBounds {
   double x_max = 0.0, y_max = 0.0;  // metres, > the minimum
 };
 
+// What the caller calls each option, for its error messages: a tool names its flag or config key
+// ("--resolution", "slicer.resolution in config/default.yaml"). The defaults are the fields'
+// names.
+struct SliceOptionNames {
+  std::string z_min = "z_min";
+  std::string z_max = "z_max";
+  std::string resolution = "resolution";
+  std::string bounds = "bounds";
+  std::string max_cells = "max_cells";
+};
+
 struct SliceOptions {
   double z_min = 0.1;  // metres: the height band [z_min, z_max]; z_min <= z_max
   double z_max = 1.5;  // metres
@@ -34,14 +45,17 @@ struct SliceOptions {
   // Turn occupied cells with no occupied 8-neighbour into free ones (sensor speckles).
   bool remove_speckles = false;
   int64_t max_cells = int64_t{1} << 24;  // refuse larger slices (memory guard)
+  SliceOptionNames names;                // for error messages only
 };
 
 // Slices `tree`: a cell is occupied (100) if any occupied leaf overlapping the band projects onto
 // it, free (0) if only free leaves do, unknown (-1) otherwise. Pruned (large) leaves cover every
 // cell under their footprint. Cost grows with the number of leaves overlapping the band, not
-// with the tree's volume. Errors (kInvalidRequest) name the option: an empty band (z_min >
-// z_max), a band outside the tree's height range, a resolution that is not a multiple of the
-// leaf size, bounds that are empty, a slice over max_cells; kInvalidMap for an empty tree.
+// with the tree's volume. Errors (kInvalidRequest) name the option as `names` calls it: an empty
+// band (z_min > z_max), a band outside the tree's height range, a resolution that is not a
+// multiple of the leaf size, bounds that are empty, a slice over max_cells (the message says
+// which bounds or resolution would fit, and the tree's extent); kInvalidMap for an empty tree
+// or a leaf size so large that the tree's extent in metres overflows a double.
 //
 // Geometry, in OctoMap's integer keys (checked against liboctomap 1.9.7): voxel boundaries are
 // the whole multiples of the leaf size counted from 0 (a leaf covers [k * leaf, (k + 1) * leaf)),

@@ -1,0 +1,109 @@
+// A soak of vnsba_node as a process (label `soak`, outside tools/test.sh's runs; see
+// tests/CMakeLists.txt): a slice every 2 s, alternating between two maps, and a request every
+// 50 ms, for VNSBA_SOAK_SECONDS (default 600). Checks that every request is answered and that
+// the node's resident memory levels off: over the last third of the run it grows by at most
+// 4 MB (issue 13 saw 42.6 -> 60.5 MB over 10 minutes, still growing by 1 MB/min at the end).
+// Prints the RSS series, one line per 10 s, for the record.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "node/bus_client.hpp"
+#include "node/child_process.hpp"
+
+namespace vnsba::test {
+namespace {
+
+const std::string kNode = VNSBA_NODE_BINARY;
+
+// Resident set size of process `pid`, megabytes (VmRSS of /proc/<pid>/status); -1 if unknown.
+double rss_mb(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) {
+      std::istringstream fields(line.substr(6));
+      double kb = -1;
+      fields >> kb;
+      return kb / 1024.0;
+    }
+  }
+  return -1.0;
+}
+
+// An office-like map: rooms of 40 cells with doors, `shift` moving the doors.
+core::OccupancyGrid office(int size, int shift) {
+  core::OccupancyGrid g;
+  g.width = g.height = size;
+  g.resolution = 0.05;
+  g.data.assign(static_cast<size_t>(size) * size, 0);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const bool wall = (x % 40 == 0 && (y + shift) % 40 > 6) || (y % 40 == 0 && (x + shift) % 40 > 6);
+      if (wall) g.data[static_cast<size_t>(y) * size + x] = 100;
+    }
+  return g;
+}
+
+TEST(Soak, TheNodeServesForMinutesAndItsMemoryLevelsOff) {
+  const char* env = std::getenv("VNSBA_SOAK_SECONDS");
+  const int seconds = env ? std::max(30, std::atoi(env)) : 600;
+  const node::NodeConfig cfg = test_config("soak");
+  const std::string config_path =
+      write_temp_file("soak.yaml", config_yaml(cfg) + "log_level: warn\n");
+  ChildProcess node_process(kNode, {"--config", config_path});
+  BusClient client(cfg);
+  ASSERT_TRUE(client.wait_for_node(20s)) << node_process.output();
+  const core::OccupancyGrid maps[2] = {office(300, 0), office(300, 17)};
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> coord(0.1, 14.9);
+  const auto begin = std::chrono::steady_clock::now();
+  const auto end = begin + std::chrono::seconds(seconds);
+  std::vector<double> series;  // MB, every 10 s
+  int requests = 0, slices = 0;
+  auto next_slice = begin, next_sample = begin;
+  while (std::chrono::steady_clock::now() < end) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= next_slice) {
+      client.publish_slice(maps[slices++ % 2]);
+      next_slice += 2s;
+    }
+    if (now >= next_sample) {
+      series.push_back(rss_mb(node_process.pid()));
+      std::printf("soak t=%4llds rss=%.1f MB requests=%d statuses=%zu\n",
+                  static_cast<long long>(std::chrono::duration_cast<std::chrono::seconds>(now - begin).count()),
+                  series.back(), requests, client.statuses.snapshot().size());
+      std::fflush(stdout);
+      next_sample += 10s;
+    }
+    const int index = requests++;
+    client.publish_request("soak-" + std::to_string(index), coord(rng), coord(rng), coord(rng),
+                           coord(rng), index % 3 == 0 ? "astar" : "");
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_TRUE(client.statuses.wait(
+      [&](const auto& all) {
+        size_t answers = 0;
+        for (const auto& s : all) answers += s.subject() != node::wire::SUBJECT_MAP;
+        return answers >= static_cast<size_t>(requests);
+      },
+      60s))
+      << "every request gets its status";
+  ASSERT_TRUE(node_process.running()) << node_process.output();
+  ASSERT_GE(series.size(), 3u);
+  const size_t third = series.size() / 3;
+  const double middle_peak = *std::max_element(series.begin() + third, series.begin() + 2 * third);
+  const double last_peak = *std::max_element(series.begin() + 2 * third, series.end());
+  std::printf("soak: %d requests, %d slices; RSS start %.1f, middle-third peak %.1f, last-third "
+              "peak %.1f MB\n",
+              requests, slices, series.front(), middle_peak, last_peak);
+  EXPECT_LE(last_peak - middle_peak, 4.0) << "resident memory still grows";
+  node_process.signal(SIGTERM);
+  EXPECT_EQ(node_process.wait(), 0) << node_process.output();
+}
+
+}  // namespace
+}  // namespace vnsba::test
