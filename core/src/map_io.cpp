@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <locale>
 #include <map>
 #include <optional>
@@ -188,9 +189,11 @@ Status read_pgm(const MapServerParams& params, OccupancyGrid* grid) {
   const std::optional<std::string> text = read_file(path);
   if (!text) return invalid(path, 0, "cannot open image file");
   size_t pos = 0;
+  // The magic number is the file's first two bytes (Netpbm, and the image readers map_server
+  // uses, look there and nowhere else), followed by whitespace or a comment.
   const std::string_view magic = next_pgm_token(*text, &pos);
-  if (magic != "P5" && magic != "P2") {
-    return invalid(path, 0, "not a PGM image (magic ", quote(magic), ", expected P5 or P2)");
+  if ((magic != "P5" && magic != "P2") || pos != 2) {
+    return invalid(path, 0, "not a PGM image (its first two bytes must be P5 or P2)");
   }
   int64_t header[3] = {0, 0, 0};  // width, height, maxval
   const char* const kFields[3] = {"width", "height", "maxval"};
@@ -206,8 +209,14 @@ Status read_pgm(const MapServerParams& params, OccupancyGrid* grid) {
   std::vector<uint32_t> samples;  // top row first, as stored
   if (magic == "P5") {
     const int64_t bytes_per_sample = maxval > 255 ? 2 : 1;
-    // Exactly one whitespace byte separates maxval from the binary samples.
-    const size_t data_begin = std::min(pos + 1, text->size());
+    // Exactly one whitespace byte separates maxval from the binary samples; a comment right
+    // after maxval takes its place up to and including its newline, as libnetpbm reads it
+    // (reading its '#' as that byte would shift every sample by the comment's length).
+    size_t data_begin = std::min(pos + 1, text->size());
+    if (pos < text->size() && (*text)[pos] == '#') {
+      const size_t newline = text->find('\n', pos);
+      data_begin = newline == std::string::npos ? text->size() : newline + 1;
+    }
     const auto available = static_cast<int64_t>(text->size() - data_begin);
     if (available < pixel_count * bytes_per_sample) {
       return invalid(path, 0, "pixel data truncated: expected ", pixel_count * bytes_per_sample,
@@ -378,9 +387,24 @@ Expected<std::vector<MovingAiScenario>> load_movingai_scenarios(const std::strin
       return invalid(path, line, "optimal length ", quote(columns[8]),
                      " is not a finite non-negative number");
     }
-    const size_t point = columns[8].find('.');
-    const size_t digits_after = point == std::string_view::npos ? 0 : columns[8].size() - point - 1;
-    scenario.optimal_resolution = std::pow(10.0, -static_cast<double>(digits_after));
+    // One unit of the last printed digit: 10^-(digits after the point), shifted by the exponent
+    // of an exponent form ("1.5e+3" is printed to the hundreds, "25e-2" to the hundredths).
+    const std::string_view mantissa = columns[8].substr(0, columns[8].find_first_of("eE"));
+    const size_t point = mantissa.find('.');
+    const size_t digits_after = point == std::string_view::npos ? 0 : mantissa.size() - point - 1;
+    double unit = 0.0;  // stays 0 for an exponent beyond int64
+    int64_t exponent = 0;
+    if (mantissa.size() == columns[8].size() ||
+        parse_number(columns[8].substr(mantissa.size() + 1), &exponent)) {
+      unit = std::pow(10.0, static_cast<double>(exponent) - static_cast<double>(digits_after));
+    }
+    // Hundreds of decimals (a corrupt line) would give a unit of 0 or a subnormal: no tolerance
+    // a comparison could use, so the line is refused rather than compared exactly.
+    if (!std::isfinite(unit) || unit < std::numeric_limits<double>::min()) {
+      return invalid(path, line, "optimal length ", quote(columns[8]),
+                     " is printed to a precision no double can hold");
+    }
+    scenario.optimal_resolution = unit;
     scenario.bucket = ints[0];
     scenario.map_name = std::string(columns[1]);
     scenario.map_width = ints[2];

@@ -370,7 +370,11 @@ Expected<std::shared_ptr<octomap::OcTree>> load(const std::string& path) {
     return bad("header res (the leaf size) " + problem);
   }
   if (id != "OcTree") return bad("holds a " + id + ", not an OcTree");
-  const auto data = std::string_view(bytes).substr(static_cast<size_t>(in.tellg()));
+  // A "data" line with no newline after it leaves the stream at its end: no position to read
+  // the tree from (tellg() would be -1).
+  const std::streamoff data_start = in.eof() ? -1 : static_cast<std::streamoff>(in.tellg());
+  if (data_start < 0) return bad("truncated header: nothing follows the \"data\" line");
+  const auto data = std::string_view(bytes).substr(static_cast<size_t>(data_start));
   if (*size == 0 && data.empty()) return std::make_shared<octomap::OcTree>(res);
   return read_tree(data, res, !binary, what, size);
 }

@@ -7,6 +7,7 @@
 #include "vnsba/node/config.hpp"
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -406,16 +407,53 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   }
 }
 
+// Where each document of a stream starts; the content is not built.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { start = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+  YAML::Mark start = YAML::Mark::null_mark();
+};
+
+// The number of documents in `text`. YAML::LoadAll of yaml-cpp 0.7 never returns on a document
+// that starts with ',' (it appends empty documents at the same place until memory runs out:
+// jbeder/yaml-cpp#1040, fixed after 0.7); a document that starts where the previous one did is
+// that case, and a syntax error here.
+size_t count_documents(const std::string& text) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentStarts starts;
+  size_t count = 0;
+  YAML::Mark previous = YAML::Mark::null_mark();
+  while (parser.HandleNextDocument(starts)) {
+    if (count > 0 && starts.start.pos == previous.pos)
+      throw YAML::ParserException(starts.start, "unexpected ',' where a document starts");
+    previous = starts.start;
+    ++count;
+  }
+  return count;
+}
+
 }  // namespace
 
 ConfigResult parse_config(const std::string& yaml_text, const std::string& source) {
   ConfigResult result;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
-    const YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
+    const size_t documents = count_documents(yaml_text);
+    const YAML::Node root = documents == 1 ? YAML::Load(yaml_text) : YAML::Node();
     NodeConfig config;
-    if (documents.size() > 1) {
-      result.errors.push_back(source + ": found " + std::to_string(documents.size()) +
+    if (documents > 1) {
+      result.errors.push_back(source + ": found " + std::to_string(documents) +
                               " YAML documents, expected one");
     } else if (!root.IsMap() && !root.IsNull()) {
       result.errors.push_back(source + ": found " + describe(root) +

@@ -641,3 +641,18 @@ TEST(Config, NeverThrowsOnHostileInput) {
 }
 
 }  // namespace
+
+// Found by the fuzz stage: yaml-cpp 0.7's LoadAll never returns on a document that starts with
+// ',' (it appended empty documents until 23 GB were gone). A syntax error naming the place.
+TEST(Config, ADocumentStartingWithACommaIsASyntaxError) {
+  for (const char* text : {",", "- 1\n,\n", "a: b\n---\n,"}) {
+    const ConfigResult r = parse_config(text, "c.yaml");
+    ASSERT_FALSE(r.config.has_value()) << text;
+    ASSERT_EQ(r.errors.size(), 1u) << text;
+    EXPECT_NE(r.errors[0].find("c.yaml: YAML syntax error at line"), std::string::npos)
+        << r.errors[0];
+  }
+  const ConfigResult two = parse_config("a: 1\n---\nb: 2\n", "c.yaml");
+  ASSERT_EQ(two.errors.size(), 1u);
+  EXPECT_NE(two.errors[0].find("found 2 YAML documents, expected one"), std::string::npos);
+}

@@ -330,7 +330,9 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
       map.origin_x = o->x();
       map.origin_y = o->y();
     }
-    map.occupied_threshold = static_cast<int>(in.integer(*m, "occupied_threshold", "map", 1, 100));
+    // Required: an absent key read as 0, outside 1..100, and thresholded everything as blocked.
+    if (in.required(*m, "occupied_threshold", "map") != nullptr)
+      map.occupied_threshold = static_cast<int>(in.integer(*m, "occupied_threshold", "map", 1, 100));
     map.allow_unknown = in.boolean(*m, "allow_unknown", "map");
     // Absent (older records): no inflation. Null, written for a non-finite value, stays NaN, which
     // check_record refuses.
