@@ -447,6 +447,13 @@ TEST(NodeIntegration, LargeSliceIsAccepted) {
 
 namespace attacks {
 
+// Starts the node and its client and waits until `grid` is the node's map.
+bool start_on(Running& run, const core::OccupancyGrid& grid, std::chrono::seconds wait = 30s) {
+  if (!run.start()) return false;
+  run.client.publish_slice(grid);
+  return run.node.wait_for_map(wait);
+}
+
 // The status answering `identity`, and that it is the only one for it.
 std::optional<PlanStatusMsg> answer_to(BusClient& client, const node::RequestIdentity& identity,
                                        std::chrono::milliseconds timeout = 20s) {
@@ -523,10 +530,8 @@ TEST(NodeAttacks, ASliceSizeThatOverflowsIsTooLarge) {
 // sample identity; the second request's answer is its own.
 TEST(NodeAttacks, AReusedIdGetsItsOwnAnswer) {
   Running run(test_config("reuse"));
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(start_on(run, grid));
   const auto [ax, ay] = centre(grid, 1, 1);
   const auto [bx, by] = centre(grid, 18, 8);
   const auto [wx, wy] = centre(grid, 8, 5);  // a wall cell
@@ -549,9 +554,7 @@ TEST(NodeAttacks, GarbageDoesNotPreemptAValidPlan) {
   node::NodeConfig cfg = test_config("garbage");
   cfg.preempt = true;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
-  run.client.publish_slice(detour_grid(1500));
-  ASSERT_TRUE(run.node.wait_for_map(30s));
+  ASSERT_TRUE(start_on(run, detour_grid(1500)));
   const auto slow = run.client.publish_request("slow", 0.01, 0.01, 74.9, 0.01, "astar");
   std::this_thread::sleep_for(20ms);
   const auto nan = run.client.publish_request("nan", std::nan(""), 0.01, 74.9, 0.01);
@@ -570,9 +573,7 @@ TEST(NodeAttacks, ANewerRequestWithTheSameIdReplacesTheOlder) {
   node::NodeConfig cfg = test_config("dupid");
   cfg.preempt = false;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
-  run.client.publish_slice(detour_grid(1500));
-  ASSERT_TRUE(run.node.wait_for_map(30s));
+  ASSERT_TRUE(start_on(run, detour_grid(1500)));
   const auto older = run.client.publish_request("twin", 0.01, 0.01, 74.9, 0.01, "astar");
   const auto newer = run.client.publish_request("twin", 0.01, 0.01, 74.9, 0.01, "astar");
   const auto older_status = answer_to(run.client, older, 60s);
@@ -590,10 +591,8 @@ TEST(NodeAttacks, ANewerRequestWithTheSameIdReplacesTheOlder) {
 // echoed id is cut to the limit; messages carry no control characters.
 TEST(NodeAttacks, LongAndHostileStringsAreRefusedAndEscaped) {
   Running run(test_config("strings"));
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(start_on(run, grid));
   const auto [ax, ay] = centre(grid, 1, 1);
   const auto [bx, by] = centre(grid, 18, 8);
   const auto huge = run.client.publish_request(std::string(500000, 'i'), ax, ay, bx, by,
@@ -622,10 +621,8 @@ TEST(NodeAttacks, ABurstLargerThanTheWriterHistoryIsAnsweredInFull) {
   cfg.preempt = preempt;
   cfg.queue_capacity = 100000;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(start_on(run, grid));
   const auto [ax, ay] = centre(grid, 1, 1);
   const auto [bx, by] = centre(grid, 3, 1);
   constexpr int kBurst = 3000;
