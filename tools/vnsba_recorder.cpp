@@ -106,10 +106,15 @@ class Forwarder : public node::dds::DataReaderListener {
   void on_data_available(node::dds::DataReader* reader) override {
     Msg msg;
     node::dds::SampleInfo info;
-    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;
-      inbox_.push(Event(Wrap{std::move(msg)}));
-      msg = Msg();
+    // Nothing escapes a DDS thread: a sample that cannot be queued (memory) is logged and lost.
+    try {
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        inbox_.push(Event(Wrap{std::move(msg)}));
+        msg = Msg();
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("recorder: a sample on {} was lost: {}", topic_, e.what());
     }
   }
 

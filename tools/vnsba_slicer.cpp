@@ -45,11 +45,16 @@ class TreeSlot : public node::dds::DataReaderListener {
   void on_data_available(node::dds::DataReader* reader) override {
     node::OctomapMsg msg;
     node::dds::SampleInfo info;
-    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;
-      std::lock_guard<std::mutex> lock(mutex_);
-      pending_ = std::move(msg);
-      msg = node::OctomapMsg();
+    // Nothing escapes a DDS thread: a tree that cannot be taken (memory) is logged and lost.
+    try {
+      while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        std::lock_guard<std::mutex> lock(mutex_);
+        pending_ = std::move(msg);
+        msg = node::OctomapMsg();
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("an octomap sample was lost: {}", e.what());
     }
   }
   std::optional<node::OctomapMsg> take() {
