@@ -18,6 +18,10 @@
 //   vnsba_core_bench --benchmark_filter=centre_los
 // and read the ratio of the two times (or segments/s) per map and policy. clear_%: segments with
 // line of sight (the same for both variants, or one of them is wrong).
+//
+// grid_build/<radius>: GridMap::build of a 4096 x 4096 map (random512-20-0 tiled 8 x 8, or a
+// random one) with robot_radius 0, 3, 10 and 30 cells: inflation is one distance transform, so
+// the time should barely depend on the radius (vnsba_core_bench --benchmark_filter=grid_build).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -206,6 +210,30 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMicrosecond)
           ->MinTime(1.0);
     }
+  }
+  static OccupancyGrid tiled = [&] {
+    OccupancyGrid tile;
+    if (auto loaded = load_movingai_map(dir + "/random512-20-0.map")) {
+      tile = std::move(loaded).value();
+    } else {
+      tile = {512, 512, 1.0, 0.0, 0.0, std::vector<int8_t>(512 * 512, 0)};
+      std::mt19937 rng(5);
+      for (auto& v : tile.data) v = rng() % 5 == 0 ? 100 : 0;
+    }
+    OccupancyGrid g{tile.width * 8, tile.height * 8, 0.05, 0.0, 0.0, {}};
+    g.data.resize(static_cast<size_t>(g.width) * g.height);
+    for (int32_t y = 0; y < g.height; ++y)
+      for (int32_t x = 0; x < g.width; ++x)
+        g.data[static_cast<size_t>(y) * g.width + x] = tile.at(x % tile.width, y % tile.height);
+    return g;
+  }();
+  for (int radius_cells : {0, 3, 10, 30}) {
+    const std::string name = "grid_build/" + std::to_string(radius_cells);
+    benchmark::RegisterBenchmark(name.c_str(), [radius_cells](benchmark::State& state) {
+      GridBuildOptions options;
+      options.robot_radius = radius_cells * tiled.resolution;
+      for (auto _ : state) benchmark::DoNotOptimize(GridMap::build(tiled, options));
+    })->Unit(benchmark::kMillisecond);
   }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
