@@ -42,6 +42,7 @@
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/process.hpp"
+#include "vnsba/node/requests.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 
@@ -101,20 +102,17 @@ class RequestWriterListener : public node::dds::DataWriterListener {
 // Keeps the status that answers our request: the one carrying the sample identity our write got
 // (request_writer_guid, request_sequence_number). The request id alone is not enough: the
 // transient-local history replays the node's older answers, and an earlier run with the same
-// --id got one too. Statuses with our id that arrive before the write returned are held until
-// the identity is known; all others are skipped.
+// --id got one too. Statuses that arrive before the write returned are held until
+// the identity is known (the write returns at once after; the history replays at most 1,024).
 class StatusReaderListener : public node::dds::DataReaderListener {
  public:
-  explicit StatusReaderListener(std::string request_id) : request_id_(std::move(request_id)) {}
 
   void on_data_available(node::dds::DataReader* reader) override {
     node::PlanStatusMsg msg;
     node::dds::SampleInfo info;
     while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data || msg.subject() == node::wire::SUBJECT_MAP ||
-          msg.request_id() != request_id_) {
-        continue;
-      }
+      // The identity alone decides: the node may echo a shortened id.
+      if (!info.valid_data || msg.subject() == node::wire::SUBJECT_MAP) continue;
       std::lock_guard<std::mutex> lock(mutex_);
       if (status_) continue;
       if (!expected_) {
@@ -156,11 +154,10 @@ class StatusReaderListener : public node::dds::DataReaderListener {
            msg.request_sequence_number() == identity.sequence_number;
   }
 
-  const std::string request_id_;
   std::mutex mutex_;
   std::condition_variable arrived_;
   std::optional<node::RequestIdentity> expected_;
-  std::vector<node::PlanStatusMsg> held_;  // ours by id, before the write returned
+  std::vector<node::PlanStatusMsg> held_;  // before the write returned
   std::optional<node::PlanStatusMsg> status_;
 };
 
@@ -268,6 +265,11 @@ int main(int argc, char** argv) {
                                  kMaxWaitSeconds));
   }
   if (app.count("--id") > 0 && request_id.empty()) return bad_input("--id: must not be empty");
+  if (request_id.size() > node::kMaxIdBytes) {
+    return bad_input("--id: " + std::to_string(request_id.size()) +
+                     " bytes, longer than the node's limit of " +
+                     std::to_string(node::kMaxIdBytes) + " bytes");
+  }
   if (request_id.empty()) request_id = default_request_id();
 
   const std::optional<node::NodeConfig> loaded =
@@ -292,7 +294,7 @@ int main(int argc, char** argv) {
   };
 
   // The listeners outlive every entity that calls them (the participant is destroyed first).
-  StatusReaderListener status_events(request_id);
+  StatusReaderListener status_events;
   RequestWriterListener request_events;
   auto participant = node::Participant::create(config.domain_id, "vnsba_send_goal");
   if (!participant) {
@@ -406,7 +408,8 @@ int main(int argc, char** argv) {
     }
     return kNoStatus;
   }
-  std::printf("%s %s %s %d %lld\n", node::printable(status->request_id()).c_str(),
+  std::printf("%s %s %s %d %lld\n",
+              node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
               node::code_name(status->code()).c_str(), format_metres(status->length_m()).c_str(),
               static_cast<int>(status->turns()),
               static_cast<long long>(status->planning_time_us()));

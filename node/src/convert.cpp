@@ -35,8 +35,21 @@ size_t utf8_length(std::string_view text, size_t i) {
   if (n == 0 || i + n > text.size()) return 0;
   for (size_t k = 1; k < n; ++k)
     if ((byte(i + k) & 0xc0) != 0x80) return 0;
-  if (n == 2 && c < 0xc2) return 0;  // overlong
+  // Well-formed only (RFC 3629): no overlong forms, no surrogates, nothing above U+10FFFF.
+  const unsigned char c1 = n > 1 ? byte(i + 1) : 0;
+  if (n == 2 && c < 0xc2) return 0;
+  if (n == 3 && ((c == 0xe0 && c1 < 0xa0) || (c == 0xed && c1 >= 0xa0))) return 0;
+  if (n == 4 && (c > 0xf4 || (c == 0xf0 && c1 < 0x90) || (c == 0xf4 && c1 >= 0x90))) return 0;
   return n;
+}
+
+// Characters that reorder or hide text where a log is read (bidirectional overrides and
+// isolates, U+202A..U+202E and U+2066..U+2069): escaped like control characters.
+bool is_bidi_control(std::string_view text, size_t i, size_t n) {
+  if (n != 3 || static_cast<unsigned char>(text[i]) != 0xe2) return false;
+  const unsigned char b1 = static_cast<unsigned char>(text[i + 1]);
+  const unsigned char b2 = static_cast<unsigned char>(text[i + 2]);
+  return (b1 == 0x80 && b2 >= 0xaa && b2 <= 0xae) || (b1 == 0x81 && b2 >= 0xa6 && b2 <= 0xa9);
 }
 
 std::string hex_escape(unsigned char c) {
@@ -66,8 +79,10 @@ std::string printable(std::string_view text, size_t max_bytes) {
       else if (c == '\\') out += "\\\\";
       else if (c < 0x20 || c == 0x7f) out += hex_escape(c);
       else out += static_cast<char>(c);
-    } else if (n == 2 && c == 0xc2 && static_cast<unsigned char>(text[i + 1]) < 0xa0) {
-      out += hex_escape(0xc2) + hex_escape(static_cast<unsigned char>(text[i + 1]));  // C1
+    } else if ((n == 2 && c == 0xc2 && static_cast<unsigned char>(text[i + 1]) < 0xa0) ||
+               is_bidi_control(text, i, n)) {
+      for (size_t k = 0; k < n; ++k)  // C1 controls, bidi controls
+        out += hex_escape(static_cast<unsigned char>(text[i + k]));
     } else {
       out.append(text.substr(i, n));
     }

@@ -234,6 +234,10 @@ void PlannerNode::Impl::stop() {
     queue_.interrupt_current("node is shutting down");
   }
   queue_cv_.notify_all();
+  {
+    // Under the map lock, so that the map thread cannot miss it between its check and its wait.
+    std::lock_guard<std::mutex> lock(map_mutex_);
+  }
   map_cv_.notify_all();
   if (worker_.joinable()) worker_.join();  // answers every queued request first
   if (map_thread_.joinable()) map_thread_.join();
@@ -331,7 +335,7 @@ void PlannerNode::Impl::map_loop() {
     }
     {
       std::lock_guard<std::mutex> lock(map_mutex_);
-      slices_.finish();
+      slices_.finish(status.code != wire::CANCELED);
     }
     if (status.ok()) continue;
     if (status.code == wire::CANCELED) {

@@ -111,12 +111,23 @@ void RequestQueue::interrupt(Interruption& interruption, const std::string& reas
 
 std::vector<Job> RequestQueue::admit(Job job) {
   std::vector<Job> answer_now;
-  const std::string replaced =
-      "replaced by a newer request with the same id '" + printable(job.id) + "' from the same client";
-  const std::string preempted = "preempted by newer request '" + printable(job.id) + "'";
   auto same_request = [&](const std::string& id, const RequestIdentity& identity) {
     return id == job.id && identity.same_client(job.identity);
   };
+  // Room first: a request that is refused replaces and preempts nothing. Waiting requests it
+  // would remove (same id, or all with preempt) make room for it.
+  size_t staying = 0;
+  for (const Job& waiting : queue_)
+    staying += !(preempt_ || same_request(waiting.id, waiting.identity));
+  if (staying >= capacity_) {
+    interrupt(*job.interruption, "request queue is full (requests.queue_capacity = " +
+                                     std::to_string(capacity_) + ")");
+    answer_now.push_back(std::move(job));
+    return answer_now;
+  }
+  const std::string replaced = "replaced by a newer request with the same id '" +
+                               printable(job.id) + "' from the same client";
+  const std::string preempted = "preempted by newer request '" + printable(job.id) + "'";
   for (auto it = queue_.begin(); it != queue_.end();) {
     const bool same = same_request(it->id, it->identity);
     if (same || preempt_) {
@@ -131,13 +142,7 @@ std::vector<Job> RequestQueue::admit(Job job) {
     const bool same = same_request(current_->id, current_->identity);
     if (same || preempt_) interrupt(*current_->interruption, same ? replaced : preempted);
   }
-  if (queue_.size() >= capacity_) {
-    interrupt(*job.interruption, "request queue is full (requests.queue_capacity = " +
-                                     std::to_string(capacity_) + ")");
-    answer_now.push_back(std::move(job));
-  } else {
-    queue_.push_back(std::move(job));
-  }
+  queue_.push_back(std::move(job));
   return answer_now;
 }
 

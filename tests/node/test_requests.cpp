@@ -53,6 +53,13 @@ TEST(Printable, EscapesControlCharactersAndCutsLongText) {
   EXPECT_EQ(node::printable("\xc2\x9b" "2J"), "\\xc2\\x9b2J");  // C1 CSI, UTF-8 encoded
   EXPECT_EQ(node::printable("caf\xc3\xa9"), "caf\xc3\xa9");       // UTF-8 stays
   EXPECT_EQ(node::printable("\xff\xfe"), "\\xff\\xfe");           // not UTF-8
+  // Overlong LF and CSI, a surrogate, beyond U+10FFFF, a right-to-left override: all escaped.
+  for (const char* bad : {"\xe0\x80\x8a", "\xe0\x82\x9b", "\xed\xa0\x80", "\xf4\x90\x80\x80",
+                          "\xe2\x80\xae"}) {
+    const std::string shown = node::printable(bad);
+    EXPECT_EQ(shown.find_first_of("\x80\x8a\x9b\xa0\xae"), std::string::npos) << shown;
+    EXPECT_EQ(shown.rfind("\\x", 0), 0u) << shown;
+  }
   const std::string log_forgery = "id\n[2026-12-01 00:00:00.000] [error] fake";
   EXPECT_EQ(node::printable(log_forgery).find('\n'), std::string::npos);
   const std::string huge(500000, 'a');
@@ -189,6 +196,26 @@ TEST(RequestQueue, ANewerRequestWithTheSameIdFromTheSameClientReplacesTheOlder) 
   }
 }
 
+// Review: on a full queue a same-id request flagged the one being planned as replaced, then was
+// refused itself, so neither was planned. A refused request replaces and preempts nothing.
+TEST(RequestQueue, ARefusedRequestReplacesNothing) {
+  node::RequestQueue queue(1, /*preempt=*/false);
+  queue.admit(job("a", 0, 0, 1, 1, client(1, 1)));
+  const std::optional<Job> planning = queue.next();
+  queue.admit(job("b", 0, 0, 1, 1, client(2, 1)));  // fills the queue
+  const auto refused = queue.admit(job("a", 0, 0, 1, 1, client(1, 2)));
+  ASSERT_EQ(ids(refused), std::vector<std::string>{"a"});
+  EXPECT_EQ(refused[0].identity.sequence_number, 2);
+  EXPECT_FALSE(planning->interruption->flag) << planning->interruption->reason;
+  // With room made by the replacement itself, the same-id request is admitted.
+  node::RequestQueue roomy(1, false);
+  roomy.admit(job("a", 0, 0, 1, 1, client(1, 1)));
+  const auto replaced = roomy.admit(job("a", 0, 0, 1, 1, client(1, 2)));
+  ASSERT_EQ(replaced.size(), 1u);
+  EXPECT_EQ(replaced[0].identity.sequence_number, 1);
+  EXPECT_EQ(roomy.waiting(), 1u);
+}
+
 TEST(RequestQueue, AFullQueueRefusesTheNewRequestOnly) {
   node::RequestQueue queue(2, /*preempt=*/false);
   queue.admit(job("a", 0, 0, 1, 1, client(1, 1)));
@@ -223,14 +250,35 @@ TEST(SliceSlot, ANewerSliceSupersedesTheWaitingAndTheConvertingOne) {
   put = slot.put(std::move(third));
   EXPECT_TRUE(put.replaced_waiting);
   EXPECT_FALSE(put.superseded_converting) << "told once";
-  slot.finish();
+  slot.finish(false);
   auto next = slot.take();
   ASSERT_TRUE(next);
   EXPECT_EQ(next->slice.info().width(), 3u) << "only the newest slice is converted";
   EXPECT_FALSE(next->superseded->load());
-  slot.finish();
+  slot.finish(true);
   node::OccupancyGridMsg fourth;
   EXPECT_FALSE(slot.put(std::move(fourth)).superseded_converting) << "nothing in conversion";
+}
+
+// Review: slices arriving faster than a map converts canceled every conversion, so no map ever
+// went live. After kMaxSupersededInARow stopped conversions the next one is let finish.
+TEST(SliceSlot, AStreamOfSlicesStillLetsEveryThirdConversionFinish) {
+  node::SliceSlot slot;
+  slot.put(node::OccupancyGridMsg());
+  for (int round = 0; round < 3; ++round) {
+    for (int stopped = 0; stopped < node::SliceSlot::kMaxSupersededInARow; ++stopped) {
+      auto converting = slot.take();
+      ASSERT_TRUE(converting);
+      EXPECT_TRUE(slot.put(node::OccupancyGridMsg()).superseded_converting);
+      EXPECT_TRUE(converting->superseded->load());
+      slot.finish(false);
+    }
+    auto protected_one = slot.take();
+    ASSERT_TRUE(protected_one);
+    EXPECT_FALSE(slot.put(node::OccupancyGridMsg()).superseded_converting);
+    EXPECT_FALSE(protected_one->superseded->load()) << "round " << round;
+    slot.finish(true);  // it went live; the count starts again
+  }
 }
 
 }  // namespace

@@ -183,6 +183,7 @@ TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
       {{"--start", "0", "0", "--goal", "1", "1", "--wait", "-1"}, "--wait"},
       {{"--start", "0", "0", "--goal", "1", "1", "--domain", "999"}, "--domain"},
       {{"--start", "0", "0", "--goal", "1", "1", "--id", ""}, "--id"},
+      {{"--start", "0", "0", "--goal", "1", "1", "--id", std::string(300, 'x')}, "--id: 300 bytes"},
       {{"--start", "0", "0", "--goal", "1", "1", "--config", "no/such/file.yaml"},
        "no/such/file.yaml"},
       {{"--start", "0", "0", "--goal", "1", "1", "--config", bad_config}, "planner.name"},
