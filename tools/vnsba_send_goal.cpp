@@ -17,6 +17,7 @@
 // request is written only once the node's request reader has matched our writer (requests are
 // volatile: a request written before that would be lost). --min-readers N also waits for N
 // request readers in all (the node plus, say, a recorder that should hear the request too).
+#include <fastdds/rtps/common/WriteParams.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -29,7 +30,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
-#include <fastdds/rtps/common/WriteParams.h>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -106,7 +106,6 @@ class RequestWriterListener : public node::dds::DataWriterListener {
 // the identity is known (the write returns at once after; the history replays at most 1,024).
 class StatusReaderListener : public node::dds::DataReaderListener {
  public:
-
   void on_data_available(node::dds::DataReader* reader) override {
     node::PlanStatusMsg msg;
     node::dds::SampleInfo info;
@@ -408,11 +407,10 @@ int main(int argc, char** argv) {
     }
     return kNoStatus;
   }
-  std::printf("%s %s %s %d %lld\n",
-              node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
-              node::code_name(status->code()).c_str(), format_metres(status->length_m()).c_str(),
-              static_cast<int>(status->turns()),
-              static_cast<long long>(status->planning_time_us()));
+  std::printf(
+      "%s %s %s %d %lld\n", node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
+      node::code_name(status->code()).c_str(), format_metres(status->length_m()).c_str(),
+      static_cast<int>(status->turns()), static_cast<long long>(status->planning_time_us()));
   if (status->code() != node::wire::OK) {
     spdlog::warn("{}", node::printable(status->message(), 4096));
     return kOtherStatusOrBadInput;

@@ -1,11 +1,11 @@
 #include "vnsba/core/grid_map.hpp"
 
-#include "vnsba/core/distance_transform.hpp"
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <sstream>
+
+#include "vnsba/core/distance_transform.hpp"
 
 namespace vnsba::core {
 
@@ -34,7 +34,9 @@ bool inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, doubl
   // cells^2; for a whole radius both sides of the comparison below are exact integers.
   const double r2 = radius_cells * radius_cells;
   const int32_t stride = width + 2;
-  auto padded = [stride](int32_t x, int32_t y) { return static_cast<size_t>(y + 1) * stride + x + 1; };
+  auto padded = [stride](int32_t x, int32_t y) {
+    return static_cast<size_t>(y + 1) * stride + x + 1;
+  };
   // Phase 1 of the transform reads every source before the first row is written back.
   return squared_distance_rows(
       width, height, reach, [&](int32_t x, int32_t y) { return blocked[padded(x, y)] != 0; },

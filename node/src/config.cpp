@@ -402,8 +402,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   if (errors.empty()) {
     if (core::Status s = core::validate(c.planner.options()); !s.is_ok())
       errors.push_back("planner: " + s.message);
-    if (core::Status s = core::validate(c.map); !s.is_ok())
-      errors.push_back("map: " + s.message);
+    if (core::Status s = core::validate(c.map); !s.is_ok()) errors.push_back("map: " + s.message);
   }
 }
 

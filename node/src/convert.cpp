@@ -73,12 +73,18 @@ std::string printable(std::string_view text, size_t max_bytes) {
     }
     if (i + n > max_bytes) break;  // never cut a character
     if (n == 1) {
-      if (c == '\n') out += "\\n";
-      else if (c == '\t') out += "\\t";
-      else if (c == '\r') out += "\\r";
-      else if (c == '\\') out += "\\\\";
-      else if (c < 0x20 || c == 0x7f) out += hex_escape(c);
-      else out += static_cast<char>(c);
+      if (c == '\n')
+        out += "\\n";
+      else if (c == '\t')
+        out += "\\t";
+      else if (c == '\r')
+        out += "\\r";
+      else if (c == '\\')
+        out += "\\\\";
+      else if (c < 0x20 || c == 0x7f)
+        out += hex_escape(c);
+      else
+        out += static_cast<char>(c);
     } else if ((n == 2 && c == 0xc2 && static_cast<unsigned char>(text[i + 1]) < 0xa0) ||
                is_bidi_control(text, i, n)) {
       for (size_t k = 0; k < n; ++k)  // C1 controls, bidi controls
@@ -171,8 +177,8 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   // Both are uint32: their product is below 2^64, exact in uint64 (in int64 it overflowed).
   const uint64_t cells = uint64_t{info.width()} * uint64_t{info.height()};
   if (max_cells < 0 || cells > static_cast<uint64_t>(max_cells))
-    bad << "info.width x info.height = " << info.width() << " x " << info.height() << " = "
-        << cells << " cells is too large: the limit is map.max_cells = " << max_cells << "; ";
+    bad << "info.width x info.height = " << info.width() << " x " << info.height() << " = " << cells
+        << " cells is too large: the limit is map.max_cells = " << max_cells << "; ";
   else if (msg.data().size() != cells)
     bad << "data has " << msg.data().size()
         << " values, expected info.width x info.height = " << cells << "; ";

@@ -1,11 +1,10 @@
 #include "vnsba/node/dds.hpp"
 
+#include <fastdds/rtps/common/WriteParams.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
-#include <fastdds/rtps/common/WriteParams.h>
-
 #include <algorithm>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <iterator>
 #include <sstream>
 
@@ -90,9 +89,8 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
       eprosima::fastrtps::Duration_t(0, 500'000'000);
   qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
   qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
-  self->participant_ =
-      dds::DomainParticipantFactory::get_instance()->create_participant(
-          domain_id, qos, listener, dds::StatusMask::none());  // discovery callbacks only
+  self->participant_ = dds::DomainParticipantFactory::get_instance()->create_participant(
+      domain_id, qos, listener, dds::StatusMask::none());  // discovery callbacks only
   if (self->participant_ == nullptr)
     return dds_error("create_participant(domain " + std::to_string(domain_id) + ")");
   self->publisher_ = self->participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
@@ -224,8 +222,7 @@ RequestIdentity identity_of(const dds::SampleInfo& info, uint8_t subject) {
   return identity_from(info.sample_identity, subject);
 }
 
-RequestIdentity identity_of(const eprosima::fastrtps::rtps::WriteParams& params,
-                            uint8_t subject) {
+RequestIdentity identity_of(const eprosima::fastrtps::rtps::WriteParams& params, uint8_t subject) {
   return identity_from(params.sample_identity(), subject);
 }
 

@@ -285,8 +285,7 @@ void PlannerNode::Impl::on_request(Job job) {
   // Checked before it may touch anything: only a request that would be planned preempts,
   // replaces or queues (see requests.hpp). The worker checks again against its map.
   const std::shared_ptr<const ActiveMap> map = current_map();
-  const ResolvedRequest resolved =
-      resolve_request(job, cfg_, map ? map->grid.get() : nullptr);
+  const ResolvedRequest resolved = resolve_request(job, cfg_, map ? map->grid.get() : nullptr);
   if (!resolved.status.ok()) {
     spdlog::warn("request '{}': {} ({})", printable(job.id), code_name(resolved.status.code),
                  resolved.status.message);
@@ -370,14 +369,14 @@ WireStatus PlannerNode::Impl::convert_slice(SliceSlot::Taken taken) {
   auto active = std::make_shared<ActiveMap>();
   active->grid = std::make_shared<const core::GridMap>(std::move(built).value());
   active->stamp = stamp;
-  if (superseded->load()) return {wire::CANCELED, "superseded by a newer slice while being converted"};
+  if (superseded->load())
+    return {wire::CANCELED, "superseded by a newer slice while being converted"};
   try {
     active->planner = std::make_unique<core::Planner>(active->grid);  // see ActiveMap
   } catch (const std::exception& e) {
-    return {wire::INTERNAL_ERROR, "cannot allocate the search state of " +
-                                      std::to_string(active->grid->width()) + " x " +
-                                      std::to_string(active->grid->height()) +
-                                      " cells: " + e.what()};
+    return {wire::INTERNAL_ERROR,
+            "cannot allocate the search state of " + std::to_string(active->grid->width()) + " x " +
+                std::to_string(active->grid->height()) + " cells: " + e.what()};
   }
   const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   spdlog::info(
@@ -418,9 +417,9 @@ void PlannerNode::Impl::write_status(PlanStatusMsg& msg, const std::string& what
     spdlog::error("could not publish the status of {}", what);
 }
 
-void PlannerNode::Impl::answer(const Job& job, const WireStatus& status,
-                               const std::string& planner, const core::Metrics* metrics,
-                               const TimeMsg& map_stamp, PathMsg path) {
+void PlannerNode::Impl::answer(const Job& job, const WireStatus& status, const std::string& planner,
+                               const core::Metrics* metrics, const TimeMsg& map_stamp,
+                               PathMsg path) {
   PlanStatusMsg msg = to_status_msg(echoed_id(job.id), &job.identity, status, planner, metrics,
                                     map_stamp, std::move(path));
   write_status(msg, "request '" + printable(job.id) + "'");

@@ -46,7 +46,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
     out.status = {code, std::move(message)};
     return out;
   };
-  if (job.id.size() > kMaxIdBytes) return fail(wire::INVALID_REQUEST, too_long("id", job.id.size(), kMaxIdBytes));
+  if (job.id.size() > kMaxIdBytes)
+    return fail(wire::INVALID_REQUEST, too_long("id", job.id.size(), kMaxIdBytes));
   if (job.id.empty()) return fail(wire::INVALID_REQUEST, "id: must not be empty");
   if (job.planner.size() > kMaxPlannerNameBytes) {
     return fail(wire::INVALID_REQUEST,
@@ -57,9 +58,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   for (const auto& [field, pose] : poses) {
     const size_t bytes = pose->header().frame_id().size();
     if (bytes > kMaxFrameIdBytes) {
-      return fail(wire::INVALID_REQUEST,
-                  too_long((std::string(field) + ".header.frame_id").c_str(), bytes,
-                           kMaxFrameIdBytes));
+      return fail(wire::INVALID_REQUEST, too_long((std::string(field) + ".header.frame_id").c_str(),
+                                                  bytes, kMaxFrameIdBytes));
     }
   }
   core::PlannerKind kind = config.planner.kind;
@@ -69,8 +69,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
       std::string known;
       for (core::PlannerKind k : core::all_planner_kinds())
         known += (known.empty() ? "" : ", ") + std::string(core::to_string(k));
-      return fail(wire::INVALID_REQUEST,
-                  "planner: unknown planner '" + printable(job.planner) + "' (known: " + known + ")");
+      return fail(wire::INVALID_REQUEST, "planner: unknown planner '" + printable(job.planner) +
+                                             "' (known: " + known + ")");
     }
     kind = *requested;
   }

@@ -72,8 +72,8 @@ TEST(DistanceTransform, EqualsBruteForceOnRandomGrids) {
     for (auto& s : f.source) s = source(rng);
     // Caps below, at and far beyond the grid's diagonal.
     for (int32_t cap : {1, 2, 3, 7, 20, 100}) {
-      expect_matches_brute_force(f, cap, "trial " + std::to_string(trial) + " cap " +
-                                             std::to_string(cap));
+      expect_matches_brute_force(f, cap,
+                                 "trial " + std::to_string(trial) + " cap " + std::to_string(cap));
     }
   }
 }

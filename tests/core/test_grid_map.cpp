@@ -199,7 +199,7 @@ TEST(GridMap, LargeRadiiInflateByDefinitionOrAreRefused) {
   g.resolution = 0.05;
   std::bernoulli_distribution blocked(0.004);
   for (auto& v : g.data) v = blocked(rng) ? 100 : 0;
-  g.data[7 * 60 + 50] = 100;  // at least one obstacle
+  g.data[7 * 60 + 50] = 100;                       // at least one obstacle
   const double diagonal = std::hypot(60.0, 45.0);  // cells
   for (int64_t max_d2 : {int64_t{100}, int64_t{1000}, int64_t{4000}, int64_t{5600}}) {
     GridBuildOptions options;

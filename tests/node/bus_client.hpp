@@ -6,6 +6,8 @@
 // domain.
 #pragma once
 
+#include <fastdds/rtps/common/WriteParams.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -26,8 +28,6 @@
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 #include "vnsba_msgs/msg/PlannerDebugPubSubTypes.h"
-#include <fastdds/rtps/common/WriteParams.h>
-#include <gtest/gtest.h>
 
 namespace vnsba::test {
 

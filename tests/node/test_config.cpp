@@ -293,8 +293,10 @@ TEST(Config, BoundaryValuesAreAccepted) {
 TEST(Config, OptionRangesAreCoresOwn) {
   for (const char* value : {"1e-6", "0.0499"}) {
     const ConfigResult r = parse_config(std::string("planner:\n  sample_step: ") + value + "\n");
-    EXPECT_TRUE(HasError(r, "planner.sample_step", {vnsba::core::kSampleStepRange.describe()})) << value;
-    vnsba::core::PlannerOptions options = vnsba::core::default_options(vnsba::core::PlannerKind::kVnsBaStar);
+    EXPECT_TRUE(HasError(r, "planner.sample_step", {vnsba::core::kSampleStepRange.describe()}))
+        << value;
+    vnsba::core::PlannerOptions options =
+        vnsba::core::default_options(vnsba::core::PlannerKind::kVnsBaStar);
     options.sample_step = std::stod(value);
     EXPECT_FALSE(vnsba::core::validate(options).is_ok()) << value;
   }

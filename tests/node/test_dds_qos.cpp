@@ -62,4 +62,3 @@ TEST(DdsQos, AnEventsBurstLargerThanTheHistoryIsNeverDropped) {
 
 }  // namespace
 }  // namespace vnsba::test
-

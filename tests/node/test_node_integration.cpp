@@ -494,8 +494,8 @@ TEST(NodeAttacks, AHeavySliceDoesNotStallTheNextMap) {
   for (int i = 0; i < 1000; ++i) heavy.data[rng() % heavy.data.size()] = 100;
   run.client.publish_slice(heavy);
   std::this_thread::sleep_for(500ms);
-  const core::OccupancyGrid valid = grid_from_rows(std::vector<std::string>(60, std::string(60, '.')),
-                                                   0.05, 0.0, 0.0);
+  const core::OccupancyGrid valid =
+      grid_from_rows(std::vector<std::string>(60, std::string(60, '.')), 0.05, 0.0, 0.0);
   run.client.publish_slice(valid);
   const auto report = run.client.wait_map_report();
   ASSERT_TRUE(report);
@@ -519,8 +519,9 @@ TEST(NodeAttacks, ASliceSizeThatOverflowsIsTooLarge) {
   const auto report = run.client.wait_map_report();
   ASSERT_TRUE(report);
   EXPECT_EQ(code_name(report->code()), "INVALID_MAP");
-  EXPECT_NE(report->message().find("4294967295 x 4294967295 = 18446744065119617025 cells is too large"),
-            std::string::npos)
+  EXPECT_NE(
+      report->message().find("4294967295 x 4294967295 = 18446744065119617025 cells is too large"),
+      std::string::npos)
       << report->message();
   EXPECT_EQ(report->subject(), wire::SUBJECT_MAP);
   EXPECT_EQ(report->request_sequence_number(), 0);
@@ -617,21 +618,21 @@ TEST(NodeAttacks, LongAndHostileStringsAreRefusedAndEscaped) {
 // false at once with a full history). Every write succeeds and every request is answered.
 TEST(NodeAttacks, ABurstLargerThanTheWriterHistoryIsAnsweredInFull) {
   for (bool preempt : {true, false}) {
-  node::NodeConfig cfg = test_config(preempt ? "burst_preempt" : "burst");
-  cfg.preempt = preempt;
-  cfg.queue_capacity = 100000;
-  Running run(cfg);
-  const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  ASSERT_TRUE(start_on(run, grid));
-  const auto [ax, ay] = centre(grid, 1, 1);
-  const auto [bx, by] = centre(grid, 3, 1);
-  constexpr int kBurst = 3000;
-  for (int i = 0; i < kBurst; ++i)
-    run.client.publish_request("b" + std::to_string(i), ax, ay, bx, by, "astar");
-  EXPECT_TRUE(run.client.statuses.wait(
-      [](const auto& all) { return all.size() >= static_cast<size_t>(kBurst); }, 120s))
-      << run.client.statuses.snapshot().size() << " of " << kBurst << " answered";
-  EXPECT_EQ(run.node.stats().requests_received, static_cast<uint64_t>(kBurst));
+    node::NodeConfig cfg = test_config(preempt ? "burst_preempt" : "burst");
+    cfg.preempt = preempt;
+    cfg.queue_capacity = 100000;
+    Running run(cfg);
+    const core::OccupancyGrid grid = grid_from_rows(kRoom);
+    ASSERT_TRUE(start_on(run, grid));
+    const auto [ax, ay] = centre(grid, 1, 1);
+    const auto [bx, by] = centre(grid, 3, 1);
+    constexpr int kBurst = 3000;
+    for (int i = 0; i < kBurst; ++i)
+      run.client.publish_request("b" + std::to_string(i), ax, ay, bx, by, "astar");
+    EXPECT_TRUE(run.client.statuses.wait(
+        [](const auto& all) { return all.size() >= static_cast<size_t>(kBurst); }, 120s))
+        << run.client.statuses.snapshot().size() << " of " << kBurst << " answered";
+    EXPECT_EQ(run.node.stats().requests_received, static_cast<uint64_t>(kBurst));
   }
 }
 

@@ -50,12 +50,14 @@ TEST(Printable, EscapesControlCharactersAndCutsLongText) {
   EXPECT_EQ(node::printable("x\x1b[31mred"), "x\\x1b[31mred");
   EXPECT_EQ(node::printable(std::string("\0z", 2)), "\\x00z");
   EXPECT_EQ(node::printable("\x7f"), "\\x7f");
-  EXPECT_EQ(node::printable("\xc2\x9b" "2J"), "\\xc2\\x9b2J");  // C1 CSI, UTF-8 encoded
-  EXPECT_EQ(node::printable("caf\xc3\xa9"), "caf\xc3\xa9");       // UTF-8 stays
-  EXPECT_EQ(node::printable("\xff\xfe"), "\\xff\\xfe");           // not UTF-8
+  EXPECT_EQ(node::printable("\xc2\x9b"
+                            "2J"),
+            "\\xc2\\x9b2J");                                 // C1 CSI, UTF-8 encoded
+  EXPECT_EQ(node::printable("caf\xc3\xa9"), "caf\xc3\xa9");  // UTF-8 stays
+  EXPECT_EQ(node::printable("\xff\xfe"), "\\xff\\xfe");      // not UTF-8
   // Overlong LF and CSI, a surrogate, beyond U+10FFFF, a right-to-left override: all escaped.
-  for (const char* bad : {"\xe0\x80\x8a", "\xe0\x82\x9b", "\xed\xa0\x80", "\xf4\x90\x80\x80",
-                          "\xe2\x80\xae"}) {
+  for (const char* bad :
+       {"\xe0\x80\x8a", "\xe0\x82\x9b", "\xed\xa0\x80", "\xf4\x90\x80\x80", "\xe2\x80\xae"}) {
     const std::string shown = node::printable(bad);
     EXPECT_EQ(shown.find_first_of("\x80\x8a\x9b\xa0\xae"), std::string::npos) << shown;
     EXPECT_EQ(shown.rfind("\\x", 0), 0u) << shown;
@@ -174,7 +176,8 @@ TEST(RequestQueue, ANewerRequestWithTheSameIdFromTheSameClientReplacesTheOlder) 
     EXPECT_TRUE(queue.admit(job("y", 0, 0, 1, 1, client(1, 2))).empty() || preempt);
     const auto answered = queue.admit(job("x", 0, 0, 1, 1, client(1, 3)));
     EXPECT_TRUE(planning->interruption->flag) << "preempt " << preempt;
-    EXPECT_EQ(planning->interruption->reason.rfind(preempt ? "preempted" : "replaced by a newer "
+    EXPECT_EQ(planning->interruption->reason.rfind(preempt ? "preempted"
+                                                           : "replaced by a newer "
                                                              "request with the same id 'x'",
                                                    0),
               0u)

@@ -42,7 +42,8 @@ core::OccupancyGrid office(int size, int shift) {
   g.data.assign(static_cast<size_t>(size) * size, 0);
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
-      const bool wall = (x % 40 == 0 && (y + shift) % 40 > 6) || (y % 40 == 0 && (x + shift) % 40 > 6);
+      const bool wall =
+          (x % 40 == 0 && (y + shift) % 40 > 6) || (y % 40 == 0 && (x + shift) % 40 > 6);
       if (wall) g.data[static_cast<size_t>(y) * size + x] = 100;
     }
   return g;
@@ -74,7 +75,8 @@ TEST(Soak, TheNodeServesForMinutesAndItsMemoryLevelsOff) {
     if (now >= next_sample) {
       series.push_back(rss_mb(node_process.pid()));
       std::printf("soak t=%4llds rss=%.1f MB requests=%d statuses=%zu\n",
-                  static_cast<long long>(std::chrono::duration_cast<std::chrono::seconds>(now - begin).count()),
+                  static_cast<long long>(
+                      std::chrono::duration_cast<std::chrono::seconds>(now - begin).count()),
                   series.back(), requests, client.statuses.snapshot().size());
       std::fflush(stdout);
       next_sample += 10s;
@@ -97,9 +99,10 @@ TEST(Soak, TheNodeServesForMinutesAndItsMemoryLevelsOff) {
   const size_t third = series.size() / 3;
   const double middle_peak = *std::max_element(series.begin() + third, series.begin() + 2 * third);
   const double last_peak = *std::max_element(series.begin() + 2 * third, series.end());
-  std::printf("soak: %d requests, %d slices; RSS start %.1f, middle-third peak %.1f, last-third "
-              "peak %.1f MB\n",
-              requests, slices, series.front(), middle_peak, last_peak);
+  std::printf(
+      "soak: %d requests, %d slices; RSS start %.1f, middle-third peak %.1f, last-third "
+      "peak %.1f MB\n",
+      requests, slices, series.front(), middle_peak, last_peak);
   EXPECT_LE(last_peak - middle_peak, 4.0) << "resident memory still grows";
   node_process.signal(SIGTERM);
   EXPECT_EQ(node_process.wait(), 0) << node_process.output();

@@ -332,7 +332,8 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     }
     // Required: an absent key read as 0, outside 1..100, and thresholded everything as blocked.
     if (in.required(*m, "occupied_threshold", "map") != nullptr)
-      map.occupied_threshold = static_cast<int>(in.integer(*m, "occupied_threshold", "map", 1, 100));
+      map.occupied_threshold =
+          static_cast<int>(in.integer(*m, "occupied_threshold", "map", 1, 100));
     map.allow_unknown = in.boolean(*m, "allow_unknown", "map");
     // Absent (older records): no inflation. Null, written for a non-finite value, stays NaN, which
     // check_record refuses.

@@ -63,8 +63,8 @@ bool squared_distance_rows(int32_t width, int32_t height, int32_t cap, IsSource&
     // First x at which the parabola of column u is at or below that of column i (i < u),
     // floor((u^2 - i^2 + g(u)^2 - g(i)^2) / (2 (u - i))), rounded towards minus infinity.
     auto separation = [&](int32_t i, int32_t u) {
-      const int64_t num = int64_t{u} * u - int64_t{i} * i + int64_t{gy[u]} * gy[u] -
-                          int64_t{gy[i]} * gy[i];
+      const int64_t num =
+          int64_t{u} * u - int64_t{i} * i + int64_t{gy[u]} * gy[u] - int64_t{gy[i]} * gy[i];
       const int64_t den = 2 * (int64_t{u} - i);
       return num >= 0 ? num / den : -((-num + den - 1) / den);
     };

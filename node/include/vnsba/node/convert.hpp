@@ -2,9 +2,9 @@
 // here, field by field, and every message it sends is built here.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
-#include <array>
 #include <optional>
 #include <string>
 #include <string_view>

@@ -8,6 +8,7 @@
 // heartbeat on latched writers so late joiners get the map quickly.
 #pragma once
 
+#include <array>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -17,12 +18,11 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <array>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <set>
-#include <memory>
 #include <string>
 
 #include "vnsba/core/status.hpp"
@@ -71,7 +71,7 @@ class OtherWritersWatch : public dds::DomainParticipantListener {
   OnOther on_other_;
   mutable std::mutex mutex_;
   std::map<std::string, std::string> names_;  // guid prefix -> participant name
-  std::set<std::string> reported_;           // guid prefixes
+  std::set<std::string> reported_;            // guid prefixes
 };
 
 // One DomainParticipant with a publisher and a subscriber. Not copyable; the destructor deletes

@@ -66,8 +66,7 @@ struct ResolvedRequest {
 // `map` may be null (no map yet: NO_MAP). Checks, first failure wins: the string fields' lengths,
 // the id, the planner name, the start (a goal_pose without robot_pose), both poses (frame,
 // finite), then start and goal against the map (inside it, on free cells).
-ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
-                                const core::GridMap* map);
+ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map);
 
 // The waiting requests and the one being planned. Not thread-safe: the node holds its lock.
 class RequestQueue {

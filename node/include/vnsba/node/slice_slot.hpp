@@ -24,7 +24,7 @@ class SliceSlot {
     std::shared_ptr<const std::atomic<bool>> superseded;  // raised by a newer put()
   };
   struct PutResult {
-    bool replaced_waiting = false;      // an unconverted slice was dropped for this one
+    bool replaced_waiting = false;       // an unconverted slice was dropped for this one
     bool superseded_converting = false;  // the conversion in progress was told to stop
   };
 
