@@ -51,8 +51,10 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
 dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
   dds::DataWriterQos qos = dds::DATAWRITER_QOS_DEFAULT;
   apply_common(qos, profile, /*reader=*/false);
-  qos.reliability().max_blocking_time = {1,
-                                         0};  // a full KEEP_ALL history blocks write() 1 s at most
+  // A full KEEP_ALL history blocks write() until the readers acknowledge, at most this long:
+  // 10 s for requests and goals (under the sanitizers a 3,000-request burst once needed more
+  // than 1 s of acknowledgements, and the write failed), 1 s for everything else.
+  qos.reliability().max_blocking_time = {profile == TopicQos::kEvents ? 10 : 1, 0};
   // Late joiners of a latched map should not wait for the default 3 s heartbeat.
   qos.reliable_writer_qos().times.heartbeatPeriod = {0, 150'000'000};
   if (large_samples) qos.publish_mode().kind = dds::ASYNCHRONOUS_PUBLISH_MODE;
