@@ -142,13 +142,13 @@ class BusClient {
                  node::reader_qos(TopicQos::kLatest), &paths)
         .value();
     if (subscribe_debug_) {
-      participant_
-          ->reader(participant_
-                       ->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
-                           name(cfg.topics.planner_debug))
-                       .value(),
-                   node::reader_qos(TopicQos::kDebug), &debug)
-          .value();
+      debug_reader_ = participant_
+                          ->reader(participant_
+                                       ->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
+                                           name(cfg.topics.planner_debug))
+                                       .value(),
+                                   node::reader_qos(TopicQos::kDebug), &debug)
+                          .value();
     }
   }
   ~BusClient() { participant_->shutdown(); }
@@ -159,8 +159,13 @@ class BusClient {
     while (std::chrono::steady_clock::now() < end) {
       node::dds::SubscriptionMatchedStatus sub;
       status_reader_->get_subscription_matched_status(sub);
+      // The debug reader too: the node publishes debug only while a reader is matched, so a
+      // plan sent before that match would have none.
+      node::dds::SubscriptionMatchedStatus debug_sub;
+      if (debug_reader_ != nullptr) debug_reader_->get_subscription_matched_status(debug_sub);
       if (node::matched_readers(request_) > 0 && node::matched_readers(goal_) > 0 &&
-          node::matched_readers(robot_pose_) > 0 && sub.current_count > 0) {
+          node::matched_readers(robot_pose_) > 0 && sub.current_count > 0 &&
+          (debug_reader_ == nullptr || debug_sub.current_count > 0)) {
         return true;
       }
       std::this_thread::sleep_for(10ms);
@@ -267,6 +272,7 @@ class BusClient {
   node::dds::DataWriter* goal_ = nullptr;
   node::dds::DataWriter* robot_pose_ = nullptr;
   node::dds::DataReader* status_reader_ = nullptr;
+  node::dds::DataReader* debug_reader_ = nullptr;
 };
 
 }  // namespace vnsba::test

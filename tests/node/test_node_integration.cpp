@@ -111,6 +111,17 @@ TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
   run.client.publish_slice(grid);
   ASSERT_TRUE(run.node.wait_for_map(10s));
+  // The node publishes debug once its writer has matched our reader (debug.publish: auto), which
+  // can lag our reader's side of the match: warm up until a debug message arrives.
+  const auto [wx, wy] = centre(grid, 1, 1);
+  ASSERT_TRUE(wait_until(
+      [&] {
+        run.client.publish_request("warmup", wx, wy, wx + 0.2, wy);
+        return run.client.debug.wait([](const auto& all) { return !all.empty(); }, 200ms);
+      },
+      10s));
+  std::this_thread::sleep_for(300ms);  // the last warm-up's debug, if any, has arrived
+  const size_t warmups = run.client.debug.snapshot().size();
   for (core::PlannerKind kind : core::all_planner_kinds()) {
     const std::string id = "core-" + std::string(core::to_string(kind));
     const auto [sx, sy] = centre(grid, 1, 1);
@@ -145,7 +156,8 @@ TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
   // The plan topic carried the last path too.
   EXPECT_TRUE(run.client.paths.wait([](const auto& all) { return !all.empty(); }, 5s));
   // Someone subscribes to planner_debug, so debug went out, with the expansions.
-  ASSERT_TRUE(run.client.debug.wait([](const auto& all) { return all.size() >= 5; }, 5s));
+  ASSERT_TRUE(run.client.debug.wait([&](const auto& all) { return all.size() >= warmups + 5; }, 5s))
+      << run.client.debug.snapshot().size() << " debug messages";
   for (const auto& d : run.client.debug.snapshot()) {
     EXPECT_FALSE(d.expanded_forward().empty()) << d.request_id();
     EXPECT_FALSE(d.raw_path().empty());
