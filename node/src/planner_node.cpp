@@ -300,14 +300,10 @@ void PlannerNode::Impl::on_request(Job job) {
   }
   queue_cv_.notify_one();
   // Writers are thread-safe; these answers do not wait for the worker.
+  // Out of the queue, nobody else reads or writes these any more: no lock for their reasons.
   for (const Job& old : canceled) {
-    std::string reason;
-    {
-      std::lock_guard<std::mutex> lock(queue_mutex_);
-      reason = old.interruption->reason;
-    }
-    spdlog::info("request '{}': CANCELED ({})", printable(old.id), reason);
-    answer(old, {wire::CANCELED, reason});
+    spdlog::info("request '{}': CANCELED ({})", printable(old.id), old.interruption->reason);
+    answer(old, {wire::CANCELED, old.interruption->reason});
   }
 }
 
