@@ -248,7 +248,9 @@ class Section {
         continue;
       }
       const std::string& key = key_node.Scalar();
-      if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+      if (key.empty()) {  // `? |` or `"": 1`: there is no name to put in the message
+        errors_->push_back(where + ": found an empty key, expected one of " + join(known_));
+      } else if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
         const std::string near = closest(key, known_);
         errors_->push_back(key_path(key) + ": unknown key" +
                            (near.empty() ? ", expected one of " + join(known_)

@@ -353,6 +353,16 @@ TEST(Config, UnknownKeysAreReportedWithSuggestions) {
   }
 }
 
+// An empty key (`? |`, `"": 1`, found by the long fuzz run) is named by where it is.
+TEST(Config, AnEmptyKeyIsNamedByItsSection) {
+  for (const char* yaml : {"? |\n", "\"\": 1\n", "planner:\n  \"\": 1\n"}) {
+    const ConfigResult r = parse_config(yaml);
+    ASSERT_EQ(r.errors.size(), 1u) << yaml << Joined(r.errors);
+    const std::string where = std::string(yaml).rfind("planner", 0) == 0 ? "planner" : "top level";
+    EXPECT_TRUE(HasError(r, where, {"found an empty key", "expected one of"})) << yaml;
+  }
+}
+
 TEST(Config, SuggestionsOnlyForNearMisses) {
   const ConfigResult r = parse_config(
       "a: 1\nplanner: {name: astra, corner_policy: nevr}\n"
