@@ -7,8 +7,8 @@
 #   vnsba_recorder           draws every run: OUT/<id>.svg and OUT/<id>.json
 #   vnsba_send_goal          one request per goal, each answered by one status line
 #
-# all on a private DDS domain. The goals cover long corridors, routes around clutter, an exact
-# A* beside VNS-BA*, an unreachable room (NO_VALID_PATH) and a goal inside a wall
+# all on a private DDS domain. The goals cover long corridors, routes around clutter, the exact
+# A* and JPS beside VNS-BA*, an unreachable room (NO_VALID_PATH) and a goal inside a wall
 # (GOAL_OCCUPIED). It prints a table of the results and the pictures written, stops every
 # process it started, and exits 0 only if every goal ended as expected and every process
 # stopped cleanly.
@@ -56,6 +56,7 @@ goals=(
   "corridor            vns_bastar  -6    0.5   27    -0.5  OK"
   "office_route        vns_bastar   2   -6     14.5   6    OK"
   "office_route_astar  astar        2   -6     14.5   6    OK"
+  "office_route_jps    jps          2   -6     14.5   6    OK"
   "hall_to_corridor    vns_bastar  16   -6.5   -6     0    OK"
   "closed_room         vns_bastar  -6    0      0     4    NO_VALID_PATH"
   "into_wall           vns_bastar  -6    0     10    -1.2  GOAL_OCCUPIED"

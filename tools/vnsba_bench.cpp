@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "bench/common.hpp"
+#include "bench/large.hpp"
 #include "bench/movingai.hpp"
 #include "bench/paper.hpp"
 #include "bench/sweep.hpp"
@@ -132,6 +133,20 @@ int main(int argc, char** argv) {
                    "at most N scenarios per map, spread over the file (0: all)")
       ->capture_default_str();
 
+  vnsba::bench::LargeOptions large_options;
+  large_options.maps_dir = maps_dir;
+  std::string large_planner_list;
+  auto* large = app.add_subcommand(
+      "large", "astar, jps and vns_bastar on 2048 and 4096 cells square slices, p50 and p95");
+  large->add_option("--maps", large_options.maps_dir, "folder with the Moving AI maps")
+      ->capture_default_str();
+  large->add_option("--planners", large_planner_list,
+                    "comma-separated planner names (default: astar,jps,vns_bastar)");
+  large->add_option("--sizes", large_options.sizes, "cells a side, multiples of 512")
+      ->capture_default_str();
+  large->add_option("--queries", large_options.queries, "queries per map and size")
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -155,6 +170,17 @@ int main(int argc, char** argv) {
       movingai_options.planners = std::move(kinds).value();
     }
     return vnsba::bench::run_movingai(movingai_options);
+  }
+  if (large->parsed()) {
+    if (!large_planner_list.empty()) {
+      auto kinds = vnsba::bench::parse_planner_list(large_planner_list);
+      if (!kinds) {
+        std::fprintf(stderr, "vnsba_bench large: %s\n", kinds.error().message.c_str());
+        return vnsba::bench::kExitBadInput;
+      }
+      large_options.planners = std::move(kinds).value();
+    }
+    return vnsba::bench::run_large(large_options);
   }
   return vnsba::bench::kExitBadInput;
 }

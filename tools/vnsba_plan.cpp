@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
       ->required();
   app.add_option("--planner", planner_name,
                  "vns_bastar, astar, weighted_astar, bidirectional_astar, "
-                 "alternating_bidirectional_astar");
+                 "alternating_bidirectional_astar, jps");
   app.add_option("--svg", svg_path, "write a picture of the run here");
   app.add_flag("--cells", cells, "start and goal are cell indices (column, row from the bottom)");
   const std::vector<CLI::Option*> octomap_options = {

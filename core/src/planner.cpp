@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "jps.hpp"
 #include "search_space.hpp"
 #include "vnsba/core/budget.hpp"
 #include "vnsba/core/heuristics.hpp"
@@ -269,6 +270,15 @@ struct Planner::Impl {
         return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
                                     hb, MeetingRule::kCloseClosedByOther, cfg, budget, rec_f,
                                     rec_b);
+      }
+      case PlannerKind::kJps: {
+        detail::JpsOutcome jps = detail::jps_search(map, states, forward, q.start, q.goal, budget,
+                                                    o.record_expansions ? rec_f : nullptr);
+        SearchOutcome out;
+        out.code = jps.code;
+        out.path = std::move(jps.path);
+        out.expanded = jps.expanded;
+        return out;
       }
       case PlannerKind::kVnsBaStar: {
         const DensityWeightedHeuristic hf{&map,    &current[1], q.goal,

@@ -20,6 +20,7 @@ constexpr PlannerName kPlannerNames[] = {
     {PlannerKind::kBidirectionalAStar, "bidirectional_astar"},
     {PlannerKind::kAlternatingBidirectionalAStar, "alternating_bidirectional_astar"},
     {PlannerKind::kVnsBaStar, "vns_bastar"},
+    {PlannerKind::kJps, "jps"},
 };
 
 }  // namespace
@@ -62,6 +63,15 @@ const std::vector<PlannerKind>& all_planner_kinds() {
   return kinds;
 }
 
+// Jump Point Search prunes every move that an optimal 8-connected path without corner cutting
+// does not need: its rules hold for that graph only.
+bool supports(PlannerKind kind, Neighborhood neighborhood) {
+  return kind != PlannerKind::kJps || neighborhood == Neighborhood::kEight;
+}
+bool supports(PlannerKind kind, CornerPolicy policy) {
+  return kind != PlannerKind::kJps || policy == CornerPolicy::kNever;
+}
+
 PlannerOptions default_options(PlannerKind kind) {
   PlannerOptions options;
   options.planner = kind;
@@ -87,6 +97,15 @@ Status validate(const PlannerOptions& o) {
       o.eta == 0.0) {
     err() << "omega and eta must not both be 0 (the heuristic would vanish); ";
   }
+  if (!supports(o.planner, o.corner_policy))
+    err() << "corner_policy " << to_string(o.corner_policy) << " is not supported by "
+          << to_string(o.planner)
+          << ", whose jump rules need both cells beside a diagonal move free (use never, or "
+             "another planner); ";
+  if (!supports(o.planner, o.neighborhood))
+    err() << "neighborhood " << to_string(o.neighborhood) << " is not supported by "
+          << to_string(o.planner)
+          << ", which searches the 8-neighbourhood (use 8, or another planner); ";
   check(kSmoothingDistanceRange, o.smoothing_distance);
   check(kSampleStepRange, o.sample_step);
   const double seconds = std::chrono::duration<double>(o.max_planning_time).count();

@@ -353,6 +353,17 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   planner.choice("corner_policy", s.corner_policy, core::corner_policy_from_string,
                  names_of({core::CornerPolicy::kNever, core::CornerPolicy::kTouch,
                            core::CornerPolicy::kAlways}));
+  // Named here by key (core::validate says the same to requests, without the key path).
+  const core::PlannerOptions moves = c.planner.options();
+  if (!core::supports(kind, moves.corner_policy))
+    errors.push_back("planner.corner_policy: found \"" +
+                     std::string(to_string(moves.corner_policy)) + "\", expected never for " +
+                     std::string(to_string(kind)) +
+                     " (its jump rules need both cells beside a diagonal move free)");
+  if (!core::supports(kind, moves.neighborhood))
+    errors.push_back("planner.neighborhood: found \"" + std::string(to_string(moves.neighborhood)) +
+                     "\", expected 8 for " + std::string(to_string(kind)) +
+                     " (it searches the 8-neighbourhood)");
   planner.boolean("prune", s.prune);
   planner.boolean("smooth", s.smooth);
   number_in(core::kSmoothingDistanceRange, s.smoothing_distance);

@@ -122,12 +122,43 @@ TEST(PlannerOptions, MakeOptionsLeavesRangeChecksToValidate) {
 }
 
 TEST(PlannerOptions, NamesRoundTrip) {
-  ASSERT_EQ(all_planner_kinds().size(), 5u);
+  ASSERT_EQ(all_planner_kinds().size(), 6u);
   for (PlannerKind kind : all_planner_kinds()) {
     EXPECT_EQ(planner_kind_from_string(to_string(kind)), kind);
   }
   EXPECT_EQ(planner_kind_from_string("vns_bastar"), PlannerKind::kVnsBaStar);
+  EXPECT_EQ(planner_kind_from_string("jps"), PlannerKind::kJps);
   EXPECT_FALSE(planner_kind_from_string("dijkstra").has_value());
+}
+
+// Jump Point Search's rules hold for the 8-neighbourhood without corner cutting only: anything
+// else is refused, naming the option, and never silently planned on other moves.
+TEST(PlannerOptions, JpsRefusesOtherMovesNamingTheOption) {
+  PlannerOptions o = default_options(PlannerKind::kJps);
+  EXPECT_EQ(o.neighborhood, Neighborhood::kEight);
+  EXPECT_EQ(o.corner_policy, CornerPolicy::kNever);
+  EXPECT_TRUE(validate(o).is_ok()) << validate(o).message;
+  for (auto policy : {CornerPolicy::kTouch, CornerPolicy::kAlways}) {
+    o.corner_policy = policy;
+    const auto status = validate(o);
+    EXPECT_EQ(status.code, StatusCode::kInvalidRequest);
+    EXPECT_NE(status.message.find("corner_policy " + std::string(to_string(policy))),
+              std::string::npos)
+        << status.message;
+  }
+  o.corner_policy = CornerPolicy::kNever;
+  o.neighborhood = Neighborhood::kEightElevenThirteen;
+  const auto status = validate(o);
+  EXPECT_EQ(status.code, StatusCode::kInvalidRequest);
+  EXPECT_NE(status.message.find("neighborhood 8-11-13"), std::string::npos) << status.message;
+  // The other planners take every combination.
+  for (PlannerKind kind : all_planner_kinds()) {
+    if (kind == PlannerKind::kJps) continue;
+    PlannerOptions other = default_options(kind);
+    other.corner_policy = CornerPolicy::kAlways;
+    other.neighborhood = Neighborhood::kEightElevenThirteen;
+    EXPECT_TRUE(validate(other).is_ok()) << to_string(kind);
+  }
 }
 
 }  // namespace

@@ -68,7 +68,7 @@ void check_plan(const GridMap& map, const core::PlanQuery& q, const PlannerOptio
   if (o.neighborhood == core::Neighborhood::kEight) {
     ASSERT_GE(raw_cost, optimal - 1e-9);
   }
-  if (o.planner == PlannerKind::kAStar) {
+  if (o.planner == PlannerKind::kAStar || o.planner == PlannerKind::kJps) {  // the exact ones
     ASSERT_NEAR(raw_cost, optimal, 1e-9 * std::max(1.0, optimal));
   }
   // Pruned waypoints: a subsequence of the raw path's centres, each leg with exact sight.
@@ -125,6 +125,11 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
         if (post) o.prune = o.smooth = true;
         if (post && kind == PlannerKind::kVnsBaStar) o.neighborhood = core::Neighborhood::kEight;
         const PlanResult r = planner.plan(q, o);
+        if (!core::supports(kind, policy)) {  // jps with touch or always: refused, by name
+          ASSERT_EQ(r.status.code, core::StatusCode::kInvalidRequest);
+          ASSERT_NE(r.status.message.find("corner_policy"), std::string::npos);
+          continue;
+        }
         check_plan(
             *map, q, o, r, reachable, optimal, tally,
             "map " + std::to_string(m) + " (" + std::to_string(w) + "x" + std::to_string(h) + ")");
@@ -165,6 +170,7 @@ TEST(PlannerProperties, RawPathsNeverVisitACellTwice) {
             o.corner_policy = policy;
             o.neighborhood = hood;
             o.prune = o.smooth = false;
+            if (!core::supports(kind, policy) || !core::supports(kind, hood)) continue;
             const PlanResult r = planner.plan(q, o);
             ++plans;
             if (!r.status.is_ok()) continue;

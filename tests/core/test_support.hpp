@@ -2,6 +2,8 @@
 // a cell's blocked flag, so a bug in the planners' line of sight, moves or search cannot hide.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -192,6 +194,44 @@ inline std::string fixture_path(const std::string& name) {
 
 inline std::string data_path(const std::string& name) {
   return std::string(VNSBA_DATA_DIR) + "/" + name;
+}
+
+// Checks a path cell by cell without the code under test (only the map's blocked flags): it
+// runs from start to goal, every cell is in the map and free, consecutive cells are distinct
+// 8-neighbours, and a diagonal step has both side cells free. `length` gets the polyline length
+// of the cell centres (cells).
+inline ::testing::AssertionResult valid_grid_path(const GridMap& map, const std::vector<Cell>& path,
+                                                  Cell start, Cell goal, double* length) {
+  if (path.empty()) return ::testing::AssertionFailure() << "empty path";
+  if (path.front() != start) return ::testing::AssertionFailure() << "does not begin at start";
+  if (path.back() != goal) return ::testing::AssertionFailure() << "does not end at goal";
+  int64_t straight = 0, diagonal = 0;
+  for (size_t i = 0; i < path.size(); ++i) {
+    const Cell c = path[i];
+    if (!cell_free(map, c.x, c.y)) {
+      return ::testing::AssertionFailure()
+             << "cell " << i << " (" << c.x << ", " << c.y << ") is blocked or outside";
+    }
+    if (i == 0) continue;
+    const Cell p = path[i - 1];
+    const int dx = c.x - p.x, dy = c.y - p.y;
+    if (std::abs(dx) > 1 || std::abs(dy) > 1 || (dx == 0 && dy == 0)) {
+      return ::testing::AssertionFailure()
+             << "step " << i << " (" << p.x << ", " << p.y << ") -> (" << c.x << ", " << c.y
+             << ") is not a move to an 8-neighbour";
+    }
+    if (dx != 0 && dy != 0) {
+      if (!cell_free(map, p.x + dx, p.y) || !cell_free(map, p.x, p.y + dy)) {
+        return ::testing::AssertionFailure() << "step " << i << " (" << p.x << ", " << p.y
+                                             << ") -> (" << c.x << ", " << c.y << ") cuts a corner";
+      }
+      ++diagonal;
+    } else {
+      ++straight;
+    }
+  }
+  *length = static_cast<double>(straight) + static_cast<double>(diagonal) * std::sqrt(2.0);
+  return ::testing::AssertionSuccess();
 }
 
 }  // namespace vnsba::test

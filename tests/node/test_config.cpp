@@ -327,6 +327,21 @@ TEST(Config, VnsBaStarNeedsANonZeroWeight) {
   EXPECT_TRUE(parse_config("planner: {name: astar, omega: 0, eta: 0}\n").config.has_value());
 }
 
+// jps plans on the 8-neighbourhood without corner cutting only: a config asking it for other
+// moves is refused at load, naming each key (both errors at once), never planned otherwise.
+TEST(Config, JpsNeedsCornerPolicyNeverAndTheEightNeighbourhood) {
+  const ConfigResult bad =
+      parse_config("planner:\n  name: jps\n  corner_policy: touch\n  neighborhood: 8-11-13\n");
+  ASSERT_EQ(bad.errors.size(), 2u) << Joined(bad.errors);
+  EXPECT_TRUE(HasError(bad, "planner.corner_policy", {"\"touch\"", "never", "jps"}));
+  EXPECT_TRUE(HasError(bad, "planner.neighborhood", {"\"8-11-13\"", "8", "jps"}));
+  EXPECT_TRUE(parse_config("planner: {name: jps}\n").config.has_value());
+  EXPECT_TRUE(
+      parse_config("planner: {name: jps, corner_policy: never, prune: true}\n").config.has_value());
+  // The same keys are fine for the other planners.
+  EXPECT_TRUE(parse_config("planner: {name: astar, corner_policy: always}\n").config.has_value());
+}
+
 TEST(Config, UnknownEnumNamesListTheValidNames) {
   const ConfigResult r = LoadBad("bad_enums.yaml", 5);
   EXPECT_TRUE(
@@ -559,6 +574,8 @@ TEST(Config, PlannerOverrideKeepsEveryConfiguredKey) {
   // so that each configured value differs from some override's paper configuration.
   for (const bool vns_values : {false, true}) {
     for (PlannerKind configured : vnsba::core::all_planner_kinds()) {
+      // jps refuses corner_policy always at load (JpsNeedsCornerPolicyNever...).
+      if (configured == PlannerKind::kJps) continue;
       const std::string yaml =
           "planner:\n  name: " + std::string(vnsba::core::to_string(configured)) +
           "\n  omega: 2\n  eta: 3\n  neighborhood: \"" + (vns_values ? "8-11-13" : "8") +
@@ -585,7 +602,12 @@ TEST(Config, PlannerOverrideKeepsEveryConfiguredKey) {
         EXPECT_EQ(o.max_planning_time, microseconds(250000));
         EXPECT_TRUE(o.compute_length_ratio);
         EXPECT_FALSE(o.record_expansions);  // not a config key: the node sets it per request
-        EXPECT_TRUE(vnsba::core::validate(o).is_ok()) << vnsba::core::validate(o).message;
+        if (kind == PlannerKind::kJps) {    // kept, and then refused by name, not changed
+          EXPECT_NE(vnsba::core::validate(o).message.find("corner_policy always"),
+                    std::string::npos);
+        } else {
+          EXPECT_TRUE(vnsba::core::validate(o).is_ok()) << vnsba::core::validate(o).message;
+        }
       }
     }
   }

@@ -82,8 +82,21 @@ std::string paper_name(core::PlannerKind kind) {
       return "improved BA*";
     case core::PlannerKind::kVnsBaStar:
       return "VNS-BA*";
+    case core::PlannerKind::kJps:
+      return "JPS";
   }
   return std::string(core::to_string(kind));
+}
+
+std::vector<size_t> pick_scenarios(size_t count, int limit) {
+  std::vector<size_t> picked;
+  if (limit <= 0 || static_cast<size_t>(limit) >= count) {
+    for (size_t i = 0; i < count; ++i) picked.push_back(i);
+    return picked;
+  }
+  for (size_t i = 0; i < static_cast<size_t>(limit); ++i)
+    picked.push_back(i * count / static_cast<size_t>(limit));
+  return picked;
 }
 
 TimedPlan timed_plan(core::Planner& planner, const core::PlanQuery& query,

@@ -42,6 +42,10 @@ core::Expected<std::vector<core::PlannerKind>> parse_planner_list(const std::str
 // "VNS-BA*".
 std::string paper_name(core::PlannerKind kind);
 
+// Scenario indices to run: all, or `limit` spread evenly over the file (it is sorted by
+// bucket, i.e. by optimal length, so every length band stays represented).
+std::vector<size_t> pick_scenarios(size_t count, int limit);
+
 // One plan, timed around Planner::plan on a steady clock in nanoseconds (the core's own
 // planning_time_us has a resolution of 1 us, too coarse for 20 x 20 maps).
 struct TimedPlan {

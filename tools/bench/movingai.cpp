@@ -70,19 +70,6 @@ struct Run {
   double time_us = NAN;
 };
 
-// Scenario indices to run: all, or `limit` spread evenly over the file (it is sorted by
-// bucket, i.e. by optimal length, so every length band stays represented).
-std::vector<size_t> pick_scenarios(size_t count, int limit) {
-  std::vector<size_t> picked;
-  if (limit <= 0 || static_cast<size_t>(limit) >= count) {
-    for (size_t i = 0; i < count; ++i) picked.push_back(i);
-    return picked;
-  }
-  for (size_t i = 0; i < static_cast<size_t>(limit); ++i)
-    picked.push_back(i * count / static_cast<size_t>(limit));
-  return picked;
-}
-
 }  // namespace
 
 std::string movingai_map_class(const std::string& maps_dir, const std::string& map_file_name) {
@@ -104,9 +91,10 @@ std::string movingai_map_class(const std::string& maps_dir, const std::string& m
   return class_of_name(map_file_name);
 }
 
-// Per class and over all classes: VNS-BA*'s median time as a ratio of A*'s (both over the same
-// queries, one run), and every configuration's cost per expansion (its total time / its total
-// expansions, in nanoseconds). Times and expansions of failed plans count too: they were spent.
+// Per class and over all classes: VNS-BA*'s and JPS's median time as a ratio of A*'s (over the
+// same queries, one run), and every configuration's cost per expansion (its total time / its
+// total expansions, in nanoseconds). Times and expansions of failed plans count too: they were
+// spent.
 std::string speed_summary(const std::vector<Run>& runs,
                           const std::vector<Configuration>& configurations) {
   auto index_of = [&](core::PlannerKind kind) -> std::optional<size_t> {
@@ -116,8 +104,10 @@ std::string speed_summary(const std::vector<Run>& runs,
   };
   const auto astar = index_of(core::PlannerKind::kAStar);
   const auto vns = index_of(core::PlannerKind::kVnsBaStar);
+  const auto jps = index_of(core::PlannerKind::kJps);
   std::vector<std::string> headers = {"class"};
   if (astar && vns) headers.push_back("VNS-BA* / A* median time");
+  if (astar && jps) headers.push_back("JPS / A* median time");
   for (const auto& c : configurations) headers.push_back(c.name() + " ns / expansion");
   MarkdownTable table(headers);
   std::vector<std::string> classes = kClasses;
@@ -134,12 +124,14 @@ std::string speed_summary(const std::vector<Run>& runs,
     if (time[0].empty()) continue;
     std::vector<std::string> row = {map_class};
     if (astar && vns) row.push_back(format(median(time[*vns]) / median(time[*astar]), 3));
+    if (astar && jps) row.push_back(format(median(time[*jps]) / median(time[*astar]), 4));
     for (size_t c = 0; c < configurations.size(); ++c)
       row.push_back(
           format(total_expanded[c] > 0 ? 1000.0 * total_us[c] / total_expanded[c] : NAN, 0));
     table.add_row(row);
   }
-  return "**Speed.** VNS-BA*'s median planning time as a ratio of A*'s over the same queries, and "
+  return "**Speed.** VNS-BA*'s and JPS's median planning time as a ratio of A*'s over the same "
+         "queries, and "
          "each configuration's cost per expansion (total planning time / total expanded nodes, "
          "ns; post-processing included where it is on).\n\n" +
          table.str() + "\n";

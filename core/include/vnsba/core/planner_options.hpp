@@ -30,9 +30,16 @@ enum class PlannerKind {
   kBidirectionalAStar,             // "bidirectional_astar": the paper's "BA*"
   kAlternatingBidirectionalAStar,  // "alternating_bidirectional_astar": "improved BA*" (Li 2022)
   kVnsBaStar,                      // "vns_bastar": the paper's VNS-BA*
+  kJps,  // "jps": Jump Point Search, optimal like A* at a fraction of its time; 8-neighbourhood
+         // and corner_policy never only (its pruning rules assume both side cells free)
 };
 
 std::string_view to_string(PlannerKind kind);
+// Whether a planner searches with these moves: jps only with the 8-neighbourhood and corner
+// policy never (its jump rules are those of that graph); every other planner with all of them.
+// validate() refuses the rest.
+bool supports(PlannerKind kind, Neighborhood neighborhood);
+bool supports(PlannerKind kind, CornerPolicy policy);
 std::optional<PlannerKind> planner_kind_from_string(std::string_view name);
 // All planners, in the paper's table order.
 const std::vector<PlannerKind>& all_planner_kinds();

@@ -1,0 +1,30 @@
+// `vnsba_bench large`: planners on slices of 2048 x 2048 and 4096 x 4096 cells, built from real
+// Moving AI maps, per query p50 and p95. An office slice at 5 cm a cell is that large (200 m
+// across), and that is where an exact planner's time matters.
+//
+// Two ways to make a large map from a 512 x 512 one, both keeping its character:
+//   scaled: every cell becomes a k x k block (k = size / 512): the same building or city at a
+//           finer resolution (Boston_0_512 as a street map, 16room_000 as an indoor floor);
+//   tiled:  the map repeated k x k times (random512-20-0: its edges are not walled, so the
+//           copies join into one large random field).
+// Queries: the map's scenarios spread over its file, endpoints moved to the centre of their
+// block (scaled), or from a scenario's start in the first copy to its goal in the last (tiled).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vnsba/core/planner.hpp"
+
+namespace vnsba::bench {
+
+struct LargeOptions {
+  std::string maps_dir;
+  std::vector<core::PlannerKind> planners;  // empty: astar, jps, vns_bastar
+  std::vector<int> sizes = {2048, 4096};    // cells a side, each a multiple of 512
+  int queries = 20;                         // per map and size
+};
+
+int run_large(const LargeOptions& options);
+
+}  // namespace vnsba::bench
