@@ -16,6 +16,8 @@ double heading_change(const Point2& a, const Point2& b, const Point2& c) {
   // atan2(cross, dot) is the signed angle between the legs, exact for collinear legs (cross 0).
   const double cross = in.x() * out.y() - in.y() * out.x();
   const double dot = in.dot(out);
+  // Straight on (most vertices of a grid path): atan2(0, dot > 0) is exactly 0; skip the call.
+  if (cross == 0.0 && dot > 0.0) return 0.0;
   return std::atan2(cross, dot);
 }
 

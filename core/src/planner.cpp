@@ -389,10 +389,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   }
 
   result.raw_path = std::move(outcome.path);
-  result.metrics.raw_cost_cells = polyline_length(cell_centres(result.raw_path));
+  std::vector<Point2> raw_centres = cell_centres(result.raw_path);
+  result.metrics.raw_cost_cells = polyline_length(raw_centres);
   result.waypoints = options.prune
                          ? prune_path(map, result.raw_path, options.corner_policy, &budget)
-                         : cell_centres(result.raw_path);
+                         : std::move(raw_centres);
   if (budget.expired()) return budget_failure(budget.state(), "while pruning the path");
   const TurnStats turns = turn_stats(result.waypoints);
   result.metrics.turns = turns.turns;
