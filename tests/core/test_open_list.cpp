@@ -131,6 +131,7 @@ TEST(OpenList, EveryPopIsTheLeastOnRandomMapsForEveryPlanner) {
         o.corner_policy = kAllCornerPolicies[m % 3];
         o.neighborhood = hood;
         o.prune = o.smooth = false;
+        if (!core::supports(kind, o.corner_policy) || !core::supports(kind, hood)) continue;
         const core::PlanResult r = planner.plan(q, o);
         ++plans;
         found += r.status.is_ok() ? 1 : 0;
