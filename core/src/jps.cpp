@@ -181,10 +181,12 @@ inline int sign_of(int32_t v) {
 // arrival: straight when |dx| != |dy|, diagonal otherwise.
 class JumpPointSearch {
  public:
-  JumpPointSearch(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& goal)
+  JumpPointSearch(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& goal,
+                  PlanningBudget& budget)
       : map_(map),
         states_(states),
         space_(space),
+        budget_(budget),
         blocked_(map.blocked_data()),
         stride_(map.stride()),
         width_(map.width()),
@@ -302,11 +304,22 @@ class JumpPointSearch {
     const int32_t inner_cells = std::min(kSx > 0 ? width - 1 - x : x, kSy > 0 ? height - 1 - y : y);
     const uint64_t* row = row_line(y);
     const uint64_t* column = column_line(x);
+    // Entries a step can add: the two straight jumps' ends (or the goal) and the deferred cell.
+    constexpr int kAddedPerStep = 3;
     constexpr int kBuffer = 16;
+    static_assert(kBuffer >= 2 * kAddedPerStep, "the flush below must leave room for a step");
     constexpr int32_t kDeferAfterCells = 25;  // cells walked; see the end of the loop
     JumpPoint found[kBuffer];
     int count = 0;
     for (int32_t k = 0; k < inner_cells; ++k) {
+      // One walk can cross the whole map, each of its cells scanning two whole lines: the budget
+      // is polled per cell walked (a counter; the clock every 256 calls), not only per expansion,
+      // so a timeout or cancel is seen within a few hundred microseconds on any map. An
+      // expired walk stops; the search loop then returns the budget's code.
+      if (budget_.poll() != StatusCode::kOk) {
+        add_successors(found, count);
+        return;
+      }
       if (x == goal_x_on_diagonal) {
         found[count++] = found_at(goal.x, goal.y);
         add_successors(found, count);
@@ -358,7 +371,7 @@ class JumpPointSearch {
         add_successors(found, count);
         return;
       }
-      if (count > kBuffer - 3) {  // a step adds at most 3
+      if (count > kBuffer - kAddedPerStep) {
         add_successors(found, count);
         count = 0;
       }
@@ -439,6 +452,7 @@ class JumpPointSearch {
   const GridMap& map_;
   CellStates& states_;
   SearchSpace& space_;
+  PlanningBudget& budget_;
   const uint8_t* blocked_;  // padded, 1 = blocked (GridMap::blocked_data)
   int32_t stride_, width_, height_;
   size_t row_words_, column_words_;  // words per line of the two bit grids
@@ -501,7 +515,7 @@ JpsOutcome jps_search(const GridMap& map, CellStates& states, SearchSpace& space
   states.begin_query(map.padded_size());
   space.begin_query(map.padded_size());
   const uint32_t goal_index = map.padded_index(goal);
-  JumpPointSearch search(map, states, space, goal);
+  JumpPointSearch search(map, states, space, goal, budget);
   space.push(map.padded_index(start), 0.0, octile(start, goal), SearchSpace::kNoParent);
   while (!space.empty()) {
     if (const StatusCode code = budget.poll(); code != StatusCode::kOk) {

@@ -32,8 +32,9 @@ struct JpsOutcome {
 //
 // Both cells must be in the map and free (kInternalError otherwise: the caller checks the query);
 // start == goal gives the one-cell path. `states` and `space` are reused across queries (this
-// begins a query on both). The budget is polled once per expansion; when it runs out the search
-// stops with its code (kTimeout, kCanceled). `expanded_cells` may be null; when not, the popped
+// begins a query on both). The budget is polled once per expansion and once per cell a diagonal
+// walk visits (one expansion can walk the whole map); when it runs out the search stops with its
+// code (kTimeout, kCanceled). `expanded_cells` may be null; when not, the popped
 // jump points are appended to it in order.
 //
 // Allocates nothing per query but the result path (and what `expanded_cells` grows by).

@@ -438,5 +438,36 @@ TEST(Jps, PollsTheBudgetOncePerExpansion) {
   EXPECT_EQ(static_cast<int64_t>(expanded.size()), out.expanded);
 }
 
+// One expansion can walk a diagonal across the whole map, scanning two lines at every cell, so
+// the budget must be read during a walk, not only between expansions (which read the clock every
+// 256th time). The map: open ground with blocked cells at (1, 3k), each of which makes a jump
+// point that walks north-east across the map, and a goal sealed in the top-right corner, so the
+// search would go on for hundreds of expansions. With a budget that has run out by the time the
+// first walk has visited a few hundred cells, the search stops during the first expansion; read
+// once per expansion, the clock would first be checked at the 256th.
+TEST(Jps, ABudgetRunningOutDuringALongWalkStopsIt) {
+  constexpr int kSide = 900;
+  std::vector<std::string> rows(kSide, std::string(kSide, '.'));
+  auto block = [&](int x, int y) { rows[kSide - 1 - y][x] = '#'; };  // rows are top first
+  for (int y = 3; y < kSide; y += 3) block(1, y);
+  for (int i = kSide - 3; i < kSide; ++i) {
+    block(kSide - 3, i);
+    block(i, kSide - 3);
+  }
+  const GridMap map = make_map(rows);
+  CellStates states;
+  SearchSpace space(&states, 0);
+  PlanningBudget unlimited(PlanningBudget::Clock::now(), std::chrono::microseconds(0), nullptr);
+  const JpsOutcome all = core::detail::jps_search(map, states, space, {0, 0},
+                                                  {kSide - 1, kSide - 1}, unlimited, nullptr);
+  ASSERT_EQ(all.code, StatusCode::kNoValidPath);
+  ASSERT_GT(all.expanded, 256);  // the test means something only if the search is that long
+  PlanningBudget tight(PlanningBudget::Clock::now(), std::chrono::microseconds(1), nullptr);
+  const JpsOutcome stopped =
+      core::detail::jps_search(map, states, space, {0, 0}, {kSide - 1, kSide - 1}, tight, nullptr);
+  EXPECT_EQ(stopped.code, StatusCode::kTimeout);
+  EXPECT_LE(stopped.expanded, 2);
+}
+
 }  // namespace
 }  // namespace vnsba::test
