@@ -1,14 +1,15 @@
 #!/bin/sh
 # Regenerates docs/RESULTS.md and the pictures in docs/results/ from fresh measurements:
-# builds vnsba_bench (Release, no DDS needed), runs `vnsba_bench paper`, `sweep` and `movingai`,
-# and fills the measured tables into tools/bench/RESULTS.md.in.
+# builds vnsba_bench (Release, no DDS needed), runs `vnsba_bench paper`, `sweep`, `movingai` and
+# `large`, and fills the measured tables into tools/bench/RESULTS.md.in.
 #
 #   tools/bench/make_results.sh                 # about 5 minutes on 2 cores
 #   VNSBA_MOVINGAI_SCENARIOS=0 tools/bench/make_results.sh   # every Moving AI scenario (an hour)
 #
 # Environment: VNSBA_BUILD_DIR (default build/bench), VNSBA_DATA_DIR (default ../shared/data
 # beside the project), VNSBA_MOVINGAI_SCENARIOS (per map, default 300; 0 = all),
-# VNSBA_REPETITIONS (timed plans per paper run, default 51).
+# VNSBA_REPETITIONS (timed plans per paper run, default 51), VNSBA_LARGE_QUERIES (per large map
+# and size, default 12).
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${VNSBA_BUILD_DIR:-$root/build/bench}
@@ -34,6 +35,8 @@ echo "sweep (omega / eta on the Figure 3 maps) ..." >&2
 echo "movingai ($scenarios scenarios per map; 0 = all) ..." >&2
 "$bench" movingai --maps "$data/movingai" --max-scenarios "$scenarios" --with-post-processing \
   > "$work/movingai.md"
+echo "large (2048 and 4096 cells square slices) ..." >&2
+"$bench" large --maps "$data/movingai" --queries "${VNSBA_LARGE_QUERIES:-12}" > "$work/large.md"
 # The CSV tables are kept for other tools; the Markdown copies are in RESULTS.md itself.
 rm -f "$out/paper/paper_tables.md"
 
@@ -46,11 +49,13 @@ compiler=$(c++ --version | head -n 1)
 machine="$(nproc) cores ($cpu), $(uname -s) $(uname -m), $compiler, Release build (-O3), $(date -u +%Y-%m-%d)"
 
 awk -v machine="$machine" -v scenarios="$scenarios" -v repetitions="$repetitions" \
-    -v paper="$work/paper.rel.md" -v sweep="$work/sweep.rel.md" -v movingai="$work/movingai.md" '
+    -v paper="$work/paper.rel.md" -v sweep="$work/sweep.rel.md" -v movingai="$work/movingai.md" \
+    -v large="$work/large.md" '
   function include(file,   line) { while ((getline line < file) > 0) print line; close(file) }
   /^@PAPER@$/ { include(paper); next }
   /^@SWEEP@$/ { include(sweep); next }
   /^@MOVINGAI@$/ { include(movingai); next }
+  /^@LARGE@$/ { include(large); next }
   { gsub(/@MACHINE@/, machine); gsub(/@SCENARIOS@/, scenarios); gsub(/@REPETITIONS@/, repetitions); print }
 ' "$root/tools/bench/RESULTS.md.in" > "$root/docs/RESULTS.md"
 echo "wrote docs/RESULTS.md and docs/results/" >&2
