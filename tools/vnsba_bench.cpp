@@ -160,26 +160,27 @@ int main(int argc, char** argv) {
   if (optimality->parsed()) return run_optimality(maps_dir);
   if (paper->parsed()) return vnsba::bench::run_paper(paper_options);
   if (sweep->parsed()) return vnsba::bench::run_sweep(sweep_options);
-  if (movingai->parsed()) {
-    if (!planner_list.empty()) {
-      auto kinds = vnsba::bench::parse_planner_list(planner_list);
-      if (!kinds) {
-        std::fprintf(stderr, "vnsba_bench movingai: %s\n", kinds.error().message.c_str());
-        return vnsba::bench::kExitBadInput;
-      }
-      movingai_options.planners = std::move(kinds).value();
+  // --planners of `command` into `planners` (left empty when not given); false after printing
+  // what is wrong.
+  auto read_planners = [](const char* command, const std::string& list,
+                          std::vector<vnsba::core::PlannerKind>& planners) {
+    if (list.empty()) return true;
+    auto kinds = vnsba::bench::parse_planner_list(list);
+    if (!kinds) {
+      std::fprintf(stderr, "vnsba_bench %s: %s\n", command, kinds.error().message.c_str());
+      return false;
     }
+    planners = std::move(kinds).value();
+    return true;
+  };
+  if (movingai->parsed()) {
+    if (!read_planners("movingai", planner_list, movingai_options.planners))
+      return vnsba::bench::kExitBadInput;
     return vnsba::bench::run_movingai(movingai_options);
   }
   if (large->parsed()) {
-    if (!large_planner_list.empty()) {
-      auto kinds = vnsba::bench::parse_planner_list(large_planner_list);
-      if (!kinds) {
-        std::fprintf(stderr, "vnsba_bench large: %s\n", kinds.error().message.c_str());
-        return vnsba::bench::kExitBadInput;
-      }
-      large_options.planners = std::move(kinds).value();
-    }
+    if (!read_planners("large", large_planner_list, large_options.planners))
+      return vnsba::bench::kExitBadInput;
     return vnsba::bench::run_large(large_options);
   }
   return vnsba::bench::kExitBadInput;

@@ -159,6 +159,31 @@ TEST(VnsbaBench, SweepWritesTablesAndHeatMaps) {
   fs::remove_all(out);
 }
 
+// `large` on the real maps at their own size (factor 1, two queries each): a table row per map,
+// size and planner, every plan found, and bad options refused by name (exit 2).
+TEST(VnsbaBench, LargeRowsPerMapAndPlannerAndItsOptions) {
+  const std::string maps = VNSBA_DATA_DIR "/movingai";
+  for (const char* name : {"Boston_0_512", "16room_000", "random512-20-0"})
+    if (!fs::exists(maps + "/" + name + ".map"))
+      GTEST_SKIP() << name << ".map is absent: the Moving AI data beside the project is needed";
+  const auto [code, output] = run_to_exit(kBench, {"large", "--maps", maps, "--sizes", "512",
+                                                   "--queries", "2", "--planners", "astar,jps"});
+  ASSERT_EQ(code, 0) << output;
+  for (const char* row : {"| Boston_0_512 (street, scaled) | 512² | astar | 2 | 0 |",
+                          "| Boston_0_512 (street, scaled) | 512² | jps | 2 | 0 |",
+                          "| 16room_000 (room, scaled) | 512² | jps | 2 | 0 |",
+                          "| random512-20-0 (random, tiled) | 512² | jps | 2 | 0 |"})
+    EXPECT_NE(output.find(row), std::string::npos) << row << "\n" << output;
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"large", "--maps", maps, "--sizes", "1000"},
+        std::vector<std::string>{"large", "--maps", maps, "--queries", "0"},
+        std::vector<std::string>{"large", "--maps", maps, "--planners", "astr"}}) {
+    const auto [bad_code, message] = run_to_exit(kBench, bad);
+    EXPECT_EQ(bad_code, 2) << message;
+    EXPECT_NE(message.find(bad[3]), std::string::npos) << message;
+  }
+}
+
 TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   const std::string source = VNSBA_DATA_DIR "/movingai/arena.map";
   if (!fs::exists(source) || !fs::exists(source + ".scen"))
