@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/large.hpp"
 #include "scenario_maps.hpp"
 #include "vnsba/core/line_of_sight.hpp"
 #include "vnsba/core/map_io.hpp"
@@ -220,12 +221,7 @@ int main(int argc, char** argv) {
       std::mt19937 rng(5);
       for (auto& v : tile.data) v = rng() % 5 == 0 ? 100 : 0;
     }
-    OccupancyGrid g{tile.width * 8, tile.height * 8, 0.05, 0.0, 0.0, {}};
-    g.data.resize(static_cast<size_t>(g.width) * g.height);
-    for (int32_t y = 0; y < g.height; ++y)
-      for (int32_t x = 0; x < g.width; ++x)
-        g.data[static_cast<size_t>(y) * g.width + x] = tile.at(x % tile.width, y % tile.height);
-    return g;
+    return vnsba::bench::grow_grid(tile, 8, vnsba::bench::Growth::kTiled);
   }();
   for (int radius_cells : {0, 3, 10, 30}) {
     const std::string name = "grid_build/" + std::to_string(radius_cells);

@@ -17,8 +17,6 @@ namespace {
 
 constexpr int kSourceSize = 512;  // cells a side of every source map
 
-enum class Growth { kScaled, kTiled };
-
 struct LargeMapSpec {
   const char* name;       // Moving AI map, kSourceSize a side
   const char* map_class;  // as `vnsba_bench movingai` names it
@@ -29,22 +27,6 @@ constexpr LargeMapSpec kLargeMaps[] = {
     {"16room_000", "room", Growth::kScaled},
     {"random512-20-0", "random", Growth::kTiled},
 };
-
-// The source grid grown to `factor` times its side, either way (see large.hpp). Resolution and
-// origin are irrelevant to planning in cells; the slice is given 5 cm cells, as an office's.
-core::OccupancyGrid grow(const core::OccupancyGrid& source, int factor, Growth growth) {
-  core::OccupancyGrid g;
-  g.width = source.width * factor;
-  g.height = source.height * factor;
-  g.resolution = 0.05;
-  g.data.resize(static_cast<size_t>(g.width) * g.height);
-  for (int32_t y = 0; y < g.height; ++y)
-    for (int32_t x = 0; x < g.width; ++x)
-      g.data[static_cast<size_t>(y) * g.width + x] =
-          growth == Growth::kScaled ? source.at(x / factor, y / factor)
-                                    : source.at(x % source.width, y % source.height);
-  return g;
-}
 
 // A scenario's query on the grown map (see large.hpp).
 core::PlanQuery grown_query(const core::MovingAiScenario& s, int factor, Growth growth,
@@ -66,6 +48,22 @@ struct Sample {
 };
 
 }  // namespace
+
+// The source grid grown to `factor` times its side, either way (see large.hpp). Resolution and
+// origin are irrelevant to planning in cells; the slice is given 5 cm cells, as an office's.
+core::OccupancyGrid grow_grid(const core::OccupancyGrid& source, int factor, Growth growth) {
+  core::OccupancyGrid g;
+  g.width = source.width * factor;
+  g.height = source.height * factor;
+  g.resolution = 0.05;
+  g.data.resize(static_cast<size_t>(g.width) * g.height);
+  for (int32_t y = 0; y < g.height; ++y)
+    for (int32_t x = 0; x < g.width; ++x)
+      g.data[static_cast<size_t>(y) * g.width + x] =
+          growth == Growth::kScaled ? source.at(x / factor, y / factor)
+                                    : source.at(x % source.width, y % source.height);
+  return g;
+}
 
 int run_large(const LargeOptions& options) {
   const std::vector<core::PlannerKind> planners =
@@ -107,7 +105,7 @@ int run_large(const LargeOptions& options) {
       const int factor = size / kSourceSize;
       core::GridBuildOptions build;
       build.max_cells = int64_t{size} * size;
-      auto built = core::GridMap::build(grow(loaded->grid, factor, spec.growth), build);
+      auto built = core::GridMap::build(grow_grid(loaded->grid, factor, spec.growth), build);
       if (!built) {
         std::fprintf(stderr, "vnsba_bench large: %s at %d: %s\n", spec.name, size,
                      built.error().message.c_str());

@@ -18,6 +18,11 @@
 
 namespace vnsba::bench {
 
+// A map grown to `factor` times its side (see above): scaled (every cell a factor x factor
+// block) or tiled (factor x factor copies); 5 cm cells, as an office slice's.
+enum class Growth { kScaled, kTiled };
+core::OccupancyGrid grow_grid(const core::OccupancyGrid& source, int factor, Growth growth);
+
 struct LargeOptions {
   std::string maps_dir;
   std::vector<core::PlannerKind> planners;  // empty: astar, jps, vns_bastar
