@@ -195,8 +195,7 @@ class JumpPointSearch {
         column_words_(map.blocked_columns().words_per_line),
         rows_(map.blocked_rows().words),
         columns_(map.blocked_columns().words),
-        goal_(goal),
-        goal_index_(map.padded_index(goal)) {}
+        goal_(goal) {}
 
   void expand(uint32_t node, const Cell& cell) {
     node_ = node;
@@ -459,7 +458,6 @@ class JumpPointSearch {
   const uint64_t* rows_;
   const uint64_t* columns_;
   Cell goal_;
-  uint32_t goal_index_;
   // The node being expanded.
   uint32_t node_ = 0;
   Cell cell_;
