@@ -197,20 +197,16 @@ class JumpPointSearch {
         columns_(map.blocked_columns().words),
         goal_(goal) {}
 
+  // Expands `node` (at `cell`): adds its successors, or stops at the goal (goal_reached()).
   void expand(uint32_t node, const Cell& cell) {
     node_ = node;
     cell_ = cell;
     g_ = space_.g(node);
     const uint32_t parent = space_.parent(node);
     if (parent == SearchSpace::kNoParent) {
-      jump_straight<1, 0>();
-      jump_straight<-1, 0>();
-      jump_straight<0, 1>();
-      jump_straight<0, -1>();
-      jump_diagonal<1, 1>();
-      jump_diagonal<-1, 1>();
-      jump_diagonal<1, -1>();
-      jump_diagonal<-1, -1>();
+      jump_straight<1, 0>() && jump_straight<-1, 0>() && jump_straight<0, 1>() &&
+          jump_straight<0, -1>() && jump_diagonal<1, 1>() && jump_diagonal<-1, 1>() &&
+          jump_diagonal<1, -1>() && jump_diagonal<-1, -1>();
       return;
     }
     const Cell from = map_.cell_of(parent);
@@ -239,45 +235,37 @@ class JumpPointSearch {
   // and the diagonal between it and the direction of travel.
   template <int kDx, int kDy>
   void expand_straight() {
-    jump_straight<kDx, kDy>();
+    if (!jump_straight<kDx, kDy>()) return;
     constexpr int kLeftX = -kDy, kLeftY = kDx;  // the two sides: (kLeftX, kLeftY) and minus it
     if (!blocked_at(kLeftX, kLeftY) && blocked_at(kLeftX - kDx, kLeftY - kDy)) {
-      jump_straight<kLeftX, kLeftY>();
-      jump_diagonal<kDx + kLeftX, kDy + kLeftY>();
+      if (!jump_straight<kLeftX, kLeftY>() || !jump_diagonal<kDx + kLeftX, kDy + kLeftY>()) return;
     }
     if (!blocked_at(-kLeftX, -kLeftY) && blocked_at(-kLeftX - kDx, -kLeftY - kDy)) {
-      jump_straight<-kLeftX, -kLeftY>();
-      jump_diagonal<kDx - kLeftX, kDy - kLeftY>();
+      jump_straight<-kLeftX, -kLeftY>() && jump_diagonal<kDx - kLeftX, kDy - kLeftY>();
     }
   }
 
   template <int kSx, int kSy>
   void expand_diagonal() {
-    jump_straight<kSx, 0>();
-    jump_straight<0, kSy>();
-    jump_diagonal<kSx, kSy>();
+    jump_straight<kSx, 0>() && jump_straight<0, kSy>() && jump_diagonal<kSx, kSy>();
   }
 
   // The straight jump (kDx, kDy) from the node being expanded: adds the jump point it finds, or
-  // the goal when the goal comes first, as a successor.
+  // the goal when the goal comes first, as a successor. Like every jump, returns false once the
+  // goal is reached (the expansion stops there), true otherwise.
   template <int kDx, int kDy>
-  void jump_straight() {
+  bool jump_straight() {
     const int32_t x = cell_.x, y = cell_.y;
     if constexpr (kDy == 0) {
       const int32_t p = scan<kDx>(row_line(y), row_words_, y > 0, y + 1 < height_, x, width_);
-      if (goal_.y == y && reached<kDx>(goal_.x, x, p)) {
-        add_successor(goal_);
-      } else if (blocked_[node_ + (p - x)] == 0) {
-        add_successor({p, y});
-      }
+      if (goal_.y == y && reached<kDx>(goal_.x, x, p)) return add_goal();
+      if (blocked_[node_ + (p - x)] == 0) add_successor({p, y});
     } else {
       const int32_t p = scan<kDy>(column_line(x), column_words_, x > 0, x + 1 < width_, y, height_);
-      if (goal_.x == x && reached<kDy>(goal_.y, y, p)) {
-        add_successor(goal_);
-      } else if (blocked_[node_ + (p - y) * stride_] == 0) {
-        add_successor({x, p});
-      }
+      if (goal_.x == x && reached<kDy>(goal_.y, y, p)) return add_goal();
+      if (blocked_[node_ + (p - y) * stride_] == 0) add_successor({x, p});
     }
+    return true;
   }
 
   // Walks the diagonal (kSx, kSy) from the node being expanded while each step is allowed (the
@@ -287,8 +275,8 @@ class JumpPointSearch {
   // longer jumps read on. The jump points found wait in a small buffer, so that the walk keeps
   // its state in registers.
   template <int kSx, int kSy>
-  void jump_diagonal() {
-    if (blocked_at(kSx, 0) || blocked_at(0, kSy) || blocked_at(kSx, kSy)) return;
+  bool jump_diagonal() {
+    if (blocked_at(kSx, 0) || blocked_at(0, kSy) || blocked_at(kSx, kSy)) return true;
     const ptrdiff_t row_step = kSy * static_cast<ptrdiff_t>(row_words_);
     const ptrdiff_t column_step = kSx * static_cast<ptrdiff_t>(column_words_);
     const int32_t width = width_, height = height_;
@@ -317,13 +305,9 @@ class JumpPointSearch {
       // expired walk stops; the search loop then returns the budget's code.
       if (budget_.poll() != StatusCode::kOk) {
         add_successors(found, count);
-        return;
+        return true;
       }
-      if (x == goal_x_on_diagonal) {
-        found[count++] = found_at(goal.x, goal.y);
-        add_successors(found, count);
-        return;
-      }
+      if (x == goal_x_on_diagonal) return add_goal();
       const uint64_t row_own = window_at<kSx>(row, x);
       const uint64_t row_ahead = window_at<kSx>(row + row_step, x);
       const uint64_t column_own = window_at<kSy>(column, y);
@@ -335,9 +319,8 @@ class JumpPointSearch {
         bool jump_point;
         const int32_t p = first_stop_from<kSx>(stop, row_own, row, row - row_step, row + row_step,
                                                x, width, &jump_point);
-        if (goal.y == y && reached<kSx>(goal.x, x, p)) {
-          found[count++] = found_at(goal.x, goal.y);
-        } else if (jump_point) {
+        if (goal.y == y && reached<kSx>(goal.x, x, p)) return add_goal();
+        if (jump_point) {
           found[count++] = found_at(p, y);
         }
       }
@@ -348,16 +331,15 @@ class JumpPointSearch {
         bool jump_point;
         const int32_t p = first_stop_from<kSy>(stop, column_own, column, column - column_step,
                                                column + column_step, y, height, &jump_point);
-        if (goal.x == x && reached<kSy>(goal.y, y, p)) {
-          found[count++] = found_at(goal.x, goal.y);
-        } else if (jump_point) {
+        if (goal.x == x && reached<kSy>(goal.y, y, p)) return add_goal();
+        if (jump_point) {
           found[count++] = found_at(x, p);
         }
       }
       // The next diagonal cell (x + kSx, y + kSy) is on the row ahead.
       if (!x_free || !y_free || (row_ahead & kNext<kSx>) != 0) {
         add_successors(found, count);
-        return;
+        return true;
       }
       // A long walk that has found jump points and now leads away from the goal (the next step
       // brings it no nearer in x or in y, so f grows) stops here, and this cell becomes a jump
@@ -368,7 +350,7 @@ class JumpPointSearch {
           ((goal.x - x) * kSx <= 0 || (goal.y - y) * kSy <= 0)) {
         found[count++] = found_at(x, y);
         add_successors(found, count);
-        return;
+        return true;
       }
       if (count > kBuffer - kAddedPerStep) {
         add_successors(found, count);
@@ -381,35 +363,27 @@ class JumpPointSearch {
     }
     add_successors(found, count);
     // The cell at the map's edge (the walk got there): its straight jumps along the edge.
-    if (x == goal_x_on_diagonal) {
-      add_successor(goal);
-      return;
-    }
-    jump_along_row<kSx>(x, y);
-    jump_along_column<kSy>(x, y);
+    if (x == goal_x_on_diagonal) return add_goal();
+    return jump_along_row<kSx>(x, y) && jump_along_column<kSy>(x, y);
   }
 
   // The straight jumps from the diagonal's cell (x, y) at the map's edge, where the lines ahead
   // may be outside: with the bounds checks the walk's inner cells do without.
   template <int kSx>
-  void jump_along_row(int32_t x, int32_t y) {
-    if (map_.blocked(x + kSx, y)) return;
+  bool jump_along_row(int32_t x, int32_t y) {
+    if (map_.blocked(x + kSx, y)) return true;
     const int32_t p = scan<kSx>(row_line(y), row_words_, y > 0, y + 1 < height_, x, width_);
-    if (goal_.y == y && reached<kSx>(goal_.x, x, p)) {
-      add_successor(goal_);
-    } else if (!map_.blocked(p, y)) {
-      add_successor({p, y});
-    }
+    if (goal_.y == y && reached<kSx>(goal_.x, x, p)) return add_goal();
+    if (!map_.blocked(p, y)) add_successor({p, y});
+    return true;
   }
   template <int kSy>
-  void jump_along_column(int32_t x, int32_t y) {
-    if (map_.blocked(x, y + kSy)) return;
+  bool jump_along_column(int32_t x, int32_t y) {
+    if (map_.blocked(x, y + kSy)) return true;
     const int32_t p = scan<kSy>(column_line(x), column_words_, x > 0, x + 1 < width_, y, height_);
-    if (goal_.x == x && reached<kSy>(goal_.y, y, p)) {
-      add_successor(goal_);
-    } else if (!map_.blocked(x, p)) {
-      add_successor({x, p});
-    }
+    if (goal_.x == x && reached<kSy>(goal_.y, y, p)) return add_goal();
+    if (!map_.blocked(x, p)) add_successor({x, p});
+    return true;
   }
 
   // A jump point found by a diagonal walk, with its padded index and its flags read when it was
@@ -430,6 +404,23 @@ class JumpPointSearch {
       add_successor({found[i].x, found[i].y}, found[i].index, found[i].flags);
     }
   }
+  // The goal, reached by a jump from the node being expanded. Every jump costs the octile distance
+  // between its ends, so the goal's g is g(n) + octile(n, goal) = f(n), the least f on the open
+  // list (in exact step costs): no path to it is shorter (octile is consistent), and the search
+  // can stop here. Before, it stopped when the goal was popped, which came next (at equal f the
+  // larger g goes first, and only the goal has g = f), with this same g and parent; the path and
+  // the expansion count (the goal counts as expanded) are as before, minus the rest of this
+  // expansion and that pop.
+  bool add_goal() {
+    add_successor(goal_);
+    goal_reached_ = true;
+    return false;
+  }
+
+ public:
+  bool goal_reached() const { return goal_reached_; }
+
+ private:
   void add_successor(const Cell& to) {
     const uint32_t index = map_.padded_index(to);
     add_successor(to, index, states_.flags(index));
@@ -458,6 +449,7 @@ class JumpPointSearch {
   const uint64_t* rows_;
   const uint64_t* columns_;
   Cell goal_;
+  bool goal_reached_ = false;
   // The node being expanded.
   uint32_t node_ = 0;
   Cell cell_;
@@ -530,6 +522,13 @@ JpsOutcome jps_search(const GridMap& map, CellStates& states, SearchSpace& space
       return out;
     }
     search.expand(n, cell);
+    if (search.goal_reached()) {
+      ++out.expanded;
+      if (expanded_cells != nullptr) expanded_cells->push_back(goal);
+      out.code = StatusCode::kOk;
+      out.path = trace_path(map, space, goal_index);
+      return out;
+    }
   }
   return out;
 }

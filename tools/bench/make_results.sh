@@ -10,6 +10,10 @@
 # beside the project), VNSBA_MOVINGAI_SCENARIOS (per map, default 300; 0 = all),
 # VNSBA_REPETITIONS (timed plans per paper run, default 51), VNSBA_LARGE_QUERIES (per large map
 # and size, default 12).
+#
+# The head-to-head table against the reference JPS (docs/results/reference_jps.md) needs that
+# program, which is not a dependency: tools/bench/reference_jps.sh writes it, and this script
+# includes the last one written.
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${VNSBA_BUILD_DIR:-$root/build/bench}
@@ -50,12 +54,17 @@ machine="$(nproc) cores ($cpu), $(uname -s) $(uname -m), $compiler, Release buil
 
 awk -v machine="$machine" -v scenarios="$scenarios" -v repetitions="$repetitions" \
     -v paper="$work/paper.rel.md" -v sweep="$work/sweep.rel.md" -v movingai="$work/movingai.md" \
-    -v large="$work/large.md" '
+    -v large="$work/large.md" -v reference="$out/reference_jps.md" '
   function include(file,   line) { while ((getline line < file) > 0) print line; close(file) }
   /^@PAPER@$/ { include(paper); next }
   /^@SWEEP@$/ { include(sweep); next }
   /^@MOVINGAI@$/ { include(movingai); next }
   /^@LARGE@$/ { include(large); next }
+  /^@REFERENCE_JPS@$/ {
+    if ((getline line < reference) > 0) { print line; include(reference) }
+    else print "(not measured: run tools/bench/reference_jps.sh with the reference program)"
+    next
+  }
   { gsub(/@MACHINE@/, machine); gsub(/@SCENARIOS@/, scenarios); gsub(/@REPETITIONS@/, repetitions); print }
 ' "$root/tools/bench/RESULTS.md.in" > "$root/docs/RESULTS.md"
 echo "wrote docs/RESULTS.md and docs/results/" >&2

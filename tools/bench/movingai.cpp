@@ -210,11 +210,10 @@ int run_movingai(const MovingAiOptions& options) {
         }
       }
     }
-    if (options.csv)
-      std::fflush(stdout);
-    else
-      std::fprintf(stderr, "%s (%s): %zu scenarios x %zu configurations\n", loaded->name.c_str(),
-                   map_class.c_str(), picked.size(), configurations.size());
+    // Progress on stderr in both modes (the CSV goes to stdout): one line per map done.
+    if (options.csv) std::fflush(stdout);
+    std::fprintf(stderr, "%s (%s): %zu scenarios x %zu configurations\n", loaded->name.c_str(),
+                 map_class.c_str(), picked.size(), configurations.size());
   }
   if (options.csv) return kExitOk;
 

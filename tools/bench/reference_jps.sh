@@ -1,0 +1,138 @@
+#!/bin/sh
+# Our `jps` and `astar` against a reference Jump Point Search, on the same Moving AI queries on the
+# same machine, map by map in turns: the reference is warthog's JPS2 (the online JPS with the
+# improvements of Harabor and Grastien 2014, the implementation behind the GPPC entries). It is
+# not a dependency of this project: build it yourself from its public repositories
+# (ShortestPathLab/warthog-jps with its submodule warthog-core) and give this script the binary:
+#
+#   cmake -S warthog-jps -B warthog-jps/build -DCMAKE_BUILD_TYPE=Release
+#   cmake --build warthog-jps/build --target warthog_jps
+#   tools/bench/reference_jps.sh warthog-jps/build/warthog-jps [OUT.md]
+#
+# Prints (and writes to OUT.md, default docs/results/reference_jps.md) per map class and per map:
+# the median per-query time of our astar and jps and of warthog's jps2, the two JPS medians as a
+# ratio of our A*'s (issue 14's target: ours within 1.5x of the reference's), ours over the
+# reference, and how many path costs differ between the two JPS (both are exact, so none may;
+# warthog prints 6 significant digits, so costs are compared to 1e-5 relative). Takes about
+# 5 minutes on every scenario (our A* is most of it).
+#
+# What each timer covers: ours is vnsba_bench's, around the whole Planner::plan() (checks, search,
+# grid path, metrics); warthog's covers its search only (no path extraction), and its search stops
+# when the goal is generated rather than expanded. The comparison therefore favours the reference.
+#
+# Environment: VNSBA_BUILD_DIR (default build/bench, as make_results.sh), VNSBA_DATA_DIR (default
+# ../shared/data beside the project), VNSBA_MOVINGAI_SCENARIOS (per map, spread evenly over the
+# file as vnsba_bench picks them; default 0 = every scenario), VNSBA_TASKSET_CPU (pin both
+# programs to this CPU, default: not pinned).
+set -eu
+if [ $# -lt 1 ] || [ ! -x "$1" ]; then
+  echo "usage: $0 WARTHOG_JPS_BINARY [OUT.md]   (the built warthog-jps program; see the header)" >&2
+  exit 2
+fi
+reference=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+root=$(cd "$(dirname "$0")/../.." && pwd)
+out=${2:-$root/docs/results/reference_jps.md}
+build=${VNSBA_BUILD_DIR:-$root/build/bench}
+data=${VNSBA_DATA_DIR:-$(cd "$root/.." && pwd)/shared/data}
+scenarios=${VNSBA_MOVINGAI_SCENARIOS:-0}
+if [ ! -d "$data/movingai" ]; then
+  echo "$0: no Moving AI data at $data/movingai (set VNSBA_DATA_DIR)" >&2
+  exit 2
+fi
+pin=""
+if [ -n "${VNSBA_TASKSET_CPU:-}" ]; then pin="taskset -c $VNSBA_TASKSET_CPU"; fi
+
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DVNSBA_CORE_ONLY=ON \
+  -DVNSBA_DATA_DIR="$data" >/dev/null
+cmake --build "$build" --target vnsba_bench -j"$(nproc)" >/dev/null
+bench="$build/tools/vnsba_bench"
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+: > "$work/times.tsv"  # class, map, program, scenario line, time (us), cost
+
+for scen in "$data"/movingai/*.map.scen; do
+  map=${scen%.scen}
+  name=$(basename "$map" .map)
+  # Both programs read the same scenario file: the picked lines of the original (all by default),
+  # chosen as vnsba_bench's --max-scenarios picks them (line i * count / limit).
+  mkdir -p "$work/$name"
+  ln -s "$map" "$work/$name/$name.map"
+  [ -f "$data/movingai/MANIFEST.tsv" ] && ln -sf "$data/movingai/MANIFEST.tsv" "$work/$name/"
+  awk -v limit="$scenarios" '
+    NR == 1 { print; next }
+    { line[++count] = $0 }
+    END {
+      if (limit <= 0 || limit >= count) { for (i = 1; i <= count; ++i) print line[i]; exit }
+      for (i = 0; i < limit; ++i) print line[int(i * count / limit) + 1]
+    }' "$scen" > "$work/$name/$name.map.scen"
+
+  # Ours: CSV rows map,scenario(line),planner,status,optimal,raw_cost,...,time_us; the class is on
+  # the progress line (stderr).
+  $pin "$bench" movingai --maps "$work/$name" --planners astar,jps --csv \
+    > "$work/ours.csv" 2> "$work/ours.err"
+  class=$(sed -n 's/^[^ ]* (\([a-z]*\)): .*/\1/p' "$work/ours.err" | head -n 1)
+  awk -F, -v class="$class" 'NR > 1 && $4 == "OK" {
+      printf "%s\t%s\t%s\t%d\t%s\t%s\n", class, $1, $3, $2, $11, $6 }' "$work/ours.csv" \
+    >> "$work/times.tsv"
+  # The reference: rows id (0-based scenario), alg, expanded, generated, reopen, surplus, heapops,
+  # nanos, plen, pcost, scost, map. Scenario id k is line k + 2 (after the version line).
+  $pin "$reference" --alg jps2 --scen "$work/$name/$name.map.scen" --map "$work/$name/$name.map" \
+    > "$work/reference.tsv" 2> "$work/reference.err"
+  awk -F'\t' -v class="$class" -v name="$name" 'NR > 1 && $1 ~ /^[0-9]+$/ {
+      printf "%s\t%s\t%s\t%d\t%.3f\t%s\n", class, name, "jps2", $1 + 2, $8 / 1000.0, $10 }' \
+    "$work/reference.tsv" >> "$work/times.tsv"
+  echo "$name ($class): $(grep -c . "$work/reference.tsv") reference rows" >&2
+done
+
+# Medians per (group, program) and cost differences between the two JPS, per group; group is
+# the class, then the map. sort -g orders the times so the median is the middle element.
+summarise() {
+  key_column=$1
+  title=$2
+  cut -f"$key_column",3,5 "$work/times.tsv" | sort -t"$(printf '\t')" -k1,1 -k2,2 -k3,3g |
+    awk -F'\t' '
+      function flush() { if (n > 0) median[key] = (n % 2) ? t[(n + 1) / 2] : (t[n / 2] + t[n / 2 + 1]) / 2; count[key] = n }
+      { k = $1 SUBSEP $2; if (k != key) { flush(); key = k; n = 0 } t[++n] = $3 }
+      END { flush(); for (k in median) { split(k, p, SUBSEP); print p[1] "\t" p[2] "\t" median[k] "\t" count[k] } }' \
+    > "$work/medians.tsv"
+  awk -F'\t' -v column="$key_column" '
+      $3 == "jps" { ours[$column SUBSEP $4] = $6 }
+      $3 == "jps2" { ref[$column SUBSEP $4] = $6; groups[$column] = 1 }
+      END {
+        for (k in ref) {
+          split(k, p, SUBSEP)
+          if (!(k in ours)) { missing[p[1]]++; continue }
+          d = ours[k] - ref[k]; if (d < 0) d = -d
+          if (d > 1e-5 * (ref[k] > 1 ? ref[k] : 1)) differ[p[1]]++
+        }
+        for (g in groups) print g "\t" differ[g] + 0 "\t" missing[g] + 0
+      }' "$work/times.tsv" > "$work/costs.tsv"
+  printf '| %s | queries | astar median (us) | jps median (us) | warthog jps2 median (us) | jps / astar | jps2 / astar | jps / jps2 | costs differing |\n' "$title"
+  printf '|---|---:|---:|---:|---:|---:|---:|---:|---:|\n'
+  awk -F'\t' -v costs="$work/costs.tsv" '
+      BEGIN { while ((getline line < costs) > 0) { split(line, c, "\t"); differ[c[1]] = c[2]; missing[c[1]] = c[3] } }
+      { m[$1 SUBSEP $2] = $3; if ($2 == "jps") n[$1] = $4; groups[$1] = 1 }
+      END {
+        for (g in groups) {
+          a = m[g SUBSEP "astar"]; j = m[g SUBSEP "jps"]; r = m[g SUBSEP "jps2"]
+          extra = missing[g] > 0 ? " (" missing[g] " not solved by ours)" : ""
+          printf "| %s | %d | %.1f | %.2f | %.2f | %.4f | %.4f | %.2f | %d%s |\n", g, n[g], a, j, r, j / a, r / a, j / r, differ[g], extra
+        }
+      }' "$work/medians.tsv" | sort
+}
+
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1)
+{
+  echo "Measured $(date -u +%Y-%m-%d) on $(nproc) cores ($cpu), ${pin:-not pinned}, every map of"
+  echo "the data set, $( [ "$scenarios" -gt 0 ] && echo "$scenarios scenarios per map" || echo "every scenario"),"
+  echo "by \`tools/bench/reference_jps.sh\` (warthog-jps, \`--alg jps2\`)."
+  echo
+  summarise 1 class
+  echo
+  summarise 2 map
+} > "$work/report.md"
+mkdir -p "$(dirname "$out")"
+cp "$work/report.md" "$out"
+cat "$out"
+echo "wrote $out" >&2
