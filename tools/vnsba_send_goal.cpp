@@ -1,12 +1,19 @@
 // vnsba_send_goal: one planning request from the command line, answered by one line.
 //
-//   vnsba_send_goal [--config FILE] [--domain N] --start X Y --goal X Y [--planner NAME]
-//                   [--id ID] [--wait SECONDS] [--min-readers N]
+//   vnsba_send_goal [--config FILE] [--domain N] --start X Y --goal X Y [--yaw RAD]
+//                   [--planner NAME] [--id ID] [--wait SECONDS] [--min-readers N]
 //
-// Publishes one vnsba_msgs/PlanRequest (start and goal in metres, in the config's frame_id) and
-// prints the PlanStatus the node answers it with as one line on stdout:
+// Publishes one vnsba_msgs/PlanRequest (start and goal in metres, in the config's frame_id; the
+// goal facing --yaw radians, 0 = +x) and prints the PlanStatus the node answers it with as one
+// line on stdout:
 //
-//   <id> <status> <length_m> <turns> <planning_time_us>
+//   <id> <status> <length_m> <clearance_m> <turns> <planning_time_us>[ start_used=X,Y
+//   start_moved_m=D][ goal_used=X,Y goal_moved_m=D]
+//
+// clearance_m is the path's smallest distance to an obstacle ("nan" unless OK, "inf" on a map
+// without obstacles). The start_used / goal_used fields (the centre of the cell the plan used,
+// metres) appear only when the node's start_tolerance / goal_tolerance moved that end. The
+// status message of an OK plan (what was moved, warnings) goes to stderr.
 //
 // Exit codes: 0 the status is OK; 2 another status came, or the command line or config is bad
 // (stderr names the option); 3 no status came within --wait seconds (no node), or SIGINT or
@@ -194,8 +201,11 @@ std::string default_request_id() {
   return "send_goal-" + std::to_string(getpid()) + "-" + std::to_string(ms);
 }
 
-// Metres with enough digits to be read back exactly enough for scripts, without noise.
+// Metres with enough digits to be read back exactly enough for scripts, without noise; "nan"
+// and "inf" as such (a clearance on a map without obstacles is infinite).
 std::string format_metres(double metres) {
+  if (std::isnan(metres)) return "nan";
+  if (std::isinf(metres)) return metres > 0 ? "inf" : "-inf";
   char text[64];
   std::snprintf(text, sizeof text, "%.3f", metres);
   return text;
@@ -212,6 +222,7 @@ int main(int argc, char** argv) {
   std::string config_path = "config/default.yaml", planner, request_id;
   std::optional<int> domain;
   std::vector<double> start, goal;
+  double yaw = 0.0;
   double wait_seconds = 10.0;
   int min_readers = 1;
   app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
@@ -223,9 +234,13 @@ int main(int argc, char** argv) {
   app.add_option("--goal", goal, "goal X Y in metres, in the config's frame_id")
       ->expected(2)
       ->required();
+  app.add_option("--yaw", yaw,
+                 "goal orientation in radians (0 = facing +x, counter-clockwise): the last "
+                 "pose of the path")
+      ->capture_default_str();
   app.add_option("--planner", planner,
-                 "astar, weighted_astar, bidirectional_astar, alternating_bidirectional_astar "
-                 "or vns_bastar (default: the node's configured planner)");
+                 "astar, weighted_astar, bidirectional_astar, alternating_bidirectional_astar, "
+                 "vns_bastar or jps (default: the node's configured planner)");
   app.add_option("--id", request_id, "request id (default: send_goal-<pid>-<unix ms>)");
   app.add_option("--wait", wait_seconds,
                  "seconds to wait for the node and its answer, in (0, 3600]")
@@ -253,6 +268,8 @@ int main(int argc, char** argv) {
       }
     }
   }
+  if (!std::isfinite(yaw))
+    return bad_input("--yaw: " + std::to_string(yaw) + ", must be a finite number of radians");
   if (!planner.empty() && !core::planner_kind_from_string(planner)) {
     std::string known;
     for (core::PlannerKind kind : core::all_planner_kinds())
@@ -378,7 +395,8 @@ int main(int argc, char** argv) {
   request.id(request_id);
   const node::TimeMsg stamp = node::now_msg();
   request.start(node::to_pose_msg(start[0], start[1], 0.0, config.frame_id, stamp));
-  request.goal(node::to_pose_msg(goal[0], goal[1], 0.0, config.frame_id, stamp));
+  // z = sin(yaw / 2), w = cos(yaw / 2): a rotation of `yaw` about the vertical.
+  request.goal(node::to_pose_msg(goal[0], goal[1], yaw, config.frame_id, stamp));
   request.planner(planner);
   eprosima::fastrtps::rtps::WriteParams write_params;  // gets the request's sample identity
   if (!request_writer->write(&request, write_params)) {
@@ -407,13 +425,28 @@ int main(int argc, char** argv) {
     }
     return kNoStatus;
   }
-  std::printf(
-      "%s %s %s %d %lld\n", node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
-      node::code_name(status->code()).c_str(), format_metres(status->length_m()).c_str(),
-      static_cast<int>(status->turns()), static_cast<long long>(status->planning_time_us()));
+  std::string adjusted;
+  if (status->start_adjusted()) {
+    adjusted += " start_used=" + format_metres(status->start_x()) + "," +
+                format_metres(status->start_y()) +
+                " start_moved_m=" + format_metres(status->start_moved_m());
+  }
+  if (status->goal_adjusted()) {
+    adjusted += " goal_used=" + format_metres(status->goal_x()) + "," +
+                format_metres(status->goal_y()) +
+                " goal_moved_m=" + format_metres(status->goal_moved_m());
+  }
+  std::printf("%s %s %s %s %d %lld%s\n",
+              node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
+              node::code_name(status->code()).c_str(), format_metres(status->length_m()).c_str(),
+              format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
+              static_cast<long long>(status->planning_time_us()), adjusted.c_str());
   if (status->code() != node::wire::OK) {
     spdlog::warn("{}", node::printable(status->message(), 4096));
     return kOtherStatusOrBadInput;
   }
+  // What an OK plan reports besides its metrics: moved endpoints, ignored goal orientation.
+  if (!status->message().empty())
+    std::fprintf(stderr, "%s\n", node::printable(status->message(), 4096).c_str());
   return kStatusOk;
 }

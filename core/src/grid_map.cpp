@@ -11,6 +11,10 @@ namespace vnsba::core {
 
 namespace {
 
+// The cost just outside the robot's radius (ALGORITHM.md section 8): below the lethal 1, as
+// Nav2's 252 of 253 is below its inscribed cost.
+constexpr double kMaxGradientCost = 0.99;
+
 bool is_blocked_char(char c) {
   return c == '#' || c == '@' || c == 'O' || c == 'T' || c == 'W';
 }
@@ -20,33 +24,58 @@ bool is_blocked_char(char c) {
 // inflate the cell 3 cells away (ALGORITHM.md section 1).
 constexpr double kWholeCellsTolerance = 1e-9;
 
-// Marks every cell whose centre lies within `radius_cells` of a blocked cell's centre: squared
-// distance dx*dx + dy*dy <= r*r in cells, r the radius snapped to a whole number of cells when
-// within kWholeCellsTolerance of one. Through the exact distance transform, so the cost is
-// linear in the cells (4 bytes of scratch per cell) whatever the radius; validate() keeps the
-// radius within the map's diagonal. Returns false when `cancel` was raised.
-bool inflate(std::vector<uint8_t>& blocked, int32_t width, int32_t height, double radius_cells,
-             const std::atomic<bool>* cancel) {
-  const double nearest = std::round(radius_cells);
-  if (std::abs(radius_cells - nearest) <= kWholeCellsTolerance) radius_cells = nearest;
-  if (radius_cells < 1.0) return true;  // no other centre is within less than one cell
-  const int32_t reach = static_cast<int32_t>(std::floor(radius_cells));
-  // cells^2; for a whole radius both sides of the comparison below are exact integers.
-  const double r2 = radius_cells * radius_cells;
-  const int32_t stride = width + 2;
-  auto padded = [stride](int32_t x, int32_t y) {
-    return static_cast<size_t>(y + 1) * stride + x + 1;
-  };
-  // Phase 1 of the transform reads every source before the first row is written back.
-  return squared_distance_rows(
-      width, height, reach, [&](int32_t x, int32_t y) { return blocked[padded(x, y)] != 0; },
-      [&](int32_t y, const int64_t* squared) {
-        uint8_t* row = &blocked[padded(0, y)];
-        for (int32_t x = 0; x < width; ++x)
-          if (static_cast<double>(squared[x]) <= r2) row[x] = 1;
-      },
-      cancel);
-}
+// The obstacles' distance transform and what follows from it, in one pass over the map
+// (ALGORITHM.md sections 1 and 8): every cell's distance to the nearest obstacle centre, the
+// inflation (free cells whose centre lies within `radius_cells` of an obstacle's: squared
+// distance dx*dx + dy*dy <= r*r in cells, r snapped to a whole number of cells when within
+// kWholeCellsTolerance of one) and the cost gradient beyond it. Linear in the cells whatever
+// the radii (the exact transform, 4 bytes of scratch per cell). Returns false when `cancel` was
+// raised.
+struct ObstacleDistances {
+  std::vector<CellLayer>& layers;  // width x height; kFree cells may become kInflated
+  std::vector<float>& distance;    // width x height, filled (cells)
+  std::vector<float>* costs;       // padded; null when there is no gradient
+  int32_t width, height;
+  double radius_cells;             // robot_radius in cells
+  double gradient_cells;           // inflation_radius in cells (0: no gradient)
+  double scaling_per_cell;         // cost_scaling_factor * resolution
+
+  bool run(const std::atomic<bool>* cancel) {
+    const double nearest = std::round(radius_cells);
+    if (std::abs(radius_cells - nearest) <= kWholeCellsTolerance) radius_cells = nearest;
+    // cells^2; for a whole radius both sides of the comparison below are exact integers.
+    const double r2 = radius_cells * radius_cells;
+    // Exact distances everywhere: every distance inside the map is below width + height.
+    const int32_t cap = width + height;
+    const int64_t far = far_squared_distance(cap);
+    const size_t w = static_cast<size_t>(width);
+    const int32_t stride = width + 2;
+    return squared_distance_rows(
+        width, height, cap,
+        [&](int32_t x, int32_t y) {
+          const CellLayer layer = layers[static_cast<size_t>(y) * w + x];
+          return layer == CellLayer::kOccupied || layer == CellLayer::kUnknown;
+        },
+        [&](int32_t y, const int64_t* squared) {
+          CellLayer* layer_row = &layers[static_cast<size_t>(y) * w];
+          float* distance_row = &distance[static_cast<size_t>(y) * w];
+          float* cost_row = costs ? &(*costs)[static_cast<size_t>(y + 1) * stride + 1] : nullptr;
+          for (int32_t x = 0; x < width; ++x) {
+            const double d = squared[x] >= far ? std::numeric_limits<double>::infinity()
+                                               : std::sqrt(static_cast<double>(squared[x]));
+            distance_row[x] = static_cast<float>(d);
+            if (layer_row[x] != CellLayer::kFree) continue;
+            if (static_cast<double>(squared[x]) <= r2) {
+              layer_row[x] = CellLayer::kInflated;
+            } else if (cost_row != nullptr && d <= gradient_cells) {
+              const double gradient = kMaxGradientCost * std::exp(-scaling_per_cell * (d - radius_cells));
+              cost_row[x] = std::max(cost_row[x], static_cast<float>(gradient));
+            }
+          }
+        },
+        cancel);
+  }
+};
 
 }  // namespace
 
@@ -58,6 +87,19 @@ void check_options(const GridBuildOptions& options, std::ostringstream& err) {
     err << "occupied_threshold must be in 1..100 (got " << options.occupied_threshold << "); ";
   if (!std::isfinite(options.robot_radius) || options.robot_radius < 0.0)
     err << "robot_radius must be finite and >= 0 metres (got " << options.robot_radius << "); ";
+  if (!std::isfinite(options.inflation_radius) || options.inflation_radius < 0.0) {
+    err << "inflation_radius must be finite and >= 0 metres (got " << options.inflation_radius
+        << "); ";
+  } else if (options.inflation_radius > 0.0 && std::isfinite(options.robot_radius) &&
+             options.inflation_radius < options.robot_radius) {
+    err << "inflation_radius " << options.inflation_radius
+        << " m must be 0 (no cost gradient) or >= robot_radius " << options.robot_radius
+        << " m; ";
+  }
+  if (!std::isfinite(options.cost_scaling_factor) || options.cost_scaling_factor < 0.0) {
+    err << "cost_scaling_factor must be finite and >= 0 per metre (got "
+        << options.cost_scaling_factor << "); ";
+  }
   if (options.max_cells < 1 || options.max_cells > kMaxCellsLimit)
     err << "max_cells must be in 1.." << kMaxCellsLimit << " (got " << options.max_cells << "); ";
 }
@@ -132,19 +174,54 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
   map.resolution_ = grid.resolution;
   map.origin_x_ = grid.origin_x;
   map.origin_y_ = grid.origin_y;
-  map.blocked_.assign(static_cast<size_t>(grid.width + 2) * (grid.height + 2), 1);
+  map.options_ = options;
+  const size_t cells = static_cast<size_t>(grid.width) * static_cast<size_t>(grid.height);
+  const size_t padded = static_cast<size_t>(grid.width + 2) * (grid.height + 2);
+  // Graded values (0 < v < occupied_threshold) are costs v / 100 (ALGORITHM.md section 8).
+  const bool gradient = options.inflation_radius > 0.0;
+  bool graded = false;
+  map.layers_.resize(cells);
   for (int32_t y = 0; y < grid.height; ++y) {
     for (int32_t x = 0; x < grid.width; ++x) {
       const int8_t v = grid.at(x, y);
-      const bool blocked =
-          v == kOccupancyUnknown ? !options.allow_unknown : v >= options.occupied_threshold;
-      map.blocked_[map.padded_index(x, y)] = blocked ? 1 : 0;
+      CellLayer layer = CellLayer::kFree;
+      if (v == kOccupancyUnknown) {
+        if (!options.allow_unknown) layer = CellLayer::kUnknown;
+      } else if (v >= options.occupied_threshold) {
+        layer = CellLayer::kOccupied;
+      } else if (v > 0) {
+        graded = true;
+      }
+      map.layers_[static_cast<size_t>(y) * grid.width + x] = layer;
+    }
+  }
+  if (graded || gradient) {
+    map.costs_.assign(padded, 1.0f);
+    for (int32_t y = 0; y < grid.height; ++y) {
+      for (int32_t x = 0; x < grid.width; ++x) {
+        const int8_t v = grid.at(x, y);
+        map.costs_[map.padded_index(x, y)] = v > 0 ? static_cast<float>(v / 100.0) : 0.0f;
+      }
     }
   }
   if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return canceled();
-  if (!inflate(map.blocked_, map.width_, map.height_, options.robot_radius / grid.resolution,
-               cancel)) {
-    return canceled();
+  map.obstacle_distance_.resize(cells);
+  ObstacleDistances distances{map.layers_,
+                              map.obstacle_distance_,
+                              gradient ? &map.costs_ : nullptr,
+                              map.width_,
+                              map.height_,
+                              options.robot_radius / grid.resolution,
+                              options.inflation_radius / grid.resolution,
+                              options.cost_scaling_factor * grid.resolution};
+  if (!distances.run(cancel)) return canceled();
+  map.blocked_.assign(padded, 1);
+  for (int32_t y = 0; y < grid.height; ++y) {
+    for (int32_t x = 0; x < grid.width; ++x) {
+      const bool blocked = map.layers_[static_cast<size_t>(y) * grid.width + x] != CellLayer::kFree;
+      map.blocked_[map.padded_index(x, y)] = blocked ? 1 : 0;
+      if (blocked && map.has_costs()) map.costs_[map.padded_index(x, y)] = 1.0f;
+    }
   }
   if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return canceled();
   map.build_summed_area_table();
@@ -208,6 +285,20 @@ void GridMap::build_bit_grids() {
       column_word[static_cast<size_t>(x) * column_words_] |= bit_of_y;
     }
   }
+}
+
+std::string_view to_string(CellLayer layer) {
+  switch (layer) {
+    case CellLayer::kFree:
+      return "free";
+    case CellLayer::kOccupied:
+      return "occupied";
+    case CellLayer::kUnknown:
+      return "unknown";
+    case CellLayer::kInflated:
+      return "inflation";
+  }
+  return "?";
 }
 
 double GridMap::density(const Cell& a, const Cell& b) const {

@@ -1,5 +1,6 @@
 #include "vnsba/core/line_of_sight.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
@@ -172,9 +173,11 @@ bool line_of_sight_centres_scalar(const GridMap& map, const Cell& a, const Cell&
   if (map.blocked_data()[at]) return false;
   const int32_t dx = b.x - a.x, dy = b.y - a.y;
   // Doubled coordinates: a centre is 1 from each boundary of its cell, a cell is 2 wide.
-  return traverse_supercover<int64_t>(map.blocked_data(), map.stride(), at, a.x, a.y, b.x, b.y, 1,
-                                      1, 2 * int64_t{std::abs(dx)}, 2 * int64_t{std::abs(dy)}, 2,
-                                      dx > 0 ? 1 : -1, dy > 0 ? 1 : -1, policy);
+  const uint8_t* blocked = map.blocked_data();
+  return traverse_supercover<int64_t>(blocked, map.stride(), at, a.x, a.y, b.x, b.y, 1, 1,
+                                      2 * int64_t{std::abs(dx)}, 2 * int64_t{std::abs(dy)}, 2,
+                                      dx > 0 ? 1 : -1, dy > 0 ? 1 : -1, policy,
+                                      [blocked](uint32_t cell) { return blocked[cell] == 0; });
 }
 
 }  // namespace detail
@@ -198,7 +201,15 @@ std::optional<CornerPolicy> corner_policy_from_string(std::string_view name) {
   return std::nullopt;
 }
 
-bool line_of_sight(const GridMap& map, const Point2& a, const Point2& b, CornerPolicy policy) {
+namespace {
+
+// The supercover traversal of the segment a -> b (continuous cell coordinates), calling
+// enter(padded index) for the start cell and every cell entered after it; false when an
+// endpoint is outside the map or not finite, when a corner is not passable, or when enter
+// returns false.
+template <class Enter>
+bool walk_segment(const GridMap& map, const Point2& a, const Point2& b, CornerPolicy policy,
+                  Enter&& enter) {
   if (!std::isfinite(a.x()) || !std::isfinite(a.y()) || !std::isfinite(b.x()) ||
       !std::isfinite(b.y())) {
     return false;
@@ -213,7 +224,7 @@ bool line_of_sight(const GridMap& map, const Point2& a, const Point2& b, CornerP
   }
   const int32_t cx = static_cast<int32_t>(fax), cy = static_cast<int32_t>(fay);
   const uint32_t at = map.padded_index(cx, cy);
-  if (map.blocked_data()[at]) return false;
+  if (!enter(at)) return false;
   const double dx = b.x() - a.x(), dy = b.y() - a.y();
   const int sx = (dx > 0) - (dx < 0), sy = (dy > 0) - (dy < 0);
   // Distance from a to the next cell boundary along each axis (in cells, >= 0). Products of
@@ -223,7 +234,29 @@ bool line_of_sight(const GridMap& map, const Point2& a, const Point2& b, CornerP
   const double next_y = sy > 0 ? (cy + 1 - a.y()) : (a.y() - cy);
   return detail::traverse_supercover<double>(
       map.blocked_data(), map.stride(), at, cx, cy, static_cast<int32_t>(fbx),
-      static_cast<int32_t>(fby), next_x, next_y, std::abs(dx), std::abs(dy), 1.0, sx, sy, policy);
+      static_cast<int32_t>(fby), next_x, next_y, std::abs(dx), std::abs(dy), 1.0, sx, sy, policy,
+      enter);
+}
+
+}  // namespace
+
+bool line_of_sight(const GridMap& map, const Point2& a, const Point2& b, CornerPolicy policy) {
+  const uint8_t* blocked = map.blocked_data();
+  return walk_segment(map, a, b, policy, [blocked](uint32_t cell) { return blocked[cell] == 0; });
+}
+
+std::optional<double> max_cost_along(const GridMap& map, const Point2& a, const Point2& b,
+                                     CornerPolicy policy) {
+  const uint8_t* blocked = map.blocked_data();
+  const float* costs = map.cost_data();
+  float highest = 0.0f;
+  const bool clear = walk_segment(map, a, b, policy, [&](uint32_t cell) {
+    if (blocked[cell] != 0) return false;
+    if (costs != nullptr) highest = std::max(highest, costs[cell]);
+    return true;
+  });
+  if (!clear) return std::nullopt;
+  return highest;
 }
 
 }  // namespace vnsba::core

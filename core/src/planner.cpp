@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "jps.hpp"
 #include "search_space.hpp"
@@ -51,6 +53,51 @@ struct DensityWeightedHeuristic {
 };
 
 // ---------------------------------------------------------------------------------------------
+// Move costs.
+
+// The binary grid of ALGORITHM.md sections 1-7: a move costs its length (the quantized step
+// costs of neighborhood.hpp), exactly as before costs existed.
+struct UniformMoveCost {
+  VNSBA_ALWAYS_INLINE double operator()(uint32_t, uint32_t, int, int, double length) const {
+    return length;
+  }
+};
+
+// Section 8: length * (1 + cost_weight * the highest cell cost along the move's segment), over
+// the cells the supercover traversal of the segment between the two centres enters: both ends
+// and, for the 8-11-13 neighbourhood's longer moves, the one or two cells in between (a straight
+// or diagonal step of 2 passes the middle cell; a knight move (2, 1) passes (1, 0) and (1, 1)).
+// The same cells max_cost_along() walks, so pruning and smoothing price a segment as the search
+// does. Symmetric (a move and its reverse pass the same cells), as the backward searches need.
+struct CellMoveCost {
+  const float* costs;  // GridMap::cost_data(), padded
+  int32_t stride;
+  double weight;       // cost_weight
+
+  VNSBA_ALWAYS_INLINE double operator()(uint32_t from, uint32_t to, int dx, int dy,
+                                        double length) const {
+    float highest = std::max(costs[from], costs[to]);
+    const int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
+    if (ax == 2 || ay == 2) {
+      const int sx = detail::sign(dx), sy = detail::sign(dy);
+      const int32_t x_step = sx, y_step = sy * stride;
+      if (ay == 0) {
+        highest = std::max(highest, costs[from + x_step]);
+      } else if (ax == 0) {
+        highest = std::max(highest, costs[from + y_step]);
+      } else if (ax == 2 && ay == 2) {
+        highest = std::max(highest, costs[from + x_step + y_step]);
+      } else if (ax == 2) {  // (2, 1): one step along x, then the diagonal cell
+        highest = std::max({highest, costs[from + x_step], costs[from + x_step + y_step]});
+      } else {  // (1, 2)
+        highest = std::max({highest, costs[from + y_step], costs[from + x_step + y_step]});
+      }
+    }
+    return length * (1.0 + weight * static_cast<double>(highest));
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
 // Search engines.
 
 struct SearchConfig {
@@ -93,11 +140,11 @@ VNSBA_ALWAYS_INLINE inline void relax(SearchSpace& space, uint16_t m_flags, uint
 }
 
 // A unidirectional best-first search from start to goal; the neighbourhood's guide is the goal.
-template <class Heuristic>
+template <class Heuristic, class MoveCost>
 SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, SearchSpace& space,
                                     const Cell& start, const Cell& goal, const Heuristic& h,
-                                    const SearchConfig& cfg, PlanningBudget& budget,
-                                    std::vector<Cell>* expanded_cells) {
+                                    const MoveCost& move_cost, const SearchConfig& cfg,
+                                    PlanningBudget& budget, std::vector<Cell>* expanded_cells) {
   SearchOutcome out;
   states.begin_query(map.padded_size());
   space.begin_query(map.padded_size());
@@ -124,7 +171,8 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
                     const uint32_t m = n + dy * stride + dx;
                     const uint16_t flags = states.flags(m);
                     if ((flags & space.closed_flag()) == 0)
-                      relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy}, cost, h);
+                      relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy},
+                            move_cost(n, m, dx, dy, cost), h);
                   });
   }
   return out;
@@ -149,12 +197,13 @@ enum class MeetingRule {
 // forward / backward current nodes (the last expanded), which the heuristics read through
 // pointers, and which guide each search's 8-11-13 neighbourhood (ALGORITHM.md section 2: the
 // guide of a bidirectional search is the opposite search's current node, for every planner).
-template <class ForwardH, class BackwardH>
+template <class ForwardH, class BackwardH, class MoveCost>
 SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, SearchSpace& forward,
                                    SearchSpace& backward, const Cell& start, const Cell& goal,
                                    Cell (&current)[2], const ForwardH& h_forward,
-                                   const BackwardH& h_backward, MeetingRule rule,
-                                   const SearchConfig& cfg, PlanningBudget& budget,
+                                   const BackwardH& h_backward, const MoveCost& move_cost,
+                                   MeetingRule rule, const SearchConfig& cfg,
+                                   PlanningBudget& budget,
                                    std::vector<Cell>* expanded_forward,
                                    std::vector<Cell>* expanded_backward) {
   SearchOutcome out;
@@ -214,7 +263,7 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
                       met = true;
                       return;
                     }
-                    relax(self, flags, n, g_n, m, mc, cost, h);
+                    relax(self, flags, n, g_n, m, mc, move_cost(n, m, dx, dy, cost), h);
                   });
     return met;
   };
@@ -251,24 +300,37 @@ struct Planner::Impl {
 
   SearchOutcome run(const GridMap& map, const PlanQuery& q, const PlannerOptions& o,
                     PlanningBudget& budget, std::vector<Cell>* rec_f, std::vector<Cell>* rec_b) {
+    // Costs change the search only where there are costs to weigh (validate() keeps jps out).
+    if (o.cost_weight > 0.0 && map.has_costs() && o.planner != PlannerKind::kJps) {
+      return run_with(map, q, o, CellMoveCost{map.cost_data(), map.stride(), o.cost_weight},
+                      budget, rec_f, rec_b);
+    }
+    return run_with(map, q, o, UniformMoveCost{}, budget, rec_f, rec_b);
+  }
+
+  template <class MoveCost>
+  SearchOutcome run_with(const GridMap& map, const PlanQuery& q, const PlannerOptions& o,
+                         const MoveCost& cost, PlanningBudget& budget, std::vector<Cell>* rec_f,
+                         std::vector<Cell>* rec_b) {
     const SearchConfig cfg{o.neighborhood, o.corner_policy, o.record_expansions};
     switch (o.planner) {
       case PlannerKind::kAStar:
         return search_unidirectional(map, states, forward, q.start, q.goal,
-                                     OctileHeuristic{&q.goal}, cfg, budget, rec_f);
+                                     OctileHeuristic{&q.goal}, cost, cfg, budget, rec_f);
       case PlannerKind::kWeightedAStar: {
         const DensityWeightedHeuristic h{&map, &q.goal, q.goal, 1.0, 0.0, o.corner_policy};
-        return search_unidirectional(map, states, forward, q.start, q.goal, h, cfg, budget, rec_f);
+        return search_unidirectional(map, states, forward, q.start, q.goal, h, cost, cfg, budget,
+                                     rec_f);
       }
       case PlannerKind::kBidirectionalAStar:
         return search_bidirectional(map, states, forward, backward, q.start, q.goal, current,
-                                    OctileHeuristic{&q.goal}, OctileHeuristic{&q.start},
+                                    OctileHeuristic{&q.goal}, OctileHeuristic{&q.start}, cost,
                                     MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
       case PlannerKind::kAlternatingBidirectionalAStar: {
         const DensityWeightedHeuristic hf{&map, &current[1], q.goal, 1.0, 0.0, o.corner_policy};
         const DensityWeightedHeuristic hb{&map, &current[0], q.start, 1.0, 0.0, o.corner_policy};
         return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
-                                    hb, MeetingRule::kCloseClosedByOther, cfg, budget, rec_f,
+                                    hb, cost, MeetingRule::kCloseClosedByOther, cfg, budget, rec_f,
                                     rec_b);
       }
       case PlannerKind::kJps: {
@@ -286,8 +348,8 @@ struct Planner::Impl {
         const DensityWeightedHeuristic hb{&map,    &current[0], q.start,
                                           o.omega, o.eta,       o.corner_policy};
         return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
-                                    hb, MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f,
-                                    rec_b);
+                                    hb, cost, MeetingRule::kGenerateClosedByOther, cfg, budget,
+                                    rec_f, rec_b);
       }
     }
     SearchOutcome broken;
@@ -307,23 +369,134 @@ Planner::Planner(std::shared_ptr<const GridMap> map)
 }
 Planner::~Planner() = default;
 Planner::Planner(Planner&&) noexcept = default;
-Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOptions& options) {
+namespace {
+
+std::string metres(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3f", v);
+  return text;
+}
+
+// "goal (1.225, 4.575) m, cell (24, 91)" (the cell's centre).
+std::string describe_position(const GridMap& map, const char* which, const Cell& c) {
+  const Eigen::Vector2d w = map.cell_centre_world(c);
+  return std::string(which) + " (" + metres(w.x()) + ", " + metres(w.y()) + ") m, cell " +
+         describe(c);
+}
+
+// Why a cell in the map is blocked, naming the layer (ALGORITHM.md section 8).
+std::string why_blocked(const GridMap& map, const Cell& c) {
+  const GridBuildOptions& o = map.build_options();
+  switch (map.layer(c)) {
+    case CellLayer::kOccupied:
+      return "is in an occupied cell (map value >= occupied_threshold " +
+             std::to_string(o.occupied_threshold) + ")";
+    case CellLayer::kUnknown:
+      return "is in an unknown cell (map value -1, and allow_unknown is false)";
+    case CellLayer::kInflated:
+      return "is blocked by inflation: its centre is " +
+             metres(map.obstacle_distance(c) * map.resolution()) +
+             " m from the nearest obstacle, within robot_radius " + metres(o.robot_radius) + " m";
+    case CellLayer::kFree:
+      break;
+  }
+  return "is free";
+}
+
+// The free cell whose centre is nearest to `point` (continuous cell coordinates) within
+// `radius_cells`, ties to the lower row-major index (ALGORITHM.md section 8).
+std::optional<Cell> nearest_free_cell(const GridMap& map, const Point2& point,
+                                      double radius_cells) {
+  if (!(radius_cells > 0.0) || !point.allFinite()) return std::nullopt;
+  // Centres within the radius lie in cells whose indices are within this box.
+  const double x0 = std::floor(point.x() - radius_cells), x1 = std::ceil(point.x() + radius_cells);
+  const double y0 = std::floor(point.y() - radius_cells), y1 = std::ceil(point.y() + radius_cells);
+  if (x1 < 0 || y1 < 0 || x0 >= map.width() || y0 >= map.height()) return std::nullopt;
+  const int32_t xa = static_cast<int32_t>(std::max(x0, 0.0));
+  const int32_t xb = static_cast<int32_t>(std::min(x1, map.width() - 1.0));
+  const int32_t ya = static_cast<int32_t>(std::max(y0, 0.0));
+  const int32_t yb = static_cast<int32_t>(std::min(y1, map.height() - 1.0));
+  std::optional<Cell> best;
+  double best_squared = radius_cells * radius_cells;
+  // Row-major order and a strict comparison keep the lower index on ties.
+  for (int32_t y = ya; y <= yb; ++y) {
+    for (int32_t x = xa; x <= xb; ++x) {
+      if (map.blocked(x, y)) continue;
+      const double squared = (cell_centre({x, y}) - point).squaredNorm();
+      if (squared < best_squared || (!best && squared <= best_squared)) {
+        best = Cell{x, y};
+        best_squared = squared;
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query,
+                                      const PlannerOptions& options) {
   if (Status s = validate(options); !s.is_ok()) return s;
+  Endpoints out;
+  out.start = query.start;
+  out.goal = query.goal;
   auto outside = [&](const char* which, const Cell& c) {
     return std::string(which) + " " + describe(c) + " is outside the map (" +
            std::to_string(map.width()) + " x " + std::to_string(map.height()) + " cells)";
   };
+  auto moved = [&](const Point2& from, const Cell& to) {
+    return (cell_centre(to) - from).norm() * map.resolution();
+  };
+  const Point2 start_point = query.start_point.value_or(cell_centre(query.start));
+  const Point2 goal_point = query.goal_point.value_or(cell_centre(query.goal));
+  const double start_tolerance_cells = options.start_tolerance / map.resolution();
+  const double goal_tolerance_cells = options.goal_tolerance / map.resolution();
+
+  // The start: moved only out of inflation (a robot standing in an obstacle has a real problem).
   if (!map.in_bounds(query.start))
     return Status::error(StatusCode::kStartOutsideMap, outside("start", query.start));
-  if (!map.in_bounds(query.goal))
-    return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal));
-  if (map.blocked(query.start))
-    return Status::error(StatusCode::kStartOccupied,
-                         "start " + describe(query.start) + " is in a blocked cell");
-  if (map.blocked(query.goal))
-    return Status::error(StatusCode::kGoalOccupied,
-                         "goal " + describe(query.goal) + " is in a blocked cell");
-  return Status::ok();
+  if (map.blocked(query.start)) {
+    const bool inflation = map.layer(query.start) == CellLayer::kInflated;
+    const auto free = inflation ? nearest_free_cell(map, start_point, start_tolerance_cells)
+                                : std::nullopt;
+    if (!free) {
+      std::string message = describe_position(map, "start", query.start) + " " +
+                            why_blocked(map, query.start);
+      if (inflation && options.start_tolerance > 0.0)
+        message += "; no free cell within start_tolerance " + metres(options.start_tolerance) +
+                   " m";
+      return Status::error(StatusCode::kStartOccupied, message);
+    }
+    out.start = *free;
+    out.start_adjusted = true;
+    out.start_moved_m = moved(start_point, *free);
+  }
+
+  // The goal: moved out of any blocked cell, or into the map, within goal_tolerance.
+  const bool goal_inside = map.in_bounds(query.goal);
+  if (!goal_inside || map.blocked(query.goal)) {
+    const auto free = nearest_free_cell(map, goal_point, goal_tolerance_cells);
+    if (!free) {
+      const std::string within =
+          options.goal_tolerance > 0.0
+              ? "; no free cell within goal_tolerance " + metres(options.goal_tolerance) + " m"
+              : "";
+      if (!goal_inside)
+        return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal) + within);
+      return Status::error(StatusCode::kGoalOccupied, describe_position(map, "goal", query.goal) +
+                                                          " " + why_blocked(map, query.goal) +
+                                                          within);
+    }
+    out.goal = *free;
+    out.goal_adjusted = true;
+    out.goal_moved_m = moved(goal_point, *free);
+  }
+  return out;
+}
+
+Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOptions& options) {
+  const Expected<Endpoints> endpoints = resolve_endpoints(map, query, options);
+  return endpoints ? Status::ok() : endpoints.error();
 }
 
 Planner& Planner::operator=(Planner&&) noexcept = default;
@@ -354,7 +527,10 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   };
   if (!map_ || map_->cell_count() == 0) return fail(StatusCode::kInvalidMap, "no map to plan on");
   const GridMap& map = *map_;
-  if (Status s = check_query(map, query, options); !s.is_ok()) return fail(s.code, s.message);
+  const Expected<Endpoints> endpoints = resolve_endpoints(map, query, options);
+  if (!endpoints) return fail(endpoints.error().code, endpoints.error().message);
+  result.endpoints = *endpoints;
+  const PlanQuery resolved{endpoints->start, endpoints->goal};
 
   // One budget for search, pruning and smoothing.
   PlanningBudget budget(started, options.max_planning_time, cancel);
@@ -365,11 +541,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
                           stage);
   };
   SearchOutcome outcome;
-  if (query.start == query.goal) {
+  if (resolved.start == resolved.goal) {
     outcome.code = StatusCode::kOk;
-    outcome.path = {query.start};
+    outcome.path = {resolved.start};
   } else {
-    outcome = impl_->run(map, query, options, budget, &result.expanded_forward,
+    outcome = impl_->run(map, resolved, options, budget, &result.expanded_forward,
                          &result.expanded_backward);
     impl_->note_peak();
   }
@@ -379,8 +555,9 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     case StatusCode::kOk:
       break;
     case StatusCode::kNoValidPath:
-      return fail(outcome.code, "no path from start " + describe(query.start) + " to goal " +
-                                    describe(query.goal) + ": they are not connected");
+      return fail(outcome.code, "no path from " + describe_position(map, "start", resolved.start) +
+                                    " to " + describe_position(map, "goal", resolved.goal) +
+                                    ": they are not connected");
     case StatusCode::kTimeout:
     case StatusCode::kCanceled:
       return budget_failure(outcome.code, "before a path was found");
@@ -389,10 +566,12 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   }
 
   result.raw_path = std::move(outcome.path);
+  // Pruning and smoothing weigh costs as the search did (ALGORITHM.md section 8).
+  const double path_cost_weight = map.has_costs() ? options.cost_weight : 0.0;
   std::vector<Point2> raw_centres = cell_centres(result.raw_path);
   result.metrics.raw_cost_cells = polyline_length(raw_centres);
   result.waypoints = options.prune
-                         ? prune_path(map, result.raw_path, options.corner_policy, &budget)
+                         ? prune_path(map, result.raw_path, options.corner_policy, &budget, path_cost_weight)
                          : std::move(raw_centres);
   if (budget.expired()) return budget_failure(budget.state(), "while pruning the path");
   const TurnStats turns = turn_stats(result.waypoints);
@@ -403,6 +582,7 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     smoothing.smoothing_distance = options.smoothing_distance;
     smoothing.sample_step = options.sample_step;
     smoothing.corner_policy = options.corner_policy;
+    smoothing.cost_weight = path_cost_weight;
     result.path = smooth_path(map, result.waypoints, smoothing, &budget);
     if (budget.expired()) return budget_failure(budget.state(), "while smoothing the path");
   } else {
@@ -414,6 +594,8 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   result.metrics.length_m = result.metrics.length_cells * map.resolution();
   result.status = Status::ok();
   stop_clock();
+  // After the clock, like the reference search below: a measurement of the result.
+  result.metrics.clearance_m = path_clearance_cells(map, result.path) * map.resolution();
 
   // After the clock has stopped: the reference search is not part of the planning time. It has
   // no time budget but honours the cancel flag (a canceled reference leaves the ratio NaN).
@@ -421,7 +603,7 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     PlannerOptions optimal = default_options(PlannerKind::kAStar);
     optimal.corner_policy = options.corner_policy;
     PlanningBudget cancel_only(Clock::now(), std::chrono::microseconds{0}, cancel);
-    const SearchOutcome best = impl_->run(map, query, optimal, cancel_only, nullptr, nullptr);
+    const SearchOutcome best = impl_->run(map, resolved, optimal, cancel_only, nullptr, nullptr);
     if (best.code == StatusCode::kOk) {
       const double best_cost = polyline_length(cell_centres(best.path));
       result.metrics.length_ratio = best_cost > 0.0 ? result.metrics.length_cells / best_cost : 1.0;

@@ -72,6 +72,10 @@ bool supports(PlannerKind kind, CornerPolicy policy) {
   return kind != PlannerKind::kJps || policy == CornerPolicy::kNever;
 }
 
+bool supports_costs(PlannerKind kind) {
+  return kind != PlannerKind::kJps;
+}
+
 PlannerOptions default_options(PlannerKind kind) {
   PlannerOptions options;
   options.planner = kind;
@@ -106,6 +110,16 @@ Status validate(const PlannerOptions& o) {
     err() << "neighborhood " << to_string(o.neighborhood) << " is not supported by "
           << to_string(o.planner)
           << ", which searches the 8-neighbourhood (use 8, or another planner); ";
+  if (check(kCostWeightRange, o.cost_weight) && o.cost_weight > 0.0 && !supports_costs(o.planner))
+    err() << "cost_weight " << o.cost_weight << " is not supported by " << to_string(o.planner)
+          << ", whose jump rules hold only on a grid of uniform costs (use cost_weight 0, or "
+             "another planner); ";
+  auto check_tolerance = [&](const char* key, double value) {
+    if (kToleranceRange.contains(value)) return;
+    err() << key << " must be " << kToleranceRange.describe() << " (got " << value << "); ";
+  };
+  check_tolerance("goal_tolerance", o.goal_tolerance);
+  check_tolerance("start_tolerance", o.start_tolerance);
   check(kSmoothingDistanceRange, o.smoothing_distance);
   check(kSampleStepRange, o.sample_step);
   const double seconds = std::chrono::duration<double>(o.max_planning_time).count();
@@ -130,6 +144,9 @@ PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
   if (s.max_planning_time) o.max_planning_time = *s.max_planning_time;
   if (s.record_expansions) o.record_expansions = *s.record_expansions;
   if (s.compute_length_ratio) o.compute_length_ratio = *s.compute_length_ratio;
+  if (s.cost_weight) o.cost_weight = *s.cost_weight;
+  if (s.goal_tolerance) o.goal_tolerance = *s.goal_tolerance;
+  if (s.start_tolerance) o.start_tolerance = *s.start_tolerance;
   return o;
 }
 

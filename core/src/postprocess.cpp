@@ -6,20 +6,55 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace vnsba::core {
 
+double segment_cost(const GridMap& map, const Point2& a, const Point2& b, double cost_weight,
+                    CornerPolicy policy) {
+  const double length = (b - a).norm();
+  if (cost_weight == 0.0) {
+    return line_of_sight(map, a, b, policy) ? length : std::numeric_limits<double>::infinity();
+  }
+  const std::optional<double> highest = max_cost_along(map, a, b, policy);
+  if (!highest) return std::numeric_limits<double>::infinity();
+  return length * (1.0 + cost_weight * *highest);
+}
+
+double path_cost(const GridMap& map, const std::vector<Point2>& polyline, double cost_weight,
+                 CornerPolicy policy) {
+  double total = 0.0;
+  for (size_t i = 1; i < polyline.size(); ++i)
+    total += segment_cost(map, polyline[i - 1], polyline[i], cost_weight, policy);
+  return total;
+}
+
 std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path,
-                               CornerPolicy policy, PlanningBudget* budget) {
+                               CornerPolicy policy, PlanningBudget* budget, double cost_weight) {
   std::vector<Point2> out;
   if (path.empty()) return out;
   out.push_back(cell_centre(path.front()));
+  // With costs: the grid path's cost up to each cell, to price the stretch a shortcut replaces.
+  std::vector<double> cost_to;
+  if (cost_weight > 0.0) {
+    cost_to.assign(path.size(), 0.0);
+    for (size_t k = 1; k < path.size(); ++k)
+      cost_to[k] = cost_to[k - 1] + segment_cost(map, cell_centre(path[k - 1]),
+                                                 cell_centre(path[k]), cost_weight, policy);
+  }
+  auto affordable = [&](size_t from, size_t to) {
+    return cost_to.empty() ||
+           segment_cost(map, cell_centre(path[from]), cell_centre(path[to]), cost_weight,
+                        policy) <= cost_to[to] - cost_to[from];
+  };
   size_t anchor = 0;  // index into path
   size_t i = 1;
   while (i < path.size()) {
     if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
-    if (line_of_sight(map, path[anchor], path[i], policy)) {
+    // A single step is the path itself, affordable by definition.
+    if (line_of_sight(map, path[anchor], path[i], policy) &&
+        (anchor + 1 == i || affordable(anchor, i))) {
       ++i;
     } else if (anchor + 1 == i) {
       // Only an invalid input (a step without line of sight, e.g. through a wall or from a
@@ -142,6 +177,20 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
     if (!line_of_sight(map, curve[i - 1], curve[i], policy)) return std::nullopt;
   }
   if (!line_of_sight(map, curve.back(), b, policy)) return std::nullopt;
+  if (options.cost_weight > 0.0) {
+    // The path so far ends at prev, and what follows it is prev -> T -> B and the legs after B.
+    // With the curve, prev -> P1, the curve and P4 -> B take the place of prev -> T -> B; kept
+    // only when they cost no more, so each corner leaves the whole path no dearer, whatever the
+    // corners before and after do. (Pricing P1 -> T -> P4 alone is not enough: a piece of a
+    // diagonal leg that passes exactly through cell corners can, by rounding, cross beside a
+    // corner that the whole leg passes through, and meet a dearer cell.)
+    const double w = options.cost_weight;
+    const double before = segment_cost(map, prev, t, w, policy) + segment_cost(map, t, b, w, policy);
+    const double after = segment_cost(map, prev, curve.front(), w, policy) +
+                         path_cost(map, curve, w, policy) +
+                         segment_cost(map, curve.back(), b, w, policy);
+    if (!(after <= before)) return std::nullopt;
+  }
   return curve;
 }
 

@@ -322,7 +322,22 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   Section map = top.child("map");
   map.integer("occupied_threshold", c.map.occupied_threshold, 1, 100);
   map.boolean("allow_unknown", c.map.allow_unknown);
-  map.number("robot_radius", c.map.robot_radius, "a finite number of metres >= 0",
+  const bool radius_ok =
+      map.number("robot_radius", c.map.robot_radius, "a finite number of metres >= 0",
+                 [](double v) { return v >= 0.0; });
+  // The cost gradient beyond robot_radius (ALGORITHM.md section 8, Nav2's inflation layer).
+  const bool inflation_ok = map.number("inflation_radius", c.map.inflation_radius,
+                                       "a finite number of metres >= 0 (0 = no cost gradient)",
+                                       [](double v) { return v >= 0.0; });
+  if (radius_ok && inflation_ok && c.map.inflation_radius > 0.0 &&
+      c.map.inflation_radius < c.map.robot_radius) {
+    std::ostringstream msg;
+    msg << "map.inflation_radius: found \"" << c.map.inflation_radius
+        << "\", expected 0 (no cost gradient) or a number of metres >= map.robot_radius ("
+        << c.map.robot_radius << " m): the gradient starts at the robot's radius";
+    errors.push_back(msg.str());
+  }
+  map.number("cost_scaling_factor", c.map.cost_scaling_factor, "a finite number per metre >= 0",
              [](double v) { return v >= 0.0; });
   map.integer("max_cells", c.map.max_cells, 1, core::kMaxCellsLimit);
   map.finish();
@@ -374,6 +389,24 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
                  [](double v) { return core::kMaxPlanningTimeRange.contains(v); });
   if (seconds) s.max_planning_time = to_microseconds(*seconds);
   planner.boolean("compute_length_ratio", s.compute_length_ratio);
+  // ALGORITHM.md section 8: costs, tolerances and path poses. Absent = 0 (the paper's binary
+  // grid, exact start and goal) and the map's resolution for path_spacing.
+  const bool cost_weight_ok = number_in(core::kCostWeightRange, s.cost_weight);
+  if (cost_weight_ok && s.cost_weight && *s.cost_weight > 0.0 && !core::supports_costs(kind)) {
+    std::ostringstream msg;
+    msg << "planner.cost_weight: found \"" << *s.cost_weight << "\", expected 0 for "
+        << to_string(kind) << " (its jump rules hold only on a grid of uniform costs; use a "
+        << "planner that supports costs, such as vns_bastar or astar)";
+    errors.push_back(msg.str());
+  }
+  for (const auto& [key, out] : {std::pair{"goal_tolerance", &s.goal_tolerance},
+                                 std::pair{"start_tolerance", &s.start_tolerance}}) {
+    planner.number(key, *out, core::kToleranceRange.describe() + " (0 = exact)",
+                   [](double v) { return core::kToleranceRange.contains(v); });
+  }
+  planner.number(kPathSpacingRange.key, c.planner.path_spacing,
+                 kPathSpacingRange.describe() + " (absent = the map's resolution)",
+                 [](double v) { return kPathSpacingRange.contains(v); });
   planner.finish();
 
   Section requests = top.child("requests");

@@ -7,7 +7,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <sstream>
+
+#include "vnsba/core/path_poses.hpp"
 
 namespace vnsba::node {
 
@@ -303,25 +306,52 @@ PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& fr
   return msg;
 }
 
-PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame,
-                    const TimeMsg& stamp) {
+PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp,
+                    double spacing_m, std::optional<double> goal_yaw) {
   PathMsg msg;
   msg.header().frame_id(frame);
   msg.header().stamp(stamp);
-  const auto& points = result.world_path;
-  msg.poses().reserve(points.size());
-  for (size_t i = 0; i < points.size(); ++i) {
-    const size_t a = i + 1 < points.size() ? i : (i > 0 ? i - 1 : i);
-    const size_t b = i + 1 < points.size() ? i + 1 : i;
-    const double yaw = core::heading(points[a], points[b]);
-    msg.poses().push_back(to_pose_msg(points[i].x(), points[i].y(), yaw, frame, stamp));
-  }
+  const std::vector<core::Pose2> poses = core::path_poses(result.world_path, spacing_m, goal_yaw);
+  msg.poses().reserve(poses.size());
+  for (const core::Pose2& p : poses)
+    msg.poses().push_back(to_pose_msg(p.x, p.y, p.yaw, frame, stamp));
   return msg;
+}
+
+double min_path_spacing(double resolution) {
+  return kMinPathSpacingCells * resolution;
+}
+
+std::string describe_adjusted_endpoints(const core::Endpoints& endpoints, const core::GridMap& map,
+                                        const core::PlannerOptions& options) {
+  auto fixed = [](double v) {
+    char text[64];
+    std::snprintf(text, sizeof(text), std::abs(v) < 1e9 ? "%.3f" : "%.6g", v);
+    return std::string(text);
+  };
+  auto moved = [&](const char* which, const core::Cell& cell, double distance, double tolerance,
+                   const char* key) {
+    const Eigen::Vector2d c = map.cell_centre_world(cell);
+    char tol[32];
+    std::snprintf(tol, sizeof(tol), "%g", tolerance);
+    return std::string(which) + " moved " + fixed(distance) + " m to the nearest free cell (" +
+           fixed(c.x()) + ", " + fixed(c.y()) + ") m (" + key + " " + tol + " m)";
+  };
+  std::string out;
+  if (endpoints.start_adjusted)
+    out = moved("start", endpoints.start, endpoints.start_moved_m, options.start_tolerance,
+                "start_tolerance");
+  if (endpoints.goal_adjusted) {
+    out += (out.empty() ? "" : "; ") + moved("goal", endpoints.goal, endpoints.goal_moved_m,
+                                             options.goal_tolerance, "goal_tolerance");
+  }
+  return out;
 }
 
 PlanStatusMsg to_status_msg(const std::string& request_id, const RequestIdentity* identity,
                             const WireStatus& status, const std::string& planner,
-                            const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path) {
+                            const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path,
+                            const core::Endpoints* endpoints, const core::GridMap* map) {
   PlanStatusMsg msg;
   msg.request_id(request_id);
   if (identity != nullptr) {
@@ -335,7 +365,9 @@ PlanStatusMsg to_status_msg(const std::string& request_id, const RequestIdentity
   msg.code_name(code_name(status.code));
   msg.message(status.message);
   msg.planner(planner);
-  msg.length_ratio(std::nan(""));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  msg.length_ratio(nan);
+  msg.clearance_m(nan);
   if (metrics != nullptr) {
     msg.length_m(metrics->length_m);
     msg.length_cells(metrics->length_cells);
@@ -345,6 +377,23 @@ PlanStatusMsg to_status_msg(const std::string& request_id, const RequestIdentity
     msg.expanded(metrics->expanded);
     msg.planning_time_us(metrics->planning_time_us);
     msg.length_ratio(metrics->length_ratio);
+    if (status.ok()) msg.clearance_m(metrics->clearance_m);
+  }
+  msg.start_x(nan);
+  msg.start_y(nan);
+  msg.goal_x(nan);
+  msg.goal_y(nan);
+  if (endpoints != nullptr && map != nullptr) {
+    const Eigen::Vector2d s = map->cell_centre_world(endpoints->start);
+    const Eigen::Vector2d g = map->cell_centre_world(endpoints->goal);
+    msg.start_x(s.x());
+    msg.start_y(s.y());
+    msg.goal_x(g.x());
+    msg.goal_y(g.y());
+    msg.start_adjusted(endpoints->start_adjusted);
+    msg.goal_adjusted(endpoints->goal_adjusted);
+    msg.start_moved_m(endpoints->start_moved_m);
+    msg.goal_moved_m(endpoints->goal_moved_m);
   }
   msg.map_stamp(map_stamp);
   msg.path(std::move(path));
@@ -402,6 +451,7 @@ core::Metrics metrics_from_status_msg(const PlanStatusMsg& msg) {
   m.expanded = msg.expanded();
   m.planning_time_us = msg.planning_time_us();
   m.length_ratio = msg.length_ratio();
+  m.clearance_m = msg.clearance_m();
   return m;
 }
 

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -128,9 +129,11 @@ class PlannerNode::Impl {
   // plan throws).
   void handle(Job& job, std::shared_ptr<const ActiveMap>& map);
   // A request's one status.
+  // `endpoints` and `map`, when given, are the start and goal the plan used (see to_status_msg).
   void answer(const Job& job, const WireStatus& status, const std::string& planner = "",
               const core::Metrics* metrics = nullptr, const TimeMsg& map_stamp = TimeMsg(),
-              PathMsg path = PathMsg());
+              PathMsg path = PathMsg(), const core::Endpoints* endpoints = nullptr,
+              const core::GridMap* map = nullptr);
   // A report about a slice (SUBJECT_MAP).
   void report_map(const WireStatus& status, const TimeMsg& map_stamp);
   void write_status(PlanStatusMsg& msg, const std::string& what);
@@ -414,10 +417,10 @@ void PlannerNode::Impl::write_status(PlanStatusMsg& msg, const std::string& what
 }
 
 void PlannerNode::Impl::answer(const Job& job, const WireStatus& status, const std::string& planner,
-                               const core::Metrics* metrics, const TimeMsg& map_stamp,
-                               PathMsg path) {
+                               const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path,
+                               const core::Endpoints* endpoints, const core::GridMap* map) {
   PlanStatusMsg msg = to_status_msg(echoed_id(job.id), &job.identity, status, planner, metrics,
-                                    map_stamp, std::move(path));
+                                    map_stamp, std::move(path), endpoints, map);
   write_status(msg, "request '" + printable(job.id) + "'");
   ++statuses_published_;
 }
@@ -488,11 +491,34 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
   const TimeMsg stamp = now_msg();
   PathMsg path;
   if (status.ok()) {
-    path = to_path_msg(result, cfg_.frame_id, stamp);
+    // Poses at most planner.path_spacing apart (default: this map's resolution), never finer
+    // than min_path_spacing (a bound on the pose count).
+    const double resolution = map->grid->resolution();
+    const double configured = cfg_.planner.path_spacing_for(resolution);
+    const double spacing = std::max(configured, min_path_spacing(resolution));
+    std::vector<std::string> remarks;
+    if (std::string moved = describe_adjusted_endpoints(result.endpoints, *map->grid, options);
+        !moved.empty())
+      remarks.push_back(std::move(moved));
+    if (!resolved.warning.empty()) remarks.push_back(resolved.warning);
+    if (spacing > configured) {
+      remarks.push_back(fmt::format(
+          "warning: planner.path_spacing {:g} m is finer than {:g} cells at this map's resolution "
+          "of {:g} m; poses are {:g} m apart",
+          configured, kMinPathSpacingCells, resolution, spacing));
+    }
+    for (const std::string& remark : remarks)
+      status.message += (status.message.empty() ? "" : "; ") + remark;
+    path = to_path_msg(result, cfg_.frame_id, stamp, spacing, resolved.goal_yaw);
     if (!plan_writer_->write(&path)) spdlog::error("could not publish the path of '{}'", id);
     ++plans_ok_;
   }
-  answer(job, status, planner_name, &result.metrics, map->stamp, std::move(path));
+  // The endpoints are the plan's once core resolved them: every outcome but a refusal of the
+  // query itself (which resolve_request normally catches first).
+  const bool resolved_endpoints = status.ok() || status.code == wire::NO_VALID_PATH ||
+                                  status.code == wire::TIMEOUT || status.code == wire::CANCELED;
+  answer(job, status, planner_name, &result.metrics, map->stamp, std::move(path),
+         resolved_endpoints ? &result.endpoints : nullptr, map->grid.get());
   if (debug && result.metrics.expanded > 0) {
     PlannerDebugMsg msg = to_debug_msg(echoed_id(job.id), result, *map->grid, cfg_.frame_id, stamp);
     if (!debug_writer_->write(&msg)) spdlog::warn("could not publish the debug of '{}'", id);
@@ -501,11 +527,12 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
       std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - t0).count();
   spdlog::log(
       status.ok() ? spdlog::level::info : spdlog::level::warn,
-      "plan '{}' {} {}: length {:.2f} m, {} turns, {:.1f} deg, {} expanded, {} us planning, "
-      "{} us total{}{}",
-      id, planner_name, code_name(status.code), result.metrics.length_m, result.metrics.turns,
-      result.metrics.turn_angle_deg, result.metrics.expanded, result.metrics.planning_time_us,
-      total_us, status.ok() ? "" : ": ", status.message);
+      "plan '{}' {} {}: length {:.2f} m, clearance {:.3f} m, {} turns, {:.1f} deg, {} expanded, "
+      "{} us planning, {} us total{}{}",
+      id, planner_name, code_name(status.code), result.metrics.length_m, result.metrics.clearance_m,
+      result.metrics.turns, result.metrics.turn_angle_deg, result.metrics.expanded,
+      result.metrics.planning_time_us, total_us, status.message.empty() ? "" : ": ",
+      status.message);
 }
 
 // ---------------------------------------------------------------------------------------------

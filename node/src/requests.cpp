@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
+
+#include "vnsba/core/path_poses.hpp"
 
 namespace vnsba::node {
 
@@ -24,6 +27,22 @@ std::string metres(double v) {
 
 std::string format_position(const char* which, double x, double y) {
   return std::string(which) + " (" + metres(x) + ", " + metres(y) + ") m";
+}
+
+// A setting as a user typed it: 0.3, 100 (not 0.300).
+std::string short_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", v);
+  return text;
+}
+
+// Distance (metres) from (x, y) to the map's rectangle; 0 inside it.
+double distance_to_map(const core::GridMap& map, double x, double y) {
+  const Eigen::Vector2d lo = map.grid_to_world({0, 0});
+  const Eigen::Vector2d hi = map.grid_to_world({double(map.width()), double(map.height())});
+  const double dx = std::max({lo.x() - x, 0.0, x - hi.x()});
+  const double dy = std::max({lo.y() - y, 0.0, y - hi.y()});
+  return std::hypot(dx, dy);
 }
 
 std::string describe_world_bounds(const core::GridMap& map) {
@@ -78,6 +97,13 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   // configuration.
   out.options = config.planner.options(kind);
   out.planner_name = std::string(core::to_string(out.options.planner));
+  // The configuration is valid for its own planner (checked at load); a request's planner may
+  // not accept it (jps with planner.cost_weight > 0, or a corner_policy it cannot search with).
+  if (core::Status s = core::validate(out.options); !s.is_ok()) {
+    return fail(wire::INVALID_REQUEST,
+                "planner: " + out.planner_name +
+                    " cannot plan with the node's planner.* settings: " + s.message);
+  }
   if (!job.missing_start.empty()) return fail(wire::INVALID_REQUEST, job.missing_start);
   const PoseCheck start = check_pose(job.start, "start", config.frame_id);
   if (!start.status.ok()) return fail(start.status.code, start.status.message);
@@ -92,14 +118,40 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
     return fail(wire::START_OUTSIDE_MAP, format_position("start", start.x, start.y) +
                                              " is outside the map " + describe_world_bounds(*map));
   }
-  const auto goal_cell = map->world_to_cell(goal.x, goal.y);
+  const double goal_tolerance = out.options.goal_tolerance;
+  auto goal_outside = [&] {
+    std::string message = format_position("goal", goal.x, goal.y) + " is outside the map " +
+                          describe_world_bounds(*map);
+    if (goal_tolerance > 0.0)
+      message += "; no free cell within goal_tolerance " + short_number(goal_tolerance) + " m";
+    return fail(wire::GOAL_OUTSIDE_MAP, message);
+  };
+  const core::Point2 goal_point = map->world_to_grid(goal.x, goal.y);
+  std::optional<core::Cell> goal_cell = map->world_to_cell(goal.x, goal.y);
   if (!goal_cell) {
-    return fail(wire::GOAL_OUTSIDE_MAP, format_position("goal", goal.x, goal.y) +
-                                            " is outside the map " + describe_world_bounds(*map));
+    // Outside the map, core may still move the goal onto it within goal_tolerance. A point
+    // farther than that from the map has no free cell within reach (and its cell index could
+    // overflow), so it is refused here.
+    if (!(goal_tolerance > 0.0) || distance_to_map(*map, goal.x, goal.y) > goal_tolerance)
+      return goal_outside();
+    goal_cell = core::Cell{static_cast<int32_t>(std::floor(goal_point.x())),
+                           static_cast<int32_t>(std::floor(goal_point.y()))};
   }
-  out.query = {*start_cell, *goal_cell};
-  if (core::Status s = core::check_query(*map, out.query, out.options); !s.is_ok())
+  out.query =
+      core::PlanQuery(*start_cell, *goal_cell, map->world_to_grid(start.x, start.y), goal_point);
+  if (core::Status s = core::check_query(*map, out.query, out.options); !s.is_ok()) {
+    // Core names the cell; the node's message gives the point and the map in metres.
+    if (s.code == core::StatusCode::kGoalOutsideMap) return goal_outside();
     return fail(to_wire_code(s.code), s.message);
+  }
+  // The final pose takes the goal's orientation when it is a rotation (ALGORITHM.md section 8).
+  const auto& q = job.goal.pose().orientation();
+  out.goal_yaw = core::yaw_from_quaternion(q.x(), q.y(), q.z(), q.w());
+  if (!out.goal_yaw) {
+    const double norm = std::sqrt(q.x() * q.x() + q.y() * q.y() + q.z() * q.z() + q.w() * q.w());
+    out.warning = "warning: goal orientation ignored: quaternion norm " + short_number(norm) +
+                  " is not 1 (the last pose faces along the path)";
+  }
   return out;
 }
 

@@ -60,8 +60,9 @@ RunPicture picture_of(std::shared_ptr<const MapPicture> map, const core::PlanQue
                       const core::PlanResult& result) {
   RunPicture run;
   run.map = std::move(map);
-  run.start = core::cell_centre(query.start);
-  run.goal = core::cell_centre(query.goal);
+  // The requested points where the query carries them (tolerance measures from them).
+  run.start = query.start_point.value_or(core::cell_centre(query.start));
+  run.goal = query.goal_point.value_or(core::cell_centre(query.goal));
   run.expanded_forward = result.expanded_forward;
   run.expanded_backward = result.expanded_backward;
   run.meeting_cell = result.meeting_cell;
@@ -307,8 +308,12 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
     if (run.metrics) {
       const core::Metrics& m = *run.metrics;
       std::string line = "length " + format_number("%.2f", m.length_m) + " m (" +
-                         format_number("%.2f", m.length_cells) + " cells), turns " +
-                         std::to_string(m.turns) + ", turn angle " +
+                         format_number("%.2f", m.length_cells) + " cells), " +
+                         (std::isnan(m.clearance_m) ? std::string()
+                          : std::isinf(m.clearance_m)
+                              ? std::string("clearance inf (no obstacle), ")
+                              : "clearance " + format_number("%.2f", m.clearance_m) + " m, ") +
+                         "turns " + std::to_string(m.turns) + ", turn angle " +
                          format_number("%.1f", m.turn_angle_deg) + " deg, expanded " +
                          std::to_string(m.expanded) + ", time " +
                          format_number("%.3f", m.planning_time_us / 1000.0) + " ms";

@@ -204,7 +204,7 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   ASSERT_TRUE(std::getline(lines, line));
   EXPECT_EQ(line,
             "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,"
-            "expanded,time_us");
+            "expanded,clearance_m,time_us");
   size_t astar_rows = 0, vns_rows = 0, progress_lines = 0;
   while (std::getline(lines, line)) {
     // The per-map progress line goes to stderr, which this output includes; CSV rows have commas.
@@ -215,7 +215,7 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
       continue;
     }
     const auto f = split(line, ',');
-    ASSERT_EQ(f.size(), 11u) << line;
+    ASSERT_EQ(f.size(), 12u) << line;
     EXPECT_EQ(f[0], "arena");
     EXPECT_EQ(f[3], "OK") << line;
     const int scenario_line = std::stoi(f[1]);
@@ -231,7 +231,12 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
       EXPECT_EQ(f[2], "vns_bastar");
       ++vns_rows;
     }
-    EXPECT_GE(std::stod(f[10]), 0.0);
+    // arena has walls: every path keeps a positive, finite distance from them (metres = cells
+    // on Moving AI maps); the time stays the last column.
+    const double clearance = std::stod(f[10]);
+    EXPECT_TRUE(std::isfinite(clearance)) << line;
+    EXPECT_GT(clearance, 0.0) << line;
+    EXPECT_GE(std::stod(f[11]), 0.0);
   }
   EXPECT_EQ(astar_rows, scenarios->size());
   EXPECT_EQ(vns_rows, scenarios->size());
@@ -249,7 +254,7 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   while (std::getline(post_lines, line)) {
     if (line.find(',') == std::string::npos) continue;  // progress (stderr)
     const auto f = split(line, ',');
-    ASSERT_EQ(f.size(), 11u) << line;
+    ASSERT_EQ(f.size(), 12u) << line;
     if (f[2] == "astar") {
       plain_cost[f[1]] = std::stod(f[5]);
       continue;
@@ -268,6 +273,18 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   ASSERT_EQ(summary_code, 0) << summary;
   EXPECT_NE(summary.find("**game** (arena)"), std::string::npos) << summary;
   EXPECT_NE(summary.find("VNS-BA* (`vns_bastar`) | 10 | 100.0 %"), std::string::npos) << summary;
+  // "clearance (cells)" follows "turn angle (deg)", and every planner's mean is a number > 0.
+  EXPECT_NE(summary.find("| turn angle (deg) | clearance (cells) | expanded |"), std::string::npos)
+      << summary;
+  size_t rows = 0;
+  for (std::stringstream table(summary); std::getline(table, line);) {
+    if (line.find("| 10 | 100.0 %") == std::string::npos) continue;
+    ++rows;
+    const auto cells = split(line, '|');  // "", planner, plans, success, ratio, raw, turns, ...
+    ASSERT_GE(cells.size(), 9u) << line;
+    EXPECT_GT(std::stod(cells[8]), 0.0) << line;  // clearance (cells)
+  }
+  EXPECT_EQ(rows, core::all_planner_kinds().size()) << summary;
   fs::remove_all(dir);
 }
 

@@ -54,8 +54,8 @@ TEST_P(EveryPlanner, ErrorStatusesNameTheProblem) {
   };
   expect({{-1, 0}, {9, 0}}, StatusCode::kStartOutsideMap, "start (-1, 0)");
   expect({{0, 0}, {10, 0}}, StatusCode::kGoalOutsideMap, "goal (10, 0)");
-  expect({{4, 3}, {9, 0}}, StatusCode::kStartOccupied, "start (4, 3)");
-  expect({{0, 0}, {4, 5}}, StatusCode::kGoalOccupied, "goal (4, 5)");
+  expect({{4, 3}, {9, 0}}, StatusCode::kStartOccupied, "start (4.500, 3.500) m, cell (4, 3) is in an occupied cell");
+  expect({{0, 0}, {4, 5}}, StatusCode::kGoalOccupied, "goal (4.500, 5.500) m, cell (4, 5) is in an occupied cell");
   // Outside wins over occupied for the start, and start is reported before goal.
   expect({{-5, -5}, {4, 5}}, StatusCode::kStartOutsideMap, "start");
 }

@@ -85,7 +85,10 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.map.occupied_threshold, b.map.occupied_threshold);
   EXPECT_EQ(a.map.allow_unknown, b.map.allow_unknown);
   EXPECT_EQ(a.map.robot_radius, b.map.robot_radius);
+  EXPECT_EQ(a.map.inflation_radius, b.map.inflation_radius);
+  EXPECT_EQ(a.map.cost_scaling_factor, b.map.cost_scaling_factor);
   EXPECT_EQ(a.map.max_cells, b.map.max_cells);
+  EXPECT_EQ(a.planner.path_spacing, b.planner.path_spacing);
   EXPECT_EQ(a.planner.kind, b.planner.kind);
   // The same options for the configured planner and for every per-request override.
   ExpectSameOptions(a.planner.options(), b.planner.options());
@@ -111,11 +114,60 @@ ConfigResult LoadBad(const std::string& name, size_t expected_errors) {
   return result;
 }
 
-TEST(Config, DefaultYamlLoadsAndEqualsTheDefaults) {
+std::string PaperYamlPath() {
+  return std::string(VNSBA_CONFIG_DIR) + "/paper.yaml";
+}
+
+// What config/default.yaml adds to the built-in defaults (the paper's setting) for a real robot
+// (ALGORITHM.md section 8): the cost gradient, cost_weight and the tolerances.
+NodeConfig RobotDefaults() {
+  NodeConfig config = LoadedDefaults();
+  config.map.inflation_radius = 0.55;
+  config.map.cost_scaling_factor = 3.0;
+  config.planner.settings.cost_weight = 2.0;
+  config.planner.settings.goal_tolerance = 0.25;
+  config.planner.settings.start_tolerance = 0.2;
+  return config;
+}
+
+TEST(Config, DefaultYamlLoadsAndEqualsTheDefaultsWithTheRobotKeys) {
   const ConfigResult result = load_config(DefaultYamlPath());
   ASSERT_TRUE(result.errors.empty()) << Joined(result.errors);
   ASSERT_TRUE(result.config.has_value());
+  ExpectSameConfig(*result.config, RobotDefaults());
+  // The default planner plans with costs, and every planner that supports them gets the same
+  // settings through make_options; path_spacing is left to the map's resolution.
+  const NodeConfig& c = *result.config;
+  EXPECT_TRUE(vnsba::core::supports_costs(c.planner.kind));
+  EXPECT_TRUE(vnsba::core::validate(c.planner.options()).is_ok());
+  for (PlannerKind kind : vnsba::core::all_planner_kinds()) {
+    SCOPED_TRACE(std::string(vnsba::core::to_string(kind)));
+    EXPECT_DOUBLE_EQ(c.planner.options(kind).cost_weight, 2.0);
+    EXPECT_DOUBLE_EQ(c.planner.options(kind).goal_tolerance, 0.25);
+    EXPECT_DOUBLE_EQ(c.planner.options(kind).start_tolerance, 0.2);
+  }
+  EXPECT_FALSE(c.planner.path_spacing.has_value());
+  EXPECT_DOUBLE_EQ(c.planner.path_spacing_for(0.05), 0.05);
+  EXPECT_TRUE(vnsba::core::validate(c.map).is_ok());
+}
+
+// config/paper.yaml is the paper's binary setting: exactly the built-in defaults.
+TEST(Config, PaperYamlLoadsAndEqualsTheBuiltInDefaults) {
+  const ConfigResult result = load_config(PaperYamlPath());
+  ASSERT_TRUE(result.errors.empty()) << Joined(result.errors);
+  ASSERT_TRUE(result.config.has_value());
   ExpectSameConfig(*result.config, LoadedDefaults());
+  const PlannerOptions o = result.config->planner.options();
+  EXPECT_EQ(o.cost_weight, 0.0);
+  EXPECT_EQ(o.goal_tolerance, 0.0);
+  EXPECT_EQ(o.start_tolerance, 0.0);
+  EXPECT_EQ(result.config->map.inflation_radius, 0.0);
+  // Every other line is default.yaml's: the same keys, so paper.yaml documents them too.
+  const std::string paper = ReadText(PaperYamlPath());
+  for (const char* key : {"inflation_radius:", "cost_scaling_factor:", "cost_weight:",
+                          "goal_tolerance:", "start_tolerance:", "path_spacing:"}) {
+    EXPECT_NE(paper.find(key), std::string::npos) << key;
+  }
 }
 
 TEST(Config, DefaultYamlMentionsEveryKey) {
@@ -137,6 +189,8 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "occupied_threshold:",
                           "allow_unknown:",
                           "robot_radius:",
+                          "inflation_radius:",
+                          "cost_scaling_factor:",
                           "max_cells:",
                           "planner:",
                           "name:",
@@ -150,6 +204,10 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "sample_step:",
                           "max_planning_time:",
                           "compute_length_ratio:",
+                          "cost_weight:",
+                          "goal_tolerance:",
+                          "start_tolerance:",
+                          "path_spacing:",
                           "requests:",
                           "preempt:",
                           "queue_capacity:",
@@ -174,11 +232,33 @@ TEST(Config, ChangingOnlyThePlannerNameInDefaultYamlGivesThatPlannersDefaults) {
   const ConfigResult result = parse_config(text, "default.yaml with astar");
   ASSERT_TRUE(result.config.has_value()) << Joined(result.errors);
   EXPECT_EQ(result.config->planner.kind, PlannerKind::kAStar);
-  ExpectSameOptions(result.config->planner.options(),
-                    vnsba::core::make_options(PlannerKind::kAStar, NodeConfig().planner.settings));
+  ExpectSameOptions(
+      result.config->planner.options(),
+      vnsba::core::make_options(PlannerKind::kAStar, RobotDefaults().planner.settings));
   EXPECT_EQ(result.config->planner.options().neighborhood, Neighborhood::kEight);
   EXPECT_FALSE(result.config->planner.options().prune);
   EXPECT_FALSE(result.config->planner.options().smooth);
+}
+
+// jps plans on uniform costs only: default.yaml's cost_weight makes `name: jps` alone an error
+// naming planner.cost_weight; with cost_weight 0 it loads.
+TEST(Config, ChangingThePlannerNameInDefaultYamlToJpsNeedsCostWeightZero) {
+  std::string text = ReadText(DefaultYamlPath());
+  const std::string from = "name: vns_bastar";
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(), "name: jps");
+  const ConfigResult bad = parse_config(text, "default.yaml with jps");
+  EXPECT_FALSE(bad.config.has_value());
+  ASSERT_EQ(bad.errors.size(), 1u) << Joined(bad.errors);
+  EXPECT_TRUE(HasError(bad, "planner.cost_weight", {"found \"2\"", "expected 0 for jps"}));
+  const std::string weight = "cost_weight: 2.0";
+  const size_t w = text.find(weight);
+  ASSERT_NE(w, std::string::npos);
+  text.replace(w, weight.size(), "cost_weight: 0");
+  const ConfigResult ok = parse_config(text, "default.yaml with jps, cost_weight 0");
+  ASSERT_TRUE(ok.config.has_value()) << Joined(ok.errors);
+  EXPECT_EQ(ok.config->planner.kind, PlannerKind::kJps);
 }
 
 TEST(Config, EmptyFileGivesTheDefaults) {
@@ -316,6 +396,97 @@ TEST(Config, NonFiniteAndMalformedNumbersAreRejected) {
     EXPECT_TRUE(HasError(r, "domain_id", {"0..232"})) << value;
   }
   EXPECT_TRUE(parse_config("domain_id: +7\n").config.has_value());
+}
+
+// ALGORITHM.md section 8's keys: each refuses every bad value at load, naming the key and unit.
+TEST(Config, CostAndToleranceKeysRefuseBadValuesNamingKeyAndUnit) {
+  struct Key {
+    std::string section, key;
+    std::vector<std::string> expected;  // parts of the message (unit, range)
+    std::vector<std::string> out_of_range;
+  };
+  const Key keys[] = {
+      {"map", "inflation_radius", {"metres", ">= 0", "no cost gradient"}, {"-0.1", "-1e-9"}},
+      {"map", "cost_scaling_factor", {"per metre", ">= 0"}, {"-3"}},
+      {"planner", "cost_weight", {"a number in [0, 1000]"}, {"-0.5", "1000.5", "1e9"}},
+      {"planner", "goal_tolerance", {"metres in [0, 100]"}, {"-0.25", "100.1"}},
+      {"planner", "start_tolerance", {"metres in [0, 100]"}, {"-0.2", "1e4"}},
+      {"planner",
+       "path_spacing",
+       {"metres in (0, 10]", "the map's resolution"},
+       {"0", "-0.05", "10.01"}},
+  };
+  for (const Key& k : keys) {
+    std::vector<std::string> values = {".nan",   ".inf",   "-.inf", "abc",
+                                       "[1, 2]", "{a: 1}", "''",    "true"};
+    values.insert(values.end(), k.out_of_range.begin(), k.out_of_range.end());
+    for (const std::string& v : values) {
+      SCOPED_TRACE(k.section + "." + k.key + ": " + v);
+      const ConfigResult r = parse_config(k.section + ":\n  " + k.key + ": " + v + "\n");
+      EXPECT_FALSE(r.config.has_value());
+      EXPECT_EQ(r.errors.size(), 1u) << Joined(r.errors);
+      EXPECT_TRUE(HasError(r, k.section + "." + k.key, k.expected));
+    }
+  }
+  // Every bad key of a file at once.
+  const ConfigResult all = parse_config(
+      "map: {inflation_radius: -1, cost_scaling_factor: .nan}\n"
+      "planner: {cost_weight: -1, goal_tolerance: .inf, start_tolerance: x, path_spacing: 0}\n");
+  EXPECT_EQ(all.errors.size(), 6u) << Joined(all.errors);
+  // Boundaries are accepted.
+  const ConfigResult edges = parse_config(
+      "map: {inflation_radius: 0, cost_scaling_factor: 0}\n"
+      "planner: {cost_weight: 1000, goal_tolerance: 100, start_tolerance: 0, path_spacing: 10}\n");
+  ASSERT_TRUE(edges.config.has_value()) << Joined(edges.errors);
+  EXPECT_EQ(edges.config->planner.path_spacing, 10.0);
+  EXPECT_TRUE(parse_config("planner: {path_spacing: 1e-6}\n").config.has_value());
+}
+
+TEST(Config, InflationRadiusBelowTheRobotRadiusIsRefused) {
+  const ConfigResult r = parse_config("map: {robot_radius: 0.3, inflation_radius: 0.2}\n");
+  ASSERT_EQ(r.errors.size(), 1u) << Joined(r.errors);
+  EXPECT_TRUE(
+      HasError(r, "map.inflation_radius",
+               {"found \"0.2\"", "0 (no cost gradient)", "metres >= map.robot_radius (0.3 m)"}));
+  // 0 (no gradient) and the radius itself are fine; a bad radius is reported alone.
+  EXPECT_TRUE(parse_config("map: {robot_radius: 0.3, inflation_radius: 0}\n").config.has_value());
+  EXPECT_TRUE(parse_config("map: {robot_radius: 0.3, inflation_radius: 0.3}\n").config.has_value());
+  const ConfigResult radius = parse_config("map: {robot_radius: -1, inflation_radius: 0.2}\n");
+  ASSERT_EQ(radius.errors.size(), 1u) << Joined(radius.errors);
+  EXPECT_TRUE(HasError(radius, "map.robot_radius"));
+}
+
+TEST(Config, CostAndToleranceKeysReachTheirFieldsForEveryPlanner) {
+  const ConfigResult r = parse_config(
+      "map: {robot_radius: 0.1, inflation_radius: 0.6, cost_scaling_factor: 4.5}\n"
+      "planner: {cost_weight: 7, goal_tolerance: 0.4, start_tolerance: 0.15, path_spacing: 0.2}\n");
+  ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
+  const NodeConfig& c = *r.config;
+  EXPECT_DOUBLE_EQ(c.map.inflation_radius, 0.6);
+  EXPECT_DOUBLE_EQ(c.map.cost_scaling_factor, 4.5);
+  EXPECT_DOUBLE_EQ(c.planner.path_spacing_for(0.05), 0.2);
+  for (PlannerKind kind : vnsba::core::all_planner_kinds()) {
+    SCOPED_TRACE(std::string(vnsba::core::to_string(kind)));
+    const PlannerOptions o = c.planner.options(kind);
+    EXPECT_DOUBLE_EQ(o.cost_weight, 7.0);
+    EXPECT_DOUBLE_EQ(o.goal_tolerance, 0.4);
+    EXPECT_DOUBLE_EQ(o.start_tolerance, 0.15);
+  }
+  // Absent: the paper (0) and the map's resolution.
+  const NodeConfig d = parse_config("").config.value();
+  EXPECT_EQ(d.planner.options().cost_weight, 0.0);
+  EXPECT_EQ(d.planner.options().goal_tolerance, 0.0);
+  EXPECT_EQ(d.planner.options().start_tolerance, 0.0);
+  EXPECT_EQ(d.map.inflation_radius, 0.0);
+  EXPECT_DOUBLE_EQ(d.planner.path_spacing_for(0.05), 0.05);
+}
+
+TEST(Config, JpsWithCostWeightIsRefusedAtLoad) {
+  const ConfigResult r = parse_config("planner: {name: jps, cost_weight: 0.5}\n");
+  ASSERT_EQ(r.errors.size(), 1u) << Joined(r.errors);
+  EXPECT_TRUE(HasError(r, "planner.cost_weight", {"found \"0.5\"", "expected 0 for jps"}));
+  EXPECT_TRUE(parse_config("planner: {name: jps, cost_weight: 0}\n").config.has_value());
+  EXPECT_TRUE(parse_config("planner: {name: astar, cost_weight: 0.5}\n").config.has_value());
 }
 
 TEST(Config, VnsBaStarNeedsANonZeroWeight) {

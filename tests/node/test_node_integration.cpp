@@ -7,6 +7,7 @@
 #include <random>
 
 #include "bus_client.hpp"
+#include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/node/planner_node.hpp"
 #include "vnsba/node/requests.hpp"
@@ -138,14 +139,26 @@ TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
     options.corner_policy = run.config.planner.options().corner_policy;
     const core::PlanResult expected = core::plan_once(map, {{1, 1}, {12, 6}}, options);
     ASSERT_TRUE(expected.status.is_ok());
+    // The published poses: the final path at the default spacing (the map's resolution), the
+    // last one facing the goal's yaw (0: the request's goal quaternion is the identity).
+    const std::vector<core::Pose2> expected_poses =
+        core::path_poses(expected.world_path, map->resolution(), 0.0);
     const auto& poses = status->path().poses();
-    ASSERT_EQ(poses.size(), expected.world_path.size()) << id;
+    ASSERT_EQ(poses.size(), expected_poses.size()) << id;
+    ASSERT_GE(poses.size(), expected.world_path.size()) << id;
     for (size_t i = 0; i < poses.size(); ++i) {
-      EXPECT_NEAR(poses[i].pose().position().x(), expected.world_path[i].x(), 1e-9);
-      EXPECT_NEAR(poses[i].pose().position().y(), expected.world_path[i].y(), 1e-9);
+      EXPECT_NEAR(poses[i].pose().position().x(), expected_poses[i].x, 1e-9);
+      EXPECT_NEAR(poses[i].pose().position().y(), expected_poses[i].y, 1e-9);
       const auto& q = poses[i].pose().orientation();
       EXPECT_NEAR(q.x() * q.x() + q.y() * q.y() + q.z() * q.z() + q.w() * q.w(), 1.0, 1e-9);
+      EXPECT_NEAR(
+          std::remainder(2.0 * std::atan2(q.z(), q.w()) - expected_poses[i].yaw, 2.0 * M_PI), 0.0,
+          1e-9);
     }
+    EXPECT_NEAR(status->clearance_m(), expected.metrics.clearance_m, 1e-9);
+    EXPECT_FALSE(status->start_adjusted() || status->goal_adjusted());
+    EXPECT_NEAR(status->goal_x(), map->cell_centre_world({12, 6}).x(), 1e-9);
+    EXPECT_NEAR(status->goal_y(), map->cell_centre_world({12, 6}).y(), 1e-9);
     EXPECT_EQ(status->path().header().frame_id(), "map");
     EXPECT_NEAR(status->length_m(), expected.metrics.length_m, 1e-9);
     EXPECT_EQ(status->turns(), expected.metrics.turns);
@@ -240,6 +253,188 @@ TEST(NodeIntegration, GoalPoseUsesTheLatestRobotPose) {
   // The path starts and ends at the cell centres of the poses; resolution is float32 on the wire.
   EXPECT_NEAR(poses.front().pose().position().x(), sx, 1e-6);
   EXPECT_NEAR(poses.back().pose().position().y(), gy, 1e-6);
+}
+
+// A request whose goal carries a quaternion (x, y, z, w), as rviz2's goal tool sends it.
+node::PlanRequestMsg request_with_goal_quaternion(const std::string& id, double sx, double sy,
+                                                  double gx, double gy, double qz, double qw) {
+  node::PlanRequestMsg msg;
+  msg.id(id);
+  msg.start(node::to_pose_msg(sx, sy, 0.0, "map", node::now_msg()));
+  msg.goal(node::to_pose_msg(gx, gy, 0.0, "map", node::now_msg()));
+  msg.goal().pose().orientation().z(qz);
+  msg.goal().pose().orientation().w(qw);
+  return msg;
+}
+
+double yaw_of(const geometry_msgs::msg::dds_::Pose_& pose) {
+  const auto& q = pose.orientation();
+  return 2.0 * std::atan2(q.z(), q.w());
+}
+
+// Every pose but the last faces the next one (atan2 computed here), consecutive poses are at
+// most `spacing` apart; returns the yaw of the last segment.
+double expect_spaced_tangent_poses(const PathMsg& path, double spacing) {
+  const auto& poses = path.poses();
+  EXPECT_GE(poses.size(), 2u);
+  double last_tangent = 0.0;
+  for (size_t i = 0; i + 1 < poses.size(); ++i) {
+    const auto& a = poses[i].pose().position();
+    const auto& b = poses[i + 1].pose().position();
+    EXPECT_LE(std::hypot(b.x() - a.x(), b.y() - a.y()), spacing + 1e-9) << "pose " << i;
+    last_tangent = std::atan2(b.y() - a.y(), b.x() - a.x());
+    EXPECT_NEAR(std::remainder(yaw_of(poses[i].pose()) - last_tangent, 2.0 * M_PI), 0.0, 1e-9)
+        << "pose " << i;
+  }
+  return last_tangent;
+}
+
+// ALGORITHM.md section 8, "Path poses": on `plan` and in PlanStatus.path, poses at most
+// planner.path_spacing apart (default: the map's resolution) facing along the path, the last one
+// in the goal's orientation.
+TEST(NodeIntegration, PublishedPosesAreSpacedAlongThePathAndEndInTheGoalYaw) {
+  for (const std::optional<double> spacing : {std::optional<double>(), std::optional(0.033)}) {
+    SCOPED_TRACE(spacing ? "path_spacing 0.033" : "path_spacing unset");
+    node::NodeConfig cfg = test_config(spacing ? "poses_set" : "poses_default");
+    cfg.planner.path_spacing = spacing;
+    Running run(cfg);
+    ASSERT_TRUE(run.start());
+    const core::OccupancyGrid grid = grid_from_rows(kRoom);
+    run.client.publish_slice(grid);
+    ASSERT_TRUE(run.node.wait_for_map(10s));
+    const auto [sx, sy] = centre(grid, 1, 1);
+    const auto [gx, gy] = centre(grid, 12, 6);
+    const double goal_yaw = -2.0;
+    run.client.publish_request_msg(request_with_goal_quaternion(
+        "poses", sx, sy, gx, gy, std::sin(goal_yaw / 2), std::cos(goal_yaw / 2)));
+    const auto status = run.client.wait_status("poses");
+    ASSERT_TRUE(status);
+    ASSERT_EQ(status->code(), wire::OK) << status->message();
+    EXPECT_EQ(status->message(), "");
+    ASSERT_TRUE(run.client.paths.wait([](const auto& all) { return !all.empty(); }, 5s));
+    const PathMsg published = run.client.paths.snapshot().back();
+    const double limit = spacing.value_or(grid.resolution) + 1e-6;  // float32 resolution
+    for (const PathMsg* path : {&status->path(), &published}) {
+      ASSERT_EQ(path->poses().size(), status->path().poses().size());
+      expect_spaced_tangent_poses(*path, limit);
+      EXPECT_NEAR(yaw_of(path->poses().back().pose()), goal_yaw, 1e-9);
+      EXPECT_NEAR(path->poses().back().pose().position().x(), gx, 1e-6);
+      EXPECT_NEAR(path->poses().back().pose().position().y(), gy, 1e-6);
+    }
+    // Subdivided: more poses than the length needs at the spacing, never fewer.
+    EXPECT_GE(static_cast<double>(status->path().poses().size()), status->length_m() / limit);
+  }
+}
+
+// A goal in an inflated cell, moved by goal_tolerance to the nearest free cell: the status says
+// so and carries the goal used, the clearance, and the plan ends there.
+TEST(NodeIntegration, AGoalInInflationIsMovedByGoalToleranceAndReported) {
+  node::NodeConfig cfg = test_config("tolerance");
+  cfg.map.robot_radius = 0.15;
+  cfg.map.inflation_radius = 0.5;
+  cfg.map.cost_scaling_factor = 3.0;
+  cfg.planner.settings.cost_weight = 2.0;
+  cfg.planner.settings.goal_tolerance = 0.3;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  auto map = map_as_received(grid, run.config);
+  // Cell (9, 4) is free in the map, beside the wall at x = 8: inflation blocks it.
+  ASSERT_EQ(map->layer({9, 4}), core::CellLayer::kInflated);
+  const auto [sx, sy] = centre(grid, 1, 1);
+  const double gx = grid.origin_x + 9.3 * grid.resolution;
+  const double gy = grid.origin_y + 4.6 * grid.resolution;
+  run.client.publish_request("moved", sx, sy, gx, gy);
+  const auto status = run.client.wait_status("moved");
+  ASSERT_TRUE(status);
+  ASSERT_EQ(status->code(), wire::OK) << status->message();
+
+  // What core makes of the same query on the grid as the node received it.
+  const core::PlannerOptions options = run.config.planner.options();
+  const core::PlanQuery query({1, 1}, {9, 4}, map->world_to_grid(sx, sy),
+                              map->world_to_grid(gx, gy));
+  const core::PlanResult expected = core::plan_once(map, query, options);
+  ASSERT_TRUE(expected.status.is_ok()) << expected.status.message;
+  ASSERT_TRUE(expected.endpoints.goal_adjusted);
+  const Eigen::Vector2d used = map->cell_centre_world(expected.endpoints.goal);
+  EXPECT_TRUE(status->goal_adjusted());
+  EXPECT_FALSE(status->start_adjusted());
+  EXPECT_NEAR(status->goal_x(), used.x(), 1e-9);
+  EXPECT_NEAR(status->goal_y(), used.y(), 1e-9);
+  EXPECT_NEAR(status->goal_moved_m(), expected.endpoints.goal_moved_m, 1e-9);
+  EXPECT_GT(status->goal_moved_m(), 0.0);
+  EXPECT_LE(status->goal_moved_m(), 0.3);
+  EXPECT_NEAR(status->start_x(), sx, 1e-6);
+  EXPECT_NEAR(status->start_y(), sy, 1e-6);
+  // The clearance: finite (the room has walls), as core measures it, away from the wall.
+  ASSERT_TRUE(std::isfinite(status->clearance_m()));
+  EXPECT_NEAR(status->clearance_m(), expected.metrics.clearance_m, 1e-9);
+  EXPECT_GT(status->clearance_m(), 0.0);
+  EXPECT_NEAR(node::metrics_from_status_msg(*status).clearance_m, status->clearance_m(), 0.0);
+  // The message says where the goal went, in metres.
+  char where[128];
+  std::snprintf(where, sizeof where,
+                "goal moved %.3f m to the nearest free cell (%.3f, %.3f) m "
+                "(goal_tolerance 0.3 m)",
+                expected.endpoints.goal_moved_m, used.x(), used.y());
+  EXPECT_NE(status->message().find(where), std::string::npos) << status->message();
+  // The path ends at the goal used.
+  ASSERT_FALSE(status->path().poses().empty());
+  EXPECT_NEAR(status->path().poses().back().pose().position().x(), used.x(), 1e-6);
+  EXPECT_NEAR(status->path().poses().back().pose().position().y(), used.y(), 1e-6);
+
+  // Without a tolerance the same goal is refused, naming the inflation and metres.
+  node::NodeConfig exact_cfg = test_config("tolerance_exact");
+  exact_cfg.map = cfg.map;
+  Running exact(exact_cfg);
+  ASSERT_TRUE(exact.start());
+  exact.client.publish_slice(grid);
+  ASSERT_TRUE(exact.node.wait_for_map(10s));
+  exact.client.publish_request("blocked", sx, sy, gx, gy);
+  const auto refused = exact.client.wait_status("blocked");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(code_name(refused->code()), "GOAL_OCCUPIED") << refused->message();
+  EXPECT_NE(refused->message().find("inflation"), std::string::npos) << refused->message();
+  EXPECT_TRUE(std::isnan(refused->clearance_m()));
+  EXPECT_TRUE(std::isnan(refused->goal_x()));
+}
+
+// A goal quaternion that is finite but not unit length: an OK plan whose last pose faces along
+// the path, with a warning in the status message; jps with cost_weight > 0 is refused.
+TEST(NodeIntegration, ANonUnitGoalQuaternionIsIgnoredWithAWarning) {
+  node::NodeConfig cfg = test_config("quaternion");
+  cfg.planner.settings.cost_weight = 1.0;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  const auto [sx, sy] = centre(grid, 1, 1);
+  const auto [gx, gy] = centre(grid, 12, 6);
+  // Half of the rotation by 1 rad: norm 0.5.
+  run.client.publish_request_msg(request_with_goal_quaternion(
+      "half", sx, sy, gx, gy, 0.5 * std::sin(0.5), 0.5 * std::cos(0.5)));
+  const auto status = run.client.wait_status("half");
+  ASSERT_TRUE(status);
+  ASSERT_EQ(status->code(), wire::OK) << status->message();
+  EXPECT_NE(
+      status->message().find("warning: goal orientation ignored: quaternion norm 0.5 is not 1"),
+      std::string::npos)
+      << status->message();
+  const double tangent = expect_spaced_tangent_poses(status->path(), grid.resolution + 1e-6);
+  EXPECT_NEAR(std::remainder(yaw_of(status->path().poses().back().pose()) - tangent, 2.0 * M_PI),
+              0.0, 1e-9);
+  EXPECT_GT(std::abs(std::remainder(yaw_of(status->path().poses().back().pose()) - 1.0, 2 * M_PI)),
+            1e-3)
+      << "the ignored orientation must not be used";
+
+  run.client.publish_request("jps", sx, sy, gx, gy, "jps");
+  const auto jps = run.client.wait_status("jps");
+  ASSERT_TRUE(jps);
+  EXPECT_EQ(code_name(jps->code()), "INVALID_REQUEST") << jps->message();
+  EXPECT_NE(jps->message().find("cost_weight"), std::string::npos) << jps->message();
 }
 
 TEST(NodeIntegration, NewerRequestPreemptsThePlanInProgress) {

@@ -144,6 +144,142 @@ TEST(ResolveRequest, EveryCheckNamesItsField) {
   EXPECT_EQ(ok.planner_name, "vns_bastar");
 }
 
+// ALGORITHM.md section 8 in requests: a 2 m x 1 m map at 0.1 m, origin (0, 0), one occupied
+// cell (10, 5) whose 4-neighbours robot_radius 0.1 m inflates; a cost gradient to 0.3 m.
+node::NodeConfig tolerant_config() {
+  node::NodeConfig cfg;
+  cfg.map.robot_radius = 0.1;
+  cfg.map.inflation_radius = 0.3;
+  cfg.planner.settings.cost_weight = 1.0;
+  cfg.planner.settings.goal_tolerance = 0.3;
+  cfg.planner.settings.start_tolerance = 0.15;
+  return cfg;
+}
+core::GridMap inflated_map(const node::NodeConfig& cfg) {
+  core::OccupancyGrid g;
+  g.width = 20;
+  g.height = 10;
+  g.resolution = 0.1;
+  g.data.assign(200, 0);
+  g.data[5 * 20 + 10] = 100;
+  return std::move(core::GridMap::build(g, cfg.map)).value();
+}
+
+// The requested points reach core (PlanQuery start_point/goal_point, in cells), so a tolerance
+// picks the free cell nearest the real point, not the nearest to the blocked cell's centre.
+TEST(ResolveRequest, RequestedPositionsReachTheQuery) {
+  const node::NodeConfig cfg = tolerant_config();
+  const core::GridMap map = inflated_map(cfg);
+  ASSERT_EQ(map.layer({11, 5}), core::CellLayer::kInflated);
+  const auto r = node::resolve_request(job("p", 0.25, 0.25, 1.16, 0.55), cfg, &map);
+  ASSERT_TRUE(r.status.ok()) << r.status.message;
+  EXPECT_EQ(r.query.goal, (core::Cell{11, 5}));
+  ASSERT_TRUE(r.query.goal_point && r.query.start_point);
+  EXPECT_NEAR(r.query.goal_point->x(), 11.6, 1e-9);
+  EXPECT_NEAR(r.query.goal_point->y(), 5.5, 1e-9);
+  EXPECT_NEAR(r.query.start_point->x(), 2.5, 1e-9);
+  const auto used = core::resolve_endpoints(map, r.query, r.options);
+  ASSERT_TRUE(used) << used.error().message;
+  // (12, 5) is 0.09 m from the point; from the centre of (11, 5) it would tie with (11, 4),
+  // which the lower index wins.
+  EXPECT_EQ(used->goal, (core::Cell{12, 5}));
+  EXPECT_TRUE(used->goal_adjusted);
+  EXPECT_NEAR(used->goal_moved_m, 0.09, 1e-9);
+}
+
+// With goal_tolerance > 0 a goal just outside the map is core's to resolve; farther than the
+// tolerance it is GOAL_OUTSIDE_MAP in metres, as before. START_OUTSIDE_MAP is unchanged.
+TEST(ResolveRequest, AGoalOutsideTheMapIsMovedOntoItWithinGoalTolerance) {
+  const node::NodeConfig cfg = tolerant_config();
+  const core::GridMap map = inflated_map(cfg);
+  const auto near = node::resolve_request(job("near", 0.25, 0.25, 2.1, 0.55), cfg, &map);
+  ASSERT_TRUE(near.status.ok()) << near.status.message;
+  EXPECT_EQ(near.query.goal, (core::Cell{21, 5}));  // floor of the grid point, outside the map
+  const auto used = core::resolve_endpoints(map, near.query, near.options);
+  ASSERT_TRUE(used) << used.error().message;
+  EXPECT_EQ(used->goal, (core::Cell{19, 5}));
+  EXPECT_NEAR(used->goal_moved_m, 0.15, 1e-9);
+
+  struct Case {
+    double gx;
+    std::string words;
+  };
+  const Case refused[] = {
+      // Nearer than the tolerance to the map, but no cell centre within it: core's verdict.
+      {2.28,
+       "goal (2.280, 0.550) m is outside the map [0.000, 2.000] x [0.000, 1.000] m; no free "
+       "cell within goal_tolerance 0.3 m"},
+      {2.5,
+       "goal (2.500, 0.550) m is outside the map [0.000, 2.000] x [0.000, 1.000] m; no free "
+       "cell within goal_tolerance 0.3 m"},
+      {1e300, "goal (1e+300, 0.550) m is outside the map"},
+  };
+  for (const Case& c : refused) {
+    const auto r = node::resolve_request(job("far", 0.25, 0.25, c.gx, 0.55), cfg, &map);
+    EXPECT_EQ(node::code_name(r.status.code), "GOAL_OUTSIDE_MAP") << c.gx;
+    EXPECT_NE(r.status.message.find(c.words), std::string::npos) << r.status.message;
+  }
+  node::NodeConfig exact = cfg;
+  exact.planner.settings.goal_tolerance = 0.0;
+  const auto r = node::resolve_request(job("exact", 0.25, 0.25, 2.1, 0.55), exact, &map);
+  EXPECT_EQ(node::code_name(r.status.code), "GOAL_OUTSIDE_MAP");
+  EXPECT_EQ(r.status.message.find("tolerance"), std::string::npos) << r.status.message;
+  const auto start = node::resolve_request(job("s", -0.05, 0.25, 1.0, 0.25), cfg, &map);
+  EXPECT_EQ(node::code_name(start.status.code), "START_OUTSIDE_MAP");
+}
+
+// core::validate's word reaches the status: jps plans on uniform costs only. Checked before the
+// map, so it is INVALID_REQUEST whether or not a map has arrived.
+TEST(ResolveRequest, JpsWithCostWeightIsAnInvalidRequestNamingCostWeight) {
+  const node::NodeConfig cfg = tolerant_config();
+  const core::GridMap map = inflated_map(cfg);
+  Job jps = job("j", 0.25, 0.25, 1.85, 0.85);
+  jps.planner = "jps";
+  for (const core::GridMap* m : {&map, static_cast<const core::GridMap*>(nullptr)}) {
+    const auto r = node::resolve_request(jps, cfg, m);
+    EXPECT_EQ(node::code_name(r.status.code), "INVALID_REQUEST");
+    EXPECT_EQ(r.planner_name, "jps");
+    EXPECT_NE(r.status.message.find("cost_weight 1 is not supported by jps"), std::string::npos)
+        << r.status.message;
+  }
+  node::NodeConfig uniform = cfg;
+  uniform.planner.settings.cost_weight = 0.0;
+  EXPECT_TRUE(node::resolve_request(jps, uniform, &map).status.ok());
+}
+
+// The goal's orientation: a unit quaternion gives the final yaw; a finite one of another norm
+// is ignored with a warning (never a failure).
+TEST(ResolveRequest, GoalOrientationGivesTheFinalYawOrAWarning) {
+  const node::NodeConfig cfg;
+  const core::GridMap map = small_map();
+  Job facing = job("y", 0.5, 0.5, 8.5, 4.5);
+  facing.goal = node::to_pose_msg(8.5, 4.5, 2.0, "map", node::now_msg());
+  const auto unit = node::resolve_request(facing, cfg, &map);
+  ASSERT_TRUE(unit.status.ok()) << unit.status.message;
+  ASSERT_TRUE(unit.goal_yaw);
+  EXPECT_NEAR(*unit.goal_yaw, 2.0, 1e-12);
+  EXPECT_EQ(unit.warning, "");
+
+  Job scaled = facing;
+  auto& q = scaled.goal.pose().orientation();
+  q.z(0.5 * q.z());
+  q.w(0.5 * q.w());
+  const auto half = node::resolve_request(scaled, cfg, &map);
+  ASSERT_TRUE(half.status.ok()) << half.status.message;
+  EXPECT_FALSE(half.goal_yaw);
+  EXPECT_EQ(
+      half.warning.rfind("warning: goal orientation ignored: quaternion norm 0.5 is not 1", 0), 0u)
+      << half.warning;
+
+  Job zero = facing;
+  zero.goal.pose().orientation().z(0.0);
+  zero.goal.pose().orientation().w(0.0);
+  const auto none = node::resolve_request(zero, cfg, &map);
+  ASSERT_TRUE(none.status.ok()) << none.status.message;
+  EXPECT_FALSE(none.goal_yaw);
+  EXPECT_NE(none.warning.find("quaternion norm 0 is not 1"), std::string::npos) << none.warning;
+}
+
 std::vector<std::string> ids(const std::vector<Job>& jobs) {
   std::vector<std::string> out;
   for (const Job& j : jobs) out.push_back(j.id);

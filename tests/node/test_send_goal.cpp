@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -31,12 +33,15 @@ core::OccupancyGrid walled_room() {
   return g;
 }
 
-// The fields of the status line "<id> <status> <length_m> <turns> <time_us>" for `id`.
+// The fields of the status line "<id> <status> <length_m> <clearance_m> <turns> <time_us>
+// [start_used=X,Y start_moved_m=D] [goal_used=X,Y goal_moved_m=D]" for `id`.
 struct StatusLine {
   std::string id, status;
   double length_m = -1.0;
+  std::string clearance_m;  // "nan" and "inf" are words here
   int turns = -1;
   long long time_us = -1;
+  std::vector<std::string> extra;  // the *_used / *_moved_m fields
 };
 std::optional<StatusLine> find_status_line(const std::string& output, const std::string& id) {
   std::istringstream lines(output);
@@ -45,11 +50,17 @@ std::optional<StatusLine> find_status_line(const std::string& output, const std:
     if (line.rfind(id + " ", 0) != 0) continue;
     StatusLine parsed;
     std::istringstream fields(line);
-    std::string rest;
-    if (fields >> parsed.id >> parsed.status >> parsed.length_m >> parsed.turns >> parsed.time_us &&
-        !(fields >> rest)) {
-      return parsed;
+    if (!(fields >> parsed.id >> parsed.status >> parsed.length_m >> parsed.clearance_m >>
+          parsed.turns >> parsed.time_us)) {
+      continue;
     }
+    bool well_formed = true;
+    for (std::string rest; fields >> rest;) {
+      well_formed = well_formed && (rest.rfind("start_", 0) == 0 || rest.rfind("goal_", 0) == 0) &&
+                    rest.find('=') != std::string::npos;
+      parsed.extra.push_back(rest);
+    }
+    if (well_formed) return parsed;
   }
   return std::nullopt;
 }
@@ -110,8 +121,62 @@ TEST_F(SendGoal, OkStatusPrintsOneLineAndExitsZero) {
   const auto status = client_->wait_status("sg-ok", 5s);
   ASSERT_TRUE(status);
   EXPECT_NEAR(line->length_m, status->length_m(), 0.0005);
+  ASSERT_TRUE(std::isfinite(status->clearance_m()));
+  EXPECT_NEAR(std::stod(line->clearance_m), status->clearance_m(), 0.0005);
   EXPECT_EQ(line->turns, status->turns());
   EXPECT_EQ(line->time_us, status->planning_time_us());
+  EXPECT_TRUE(line->extra.empty()) << "nothing was adjusted";
+}
+
+// --yaw sets the goal's orientation: the last pose of the plan faces it.
+TEST_F(SendGoal, YawSetsTheGoalOrientation) {
+  start_node("sg_yaw");
+  std::vector<std::string> a = args("sg-yaw", 0.55, 0.55, 3.55, 0.55);
+  a.insert(a.end(), {"--yaw", "-1.25"});
+  const auto [code, output] = run_to_exit(kSendGoal, a);
+  ASSERT_EQ(code, 0) << output;
+  const auto status = client_->wait_status("sg-yaw", 5s);
+  ASSERT_TRUE(status);
+  ASSERT_FALSE(status->path().poses().empty());
+  const auto& q = status->path().poses().back().pose().orientation();
+  EXPECT_NEAR(2.0 * std::atan2(q.z(), q.w()), -1.25, 1e-9);
+  const auto [bad_code, bad_output] = run_to_exit(kSendGoal, [&] {
+    std::vector<std::string> b = args("sg-yaw-bad", 0.55, 0.55, 3.55, 0.55);
+    b.insert(b.end(), {"--yaw", "nan"});
+    return b;
+  }());
+  EXPECT_EQ(bad_code, 2) << bad_output;
+  EXPECT_NE(bad_output.find("--yaw"), std::string::npos) << bad_output;
+}
+
+// A goal moved by goal_tolerance: the line carries the goal used and how far it moved.
+TEST_F(SendGoal, AnAdjustedGoalIsPrintedWithTheLine) {
+  config_ = test_config("sg_moved");
+  config_path_ =
+      write_temp_file("sg_moved.yaml", config_yaml(config_) + "planner:\n  goal_tolerance: 0.3\n");
+  node::NodeConfig cfg = config_;
+  cfg.planner.settings.goal_tolerance = 0.3;
+  node_ = std::make_unique<node::PlannerNode>(cfg);
+  ASSERT_TRUE(node_->start().is_ok());
+  client_ = std::make_unique<BusClient>(config_);
+  client_->publish_slice(walled_room());
+  ASSERT_TRUE(node_->wait_for_map(10s));
+  // (2.05, 1.05) m is in the wall (cell (20, 10)); the nearest free centres are 0.1 m away.
+  const auto [code, output] = run_to_exit(kSendGoal, args("sg-moved", 0.55, 0.55, 2.05, 1.05));
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_status_line(output, "sg-moved");
+  ASSERT_TRUE(line) << output;
+  ASSERT_EQ(line->extra.size(), 2u) << output;
+  EXPECT_EQ(line->extra[0].rfind("goal_used=", 0), 0u) << output;
+  EXPECT_EQ(line->extra[1], "goal_moved_m=0.100") << output;
+  EXPECT_NE(output.find("goal moved 0.100 m to the nearest free cell"), std::string::npos)
+      << output;
+  const auto status = client_->wait_status("sg-moved", 5s);
+  ASSERT_TRUE(status);
+  EXPECT_TRUE(status->goal_adjusted());
+  char used[64];
+  std::snprintf(used, sizeof used, "goal_used=%.3f,%.3f", status->goal_x(), status->goal_y());
+  EXPECT_EQ(line->extra[0], used);
 }
 
 TEST_F(SendGoal, PlannerOverrideReachesTheNode) {

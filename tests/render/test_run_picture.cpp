@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 #include <tinyxml2.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -96,6 +98,12 @@ TEST(RunPicture, HasEveryLayerTheLegendScaleBarAndCaption) {
   EXPECT_NE(caption.find("expanded " + std::to_string(run.result.metrics.expanded)),
             std::string::npos)
       << caption;
+  // The clearance beside length and turns, in metres.
+  ASSERT_TRUE(std::isfinite(run.result.metrics.clearance_m));
+  char clearance[64];
+  std::snprintf(clearance, sizeof clearance, " cells), clearance %.2f m, turns ",
+                run.result.metrics.clearance_m);
+  EXPECT_NE(caption.find(clearance), std::string::npos) << clearance << " not in: " << caption;
   // The scale bar's length is a round number of metres and its drawn length matches it.
   const auto* bar = find_id(r.root, "scale-bar");
   const double metres = bar->DoubleAttribute("data-metres");
@@ -105,6 +113,36 @@ TEST(RunPicture, HasEveryLayerTheLegendScaleBarAndCaption) {
   const auto* line = bar->FirstChildElement("line");
   ASSERT_NE(line, nullptr);
   EXPECT_NEAR(line->DoubleAttribute("x2") - line->DoubleAttribute("x1"), cells, 1e-3);
+}
+
+// The clearance is left out of the caption when NaN and says so when infinite (no obstacle).
+TEST(RunPicture, CaptionClearanceOmittedWhenNaNAndInfWithoutObstacles) {
+  RoomsRun run;
+  ASSERT_TRUE(run.result.status.is_ok()) << run.result.status.message;
+  auto picture = std::make_shared<const render::MapPicture>(render::map_picture(run.grid));
+  render::RunPicture rp = render::picture_of(picture, run.query, run.result);
+  rp.metrics->clearance_m = std::numeric_limits<double>::quiet_NaN();
+  std::string svg = render::render_svg(rp);
+  EXPECT_EQ(svg.find("clearance"), std::string::npos);
+  EXPECT_NE(svg.find("turns " + std::to_string(run.result.metrics.turns)), std::string::npos);
+  rp.metrics->clearance_m = std::numeric_limits<double>::infinity();
+  svg = render::render_svg(rp);
+  EXPECT_NE(svg.find("clearance inf (no obstacle), turns"), std::string::npos);
+}
+
+// A query's requested points (what tolerance measures from) are where start and goal are drawn.
+TEST(RunPicture, StartAndGoalAtTheQuerysRequestedPoints) {
+  RoomsRun run;
+  auto picture = std::make_shared<const render::MapPicture>(render::map_picture(run.grid));
+  core::PlanQuery query = run.query;
+  query.start_point = Point2(2.2, 2.9);
+  query.goal_point = Point2(29.75, 13.1);
+  const render::RunPicture rp = render::picture_of(picture, query, run.result);
+  ASSERT_TRUE(rp.start && rp.goal);
+  EXPECT_EQ(*rp.start, *query.start_point);
+  EXPECT_EQ(*rp.goal, *query.goal_point);
+  const render::RunPicture centres = render::picture_of(picture, run.query, run.result);
+  EXPECT_EQ(*centres.start, core::cell_centre(run.query.start));
 }
 
 TEST(RunPicture, GeometryEqualsTheRun) {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "recorder/open_runs.hpp"
 #include "recorder/run_record.hpp"
@@ -32,6 +33,7 @@ RunRecord full_record() {
   s.metrics.turn_angle_deg = 45;
   s.metrics.expanded = 9;
   s.metrics.planning_time_us = 12;
+  s.metrics.clearance_m = 0.25;
   s.map_stamp_sec = 5;
   s.map_stamp_nanosec = 7;
   r.status = s;
@@ -65,7 +67,47 @@ TEST(RunRecord, JsonRoundTripKeepsEverything) {
   EXPECT_EQ(back->debug->expanded_forward.size(), 3u);
   EXPECT_EQ(back->status->metrics.turns, 1);
   EXPECT_TRUE(std::isnan(back->status->metrics.length_ratio));  // NaN travels as null
+  EXPECT_EQ(back->status->metrics.clearance_m, 0.25);
   EXPECT_EQ(back->map->file, "maps/m.yaml");
+}
+
+// The clearance: metres, "inf" for a map without obstacles, null for NaN; a record written before
+// it existed reads NaN and still draws (without a clearance in the caption).
+TEST(RunRecord, ClearanceRoundTripsAndOlderRecordsReadNaN) {
+  RunRecord r = full_record();
+  EXPECT_EQ(tools::to_json(r)["status"]["clearance_m"], 0.25);
+  r.status->metrics.clearance_m = std::numeric_limits<double>::infinity();
+  nlohmann::json j = tools::to_json(r);
+  EXPECT_EQ(j["status"]["clearance_m"], "inf");
+  auto back = tools::run_record_from_json(nlohmann::json::parse(j.dump()));
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_TRUE(std::isinf(back->status->metrics.clearance_m));
+  EXPECT_GT(back->status->metrics.clearance_m, 0.0);
+
+  r.status->metrics.clearance_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(tools::to_json(r)["status"]["clearance_m"].is_null());
+  j = tools::to_json(full_record());
+  j["status"].erase("clearance_m");  // an older record
+  back = tools::run_record_from_json(j);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_TRUE(std::isnan(back->status->metrics.clearance_m));
+  EXPECT_EQ(back->status->metrics.turns, 1);
+  const render::RunPicture picture = tools::picture_of(*back, nullptr);
+  ASSERT_TRUE(picture.metrics.has_value());
+  const std::string svg = render::render_svg(picture);
+  EXPECT_NE(svg.find("turns 1"), std::string::npos);
+  EXPECT_EQ(svg.find("clearance"), std::string::npos);
+  // The record's clearance reaches the caption.
+  const std::string with = render::render_svg(tools::picture_of(full_record(), nullptr));
+  EXPECT_NE(with.find("clearance 0.25 m"), std::string::npos);
+
+  for (const nlohmann::json& bad : {nlohmann::json("wide"), nlohmann::json::array({1})}) {
+    j["status"]["clearance_m"] = bad;
+    const auto parsed = tools::run_record_from_json(j);
+    ASSERT_FALSE(parsed) << bad;
+    EXPECT_NE(parsed.error().message.find("status.clearance_m"), std::string::npos)
+        << parsed.error().message;
+  }
 }
 
 TEST(RunRecord, BadFieldsAreNamed) {

@@ -16,6 +16,14 @@ namespace {
 
 const std::vector<std::string> kClasses = {"game", "maze", "room", "random", "street"};
 
+// The CSV header (kMovingAiCsvHeader in movingai.hpp predates the clearance column and is not
+// printed any more). clearance_m is the final path's core::Metrics::clearance_m ("inf" on a map
+// without obstacles; empty, like the other metrics of the path, when the plan failed), inserted
+// before time_us so that the time stays the last column (compare_outputs.sh drops it).
+constexpr const char* kCsvHeader =
+    "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,expanded,"
+    "clearance_m,time_us";
+
 std::string class_of_source_folder(const std::string& folder) {
   if (folder == "mazes" || folder == "maze") return "maze";
   if (folder == "rooms" || folder == "room") return "room";
@@ -66,6 +74,7 @@ struct Run {
   double raw_ratio = NAN;     // grid path cost / the scenario's optimum
   double turns = NAN;
   double turn_angle_deg = NAN;
+  double clearance_cells = NAN;  // the final path's clearance (+inf on a map without obstacles)
   double expanded = NAN;
   double time_us = NAN;
 };
@@ -156,7 +165,7 @@ int run_movingai(const MovingAiOptions& options) {
     for (const auto kind : planners)
       if (kind != core::PlannerKind::kVnsBaStar) configurations.push_back({kind, true});
 
-  if (options.csv) std::printf("%s\n", kMovingAiCsvHeader);
+  if (options.csv) std::printf("%s\n", kCsvHeader);
   std::vector<Run> runs;
   std::map<std::string, std::vector<std::string>> maps_of_class;
   size_t scenario_total = 0;
@@ -192,6 +201,7 @@ int run_movingai(const MovingAiOptions& options) {
           }
           run.turns = m.turns;
           run.turn_angle_deg = m.turn_angle_deg;
+          run.clearance_cells = m.clearance_m / loaded->map->resolution();
         }
         run.expanded = static_cast<double>(m.expanded);
         run.time_us = timed.time_us;
@@ -199,12 +209,13 @@ int run_movingai(const MovingAiOptions& options) {
         if (options.csv) {
           const std::string status(core::to_string(timed.result.status.code));
           if (run.ok)
-            std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.3f\n", loaded->name.c_str(),
-                        s.line, planner_name.c_str(), status.c_str(), s.optimal_length,
-                        m.raw_cost_cells, m.length_cells, m.turns, m.turn_angle_deg,
-                        static_cast<long long>(m.expanded), timed.time_us);
+            std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.4f,%.3f\n",
+                        loaded->name.c_str(), s.line, planner_name.c_str(), status.c_str(),
+                        s.optimal_length, m.raw_cost_cells, m.length_cells, m.turns,
+                        m.turn_angle_deg, static_cast<long long>(m.expanded), m.clearance_m,
+                        timed.time_us);
           else
-            std::printf("%s,%d,%s,%s,%.8f,,,,,%lld,%.3f\n", loaded->name.c_str(), s.line,
+            std::printf("%s,%d,%s,%s,%.8f,,,,,%lld,,%.3f\n", loaded->name.c_str(), s.line,
                         planner_name.c_str(), status.c_str(), s.optimal_length,
                         static_cast<long long>(m.expanded), timed.time_us);
         }
@@ -228,18 +239,21 @@ int run_movingai(const MovingAiOptions& options) {
              : std::string()) +
         ", one plan per scenario. Ratio: final path "
         "length / the scenario's published optimum (8-connected, no corner cutting); raw ratio: "
-        "the grid path's cost before pruning and smoothing / that optimum. Means over the "
-        "successful plans; time in microseconds (search plus post-processing).\n\n";
+        "the grid path's cost before pruning and smoothing / that optimum; clearance: the final "
+        "path's smallest distance to an obstacle cell, in cells (1 m on these maps). Means over "
+        "the successful plans (clearance: those on maps with obstacles); time in microseconds "
+        "(search plus post-processing).\n\n";
   for (const auto& map_class : kClasses) {
     if (maps_of_class.count(map_class) == 0) continue;
     std::string names;
     for (const auto& n : maps_of_class[map_class]) names += (names.empty() ? "" : ", ") + n;
     md += "**" + map_class + "** (" + names + ")\n\n";
     MarkdownTable table({"planner", "plans", "success", "length ratio", "raw ratio", "turns",
-                         "turn angle (deg)", "expanded", "time median (us)", "time p95 (us)"});
+                         "turn angle (deg)", "clearance (cells)", "expanded", "time median (us)",
+                         "time p95 (us)"});
     for (size_t c = 0; c < configurations.size(); ++c) {
       size_t count = 0, ok = 0;
-      std::vector<double> ratio, raw, turns, angle, expanded, time;
+      std::vector<double> ratio, raw, turns, angle, clearance, expanded, time;
       for (const Run& r : runs) {
         if (r.map_class != map_class || r.configuration != c) continue;
         ++count;
@@ -249,6 +263,7 @@ int run_movingai(const MovingAiOptions& options) {
         if (std::isfinite(r.raw_ratio)) raw.push_back(r.raw_ratio);
         turns.push_back(r.turns);
         angle.push_back(r.turn_angle_deg);
+        if (std::isfinite(r.clearance_cells)) clearance.push_back(r.clearance_cells);
         expanded.push_back(r.expanded);
         time.push_back(r.time_us);
       }
@@ -257,7 +272,8 @@ int run_movingai(const MovingAiOptions& options) {
            format(count ? 100.0 * static_cast<double>(ok) / static_cast<double>(count) : NAN, 1) +
                " %",
            format(mean(ratio), 4), format(mean(raw), 4), format(mean(turns), 1),
-           format(mean(angle), 0), format(mean(expanded), 0), format(median(time), 0),
+           format(mean(angle), 0), format(mean(clearance), 2), format(mean(expanded), 0),
+           format(median(time), 0),
            format(percentile(time, 95), 0)});
     }
     md += table.str() + "\n";

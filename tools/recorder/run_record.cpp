@@ -38,6 +38,12 @@ json cells(const std::vector<core::Cell>& list) {
   return out;
 }
 
+// The clearance of a path: +inf (a map without obstacles) is the string "inf", NaN (no path) null.
+json clearance(double value) {
+  if (std::isinf(value) && value > 0) return json("inf");
+  return number(value);
+}
+
 json optional_point(const std::optional<Eigen::Vector2d>& p) {
   return p ? point(*p) : json(nullptr);
 }
@@ -219,6 +225,7 @@ json to_json(const RunRecord& r) {
                    {"expanded", m.expanded},
                    {"planning_time_us", m.planning_time_us},
                    {"length_ratio", number(m.length_ratio)},
+                   {"clearance_m", clearance(m.clearance_m)},
                    {"map_stamp", {{"sec", s.map_stamp_sec}, {"nanosec", s.map_stamp_nanosec}}}};
   } else {
     j["status"] = nullptr;
@@ -288,6 +295,14 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     m.expanded = in.integer(*s, "expanded", "status", 0, INT64_MAX);
     m.planning_time_us = in.integer(*s, "planning_time_us", "status", INT64_MIN, INT64_MAX);
     m.length_ratio = in.real(*s, "length_ratio", "status");
+    // Absent (older records) or null: NaN; "inf": a map without obstacles.
+    const json* c = in.member(*s, "clearance_m", "status");
+    if (c != nullptr && c->is_string() && c->get<std::string>() == "inf")
+      m.clearance_m = std::numeric_limits<double>::infinity();
+    else if (c != nullptr && !c->is_number())
+      in.fail("status.clearance_m", "must be a number of metres, \"inf\" or null");
+    else
+      m.clearance_m = in.real(*s, "clearance_m", "status");
     if (const json* stamp = in.member(*s, "map_stamp", "status")) {
       st.map_stamp_sec = in.integer(*stamp, "sec", "status.map_stamp", INT32_MIN, INT32_MAX);
       st.map_stamp_nanosec =

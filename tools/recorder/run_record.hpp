@@ -71,7 +71,8 @@ struct RunRecord {
 };
 
 // JSON with the keys "request_id", "request", "status", "path", "debug", "map" (null when
-// absent). Non-finite numbers are written as null.
+// absent). Non-finite numbers are written as null, except status.clearance_m: metres, "inf" on a
+// map without obstacles, null when NaN (no path); a record without it (older ones) reads NaN.
 nlohmann::json to_json(const RunRecord& record);
 // The inverse; errors (kInvalidRequest) name the key at fault ("status.metrics.turns").
 core::Expected<RunRecord> run_record_from_json(const nlohmann::json& json);

@@ -7,8 +7,10 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vnsba/core/geometry.hpp"
@@ -43,6 +45,12 @@ struct GridBuildOptions {
   double robot_radius = 0.0;    // metres; cells whose centre is within this of a blocked centre
                                 // are blocked too (0 = no inflation). At most the diagonal of
                                 // the map it inflates (checked per map by validate()).
+  // The cost gradient beyond the robot's radius (ALGORITHM.md section 8, Nav2's inflation
+  // layer): a free cell whose centre is d metres from the nearest obstacle centre, with
+  // robot_radius < d <= inflation_radius, costs 0.99 * exp(-cost_scaling_factor * (d -
+  // robot_radius)). 0 = no gradient (the paper's binary grid); otherwise >= robot_radius.
+  double inflation_radius = 0.0;     // metres
+  double cost_scaling_factor = 3.0;  // per metre, >= 0 (Nav2's example configuration uses 3)
   int64_t max_cells = int64_t{1} << 28;  // refuse larger maps (memory guard), cells, at most
                                          // kMaxCellsLimit
 };
@@ -69,6 +77,17 @@ struct BlockedBits {
     return (line(line_index)[cell >> 6] >> (cell & 63)) & 1;
   }
 };
+
+// Why a cell is blocked or not: the one classification of cells (ALGORITHM.md sections 1 and 8).
+// Obstacles are the occupied and (unless allow_unknown) the unknown cells; inflation blocks the
+// free cells within robot_radius of an obstacle.
+enum class CellLayer : uint8_t {
+  kFree = 0,
+  kOccupied,  // map value >= occupied_threshold
+  kUnknown,   // map value -1 with allow_unknown false
+  kInflated,  // free in the map, within robot_radius of an obstacle
+};
+std::string_view to_string(CellLayer layer);  // "free", "occupied", "unknown", "inflation"
 
 class GridMap {
  public:
@@ -101,6 +120,29 @@ class GridMap {
   }
   bool blocked(const Cell& c) const { return blocked(c.x, c.y); }
   bool free(const Cell& c) const { return !blocked(c); }
+
+  // The layer that blocks a cell (kFree when it is free). The cell must be in the map.
+  CellLayer layer(const Cell& c) const {
+    return layers_[static_cast<size_t>(c.y) * static_cast<size_t>(width_) + c.x];
+  }
+  // Distance in cells from the centre of `c` to the nearest obstacle centre (occupied or unknown
+  // cell, inflation not counted): 0 on an obstacle, +infinity when the map has none. Exact (the
+  // Euclidean distance transform). The cell must be in the map.
+  double obstacle_distance(const Cell& c) const {
+    return obstacle_distance_[static_cast<size_t>(c.y) * static_cast<size_t>(width_) + c.x];
+  }
+  // The build options this map was made with (robot_radius etc., for messages in metres).
+  const GridBuildOptions& build_options() const { return options_; }
+
+  // --- Cell costs (ALGORITHM.md section 8). ---
+  // Whether any free cell costs more than 0: a graded map value (0 < v < occupied_threshold) or
+  // the inflation gradient. Without costs every planner is the binary one whatever cost_weight.
+  bool has_costs() const { return !costs_.empty(); }
+  // The cost c in [0, 1) of a free cell (0 without costs). The cell must be in the map.
+  double cost(const Cell& c) const { return has_costs() ? costs_[padded_index(c)] : 0.0; }
+  // Costs on the padded layout (blocked cells and the border hold 1), for the searches; null
+  // without costs.
+  const float* cost_data() const { return has_costs() ? costs_.data() : nullptr; }
 
   // Number of blocked cells in the inclusive rectangle spanned by a and b (any corner order),
   // O(1) from the summed-area table. Both cells must be in the map.
@@ -160,7 +202,11 @@ class GridMap {
   double resolution_ = 1.0;
   double origin_x_ = 0.0;
   double origin_y_ = 0.0;
+  GridBuildOptions options_;
   std::vector<uint8_t> blocked_;      // padded, 1 = blocked
+  std::vector<CellLayer> layers_;     // width x height, row-major (no padding)
+  std::vector<float> obstacle_distance_;  // width x height, cells (see obstacle_distance())
+  std::vector<float> costs_;          // padded, empty without costs (see cost_data())
   std::vector<int32_t> summed_area_;  // (width+1) x (height+1) blocked counts
   int64_t blocked_total_ = 0;
   std::vector<uint64_t> row_bits_;     // height rows of row_words_ words each, a spare word

@@ -49,11 +49,13 @@ inline bool corner_passable(bool side_a_blocked, bool side_b_blocked, CornerPoli
 // of the next x boundary is next_x / adx, of the next y boundary next_y / ady; comparing
 // next_x * ady with next_y * adx avoids the divisions (and is exact for integers). A step is
 // never taken past the end cell on its axis, which bounds the loop at |ex-cx| + |ey-cy| steps.
-template <class Number>
+// `enter(at)` is called with the padded index of every cell entered (after the start cell, up to
+// the end cell) and returns whether the walk goes on; by default a blocked cell stops it.
+template <class Number, class Enter>
 inline bool traverse_supercover(const uint8_t* blocked, int32_t stride, uint32_t at, int32_t cx,
                                 int32_t cy, int32_t ex, int32_t ey, Number next_x, Number next_y,
                                 Number adx, Number ady, Number unit, int sx, int sy,
-                                CornerPolicy policy) {
+                                CornerPolicy policy, Enter&& enter) {
   while (cx != ex || cy != ey) {
     int step_x = 0, step_y = 0;
     if (cy == ey) {
@@ -84,7 +86,7 @@ inline bool traverse_supercover(const uint8_t* blocked, int32_t stride, uint32_t
       next_y += unit;
     }
     at += step_x + step_y * stride;
-    if (blocked[at]) return false;
+    if (!enter(at)) return false;
   }
   return true;
 }
@@ -115,6 +117,11 @@ std::optional<CornerPolicy> corner_policy_from_string(std::string_view name);
 // corner crossings are detected exactly; for arbitrary real coordinates the traversal is exact
 // up to floating-point rounding of those products.
 bool line_of_sight(const GridMap& map, const Point2& a, const Point2& b, CornerPolicy policy);
+
+// The highest cell cost (GridMap::cost) over the cells of that same traversal, both end cells
+// included; nullopt when the segment lacks line of sight. 0 on a map without costs.
+std::optional<double> max_cost_along(const GridMap& map, const Point2& a, const Point2& b,
+                                     CornerPolicy policy);
 
 // Between two cell centres, exactly (integer arithmetic): the same answer as the supercover
 // traversal above, computed over the bit grids (detail::centre_segment_clear). Uses the

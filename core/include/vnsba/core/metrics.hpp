@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "vnsba/core/geometry.hpp"
+#include "vnsba/core/grid_map.hpp"
 
 namespace vnsba::core {
 
@@ -20,7 +21,20 @@ struct Metrics {
   int64_t planning_time_us = 0;  // search + post-processing, steady clock
   // final length / optimal A* cost on the same query; NaN unless compute_length_ratio was set.
   double length_ratio = std::numeric_limits<double>::quiet_NaN();
+  // The final path's smallest distance to an obstacle (ALGORITHM.md section 8), metres; +inf on
+  // a map without obstacles. NaN on failures.
+  double clearance_m = std::numeric_limits<double>::quiet_NaN();
 };
+
+// Samples of a polyline's clearance are at most this far apart (cells, ALGORITHM.md section 8).
+constexpr double kClearanceSampleStep = 0.1;
+
+// The smallest distance, in cells, from any point of `polyline` (continuous cell coordinates,
+// sampled at most kClearanceSampleStep apart, vertices included) to the square of an obstacle
+// cell (occupied or unknown: GridMap::obstacle_distance's cells; inflation is not an obstacle).
+// +inf when the map has no obstacle or the polyline is empty. Exact per sample: the distance
+// transform bounds which cells can be nearest, and only those are measured.
+double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
 
 constexpr double kTurnEpsilonRad = 1e-6;
 

@@ -33,12 +33,39 @@
 namespace vnsba::core {
 
 struct PlanQuery {
+  PlanQuery() = default;
+  PlanQuery(const Cell& start_cell, const Cell& goal_cell,
+            std::optional<Point2> start_position = std::nullopt,
+            std::optional<Point2> goal_position = std::nullopt)
+      : start(start_cell),
+        goal(goal_cell),
+        start_point(std::move(start_position)),
+        goal_point(std::move(goal_position)) {}
+
+  Cell start;  // may lie outside the map (refused, or moved by start_tolerance; see below)
+  Cell goal;   // likewise, with goal_tolerance
+  // The requested positions in continuous cell coordinates (inside `start` / `goal`, or anywhere
+  // for a goal outside the map). Tolerance picks the free cell whose centre is nearest to them
+  // (ALGORITHM.md section 8); unset, the cells' centres.
+  std::optional<Point2> start_point;
+  std::optional<Point2> goal_point;
+};
+
+// The start and goal a plan uses: the query's, or where start_tolerance / goal_tolerance moved
+// them (ALGORITHM.md section 8).
+struct Endpoints {
   Cell start;
   Cell goal;
+  bool start_adjusted = false;
+  bool goal_adjusted = false;
+  double start_moved_m = 0.0;  // metres from the requested point to the used cell's centre
+  double goal_moved_m = 0.0;   // (0 when not adjusted)
 };
 
 struct PlanResult {
   Status status;
+  // Where the search started and ended (also on failures after the endpoints were resolved).
+  Endpoints endpoints;
   PlannerKind planner = PlannerKind::kVnsBaStar;
   // The grid path from start to goal, one cell per search step (steps up to 2 cells long with
   // the 8-11-13 neighbourhood). Empty unless status is OK.
@@ -60,7 +87,12 @@ struct PlanResult {
 };
 
 // What Planner::plan checks before it searches: the options, then start and goal inside the
-// map and on free cells. The message names the field at fault.
+// map and on free cells, each moved to the nearest free cell within its tolerance where it is
+// not (the start only when inflation alone blocks it). The message names the field at fault,
+// the layer that blocks it (occupied, unknown, inflation) and the position in metres.
+Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query,
+                                      const PlannerOptions& options);
+// resolve_endpoints' verdict alone.
 Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOptions& options);
 
 class Planner {

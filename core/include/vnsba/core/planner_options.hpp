@@ -40,6 +40,9 @@ std::string_view to_string(PlannerKind kind);
 // validate() refuses the rest.
 bool supports(PlannerKind kind, Neighborhood neighborhood);
 bool supports(PlannerKind kind, CornerPolicy policy);
+// Whether a planner plans with cell costs (cost_weight > 0): every planner but jps, whose
+// symmetry pruning holds only where every move of a kind costs the same.
+bool supports_costs(PlannerKind kind);
 std::optional<PlannerKind> planner_kind_from_string(std::string_view name);
 // All planners, in the paper's table order.
 const std::vector<PlannerKind>& all_planner_kinds();
@@ -69,6 +72,12 @@ inline constexpr OptionRange kSampleStepRange{"sample_step", "cells", 0.05, 10.0
 // 0 means unlimited.
 inline constexpr OptionRange kMaxPlanningTimeRange{"max_planning_time", "seconds", 0.0, 3600.0,
                                                    false};
+// Move cost = length * (1 + cost_weight * c), c in [0, 1) (ALGORITHM.md section 8); 0 = the
+// paper's binary grid. 100 already makes a cell of cost 0.99 a hundred times dearer than free.
+inline constexpr OptionRange kCostWeightRange{"cost_weight", "", 0.0, 1000.0, false};
+// How far the planner may move a blocked goal or start (ALGORITHM.md section 8); 0 = exact. The
+// nearest free cell is searched in a disc of this radius, so it stays small.
+inline constexpr OptionRange kToleranceRange{"tolerance", "metres", 0.0, 100.0, false};
 
 struct PlannerOptions {
   PlannerKind planner = PlannerKind::kVnsBaStar;
@@ -87,6 +96,12 @@ struct PlannerOptions {
   bool record_expansions = false;  // fill PlanResult::expanded_* (for debug pictures)
   // Also run optimal A* on the same query to fill Metrics::length_ratio (costs a second search).
   bool compute_length_ratio = false;
+  // ALGORITHM.md section 8; every "off" value (0) gives the binary behaviour of sections 1-7.
+  double cost_weight = 0.0;      // kCostWeightRange
+  double goal_tolerance = 0.0;   // metres, kToleranceRange: plan to the nearest free cell within
+                                 // this of a blocked (or outside) goal
+  double start_tolerance = 0.0;  // metres, kToleranceRange: likewise for a start blocked by
+                                 // inflation only
 };
 
 // The paper's configuration of each planner: VNS-BA* with the 8-11-13 neighbourhood, pruning
@@ -112,6 +127,9 @@ struct PlannerSettings {
   std::optional<std::chrono::microseconds> max_planning_time;
   std::optional<bool> record_expansions;
   std::optional<bool> compute_length_ratio;
+  std::optional<double> cost_weight;
+  std::optional<double> goal_tolerance;   // metres
+  std::optional<double> start_tolerance;  // metres
 };
 
 // The options of a run: default_options(kind), then every setting that is set.

@@ -11,19 +11,35 @@
 
 namespace vnsba::core {
 
+// The cost model of ALGORITHM.md section 8 for a segment a -> b (continuous cell coordinates):
+// its length * (1 + cost_weight * the highest cell cost along it, max_cost_along); +inf when it
+// lacks line of sight. With cost_weight 0, the length. The searches price their moves the same
+// way (planner.cpp, CellMoveCost).
+double segment_cost(const GridMap& map, const Point2& a, const Point2& b, double cost_weight,
+                    CornerPolicy policy);
+// The sum of segment_cost over a polyline's segments.
+double path_cost(const GridMap& map, const std::vector<Point2>& polyline, double cost_weight,
+                 CornerPolicy policy);
+
 // Turning points of a grid path: keeps P[0], then each P[i-1] where line of sight from the
 // current anchor to P[i] first fails, then P[k]. The result is a subsequence of the input
 // (as cell centres), collision-free by construction. An empty input gives an empty output.
 // With a `budget` that expires part-way (polled once per line-of-sight check) the result is
-// empty and budget->state() says why.
+// empty and budget->state() says why. With cost_weight > 0 a shortcut also has to cost no more
+// than the stretch of grid path it replaces (ALGORITHM.md section 8), so pruning never makes the
+// path dearer; with 0 that holds by the triangle inequality and nothing else is checked.
 std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path,
-                               CornerPolicy policy, PlanningBudget* budget = nullptr);
+                               CornerPolicy policy, PlanningBudget* budget = nullptr,
+                               double cost_weight = 0.0);
 
 struct SmoothingOptions {
   double smoothing_distance = 1.5;  // cells: the d of section 5 before the |TA|/4, |TB|/4 caps
   double sample_step = 0.25;        // cells: the largest gap between spline samples
   int max_halvings = 3;             // retries with d halved before keeping the sharp corner
   CornerPolicy corner_policy = CornerPolicy::kNever;
+  // > 0: a corner's curve is kept only when it costs no more than the two leg pieces it
+  // replaces (ALGORITHM.md section 8); 0: section 5 as it stands.
+  double cost_weight = 0.0;
 };
 
 // Replaces each interior corner T of `waypoints` by samples of a clamped parametric cubic

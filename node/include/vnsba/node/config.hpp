@@ -53,6 +53,10 @@ inline core::GridBuildOptions default_map_options() {
   return options;
 }
 
+// planner.path_spacing: the published path has a pose at most this many metres apart
+// (ALGORITHM.md section 8); unset = the map's resolution.
+inline constexpr core::OptionRange kPathSpacingRange{"path_spacing", "metres", 0.0, 10.0, true};
+
 // The planner.* keys. A key the file gives is a setting; a key it leaves out stays unset and
 // follows the paper configuration (core::default_options) of whichever planner runs. The options
 // of a request are make_options(the request's planner, or `kind`, settings), so a request that
@@ -61,6 +65,15 @@ inline core::GridBuildOptions default_map_options() {
 struct PlannerConfig {
   core::PlannerKind kind = core::PlannerKind::kVnsBaStar;  // planner.name
   core::PlannerSettings settings = default_settings();     // every other planner.* key
+                                                           // (cost_weight, goal_tolerance and
+                                                           // start_tolerance included)
+  // planner.path_spacing, metres in kPathSpacingRange; unset = the resolution of the map each
+  // plan runs on. Not a core option: it shapes the published poses (core::path_poses), not the
+  // plan, so it holds for every planner.
+  std::optional<double> path_spacing;
+
+  // The spacing of the poses of a path planned on a map of `resolution` metres per cell.
+  double path_spacing_for(double resolution) const { return path_spacing.value_or(resolution); }
 
   // The options of a run with the configured planner, or with `override_kind`.
   core::PlannerOptions options() const { return core::make_options(kind, settings); }
@@ -82,11 +95,15 @@ struct NodeConfig {
   TopicNames topics;
 
   // How incoming slices become planning grids (occupied_threshold, allow_unknown,
-  // robot_radius in metres, max_cells as the size limit of an accepted slice).
+  // robot_radius in metres, the cost gradient inflation_radius in metres and
+  // cost_scaling_factor per metre, max_cells as the size limit of an accepted slice). The
+  // defaults are the paper's binary grid (no radius, no gradient); config/default.yaml sets a
+  // real robot's values.
   core::GridBuildOptions map = default_map_options();
 
   // The planner and what the file configured of its options (max_planning_time is read in
-  // seconds, 0 = unlimited; compute_length_ratio costs a second, optimal A* search per plan).
+  // seconds, 0 = unlimited; compute_length_ratio costs a second, optimal A* search per plan;
+  // cost_weight, goal_tolerance and start_tolerance unset by default, i.e. 0: the paper).
   PlannerConfig planner;
 
   bool preempt = true;      // a newer request cancels the one being planned (Nav2-like)

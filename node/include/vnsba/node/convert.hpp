@@ -105,13 +105,33 @@ PoseCheck check_pose(const PoseStampedMsg& pose, const std::string& field,
 PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& frame,
                            const TimeMsg& stamp);
 
-// The final path as nav_msgs/Path; each pose faces along the path (the last one as its leg).
-PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp);
+// The final path as nav_msgs/Path: core::path_poses(result.world_path, spacing_m, goal_yaw),
+// poses at most spacing_m metres apart, each facing along the path (the tangent), the last one
+// with goal_yaw (radians) when it is set (ALGORITHM.md section 8, "Path poses").
+PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp,
+                    double spacing_m, std::optional<double> goal_yaw = std::nullopt);
+
+// The smallest pose spacing the node publishes on a map of `resolution` metres per cell:
+// kMinPathSpacingCells cells (as fine as the finest spline sampling, sample_step 0.05 cells), so
+// that a path never holds more than 20 poses per cell of its length.
+inline constexpr double kMinPathSpacingCells = core::kSampleStepRange.min;
+double min_path_spacing(double resolution);
+
+// What the status message of an OK plan says about moved endpoints, "" when none moved:
+// "goal moved 0.070 m to the nearest free cell (1.225, 4.575) m (goal_tolerance 0.3 m)", and
+// likewise for the start ("; " between them). Positions are the used cells' centres.
+std::string describe_adjusted_endpoints(const core::Endpoints& endpoints, const core::GridMap& map,
+                                        const core::PlannerOptions& options);
 
 // A status answering the request `identity` (null: a report about a map, SUBJECT_MAP).
+// clearance_m is metrics->clearance_m for an OK status, NaN otherwise. start_x ... goal_moved_m
+// describe `endpoints` on `map` (the cells a plan used, their centres in metres) when both are
+// given; otherwise the positions are NaN, the flags false and the distances 0.
 PlanStatusMsg to_status_msg(const std::string& request_id, const RequestIdentity* identity,
                             const WireStatus& status, const std::string& planner,
-                            const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path);
+                            const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path,
+                            const core::Endpoints* endpoints = nullptr,
+                            const core::GridMap* map = nullptr);
 
 PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResult& result,
                              const core::GridMap& map, const std::string& frame,
@@ -119,7 +139,8 @@ PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResu
 
 // --- What the node publishes, read back into core types (for the recorder and tests). ---
 
-// Metrics of a PlanStatus (as computed by the node; zero unless the code is OK).
+// Metrics of a PlanStatus (as computed by the node; zero unless the code is OK; clearance_m NaN
+// unless OK, +inf on a map without obstacles).
 core::Metrics metrics_from_status_msg(const PlanStatusMsg& msg);
 
 // A pose's (x, y) position in metres, or nullopt when either is not finite (no frame check:

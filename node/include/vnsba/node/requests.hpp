@@ -61,11 +61,24 @@ struct ResolvedRequest {
   WireStatus status;             // OK: the request would be planned
   std::string planner_name;      // set once the planner is known
   core::PlannerOptions options;  // valid when status.ok()
-  core::PlanQuery query;         // valid when status.ok()
+  // Valid when status.ok(): the cells holding the requested positions, and the positions
+  // themselves in continuous cell coordinates (start_point, goal_point), so that a tolerance
+  // moves a blocked start or goal to the free cell nearest the real point. A goal outside the
+  // map (allowed when planner.goal_tolerance > 0 brings a free cell within reach) has the cell
+  // floor(goal_point), outside the map.
+  core::PlanQuery query;
+  // The goal's orientation (radians, core::yaw_from_quaternion) for the last pose of the path;
+  // unset when its quaternion is not unit length (then `warning` says so).
+  std::optional<double> goal_yaw;
+  // Non-fatal remarks for the status message of an OK plan ("warning: ..."), "" when none.
+  std::string warning;
 };
 // `map` may be null (no map yet: NO_MAP). Checks, first failure wins: the string fields' lengths,
-// the id, the planner name, the start (a goal_pose without robot_pose), both poses (frame,
-// finite), then start and goal against the map (inside it, on free cells).
+// the id, the planner name, the options the planner would run with (core::validate: e.g. jps with
+// planner.cost_weight > 0 is INVALID_REQUEST naming cost_weight), the start (a goal_pose without
+// robot_pose), both poses (frame, finite), then start and goal against the map: the start inside
+// it (START_OUTSIDE_MAP), the goal inside it or, with planner.goal_tolerance > 0, within that
+// distance of it (GOAL_OUTSIDE_MAP), then core::check_query (blocked cells, tolerances).
 ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map);
 
 // The waiting requests and the one being planned. Not thread-safe: the node holds its lock.

@@ -68,8 +68,10 @@ struct RunPicture {
   std::optional<core::Metrics> metrics;  // shown in the caption when present
 };
 
-// A run from an offline plan: start and goal at the query's cell centres, every layer from the
-// result (expansions only when it recorded them).
+// A run from an offline plan: start and goal at the query's requested points (start_point,
+// goal_point) or, without them, its cells' centres, every layer from the result (expansions only
+// when it recorded them). The caption shows the metrics of a successful run: length, clearance
+// (omitted when NaN), turns, turn angle, expansions, time and the length ratio.
 RunPicture picture_of(std::shared_ptr<const MapPicture> map, const core::PlanQuery& query,
                       const core::PlanResult& result);
 

@@ -1,0 +1,1305 @@
+// Cell costs, clearance and tolerance (ALGORITHM.md section 8) against independent oracles written
+// here: a brute-force classification of every cell and its cost, a Dijkstra over the planners'
+// move graph priced by dense sampling of each move's segment, a brute-force clearance over every
+// obstacle square and a brute-force nearest free cell. Nothing is compared with numbers copied
+// from a run.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <queue>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/test_support.hpp"
+#include "vnsba/core/metrics.hpp"
+#include "vnsba/core/planner.hpp"
+#include "vnsba/core/postprocess.hpp"
+
+namespace vnsba::test {
+namespace {
+
+using core::CellLayer;
+using core::GridBuildOptions;
+using core::Neighborhood;
+using core::OccupancyGrid;
+using core::PlannerKind;
+using core::PlannerOptions;
+using core::PlanQuery;
+using core::PlanResult;
+using core::StatusCode;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string str(const Cell& c) {
+  return "(" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")";
+}
+
+double uniform(std::mt19937& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+int uniform_int(std::mt19937& rng, int lo, int hi) {
+  return std::uniform_int_distribution<int>(lo, hi)(rng);
+}
+template <class T>
+const T& pick(std::mt19937& rng, const std::vector<T>& v) {
+  return v[std::uniform_int_distribution<size_t>(0, v.size() - 1)(rng)];
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Random maps with occupied, unknown and graded values, and random build options.
+
+struct Scenario {
+  OccupancyGrid grid;
+  GridBuildOptions options;
+
+  std::string describe() const {
+    std::ostringstream s;
+    s.precision(17);
+    s << grid.width << " x " << grid.height << " cells at " << grid.resolution
+      << " m, threshold " << options.occupied_threshold << ", allow_unknown "
+      << options.allow_unknown << ", robot_radius " << options.robot_radius
+      << ", inflation_radius " << options.inflation_radius << ", cost_scaling_factor "
+      << options.cost_scaling_factor;
+    return s.str();
+  }
+};
+
+struct Spec {
+  int min_side = 6, max_side = 40;
+  double max_occupied = 0.35;
+  bool force_costs = false;   // graded values and a gradient, always
+  bool no_costs = false;      // neither graded values nor a gradient
+  bool no_obstacles = false;  // no occupied cell, unknown cells free
+  int min_radius_cells = 0;   // robot radius at least this (cells), at most 3.2
+};
+
+Scenario random_scenario(std::mt19937& rng, const Spec& spec = {}) {
+  Scenario s;
+  OccupancyGrid& g = s.grid;
+  GridBuildOptions& o = s.options;
+  g.width = uniform_int(rng, spec.min_side, spec.max_side);
+  g.height = uniform_int(rng, spec.min_side, spec.max_side);
+  static const std::vector<double> resolutions = {0.05, 0.1, 0.15, 0.25, 0.3, 0.5, 1.0};
+  g.resolution = rng() % 3 == 0 ? uniform(rng, 0.05, 1.0) : pick(rng, resolutions);
+  g.origin_x = uniform(rng, -5.0, 5.0);
+  g.origin_y = uniform(rng, -5.0, 5.0);
+  static const std::vector<int> thresholds = {65, 65, 65, 40, 90};
+  o.occupied_threshold = pick(rng, thresholds);
+  o.allow_unknown = spec.no_obstacles || rng() % 4 == 0;
+  const double p_occupied = spec.no_obstacles ? 0.0 : uniform(rng, 0.0, spec.max_occupied);
+  const double p_unknown = rng() % 4 == 0 ? 0.0 : uniform(rng, 0.0, 0.08);
+  const double p_graded =
+      spec.no_costs ? 0.0 : (!spec.force_costs && rng() % 4 == 0 ? 0.0 : uniform(rng, 0.05, 0.5));
+  const int graded_max = spec.no_obstacles ? std::min(64, o.occupied_threshold - 1) : 64;
+  g.data.resize(static_cast<size_t>(g.width) * g.height);
+  for (int8_t& v : g.data) {
+    const double u = uniform(rng, 0.0, 1.0);
+    if (u < p_occupied) {
+      v = static_cast<int8_t>(uniform_int(rng, o.occupied_threshold, 100));
+    } else if (u < p_occupied + p_unknown) {
+      v = core::kOccupancyUnknown;
+    } else if (u < p_occupied + p_unknown + p_graded) {
+      v = static_cast<int8_t>(uniform_int(rng, 1, graded_max));
+    } else {
+      v = 0;
+    }
+  }
+  // Robot radius: none, a whole number of cells (metres = cells * resolution, which the build
+  // must snap back to whole cells), or any value.
+  const int mode = spec.min_radius_cells > 0 ? 1 + static_cast<int>(rng() % 2) : rng() % 3;
+  if (mode == 1) {
+    o.robot_radius = uniform_int(rng, std::max(1, spec.min_radius_cells), 3) * g.resolution;
+  } else if (mode == 2) {
+    o.robot_radius = uniform(rng, std::max(0.2, double(spec.min_radius_cells)), 3.2) * g.resolution;
+  }
+  const bool gradient = !spec.no_costs && (spec.force_costs || rng() % 4 != 0);
+  if (gradient) o.inflation_radius = o.robot_radius + uniform(rng, 0.3, 8.0) * g.resolution;
+  o.cost_scaling_factor = rng() % 5 == 0 ? 0.0 : uniform(rng, 0.05, 2.0) / g.resolution;
+  return s;
+}
+
+std::shared_ptr<const GridMap> build_shared(const Scenario& s) {
+  auto built = GridMap::build(s.grid, s.options);
+  if (!built) {
+    ADD_FAILURE() << built.error().message << " for " << s.describe();
+    return nullptr;
+  }
+  return std::make_shared<const GridMap>(std::move(built).value());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Brute force: the classification and cost of every cell from the map values alone.
+
+struct Truth {
+  int32_t width = 0, height = 0;
+  double resolution = 1.0;
+  std::vector<CellLayer> layer;
+  std::vector<int64_t> squared;     // cells^2 to the nearest obstacle centre; -1 without any
+  std::vector<double> cost;         // free cells (0 elsewhere)
+  std::vector<uint8_t> ambiguous;   // centre exactly on the inflation_radius: either cost is right
+  std::vector<Cell> obstacles;      // occupied and unknown cells
+  bool graded = false;              // some value 0 < v < threshold
+
+  size_t index(int32_t x, int32_t y) const { return static_cast<size_t>(y) * width + x; }
+  bool free(int64_t x, int64_t y) const {
+    return x >= 0 && y >= 0 && x < width && y < height &&
+           layer[index(static_cast<int32_t>(x), static_cast<int32_t>(y))] == CellLayer::kFree;
+  }
+};
+
+Truth brute_force(const Scenario& s) {
+  const OccupancyGrid& g = s.grid;
+  const GridBuildOptions& o = s.options;
+  Truth t;
+  t.width = g.width;
+  t.height = g.height;
+  t.resolution = g.resolution;
+  const size_t cells = g.data.size();
+  t.layer.assign(cells, CellLayer::kFree);
+  t.squared.assign(cells, -1);
+  t.cost.assign(cells, 0.0);
+  t.ambiguous.assign(cells, 0);
+  for (int32_t y = 0; y < g.height; ++y) {
+    for (int32_t x = 0; x < g.width; ++x) {
+      const int v = g.at(x, y);
+      if (v == -1) {
+        if (!o.allow_unknown) t.layer[t.index(x, y)] = CellLayer::kUnknown;
+      } else if (v >= o.occupied_threshold) {
+        t.layer[t.index(x, y)] = CellLayer::kOccupied;
+      } else if (v > 0) {
+        t.graded = true;
+      }
+      if (t.layer[t.index(x, y)] != CellLayer::kFree) t.obstacles.push_back({x, y});
+    }
+  }
+  double r = o.robot_radius / g.resolution;  // cells, snapped to a whole number within 1e-9
+  if (std::abs(r - std::round(r)) <= 1e-9) r = std::round(r);
+  const double gradient_cells = o.inflation_radius / g.resolution;
+  for (int32_t y = 0; y < g.height; ++y) {
+    for (int32_t x = 0; x < g.width; ++x) {
+      const size_t i = t.index(x, y);
+      for (const Cell& b : t.obstacles) {
+        const int64_t d2 = int64_t{b.x - x} * (b.x - x) + int64_t{b.y - y} * (b.y - y);
+        if (t.squared[i] < 0 || d2 < t.squared[i]) t.squared[i] = d2;
+      }
+      if (t.layer[i] != CellLayer::kFree) continue;
+      if (t.squared[i] >= 0 && static_cast<double>(t.squared[i]) <= r * r) {
+        t.layer[i] = CellLayer::kInflated;
+        continue;
+      }
+      const int v = g.at(x, y);
+      double c = (v > 0 && v < o.occupied_threshold) ? v / 100.0 : 0.0;
+      if (o.inflation_radius > 0.0 && t.squared[i] >= 0) {
+        const double d_cells = std::sqrt(static_cast<double>(t.squared[i]));
+        const double d_m = d_cells * g.resolution;
+        if (d_m > o.robot_radius && d_m <= o.inflation_radius)
+          c = std::max(c, 0.99 * std::exp(-o.cost_scaling_factor * (d_m - o.robot_radius)));
+        if (std::abs(d_cells - gradient_cells) <= 1e-9 * std::max(1.0, d_cells)) t.ambiguous[i] = 1;
+      }
+      t.cost[i] = c;
+    }
+  }
+  return t;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Move costs by dense sampling, and Dijkstra over the 8-neighbour move graph.
+
+bool corner_ok(bool side_a_free, bool side_b_free, CornerPolicy policy) {
+  switch (policy) {
+    case CornerPolicy::kNever:
+      return side_a_free && side_b_free;
+    case CornerPolicy::kTouch:
+      return side_a_free || side_b_free;
+    case CornerPolicy::kAlways:
+      return true;
+  }
+  return false;
+}
+
+// The highest map.cost() of the cells whose inside the segment a -> b enters, found by sampling
+// it `per_cell` times per cell; points exactly on a lattice corner are skipped (a segment that only
+// touches a corner enters neither cell beside it).
+double sampled_max_cost(const GridMap& map, const Point2& a, const Point2& b, int per_cell = 16) {
+  const double length = (b - a).norm();
+  const int n = std::max(1, static_cast<int>(std::ceil(length * per_cell)));
+  double highest = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const Point2 p = a + (b - a) * (static_cast<double>(i) / n);
+    if (p.x() == std::floor(p.x()) && p.y() == std::floor(p.y())) continue;
+    const Cell c{static_cast<int32_t>(std::floor(p.x())), static_cast<int32_t>(std::floor(p.y()))};
+    highest = std::max(highest, map.in_bounds(c) ? map.cost(c) : 1.0);
+  }
+  return highest;
+}
+
+// length * (1 + w * highest cell cost along the segment).
+double oracle_segment_cost(const GridMap& map, const Point2& a, const Point2& b, double w) {
+  return (b - a).norm() * (1.0 + w * sampled_max_cost(map, a, b));
+}
+
+double oracle_path_cost(const GridMap& map, const std::vector<Cell>& path, double w) {
+  double total = 0.0;
+  for (size_t i = 1; i < path.size(); ++i)
+    total += oracle_segment_cost(map, core::cell_centre(path[i - 1]), core::cell_centre(path[i]), w);
+  return total;
+}
+
+// Optimal cost from `s` to every cell over the 8-neighbour moves that `policy` allows, each move
+// priced by oracle_segment_cost; +inf where unreachable.
+std::vector<double> dijkstra_from(const GridMap& map, Cell s, CornerPolicy policy, double w) {
+  const int64_t width = map.width(), height = map.height();
+  std::vector<double> dist(static_cast<size_t>(width * height), kInf);
+  using Item = std::pair<double, int64_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  dist[s.y * width + s.x] = 0.0;
+  open.push({0.0, s.y * width + s.x});
+  while (!open.empty()) {
+    const auto [d, i] = open.top();
+    open.pop();
+    if (d > dist[i]) continue;
+    const int32_t x = static_cast<int32_t>(i % width), y = static_cast<int32_t>(i / width);
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx == 0 && dy == 0) || !cell_free(map, x + dx, y + dy)) continue;
+        if (dx != 0 && dy != 0 &&
+            !corner_ok(cell_free(map, x + dx, y), cell_free(map, x, y + dy), policy))
+          continue;
+        const double nd = d + oracle_segment_cost(map, core::cell_centre({x, y}),
+                                                  core::cell_centre({x + dx, y + dy}), w);
+        const int64_t j = (y + dy) * width + (x + dx);
+        if (nd < dist[j]) {
+          dist[j] = nd;
+          open.push({nd, j});
+        }
+      }
+    }
+  }
+  return dist;
+}
+
+// A raw grid path that starts at s, ends at g and moves only through free cells: with
+// max_step 1 along the 8-neighbour moves that `policy` allows, with 2 along steps of Chebyshev
+// length 1 or 2 with exact line of sight (the 8-11-13 moves).
+::testing::AssertionResult valid_raw_path(const GridMap& map, const std::vector<Cell>& path,
+                                          Cell s, Cell g, CornerPolicy policy, int max_step) {
+  if (path.empty()) return ::testing::AssertionFailure() << "empty path";
+  if (path.front() != s) return ::testing::AssertionFailure() << "does not begin at the start";
+  if (path.back() != g) return ::testing::AssertionFailure() << "does not end at the goal";
+  for (size_t i = 0; i < path.size(); ++i) {
+    const Cell c = path[i];
+    if (!cell_free(map, c.x, c.y))
+      return ::testing::AssertionFailure() << "cell " << i << " " << str(c) << " is blocked";
+    if (i == 0) continue;
+    const Cell p = path[i - 1];
+    const int dx = c.x - p.x, dy = c.y - p.y;
+    const int cheb = std::max(std::abs(dx), std::abs(dy));
+    if (cheb < 1 || cheb > max_step)
+      return ::testing::AssertionFailure() << "step " << i << " " << str(p) << " -> " << str(c);
+    if (cheb == 1 && dx != 0 && dy != 0 &&
+        !corner_ok(cell_free(map, p.x + dx, p.y), cell_free(map, p.x, p.y + dy), policy))
+      return ::testing::AssertionFailure() << "step " << i << " " << str(p) << " -> " << str(c)
+                                           << " passes a corner the policy forbids";
+    if (!reference_los_centres(map, p, c, policy))
+      return ::testing::AssertionFailure() << "step " << i << " " << str(p) << " -> " << str(c)
+                                           << " lacks line of sight";
+  }
+  return ::testing::AssertionSuccess();
+}
+
+const std::vector<PlannerKind> kCostPlanners = {
+    PlannerKind::kAStar, PlannerKind::kWeightedAStar, PlannerKind::kBidirectionalAStar,
+    PlannerKind::kAlternatingBidirectionalAStar, PlannerKind::kVnsBaStar};
+
+// ---------------------------------------------------------------------------------------------
+// 1. Layers and obstacle distances.
+
+TEST(CostsLayers, EveryCellMatchesBruteForce) {
+  std::mt19937 rng(81001);
+  int inflated = 0, unknown = 0, occupied = 0, whole_radius = 0, empty_maps = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    Spec spec;
+    if (trial % 10 == 0) spec.no_obstacles = true;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const double r = s.options.robot_radius / s.grid.resolution;
+    if (r > 0.5 && std::abs(r - std::round(r)) <= 1e-9) ++whole_radius;
+    if (t.obstacles.empty()) ++empty_maps;
+    for (int32_t y = 0; y < t.height; ++y) {
+      for (int32_t x = 0; x < t.width; ++x) {
+        const Cell c{x, y};
+        const CellLayer expected = t.layer[t.index(x, y)];
+        ASSERT_EQ(map->layer(c), expected)
+            << "cell " << str(c) << ": got " << core::to_string(map->layer(c)) << ", expected "
+            << core::to_string(expected) << " (value " << int{s.grid.at(x, y)} << ", squared "
+            << t.squared[t.index(x, y)] << ")";
+        ASSERT_EQ(map->blocked(c), expected != CellLayer::kFree) << "cell " << str(c);
+        const int64_t d2 = t.squared[t.index(x, y)];
+        if (d2 < 0) {
+          ASSERT_EQ(map->obstacle_distance(c), kInf) << "cell " << str(c);
+        } else {
+          const double d = std::sqrt(static_cast<double>(d2));
+          ASSERT_NEAR(map->obstacle_distance(c), d, 1e-6 * std::max(1.0, d)) << "cell " << str(c);
+        }
+        inflated += expected == CellLayer::kInflated;
+        unknown += expected == CellLayer::kUnknown;
+        occupied += expected == CellLayer::kOccupied;
+      }
+    }
+  }
+  EXPECT_GT(inflated, 1000);
+  EXPECT_GT(unknown, 500);
+  EXPECT_GT(occupied, 5000);
+  EXPECT_GT(whole_radius, 30);
+  EXPECT_GT(empty_maps, 10);
+}
+
+// ALGORITHM.md section 1's example: 0.15 m at 0.05 m is exactly 3 cells, so the cell 3 cells
+// from an obstacle is inflated and the one at sqrt(10) cells is not.
+TEST(CostsLayers, WholeCellRadiusIsSnapped) {
+  OccupancyGrid g;
+  g.width = g.height = 15;
+  g.resolution = 0.05;
+  g.data.assign(225, 0);
+  g.data[7 * 15 + 7] = 100;
+  GridBuildOptions o;
+  o.robot_radius = 0.15;
+  auto map = GridMap::build(g, o);
+  ASSERT_TRUE(map) << map.error().message;
+  EXPECT_EQ(map->layer({7, 7}), CellLayer::kOccupied);
+  EXPECT_EQ(map->layer({10, 7}), CellLayer::kInflated);
+  EXPECT_EQ(map->layer({7, 4}), CellLayer::kInflated);
+  EXPECT_EQ(map->layer({10, 8}), CellLayer::kFree);
+  EXPECT_EQ(map->layer({11, 7}), CellLayer::kFree);
+  EXPECT_EQ(map->layer({9, 9}), CellLayer::kInflated);  // 2 sqrt 2 < 3
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Cell costs.
+
+TEST(CostsCellCosts, EveryFreeCellMatchesBruteForce) {
+  std::mt19937 rng(82002);
+  int without = 0, with = 0, graded_cells = 0, gradient_cells = 0, ambiguous = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    Spec spec;
+    if (trial % 5 == 0) spec.no_costs = true;
+    if (trial % 7 == 0) spec.force_costs = !spec.no_costs;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const bool expect_costs = t.graded || s.options.inflation_radius > 0.0;
+    bool any_free_cost = false;
+    for (int32_t y = 0; y < t.height; ++y) {
+      for (int32_t x = 0; x < t.width; ++x) {
+        const Cell c{x, y};
+        const size_t i = t.index(x, y);
+        if (!expect_costs) {
+          ASSERT_EQ(map->cost(c), 0.0) << "cell " << str(c);
+          continue;
+        }
+        if (t.layer[i] != CellLayer::kFree) continue;
+        const double got = map->cost(c);
+        ASSERT_GE(got, 0.0) << "cell " << str(c);
+        ASSERT_LT(got, 1.0) << "cell " << str(c);
+        any_free_cost = any_free_cost || got > 0.0;
+        if (t.ambiguous[i]) {
+          ++ambiguous;
+          continue;
+        }
+        ASSERT_NEAR(got, t.cost[i], 1e-6)
+            << "cell " << str(c) << " value " << int{s.grid.at(x, y)} << " squared distance "
+            << t.squared[i];
+        const int v = s.grid.at(x, y);
+        if (v > 0 && v < s.options.occupied_threshold) ++graded_cells;
+        if (t.cost[i] > 0.0 && !(v > 0 && v < s.options.occupied_threshold)) ++gradient_cells;
+      }
+    }
+    if (!expect_costs) {
+      ++without;
+      ASSERT_FALSE(map->has_costs());
+      ASSERT_EQ(map->cost_data(), nullptr);
+    } else {
+      ++with;
+      if (any_free_cost) {
+        ASSERT_TRUE(map->has_costs());
+      }
+      if (map->has_costs()) {
+        ASSERT_NE(map->cost_data(), nullptr);
+      }
+    }
+  }
+  EXPECT_GT(without, 30);
+  EXPECT_GT(with, 150);
+  EXPECT_GT(graded_cells, 10000);
+  EXPECT_GT(gradient_cells, 5000);
+  EXPECT_LT(ambiguous, 50);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Optimality with costs.
+
+TEST(CostsOptimality, AStarEqualsDijkstraForEveryWeightAndCornerPolicy) {
+  std::mt19937 rng(83003);
+  int compared = 0, unreachable = 0, detours = 0;
+  for (int trial = 0; trial < 250; ++trial) {
+    Spec spec;
+    spec.max_side = 30;
+    spec.force_costs = true;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    ASSERT_TRUE(map->has_costs());
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    core::Planner planner(map);
+    for (CornerPolicy policy : kAllCornerPolicies) {
+      for (double w : {0.5, 2.0, 10.0}) {
+        const Cell start = pick(rng, cells);
+        const std::vector<double> best = dijkstra_from(*map, start, policy, w);
+        for (int q = 0; q < 4; ++q) {
+          const Cell goal = pick(rng, cells);
+          SCOPED_TRACE("policy " + std::string(core::to_string(policy)) + " weight " +
+                       std::to_string(w) + " start " + str(start) + " goal " + str(goal));
+          PlannerOptions o = core::default_options(PlannerKind::kAStar);
+          o.corner_policy = policy;
+          o.cost_weight = w;
+          const PlanResult r = planner.plan({start, goal}, o);
+          const double optimum = best[static_cast<size_t>(goal.y) * map->width() + goal.x];
+          if (!std::isfinite(optimum)) {
+            ++unreachable;
+            ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
+            continue;
+          }
+          ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+          ASSERT_TRUE(valid_raw_path(*map, r.raw_path, start, goal, policy, 1));
+          const double got = oracle_path_cost(*map, r.raw_path, w);
+          ASSERT_NEAR(got, optimum, 1e-9 * std::max(1.0, optimum));
+          ++compared;
+          const double shortest = reference_shortest_cost(*map, start, goal, policy);
+          if (core::polyline_length(core::cell_centres(r.raw_path)) > shortest + 1e-6) ++detours;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 3500);
+  EXPECT_GT(unreachable, 80);
+  EXPECT_GT(detours, 400);  // costs really change the paths
+}
+
+TEST(CostsOptimality, OtherPlannersReturnValidPathsWithCosts) {
+  std::mt19937 rng(83004);
+  int checked = 0, long_moves = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    Spec spec;
+    spec.force_costs = true;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    core::Planner planner(map);
+    const CornerPolicy policy = kAllCornerPolicies[trial % 3];
+    const double w = std::vector<double>{0.5, 2.0, 10.0, 100.0}[trial % 4];
+    const Cell start = pick(rng, cells);
+    const std::vector<double> best = dijkstra_from(*map, start, policy, w);
+    for (int q = 0; q < 3; ++q) {
+      const Cell goal = pick(rng, cells);
+      const double optimum = best[static_cast<size_t>(goal.y) * map->width() + goal.x];
+      for (PlannerKind kind : kCostPlanners) {
+        if (kind == PlannerKind::kAStar) continue;
+        SCOPED_TRACE(std::string(core::to_string(kind)) + " policy " +
+                     std::string(core::to_string(policy)) + " weight " + std::to_string(w) +
+                     " start " + str(start) + " goal " + str(goal));
+        PlannerOptions o = core::default_options(kind);
+        o.corner_policy = policy;
+        o.cost_weight = w;
+        const PlanResult r = planner.plan({start, goal}, o);
+        if (!std::isfinite(optimum)) {
+          ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
+          continue;
+        }
+        ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+        const int max_step = o.neighborhood == Neighborhood::kEight ? 1 : 2;
+        ASSERT_TRUE(valid_raw_path(*map, r.raw_path, start, goal, policy, max_step));
+        const double got = oracle_path_cost(*map, r.raw_path, w);
+        // The oracle prices a path as path_cost does (the planners' move cost).
+        ASSERT_NEAR(got, core::path_cost(*map, core::cell_centres(r.raw_path), w, policy),
+                    1e-9 * std::max(1.0, got));
+        if (max_step == 1) {
+          ASSERT_GE(got, optimum * (1.0 - 1e-9));
+        }
+        for (size_t i = 1; i < r.raw_path.size(); ++i)
+          long_moves += std::max(std::abs(r.raw_path[i].x - r.raw_path[i - 1].x),
+                                 std::abs(r.raw_path[i].y - r.raw_path[i - 1].y)) == 2;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 2000);
+  EXPECT_GT(long_moves, 300);
+}
+
+TEST(CostsOptimality, JpsRefusesCostWeight) {
+  std::mt19937 rng(83005);
+  for (bool costs : {true, false}) {
+    Spec spec;
+    spec.force_costs = costs;
+    spec.no_costs = !costs;
+    spec.max_occupied = 0.1;
+    const Scenario s = random_scenario(rng, spec);
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    ASSERT_GE(cells.size(), 2u);
+    PlannerOptions o = core::default_options(PlannerKind::kJps);
+    o.cost_weight = 1.0;
+    const PlanResult r = core::plan_once(map, {cells.front(), cells.back()}, o);
+    EXPECT_EQ(r.status.code, StatusCode::kInvalidRequest);
+    EXPECT_TRUE(contains(r.status.message, "cost_weight")) << r.status.message;
+    const core::Status v = core::validate(o);
+    EXPECT_EQ(v.code, StatusCode::kInvalidRequest);
+    EXPECT_TRUE(contains(v.message, "cost_weight")) << v.message;
+    // cost_weight 0 is the binary jps, costs or not.
+    o.cost_weight = 0.0;
+    EXPECT_TRUE(core::validate(o).is_ok());
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. Post-processing with costs.
+
+TEST(CostsPostprocess, PruningAndSmoothingNeverMakeAPathDearer) {
+  std::mt19937 rng(84004);
+  int checked = 0, pruned_cheaper = 0, smoothed = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Spec spec;
+    spec.force_costs = true;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    core::Planner planner(map);
+    for (int q = 0; q < 3; ++q) {
+      const Cell start = pick(rng, cells), goal = pick(rng, cells);
+      const PlannerKind kind = kCostPlanners[rng() % kCostPlanners.size()];
+      PlannerOptions o = core::default_options(kind);
+      o.corner_policy = kAllCornerPolicies[rng() % 3];
+      o.cost_weight = std::vector<double>{0.5, 2.0, 10.0, 100.0, 1000.0}[rng() % 5];
+      o.prune = o.smooth = true;
+      o.smoothing_distance = uniform(rng, 0.5, 3.0);
+      SCOPED_TRACE(std::string(core::to_string(kind)) + " policy " +
+                   std::string(core::to_string(o.corner_policy)) + " weight " +
+                   std::to_string(o.cost_weight) + " start " + str(start) + " goal " + str(goal));
+      const PlanResult r = planner.plan({start, goal}, o);
+      if (!r.status.is_ok()) {
+        ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
+        continue;
+      }
+      const double w = o.cost_weight;
+      const double raw = core::path_cost(*map, core::cell_centres(r.raw_path), w, o.corner_policy);
+      ASSERT_TRUE(std::isfinite(raw));
+      ASSERT_NEAR(raw, oracle_path_cost(*map, r.raw_path, w), 1e-9 * std::max(1.0, raw));
+      const double pruned = core::path_cost(*map, r.waypoints, w, o.corner_policy);
+      const double final_cost = core::path_cost(*map, r.path, w, o.corner_policy);
+      ASSERT_LE(pruned, raw * (1.0 + 1e-9));
+      ASSERT_LE(final_cost, raw * (1.0 + 1e-9))
+          << "raw " << raw << ", pruned " << pruned << ", final " << final_cost;
+      ASSERT_EQ(r.path.front(), core::cell_centre(start));
+      ASSERT_EQ(r.path.back(), core::cell_centre(goal));
+      for (size_t i = 1; i < r.path.size(); ++i) {
+        ASSERT_TRUE(segment_clear_sampled(*map, r.path[i - 1], r.path[i], o.corner_policy, 32))
+            << "final segment " << i << ": " << r.path[i - 1].transpose() << " -> "
+            << r.path[i].transpose();
+      }
+      ++checked;
+      pruned_cheaper += pruned < raw * (1.0 - 1e-9);
+      smoothed += r.path.size() > r.waypoints.size();
+    }
+  }
+  EXPECT_GT(checked, 3000);
+  EXPECT_GT(pruned_cheaper, 1000);
+  EXPECT_GT(smoothed, 500);
+}
+
+// Section 4 pruning, written out here with the reference line of sight.
+std::vector<Point2> reference_prune(const GridMap& map, const std::vector<Cell>& path,
+                                    CornerPolicy policy) {
+  std::vector<Point2> out = {core::cell_centre(path.front())};
+  Cell anchor = path.front();
+  size_t i = 1;
+  while (i < path.size()) {
+    if (reference_los_centres(map, anchor, path[i], policy)) {
+      ++i;
+    } else {
+      anchor = path[i - 1];
+      out.push_back(core::cell_centre(anchor));
+    }
+  }
+  out.push_back(core::cell_centre(path.back()));
+  return out;
+}
+
+TEST(CostsPostprocess, PruneWithCostWeightZeroIsSectionFour) {
+  std::mt19937 rng(84005);
+  int paths = 0, walks = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    const Scenario s = random_scenario(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    const CornerPolicy policy = kAllCornerPolicies[trial % 3];
+    // Planner paths (valid) and random walks over the map (steps may be blocked).
+    PlannerOptions o = core::default_options(kCostPlanners[trial % kCostPlanners.size()]);
+    o.corner_policy = policy;
+    o.prune = o.smooth = false;
+    const PlanResult r = core::plan_once(map, {pick(rng, cells), pick(rng, cells)}, o);
+    std::vector<std::vector<Cell>> inputs;
+    if (r.status.is_ok() && r.raw_path.size() >= 2) inputs.push_back(r.raw_path);
+    std::vector<Cell> walk = {pick(rng, cells)};
+    for (int k = 0; k < 30; ++k) {
+      Cell next{walk.back().x + uniform_int(rng, -1, 1), walk.back().y + uniform_int(rng, -1, 1)};
+      if (map->in_bounds(next) && next != walk.back()) walk.push_back(next);
+    }
+    inputs.push_back(walk);
+    for (size_t k = 0; k < inputs.size(); ++k) {
+      const std::vector<Cell>& path = inputs[k];
+      const auto plain = core::prune_path(*map, path, policy);
+      ASSERT_TRUE(core::prune_path(*map, path, policy, nullptr, 0.0) == plain);
+      if (k == 0 && inputs.size() == 2) {
+        ASSERT_TRUE(plain == reference_prune(*map, path, policy));
+        ++paths;
+      } else {
+        ++walks;
+      }
+    }
+  }
+  EXPECT_GT(paths, 50);
+  EXPECT_GT(walks, 100);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. cost_weight 0 is the binary planner of sections 1-7.
+
+void expect_same_plan(const PlanResult& a, const PlanResult& b) {
+  ASSERT_EQ(a.status.code, b.status.code) << a.status.message << " / " << b.status.message;
+  ASSERT_TRUE(a.raw_path == b.raw_path);
+  ASSERT_TRUE(a.waypoints == b.waypoints);
+  ASSERT_TRUE(a.path == b.path);
+  ASSERT_EQ(a.metrics.expanded, b.metrics.expanded);
+  if (a.status.is_ok()) {
+    ASSERT_EQ(a.metrics.clearance_m, b.metrics.clearance_m);
+    ASSERT_EQ(a.metrics.length_cells, b.metrics.length_cells);
+  }
+}
+
+TEST(CostsWeightZero, EqualsThePlanOnTheMapWithoutCosts) {
+  std::mt19937 rng(85005);
+  int compared = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Spec spec;
+    spec.force_costs = true;
+    const Scenario s = random_scenario(rng, spec);
+    Scenario binary = s;
+    binary.options.inflation_radius = 0.0;
+    for (int8_t& v : binary.grid.data)
+      if (v > 0 && v < binary.options.occupied_threshold) v = 0;
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto with = build_shared(s);
+    const auto without = build_shared(binary);
+    ASSERT_TRUE(with && without);
+    ASSERT_TRUE(with->has_costs());
+    ASSERT_FALSE(without->has_costs());
+    const auto cells = free_cells(*with);
+    ASSERT_EQ(cells.size(), free_cells(*without).size());
+    if (cells.size() < 2) continue;
+    core::Planner planner_with(with), planner_without(without);
+    for (int q = 0; q < 3; ++q) {
+      const PlanQuery query{pick(rng, cells), pick(rng, cells)};
+      const CornerPolicy policy = kAllCornerPolicies[rng() % 3];
+      for (PlannerKind kind : core::all_planner_kinds()) {
+        for (bool post : {false, true}) {
+          PlannerOptions o = core::default_options(kind);
+          o.corner_policy = kind == PlannerKind::kJps ? CornerPolicy::kNever : policy;
+          if (post) o.prune = o.smooth = true;
+          SCOPED_TRACE(std::string(core::to_string(kind)) + (post ? " with" : " without") +
+                       " post-processing, start " + str(query.start) + " goal " +
+                       str(query.goal));
+          const PlanResult a = planner_with.plan(query, o);
+          const PlanResult b = planner_without.plan(query, o);
+          expect_same_plan(a, b);
+          if (::testing::Test::HasFatalFailure()) return;
+          // And on a map without costs any weight is the binary planner.
+          if (core::supports_costs(kind)) {
+            PlannerOptions weighted = o;
+            weighted.cost_weight = 5.0;
+            expect_same_plan(planner_without.plan(query, weighted), b);
+            if (::testing::Test::HasFatalFailure()) return;
+          }
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 7500);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. Clearance.
+
+double distance_to_square(const Point2& p, const Cell& c) {
+  const double dx = std::max({c.x - p.x(), p.x() - (c.x + 1.0), 0.0});
+  const double dy = std::max({c.y - p.y(), p.y() - (c.y + 1.0), 0.0});
+  return std::sqrt(dx * dx + dy * dy);
+}
+
+// The samples of ALGORITHM.md section 8: every vertex, and each segment cut into the fewest equal
+// pieces at most 0.1 cell long.
+std::vector<Point2> clearance_samples(const std::vector<Point2>& polyline) {
+  std::vector<Point2> out;
+  if (polyline.empty()) return out;
+  out.push_back(polyline.front());
+  for (size_t i = 1; i < polyline.size(); ++i) {
+    const Point2& a = polyline[i - 1];
+    const Point2& b = polyline[i];
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.1)));
+    for (int k = 1; k <= n; ++k) out.push_back(a + (b - a) * (static_cast<double>(k) / n));
+  }
+  return out;
+}
+
+// Smallest distance (cells) from the samples to the square of any occupied or unknown cell.
+double brute_clearance_cells(const Truth& t, const std::vector<Point2>& polyline) {
+  double best = kInf;
+  for (const Point2& p : clearance_samples(polyline))
+    for (const Cell& b : t.obstacles) best = std::min(best, distance_to_square(p, b));
+  return best;
+}
+
+TEST(ClearanceMetric, EqualsBruteForceOnPlannedPaths) {
+  std::mt19937 rng(86006);
+  int checked = 0, smoothed = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Scenario s = random_scenario(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    core::Planner planner(map);
+    for (int q = 0; q < 3; ++q) {
+      const PlannerKind kind = kCostPlanners[rng() % kCostPlanners.size()];
+      PlannerOptions o = core::default_options(kind);
+      o.corner_policy = kAllCornerPolicies[rng() % 3];
+      o.prune = o.smooth = rng() % 2 == 0;
+      if (map->has_costs()) o.cost_weight = std::vector<double>{0.0, 1.0, 10.0}[rng() % 3];
+      const Cell start = pick(rng, cells), goal = pick(rng, cells);
+      SCOPED_TRACE(std::string(core::to_string(kind)) + " start " + str(start) + " goal " +
+                   str(goal));
+      const PlanResult r = planner.plan({start, goal}, o);
+      if (!r.status.is_ok()) {
+        EXPECT_TRUE(std::isnan(r.metrics.clearance_m));
+        continue;
+      }
+      const double expected = brute_clearance_cells(t, r.path) * s.grid.resolution;
+      if (std::isinf(expected)) {
+        ASSERT_EQ(r.metrics.clearance_m, kInf);
+      } else {
+        ASSERT_NEAR(r.metrics.clearance_m, expected, 1e-9 * std::max(1.0, expected));
+      }
+      ++checked;
+      smoothed += r.path.size() > r.waypoints.size();
+    }
+  }
+  EXPECT_GT(checked, 800);
+  EXPECT_GT(smoothed, 80);
+}
+
+TEST(ClearanceMetric, InfiniteWithoutObstacles) {
+  std::mt19937 rng(86007);
+  for (int trial = 0; trial < 20; ++trial) {
+    Spec spec;
+    spec.no_obstacles = true;  // graded values and unknown cells (allowed), no obstacle
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE(s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    ASSERT_EQ(static_cast<int64_t>(cells.size()), map->cell_count());
+    PlannerOptions o = core::default_options(PlannerKind::kVnsBaStar);
+    if (map->has_costs()) o.cost_weight = 2.0;
+    const PlanResult r = core::plan_once(map, {pick(rng, cells), pick(rng, cells)}, o);
+    ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+    EXPECT_EQ(r.metrics.clearance_m, kInf);
+    EXPECT_EQ(core::path_clearance_cells(*map, r.path), kInf);
+  }
+}
+
+TEST(ClearancePolylines, EqualsBruteForceOnRandomPolylines) {
+  std::mt19937 rng(86008);
+  int finite = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    Spec spec;
+    if (trial % 10 == 0) spec.no_obstacles = true;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    EXPECT_EQ(core::path_clearance_cells(*map, {}), kInf);
+    for (int k = 0; k < 5; ++k) {
+      std::vector<Point2> polyline;
+      const int n = uniform_int(rng, 1, 8);
+      for (int i = 0; i < n; ++i) {
+        Point2 p(uniform(rng, 0.0, t.width), uniform(rng, 0.0, t.height));
+        if (rng() % 6 == 0) p = p.array().round().matrix();        // lattice points, map edges included
+        if (rng() % 6 == 0) p = (p.array().floor() + 0.5).matrix();  // centres
+        polyline.push_back(p);
+      }
+      const double expected = brute_clearance_cells(t, polyline);
+      const double got = core::path_clearance_cells(*map, polyline);
+      if (std::isinf(expected)) {
+        ASSERT_EQ(got, kInf);
+      } else {
+        ++finite;
+        ASSERT_NEAR(got, expected, 1e-9 * std::max(1.0, expected)) << "polyline " << k;
+      }
+    }
+  }
+  EXPECT_GT(finite, 700);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 7. Clearance rises with the cost weight.
+
+TEST(ClearanceCorridor, RisesWithCostWeight) {
+  OccupancyGrid g;
+  g.width = 60;
+  g.height = 21;
+  g.resolution = 0.1;
+  g.data.assign(static_cast<size_t>(g.width) * g.height, 0);
+  auto set = [&](int x, int y, int8_t v) { g.data[static_cast<size_t>(y) * g.width + x] = v; };
+  for (int x = 0; x < g.width; ++x) {
+    set(x, 0, 100);
+    set(x, g.height - 1, 100);
+  }
+  // Pillars on the centre line, which the start and goal share, and two near the walls: the
+  // shortest path brushes the central pillars, a weighted one keeps away from them.
+  for (const Cell& p :
+       std::vector<Cell>{{20, 10}, {21, 10}, {20, 11}, {40, 9}, {40, 10}, {41, 10}, {30, 4}, {30, 16}})
+    set(p.x, p.y, 100);
+  GridBuildOptions build;
+  build.robot_radius = 0.15;
+  build.inflation_radius = 1.5;
+  build.cost_scaling_factor = 3.0;
+  auto built = GridMap::build(g, build);
+  ASSERT_TRUE(built) << built.error().message;
+  const auto map = std::make_shared<const GridMap>(std::move(built).value());
+  core::Planner planner(map);
+  const PlanQuery query{{2, 10}, {57, 10}};
+  std::vector<double> clearance;
+  for (double w : {0.0, 1.0, 10.0}) {
+    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    o.cost_weight = w;
+    const PlanResult r = planner.plan(query, o);
+    ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+    clearance.push_back(r.metrics.clearance_m);
+  }
+  EXPECT_LE(clearance[0], clearance[1]);
+  EXPECT_LE(clearance[1], clearance[2]);
+  EXPECT_GT(clearance[1], clearance[0] + 0.05);  // half a cell at least
+  EXPECT_GT(clearance[2], clearance[0] + 0.05);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 8. Goal and start tolerance.
+
+struct Nearest {
+  std::optional<Cell> cell;
+  double squared = kInf;  // cells^2
+};
+
+// The free cell whose centre is nearest to p (cell coordinates) within tolerance_m metres, ties
+// to the lower row-major index.
+Nearest brute_nearest_free(const Truth& t, const Point2& p, double tolerance_m) {
+  Nearest best;
+  for (int32_t y = 0; y < t.height; ++y) {
+    for (int32_t x = 0; x < t.width; ++x) {
+      if (t.layer[t.index(x, y)] != CellLayer::kFree) continue;
+      const double dx = x + 0.5 - p.x(), dy = y + 0.5 - p.y();
+      const double squared = dx * dx + dy * dy;
+      if (std::sqrt(squared) * t.resolution > tolerance_m) continue;
+      if (squared < best.squared) best = {Cell{x, y}, squared};
+    }
+  }
+  return best;
+}
+
+Point2 point_in(std::mt19937& rng, const Cell& c) {
+  if (rng() % 2 == 0) return core::cell_centre(c);
+  return {c.x + uniform(rng, 0.01, 0.99), c.y + uniform(rng, 0.01, 0.99)};
+}
+
+std::vector<Cell> cells_where(const Truth& t, const std::function<bool(CellLayer)>& keep) {
+  std::vector<Cell> out;
+  for (int32_t y = 0; y < t.height; ++y)
+    for (int32_t x = 0; x < t.width; ++x)
+      if (keep(t.layer[t.index(x, y)])) out.push_back({x, y});
+  return out;
+}
+
+TEST(ToleranceGoal, BlockedGoalMovesToTheNearestFreeCell) {
+  std::mt19937 rng(88008);
+  int moved = 0, refused = 0, occupied_goals = 0, planned = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const Scenario s = random_scenario(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const auto free = cells_where(t, [](CellLayer l) { return l == CellLayer::kFree; });
+    const auto blocked = cells_where(t, [](CellLayer l) { return l != CellLayer::kFree; });
+    if (free.empty() || blocked.empty()) continue;
+    // Occupied goals first, as a robot's goal on a wall.
+    const auto occupied = cells_where(t, [](CellLayer l) { return l == CellLayer::kOccupied; });
+    const Cell goal = !occupied.empty() && rng() % 3 != 0 ? pick(rng, occupied) : pick(rng, blocked);
+    occupied_goals += t.layer[t.index(goal.x, goal.y)] == CellLayer::kOccupied;
+    const Point2 goal_point = point_in(rng, goal);
+    const Cell start = pick(rng, free);
+    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    o.goal_tolerance = uniform(rng, 0.2, 4.0) * s.grid.resolution;
+    const PlanQuery q(start, goal, std::nullopt, goal_point);
+    SCOPED_TRACE("goal " + str(goal) + " point (" + std::to_string(goal_point.x()) + ", " +
+                 std::to_string(goal_point.y()) + ") tolerance " +
+                 std::to_string(o.goal_tolerance));
+    const Nearest expected = brute_nearest_free(t, goal_point, o.goal_tolerance);
+    const auto endpoints = core::resolve_endpoints(*map, q, o);
+    if (!expected.cell) {
+      ++refused;
+      ASSERT_FALSE(endpoints);
+      ASSERT_EQ(endpoints.error().code, StatusCode::kGoalOccupied);
+      ASSERT_TRUE(contains(endpoints.error().message, "goal_tolerance"))
+          << endpoints.error().message;
+      continue;
+    }
+    ++moved;
+    ASSERT_TRUE(endpoints) << endpoints.error().message;
+    ASSERT_EQ(endpoints->goal, *expected.cell) << "got " << str(endpoints->goal) << ", expected "
+                                               << str(*expected.cell);
+    ASSERT_EQ(map->layer(endpoints->goal), CellLayer::kFree);
+    ASSERT_TRUE(endpoints->goal_adjusted);
+    const double moved_m = std::sqrt(expected.squared) * s.grid.resolution;
+    ASSERT_NEAR(endpoints->goal_moved_m, moved_m, 1e-9 * std::max(1.0, moved_m));
+    ASSERT_EQ(endpoints->start, start);
+    ASSERT_FALSE(endpoints->start_adjusted);
+    ASSERT_EQ(endpoints->start_moved_m, 0.0);
+    // The plan uses the same endpoints.
+    const PlanResult r = core::plan_once(map, q, o);
+    if (r.status.is_ok()) {
+      ++planned;
+      ASSERT_EQ(r.endpoints.goal, *expected.cell);
+      ASSERT_TRUE(r.endpoints.goal_adjusted);
+      ASSERT_EQ(r.raw_path.front(), start);
+      ASSERT_EQ(r.raw_path.back(), *expected.cell);
+    } else {
+      ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
+    }
+  }
+  EXPECT_GT(moved, 200);
+  EXPECT_GT(refused, 100);
+  EXPECT_GT(occupied_goals, 300);
+  EXPECT_GT(planned, 100);
+}
+
+TEST(ToleranceGoal, BlockedGoalWithoutToleranceNamesTheLayer) {
+  std::mt19937 rng(88009);
+  int seen[4] = {0, 0, 0, 0};
+  for (int trial = 0; trial < 100; ++trial) {
+    const Scenario s = random_scenario(rng);
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const auto free = cells_where(t, [](CellLayer l) { return l == CellLayer::kFree; });
+    const auto blocked = cells_where(t, [](CellLayer l) { return l != CellLayer::kFree; });
+    if (free.empty() || blocked.empty()) continue;
+    const Cell goal = pick(rng, blocked);
+    const CellLayer layer = t.layer[t.index(goal.x, goal.y)];
+    const auto endpoints = core::resolve_endpoints(
+        *map, {pick(rng, free), goal}, core::default_options(PlannerKind::kAStar));
+    ASSERT_FALSE(endpoints);
+    ASSERT_EQ(endpoints.error().code, StatusCode::kGoalOccupied);
+    const std::string& m = endpoints.error().message;
+    ASSERT_TRUE(contains(m, std::string(core::to_string(layer)))) << m;
+    if (layer == CellLayer::kInflated) {
+      ASSERT_TRUE(contains(m, "robot_radius")) << m;
+    }
+    ++seen[static_cast<int>(layer)];
+  }
+  EXPECT_GT(seen[static_cast<int>(CellLayer::kOccupied)], 10);
+  EXPECT_GT(seen[static_cast<int>(CellLayer::kInflated)], 10);
+  EXPECT_GT(seen[static_cast<int>(CellLayer::kUnknown)], 0);
+}
+
+TEST(ToleranceGoal, GoalOutsideTheMapIsMovedIn) {
+  std::mt19937 rng(88010);
+  int moved = 0, refused = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Scenario s = random_scenario(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const auto free = cells_where(t, [](CellLayer l) { return l == CellLayer::kFree; });
+    if (free.empty()) continue;
+    Cell goal;
+    do {
+      goal = {uniform_int(rng, -4, t.width + 3), uniform_int(rng, -4, t.height + 3)};
+    } while (map->in_bounds(goal));
+    const Point2 goal_point = point_in(rng, goal);
+    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    o.goal_tolerance = uniform(rng, 0.5, 6.0) * s.grid.resolution;
+    const PlanQuery q(pick(rng, free), goal, std::nullopt, goal_point);
+    SCOPED_TRACE("goal " + str(goal) + " tolerance " + std::to_string(o.goal_tolerance));
+    const Nearest expected = brute_nearest_free(t, goal_point, o.goal_tolerance);
+    const auto endpoints = core::resolve_endpoints(*map, q, o);
+    if (!expected.cell) {
+      ++refused;
+      ASSERT_FALSE(endpoints);
+      ASSERT_EQ(endpoints.error().code, StatusCode::kGoalOutsideMap);
+      ASSERT_TRUE(contains(endpoints.error().message, "goal_tolerance"))
+          << endpoints.error().message;
+      continue;
+    }
+    ++moved;
+    ASSERT_TRUE(endpoints) << endpoints.error().message;
+    ASSERT_EQ(endpoints->goal, *expected.cell) << "got " << str(endpoints->goal);
+    ASSERT_TRUE(endpoints->goal_adjusted);
+    const double moved_m = std::sqrt(expected.squared) * s.grid.resolution;
+    ASSERT_NEAR(endpoints->goal_moved_m, moved_m, 1e-9 * std::max(1.0, moved_m));
+    // Without tolerance: outside, not moved.
+    o.goal_tolerance = 0.0;
+    const auto exact = core::resolve_endpoints(*map, q, o);
+    ASSERT_FALSE(exact);
+    ASSERT_EQ(exact.error().code, StatusCode::kGoalOutsideMap);
+  }
+  EXPECT_GT(moved, 50);
+  EXPECT_GT(refused, 20);
+}
+
+TEST(ToleranceGoal, FreeGoalIsNeverMoved) {
+  std::mt19937 rng(88011);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Scenario s = random_scenario(rng);
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    const Cell goal = pick(rng, cells);
+    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    o.goal_tolerance = o.start_tolerance = 5.0 * s.grid.resolution;
+    const auto e = core::resolve_endpoints(
+        *map, PlanQuery(pick(rng, cells), goal, std::nullopt, point_in(rng, goal)), o);
+    ASSERT_TRUE(e) << e.error().message;
+    EXPECT_EQ(e->goal, goal);
+    EXPECT_FALSE(e->goal_adjusted);
+    EXPECT_FALSE(e->start_adjusted);
+    EXPECT_EQ(e->goal_moved_m, 0.0);
+    EXPECT_EQ(e->start_moved_m, 0.0);
+  }
+}
+
+TEST(ToleranceStart, InflatedStartMovesObstacleStartNever) {
+  std::mt19937 rng(88012);
+  int moved = 0, refused = 0, occupied_starts = 0, unknown_starts = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    Spec spec;
+    spec.min_radius_cells = 1;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const auto free = cells_where(t, [](CellLayer l) { return l == CellLayer::kFree; });
+    const auto inflated = cells_where(t, [](CellLayer l) { return l == CellLayer::kInflated; });
+    const auto obstacles = t.obstacles;
+    if (free.empty() || inflated.empty()) continue;
+    const Cell goal = pick(rng, free);
+    // Inflated start, with tolerance.
+    const Cell start = pick(rng, inflated);
+    const Point2 start_point = point_in(rng, start);
+    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    o.start_tolerance = uniform(rng, 0.2, 4.0) * s.grid.resolution;
+    const PlanQuery q(start, goal, start_point, std::nullopt);
+    SCOPED_TRACE("start " + str(start) + " tolerance " + std::to_string(o.start_tolerance));
+    const Nearest expected = brute_nearest_free(t, start_point, o.start_tolerance);
+    const auto endpoints = core::resolve_endpoints(*map, q, o);
+    if (expected.cell) {
+      ++moved;
+      ASSERT_TRUE(endpoints) << endpoints.error().message;
+      ASSERT_EQ(endpoints->start, *expected.cell) << "got " << str(endpoints->start);
+      ASSERT_EQ(map->layer(endpoints->start), CellLayer::kFree);
+      ASSERT_TRUE(endpoints->start_adjusted);
+      const double moved_m = std::sqrt(expected.squared) * s.grid.resolution;
+      ASSERT_NEAR(endpoints->start_moved_m, moved_m, 1e-9 * std::max(1.0, moved_m));
+      ASSERT_EQ(endpoints->goal, goal);
+      ASSERT_FALSE(endpoints->goal_adjusted);
+      const PlanResult r = core::plan_once(map, q, o);
+      if (r.status.is_ok()) {
+        ASSERT_EQ(r.raw_path.front(), *expected.cell);
+        ASSERT_EQ(r.raw_path.back(), goal);
+        ASSERT_TRUE(r.endpoints.start_adjusted);
+      } else {
+        ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
+      }
+    } else {
+      ++refused;
+      ASSERT_FALSE(endpoints);
+      ASSERT_EQ(endpoints.error().code, StatusCode::kStartOccupied);
+      ASSERT_TRUE(contains(endpoints.error().message, "start_tolerance"))
+          << endpoints.error().message;
+    }
+    // Inflated start without tolerance: refused, saying why.
+    o.start_tolerance = 0.0;
+    const auto exact = core::resolve_endpoints(*map, q, o);
+    ASSERT_FALSE(exact);
+    ASSERT_EQ(exact.error().code, StatusCode::kStartOccupied);
+    ASSERT_TRUE(contains(exact.error().message, "inflation")) << exact.error().message;
+    ASSERT_TRUE(contains(exact.error().message, "robot_radius")) << exact.error().message;
+    // A start in an obstacle is never moved, whatever the tolerance.
+    if (!obstacles.empty()) {
+      const Cell bad = pick(rng, obstacles);
+      o.start_tolerance = 10.0 * s.grid.resolution;
+      const auto refused_start = core::resolve_endpoints(*map, {bad, goal}, o);
+      ASSERT_FALSE(refused_start);
+      ASSERT_EQ(refused_start.error().code, StatusCode::kStartOccupied);
+      const bool occupied = t.layer[t.index(bad.x, bad.y)] == CellLayer::kOccupied;
+      ASSERT_TRUE(contains(refused_start.error().message, occupied ? "occupied" : "unknown"))
+          << refused_start.error().message;
+      (occupied ? occupied_starts : unknown_starts)++;
+      const PlanResult r = core::plan_once(map, {bad, goal}, o);
+      ASSERT_EQ(r.status.code, StatusCode::kStartOccupied);
+    }
+  }
+  EXPECT_GT(moved, 250);
+  EXPECT_GT(refused, 60);
+  EXPECT_GT(occupied_starts, 300);
+  EXPECT_GT(unknown_starts, 10);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 9. Bad values are refused, naming the key.
+
+TEST(CostsValidation, BadPlannerValuesNameTheKey) {
+  const auto refused = [](const PlannerOptions& o, const std::string& key) {
+    const core::Status s = core::validate(o);
+    EXPECT_EQ(s.code, StatusCode::kInvalidRequest) << key;
+    EXPECT_TRUE(contains(s.message, key)) << s.message;
+  };
+  for (PlannerKind kind : kCostPlanners) {
+    for (double bad : {-1.0, -1e-9, kNaN, kInf, -kInf, 1000.5, 1e9}) {
+      PlannerOptions o = core::default_options(kind);
+      o.cost_weight = bad;
+      refused(o, "cost_weight");
+    }
+    for (double good : {0.0, 1e-9, 1.0, 1000.0}) {
+      PlannerOptions o = core::default_options(kind);
+      o.cost_weight = good;
+      EXPECT_TRUE(core::validate(o).is_ok()) << good;
+    }
+  }
+  for (double bad : {-1.0, -1e-9, kNaN, kInf, -kInf}) {
+    PlannerOptions o = core::default_options(PlannerKind::kVnsBaStar);
+    o.goal_tolerance = bad;
+    refused(o, "goal_tolerance");
+    o.goal_tolerance = 0.0;
+    o.start_tolerance = bad;
+    refused(o, "start_tolerance");
+  }
+  PlannerOptions ok = core::default_options(PlannerKind::kVnsBaStar);
+  ok.goal_tolerance = ok.start_tolerance = 0.5;
+  EXPECT_TRUE(core::validate(ok).is_ok());
+  // The planner refuses them too, before searching.
+  auto map = std::make_shared<const GridMap>(GridMap::from_rows({"....", "....", "...."}).value());
+  PlannerOptions o = core::default_options(PlannerKind::kAStar);
+  o.cost_weight = -2.0;
+  const PlanResult r = core::plan_once(map, {{0, 0}, {3, 2}}, o);
+  EXPECT_EQ(r.status.code, StatusCode::kInvalidRequest);
+  EXPECT_TRUE(contains(r.status.message, "cost_weight")) << r.status.message;
+  o.cost_weight = 0.0;
+  o.goal_tolerance = kNaN;
+  const auto e = core::resolve_endpoints(*map, {{0, 0}, {3, 2}}, o);
+  ASSERT_FALSE(e);
+  EXPECT_TRUE(contains(e.error().message, "goal_tolerance")) << e.error().message;
+}
+
+TEST(CostsValidation, BadBuildValuesNameTheKey) {
+  OccupancyGrid g;
+  g.width = g.height = 8;
+  g.resolution = 0.1;
+  g.data.assign(64, 0);
+  const auto refused = [&](const GridBuildOptions& o, const std::string& key) {
+    const core::Status alone = core::validate(o);
+    EXPECT_FALSE(alone.is_ok()) << key;
+    EXPECT_TRUE(contains(alone.message, key)) << alone.message;
+    const core::Status with_map = core::validate(g, o);
+    EXPECT_FALSE(with_map.is_ok()) << key;
+    EXPECT_TRUE(contains(with_map.message, key)) << with_map.message;
+    const auto built = GridMap::build(g, o);
+    ASSERT_FALSE(built) << key;
+    EXPECT_EQ(built.error().code, StatusCode::kInvalidMap);
+    EXPECT_TRUE(contains(built.error().message, key)) << built.error().message;
+  };
+  for (double bad : {-1.0, -1e-9, kNaN, kInf, -kInf}) {
+    GridBuildOptions o;
+    o.inflation_radius = bad;
+    refused(o, "inflation_radius");
+  }
+  {
+    GridBuildOptions o;
+    o.robot_radius = 0.3;
+    o.inflation_radius = 0.2;  // 0 < inflation_radius < robot_radius
+    refused(o, "inflation_radius");
+    o.inflation_radius = 0.29999;
+    refused(o, "inflation_radius");
+    o.inflation_radius = 0.3;
+    EXPECT_TRUE(core::validate(o).is_ok());
+    o.inflation_radius = 0.0;
+    EXPECT_TRUE(core::validate(o).is_ok());
+  }
+  for (double bad : {-1.0, -1e-9, kNaN, kInf, -kInf}) {
+    GridBuildOptions o;
+    o.inflation_radius = 0.5;
+    o.cost_scaling_factor = bad;
+    refused(o, "cost_scaling_factor");
+  }
+  GridBuildOptions zero_scaling;
+  zero_scaling.inflation_radius = 0.5;
+  zero_scaling.cost_scaling_factor = 0.0;
+  EXPECT_TRUE(core::validate(g, zero_scaling).is_ok());
+}
+
+}  // namespace
+}  // namespace vnsba::test

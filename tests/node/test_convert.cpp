@@ -1,0 +1,150 @@
+// The node's conversions of plans into messages without DDS (convert.hpp): path poses, the
+// status fields of ALGORITHM.md section 8 (clearance, the endpoints used) and its messages.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/planner.hpp"
+#include "vnsba/node/convert.hpp"
+
+namespace vnsba::test {
+namespace {
+
+namespace wire = node::wire;
+
+double yaw_of(const node::PoseStampedMsg& pose) {
+  const auto& q = pose.pose().orientation();
+  EXPECT_NEAR(q.x() * q.x() + q.y() * q.y() + q.z() * q.z() + q.w() * q.w(), 1.0, 1e-12);
+  return 2.0 * std::atan2(q.z(), q.w());
+}
+
+double angle_between(double a, double b) {
+  return std::abs(std::remainder(a - b, 2.0 * M_PI));
+}
+
+core::PlanResult result_with_path(std::vector<Eigen::Vector2d> world_path) {
+  core::PlanResult r;
+  r.status = core::Status::ok();
+  r.world_path = std::move(world_path);
+  return r;
+}
+
+// Poses at most spacing apart, each facing the next one (atan2 computed here), the last facing
+// the goal's yaw when given, else along the last segment; every vertex of the path is a pose.
+TEST(PathMsg, PosesAreSpacedWithTangentYawAndTheGoalYawLast) {
+  const core::PlanResult r = result_with_path({{0.0, 0.0}, {1.0, 0.0}, {1.0, 0.35}, {0.4, 0.95}});
+  for (const double spacing : {0.3, 0.05, 5.0}) {
+    for (const std::optional<double> goal_yaw : {std::optional<double>(), std::optional(-2.5)}) {
+      SCOPED_TRACE("spacing " + std::to_string(spacing) +
+                   (goal_yaw ? ", goal yaw -2.5" : ", no goal yaw"));
+      const node::PathMsg msg = node::to_path_msg(r, "map", node::now_msg(), spacing, goal_yaw);
+      EXPECT_EQ(msg.header().frame_id(), "map");
+      const auto& poses = msg.poses();
+      ASSERT_GE(poses.size(), r.world_path.size());
+      size_t vertex = 0;
+      for (size_t i = 0; i < poses.size(); ++i) {
+        const double x = poses[i].pose().position().x(), y = poses[i].pose().position().y();
+        if (vertex < r.world_path.size() &&
+            std::hypot(x - r.world_path[vertex].x(), y - r.world_path[vertex].y()) < 1e-12)
+          ++vertex;
+        if (i + 1 == poses.size()) break;
+        const double nx = poses[i + 1].pose().position().x();
+        const double ny = poses[i + 1].pose().position().y();
+        EXPECT_LE(std::hypot(nx - x, ny - y), spacing + 1e-12) << i;
+        EXPECT_LT(angle_between(yaw_of(poses[i]), std::atan2(ny - y, nx - x)), 1e-9) << i;
+      }
+      EXPECT_EQ(vertex, r.world_path.size()) << "every vertex is a pose";
+      const double last = yaw_of(poses.back());
+      const double tangent = std::atan2(0.95 - 0.35, 0.4 - 1.0);
+      EXPECT_LT(angle_between(last, goal_yaw.value_or(tangent)), 1e-9);
+    }
+  }
+  // A path of one cell: one pose, with the goal's yaw.
+  const node::PathMsg one =
+      node::to_path_msg(result_with_path({{2.0, 3.0}}), "map", node::now_msg(), 0.1, 1.0);
+  ASSERT_EQ(one.poses().size(), 1u);
+  EXPECT_NEAR(yaw_of(one.poses()[0]), 1.0, 1e-12);
+}
+
+// 30 x 100 cells at 0.05 m, origin (0, 0): cell (24, 91) has its centre at (1.225, 4.575) m.
+core::GridMap open_map() {
+  core::OccupancyGrid g;
+  g.width = 30;
+  g.height = 100;
+  g.resolution = 0.05;
+  g.data.assign(3000, 0);
+  return std::move(core::GridMap::build(g)).value();
+}
+
+TEST(StatusMsg, AdjustedEndpointsAreDescribedInMetres) {
+  const core::GridMap map = open_map();
+  core::PlannerOptions options;
+  options.goal_tolerance = 0.3;
+  options.start_tolerance = 0.25;
+  core::Endpoints e;
+  e.start = {2, 3};
+  e.goal = {24, 91};
+  EXPECT_EQ(node::describe_adjusted_endpoints(e, map, options), "");
+  e.goal_adjusted = true;
+  e.goal_moved_m = 0.07;
+  EXPECT_EQ(node::describe_adjusted_endpoints(e, map, options),
+            "goal moved 0.070 m to the nearest free cell (1.225, 4.575) m (goal_tolerance 0.3 m)");
+  e.start_adjusted = true;
+  e.start_moved_m = 0.0354;
+  EXPECT_EQ(node::describe_adjusted_endpoints(e, map, options),
+            "start moved 0.035 m to the nearest free cell (0.125, 0.175) m (start_tolerance 0.25 "
+            "m); goal moved 0.070 m to the nearest free cell (1.225, 4.575) m (goal_tolerance "
+            "0.3 m)");
+}
+
+TEST(StatusMsg, ClearanceAndTheUsedEndpointsAreFilledAndReadBack) {
+  const core::GridMap map = open_map();
+  core::Metrics metrics;
+  metrics.length_m = 3.5;
+  metrics.clearance_m = 0.42;
+  core::Endpoints e;
+  e.start = {2, 3};
+  e.goal = {24, 91};
+  e.goal_adjusted = true;
+  e.goal_moved_m = 0.07;
+  node::RequestIdentity id;
+  const node::PlanStatusMsg ok = node::to_status_msg(
+      "r", &id, {wire::OK, ""}, "vns_bastar", &metrics, node::TimeMsg(), node::PathMsg(), &e, &map);
+  EXPECT_DOUBLE_EQ(ok.clearance_m(), 0.42);
+  EXPECT_NEAR(ok.start_x(), 0.125, 1e-12);
+  EXPECT_NEAR(ok.start_y(), 0.175, 1e-12);
+  EXPECT_NEAR(ok.goal_x(), 1.225, 1e-12);
+  EXPECT_NEAR(ok.goal_y(), 4.575, 1e-12);
+  EXPECT_FALSE(ok.start_adjusted());
+  EXPECT_TRUE(ok.goal_adjusted());
+  EXPECT_EQ(ok.start_moved_m(), 0.0);
+  EXPECT_DOUBLE_EQ(ok.goal_moved_m(), 0.07);
+  EXPECT_DOUBLE_EQ(node::metrics_from_status_msg(ok).clearance_m, 0.42);
+  EXPECT_DOUBLE_EQ(node::metrics_from_status_msg(ok).length_m, 3.5);
+
+  // No obstacle: +inf, as is.
+  metrics.clearance_m = std::numeric_limits<double>::infinity();
+  const node::PlanStatusMsg open = node::to_status_msg("r", &id, {wire::OK, ""}, "astar", &metrics,
+                                                       node::TimeMsg(), node::PathMsg(), &e, &map);
+  EXPECT_TRUE(std::isinf(open.clearance_m()) && open.clearance_m() > 0);
+  EXPECT_TRUE(std::isinf(node::metrics_from_status_msg(open).clearance_m));
+
+  // Not OK: NaN clearance whatever the metrics say; no endpoints: NaN positions, no flags.
+  const node::PlanStatusMsg failed =
+      node::to_status_msg("r", &id, {wire::NO_VALID_PATH, "no path"}, "astar", &metrics,
+                          node::TimeMsg(), node::PathMsg());
+  EXPECT_TRUE(std::isnan(failed.clearance_m()));
+  EXPECT_TRUE(std::isnan(node::metrics_from_status_msg(failed).clearance_m));
+  EXPECT_TRUE(std::isnan(failed.start_x()) && std::isnan(failed.goal_y()));
+  EXPECT_FALSE(failed.start_adjusted() || failed.goal_adjusted());
+  const node::PlanStatusMsg map_report = node::to_status_msg(
+      "", nullptr, {wire::INVALID_MAP, "bad"}, "", nullptr, node::TimeMsg(), node::PathMsg());
+  EXPECT_TRUE(std::isnan(map_report.clearance_m()));
+  EXPECT_TRUE(std::isnan(map_report.goal_x()));
+}
+
+}  // namespace
+}  // namespace vnsba::test
