@@ -36,9 +36,9 @@ struct ObstacleDistances {
   std::vector<float>& distance;    // width x height, filled (cells)
   std::vector<float>* costs;       // padded; null when there is no gradient
   int32_t width, height;
-  double radius_cells;             // robot_radius in cells
-  double gradient_cells;           // inflation_radius in cells (0: no gradient)
-  double scaling_per_cell;         // cost_scaling_factor * resolution
+  double radius_cells;      // robot_radius in cells
+  double gradient_cells;    // inflation_radius in cells (0: no gradient)
+  double scaling_per_cell;  // cost_scaling_factor * resolution
 
   bool run(const std::atomic<bool>* cancel) {
     const double nearest = std::round(radius_cells);
@@ -68,7 +68,8 @@ struct ObstacleDistances {
             if (static_cast<double>(squared[x]) <= r2) {
               layer_row[x] = CellLayer::kInflated;
             } else if (cost_row != nullptr && d <= gradient_cells) {
-              const double gradient = kMaxGradientCost * std::exp(-scaling_per_cell * (d - radius_cells));
+              const double gradient =
+                  kMaxGradientCost * std::exp(-scaling_per_cell * (d - radius_cells));
               cost_row[x] = std::max(cost_row[x], static_cast<float>(gradient));
             }
           }
@@ -93,8 +94,7 @@ void check_options(const GridBuildOptions& options, std::ostringstream& err) {
   } else if (options.inflation_radius > 0.0 && std::isfinite(options.robot_radius) &&
              options.inflation_radius < options.robot_radius) {
     err << "inflation_radius " << options.inflation_radius
-        << " m must be 0 (no cost gradient) or >= robot_radius " << options.robot_radius
-        << " m; ";
+        << " m must be 0 (no cost gradient) or >= robot_radius " << options.robot_radius << " m; ";
   }
   if (!std::isfinite(options.cost_scaling_factor) || options.cost_scaling_factor < 0.0) {
     err << "cost_scaling_factor must be finite and >= 0 per metre (got "

@@ -232,10 +232,10 @@ bool walk_segment(const GridMap& map, const Point2& a, const Point2& b, CornerPo
   // is exact up to the rounding of those products.
   const double next_x = sx > 0 ? (cx + 1 - a.x()) : (a.x() - cx);
   const double next_y = sy > 0 ? (cy + 1 - a.y()) : (a.y() - cy);
-  return detail::traverse_supercover<double>(
-      map.blocked_data(), map.stride(), at, cx, cy, static_cast<int32_t>(fbx),
-      static_cast<int32_t>(fby), next_x, next_y, std::abs(dx), std::abs(dy), 1.0, sx, sy, policy,
-      enter);
+  return detail::traverse_supercover<double>(map.blocked_data(), map.stride(), at, cx, cy,
+                                             static_cast<int32_t>(fbx), static_cast<int32_t>(fby),
+                                             next_x, next_y, std::abs(dx), std::abs(dy), 1.0, sx,
+                                             sy, policy, enter);
 }
 
 }  // namespace

@@ -72,7 +72,7 @@ struct UniformMoveCost {
 struct CellMoveCost {
   const float* costs;  // GridMap::cost_data(), padded
   int32_t stride;
-  double weight;       // cost_weight
+  double weight;  // cost_weight
 
   VNSBA_ALWAYS_INLINE double operator()(uint32_t from, uint32_t to, int dx, int dy,
                                         double length) const {
@@ -203,8 +203,7 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
                                    Cell (&current)[2], const ForwardH& h_forward,
                                    const BackwardH& h_backward, const MoveCost& move_cost,
                                    MeetingRule rule, const SearchConfig& cfg,
-                                   PlanningBudget& budget,
-                                   std::vector<Cell>* expanded_forward,
+                                   PlanningBudget& budget, std::vector<Cell>* expanded_forward,
                                    std::vector<Cell>* expanded_backward) {
   SearchOutcome out;
   const int32_t stride = map.stride();
@@ -302,8 +301,8 @@ struct Planner::Impl {
                     PlanningBudget& budget, std::vector<Cell>* rec_f, std::vector<Cell>* rec_b) {
     // Costs change the search only where there are costs to weigh (validate() keeps jps out).
     if (o.cost_weight > 0.0 && map.has_costs() && o.planner != PlannerKind::kJps) {
-      return run_with(map, q, o, CellMoveCost{map.cost_data(), map.stride(), o.cost_weight},
-                      budget, rec_f, rec_b);
+      return run_with(map, q, o, CellMoveCost{map.cost_data(), map.stride(), o.cost_weight}, budget,
+                      rec_f, rec_b);
     }
     return run_with(map, q, o, UniformMoveCost{}, budget, rec_f, rec_b);
   }
@@ -457,14 +456,14 @@ Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query
     return Status::error(StatusCode::kStartOutsideMap, outside("start", query.start));
   if (map.blocked(query.start)) {
     const bool inflation = map.layer(query.start) == CellLayer::kInflated;
-    const auto free = inflation ? nearest_free_cell(map, start_point, start_tolerance_cells)
-                                : std::nullopt;
+    const auto free =
+        inflation ? nearest_free_cell(map, start_point, start_tolerance_cells) : std::nullopt;
     if (!free) {
-      std::string message = describe_position(map, "start", query.start) + " " +
-                            why_blocked(map, query.start);
+      std::string message =
+          describe_position(map, "start", query.start) + " " + why_blocked(map, query.start);
       if (inflation && options.start_tolerance > 0.0)
-        message += "; no free cell within start_tolerance " + metres(options.start_tolerance) +
-                   " m";
+        message +=
+            "; no free cell within start_tolerance " + metres(options.start_tolerance) + " m";
       return Status::error(StatusCode::kStartOccupied, message);
     }
     out.start = *free;
@@ -483,9 +482,9 @@ Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query
               : "";
       if (!goal_inside)
         return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal) + within);
-      return Status::error(StatusCode::kGoalOccupied, describe_position(map, "goal", query.goal) +
-                                                          " " + why_blocked(map, query.goal) +
-                                                          within);
+      return Status::error(
+          StatusCode::kGoalOccupied,
+          describe_position(map, "goal", query.goal) + " " + why_blocked(map, query.goal) + within);
     }
     out.goal = *free;
     out.goal_adjusted = true;
@@ -570,9 +569,9 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   const double path_cost_weight = map.has_costs() ? options.cost_weight : 0.0;
   std::vector<Point2> raw_centres = cell_centres(result.raw_path);
   result.metrics.raw_cost_cells = polyline_length(raw_centres);
-  result.waypoints = options.prune
-                         ? prune_path(map, result.raw_path, options.corner_policy, &budget, path_cost_weight)
-                         : std::move(raw_centres);
+  result.waypoints = options.prune ? prune_path(map, result.raw_path, options.corner_policy,
+                                                &budget, path_cost_weight)
+                                   : std::move(raw_centres);
   if (budget.expired()) return budget_failure(budget.state(), "while pruning the path");
   const TurnStats turns = turn_stats(result.waypoints);
   result.metrics.turns = turns.turns;

@@ -44,9 +44,8 @@ std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path
                                                  cell_centre(path[k]), cost_weight, policy);
   }
   auto affordable = [&](size_t from, size_t to) {
-    return cost_to.empty() ||
-           segment_cost(map, cell_centre(path[from]), cell_centre(path[to]), cost_weight,
-                        policy) <= cost_to[to] - cost_to[from];
+    return cost_to.empty() || segment_cost(map, cell_centre(path[from]), cell_centre(path[to]),
+                                           cost_weight, policy) <= cost_to[to] - cost_to[from];
   };
   size_t anchor = 0;  // index into path
   size_t i = 1;
@@ -185,7 +184,8 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
     // diagonal leg that passes exactly through cell corners can, by rounding, cross beside a
     // corner that the whole leg passes through, and meet a dearer cell.)
     const double w = options.cost_weight;
-    const double before = segment_cost(map, prev, t, w, policy) + segment_cost(map, t, b, w, policy);
+    const double before =
+        segment_cost(map, prev, t, w, policy) + segment_cost(map, t, b, w, policy);
     const double after = segment_cost(map, prev, curve.front(), w, policy) +
                          path_cost(map, curve, w, policy) +
                          segment_cost(map, curve.back(), b, w, policy);

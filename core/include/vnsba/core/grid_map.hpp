@@ -49,8 +49,8 @@ struct GridBuildOptions {
   // layer): a free cell whose centre is d metres from the nearest obstacle centre, with
   // robot_radius < d <= inflation_radius, costs 0.99 * exp(-cost_scaling_factor * (d -
   // robot_radius)). 0 = no gradient (the paper's binary grid); otherwise >= robot_radius.
-  double inflation_radius = 0.0;     // metres
-  double cost_scaling_factor = 3.0;  // per metre, >= 0 (Nav2's example configuration uses 3)
+  double inflation_radius = 0.0;         // metres
+  double cost_scaling_factor = 3.0;      // per metre, >= 0 (Nav2's example configuration uses 3)
   int64_t max_cells = int64_t{1} << 28;  // refuse larger maps (memory guard), cells, at most
                                          // kMaxCellsLimit
 };
@@ -203,11 +203,11 @@ class GridMap {
   double origin_x_ = 0.0;
   double origin_y_ = 0.0;
   GridBuildOptions options_;
-  std::vector<uint8_t> blocked_;      // padded, 1 = blocked
-  std::vector<CellLayer> layers_;     // width x height, row-major (no padding)
+  std::vector<uint8_t> blocked_;          // padded, 1 = blocked
+  std::vector<CellLayer> layers_;         // width x height, row-major (no padding)
   std::vector<float> obstacle_distance_;  // width x height, cells (see obstacle_distance())
-  std::vector<float> costs_;          // padded, empty without costs (see cost_data())
-  std::vector<int32_t> summed_area_;  // (width+1) x (height+1) blocked counts
+  std::vector<float> costs_;              // padded, empty without costs (see cost_data())
+  std::vector<int32_t> summed_area_;      // (width+1) x (height+1) blocked counts
   int64_t blocked_total_ = 0;
   std::vector<uint64_t> row_bits_;     // height rows of row_words_ words each, a spare word
   std::vector<uint64_t> column_bits_;  // width columns of column_words_ words each, a spare word
