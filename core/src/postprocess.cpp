@@ -156,10 +156,12 @@ void sample_piece(const CornerSpline& spline, int piece, double step, std::vecto
 
 // The replacement P1, samples..., P4 of corner T (neighbours A and B) at distance d, or nullopt
 // when the spline cannot be fitted or any of its segments, or the joins prev -> P1 and P4 -> B,
-// lacks line of sight.
+// lacks line of sight, or (cost_weight > 0) when prev -> P1, the curve and P4 -> B cost more than
+// `cost_before`, the cost of prev -> T -> B (the same for every d: the caller prices it once).
 std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point2& prev,
                                                  const Point2& a, const Point2& t, const Point2& b,
-                                                 double d, const SmoothingOptions& options) {
+                                                 double d, const SmoothingOptions& options,
+                                                 double cost_before) {
   const Point2 to_a = (a - t).normalized(), to_b = (b - t).normalized();
   // T itself is not a control point: a curve forced through the corner would bulge outside it,
   // towards the obstacle the path turned around (the paper's reason for P1..P4).
@@ -184,12 +186,10 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
     // diagonal leg that passes exactly through cell corners can, by rounding, cross beside a
     // corner that the whole leg passes through, and meet a dearer cell.)
     const double w = options.cost_weight;
-    const double before =
-        segment_cost(map, prev, t, w, policy) + segment_cost(map, t, b, w, policy);
     const double after = segment_cost(map, prev, curve.front(), w, policy) +
                          path_cost(map, curve, w, policy) +
                          segment_cost(map, curve.back(), b, w, policy);
-    if (!(after <= before)) return std::nullopt;
+    if (!(after <= cost_before)) return std::nullopt;
   }
   return curve;
 }
@@ -215,9 +215,14 @@ std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& w
     double d = std::min({options.smoothing_distance, (t - a).norm() / 4, (b - t).norm() / 4});
     std::optional<std::vector<Point2>> curve;
     if (!straight && std::isfinite(d) && d > 0.0) {
+      const double w = options.cost_weight;
+      const double cost_before = w > 0.0
+                                     ? segment_cost(map, out.back(), t, w, options.corner_policy) +
+                                           segment_cost(map, t, b, w, options.corner_policy)
+                                     : 0.0;
       for (int attempt = 0; attempt <= std::max(0, options.max_halvings); ++attempt, d /= 2) {
         if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
-        curve = smooth_corner(map, out.back(), a, t, b, d, options);
+        curve = smooth_corner(map, out.back(), a, t, b, d, options, cost_before);
         if (curve) break;
       }
     }
