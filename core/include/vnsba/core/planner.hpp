@@ -34,13 +34,13 @@ namespace vnsba::core {
 
 struct PlanQuery {
   PlanQuery() = default;
-  PlanQuery(const Cell& start_cell, const Cell& goal_cell,
-            std::optional<Point2> start_position = std::nullopt,
-            std::optional<Point2> goal_position = std::nullopt)
-      : start(start_cell),
-        goal(goal_cell),
-        start_point(std::move(start_position)),
-        goal_point(std::move(goal_position)) {}
+  // Two constructors rather than defaulted optionals: GCC 12 at -O2 reports a defaulted
+  // std::optional<Eigen::Vector2d> argument as maybe-uninitialized (a false positive that
+  // -Werror turns into a build failure).
+  PlanQuery(const Cell& start_cell, const Cell& goal_cell) : start(start_cell), goal(goal_cell) {}
+  PlanQuery(const Cell& start_cell, const Cell& goal_cell, const std::optional<Point2>& start_position,
+            const std::optional<Point2>& goal_position)
+      : start(start_cell), goal(goal_cell), start_point(start_position), goal_point(goal_position) {}
 
   Cell start;  // may lie outside the map (refused, or moved by start_tolerance; see below)
   Cell goal;   // likewise, with goal_tolerance
