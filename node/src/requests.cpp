@@ -97,8 +97,20 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   // configuration.
   out.options = config.planner.options(kind);
   out.planner_name = std::string(core::to_string(out.options.planner));
+  // jps plans on uniform costs only (its jump rules need every move of a kind to cost the same).
+  // A request that picks it on a node configured with costs asked for the shortest path, fast:
+  // it gets that, and the status says the costs were not applied. (A config that names jps
+  // itself must set cost_weight 0: there the two keys contradict each other.)
+  if (!core::supports_costs(out.options.planner) && out.options.cost_weight > 0.0) {
+    out.warning = "warning: " + out.planner_name +
+                  " plans on uniform cell costs: planner.cost_weight " +
+                  short_number(out.options.cost_weight) +
+                  " not applied (this is the shortest path, not the cheapest: astar plans the "
+                  "cheapest)";
+    out.options.cost_weight = 0.0;
+  }
   // The configuration is valid for its own planner (checked at load); a request's planner may
-  // not accept it (jps with planner.cost_weight > 0, or a corner_policy it cannot search with).
+  // not accept it (jps with a corner_policy it cannot search with).
   if (core::Status s = core::validate(out.options); !s.is_ok()) {
     return fail(wire::INVALID_REQUEST,
                 "planner: " + out.planner_name +
@@ -149,8 +161,9 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   out.goal_yaw = core::yaw_from_quaternion(q.x(), q.y(), q.z(), q.w());
   if (!out.goal_yaw) {
     const double norm = std::sqrt(q.x() * q.x() + q.y() * q.y() + q.z() * q.z() + q.w() * q.w());
-    out.warning = "warning: goal orientation ignored: quaternion norm " + short_number(norm) +
-                  " is not 1 (the last pose faces along the path)";
+    out.warning += std::string(out.warning.empty() ? "" : "; ") +
+                   "warning: goal orientation ignored: quaternion norm " + short_number(norm) +
+                   " is not 1 (the last pose faces along the path)";
   }
   return out;
 }

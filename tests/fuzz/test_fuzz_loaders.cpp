@@ -1009,6 +1009,8 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_int("map", "occupied_threshold", c.map.occupied_threshold, d.map.occupied_threshold);
   same_bool("map", "allow_unknown", c.map.allow_unknown, d.map.allow_unknown);
   same_double("map", "robot_radius", c.map.robot_radius, d.map.robot_radius);
+  same_double("map", "inflation_radius", c.map.inflation_radius, d.map.inflation_radius);
+  same_double("map", "cost_scaling_factor", c.map.cost_scaling_factor, d.map.cost_scaling_factor);
   same_int("map", "max_cells", c.map.max_cells, d.map.max_cells);
   const auto& s = c.planner.settings;
   const auto& ds = d.planner.settings;
@@ -1022,6 +1024,10 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_double("planner", "smoothing_distance", s.smoothing_distance, ds.smoothing_distance);
   same_double("planner", "sample_step", s.sample_step, ds.sample_step);
   same_bool("planner", "compute_length_ratio", s.compute_length_ratio, ds.compute_length_ratio);
+  same_double("planner", "cost_weight", s.cost_weight, ds.cost_weight);
+  same_double("planner", "goal_tolerance", s.goal_tolerance, ds.goal_tolerance);
+  same_double("planner", "start_tolerance", s.start_tolerance, ds.start_tolerance);
+  same_double("planner", "path_spacing", c.planner.path_spacing, d.planner.path_spacing);
   {
     const auto v = find("planner", "max_planning_time");
     if (scalar(v, "planner.max_planning_time")) {
@@ -1053,7 +1059,13 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       c.queue_capacity >= 1 && c.queue_capacity <= 100000 && !c.frame_id.empty() &&
       std::isfinite(c.slicer.z_min) && std::isfinite(c.slicer.z_max) &&
       c.slicer.z_min <= c.slicer.z_max && std::isfinite(c.slicer.resolution) &&
-      c.slicer.resolution >= 0 &&
+      c.slicer.resolution >= 0 && std::isfinite(c.map.inflation_radius) &&
+      (c.map.inflation_radius == 0 || c.map.inflation_radius >= c.map.robot_radius) &&
+      std::isfinite(c.map.cost_scaling_factor) && c.map.cost_scaling_factor >= 0 &&
+      core::kCostWeightRange.contains(s.cost_weight.value_or(0)) &&
+      core::kToleranceRange.contains(s.goal_tolerance.value_or(0)) &&
+      core::kToleranceRange.contains(s.start_tolerance.value_or(0)) &&
+      (!c.planner.path_spacing || node::kPathSpacingRange.contains(*c.planner.path_spacing)) &&
       (!s.max_planning_time ||
        (s.max_planning_time->count() >= 0 && s.max_planning_time->count() <= 3600LL * 1000000));
   if (!in_range) p->push_back("an accepted value is outside its documented range");
@@ -1826,7 +1838,8 @@ TEST_F(FuzzLoaders, Config) {
       "domain_id", "topics", "map",       "planner", "requests",   "debug",   "slicer",
       "name",      "omega",  "true",      "no",      "~",          "null",    "!!str",
       "&a",        "*a",     "<<",        "---",     "...",        "- ",      "? ",
-      "|",         ">",      "%YAML 1.2", "\t",      "vns_bastar", "8-11-13", "always"};
+      "|",         ">",      "%YAML 1.2", "\t",      "vns_bastar", "8-11-13", "always",
+      "jps",       "cost_weight", "inflation_radius", "goal_tolerance", "path_spacing", "1e309"};
   run("config", Syntax::kYaml, words, single_file(good, "input.yaml", bad),
       on_first_file(check_config));
 }

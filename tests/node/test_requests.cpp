@@ -228,23 +228,43 @@ TEST(ResolveRequest, AGoalOutsideTheMapIsMovedOntoItWithinGoalTolerance) {
   EXPECT_EQ(node::code_name(start.status.code), "START_OUTSIDE_MAP");
 }
 
-// core::validate's word reaches the status: jps plans on uniform costs only. Checked before the
-// map, so it is INVALID_REQUEST whether or not a map has arrived.
-TEST(ResolveRequest, JpsWithCostWeightIsAnInvalidRequestNamingCostWeight) {
+// jps plans on uniform costs only. A request that picks it on a node configured with costs
+// plans with cost_weight 0 and a warning naming the key; every other configured option stays.
+// A corner policy jps cannot search with is still refused, before the map is looked at.
+TEST(ResolveRequest, JpsOnANodeWithCostsPlansOnUniformCostsWithAWarning) {
   const node::NodeConfig cfg = tolerant_config();
+  ASSERT_GT(cfg.planner.options().cost_weight, 0.0);
   const core::GridMap map = inflated_map(cfg);
   Job jps = job("j", 0.25, 0.25, 1.85, 0.85);
   jps.planner = "jps";
-  for (const core::GridMap* m : {&map, static_cast<const core::GridMap*>(nullptr)}) {
-    const auto r = node::resolve_request(jps, cfg, m);
-    EXPECT_EQ(node::code_name(r.status.code), "INVALID_REQUEST");
-    EXPECT_EQ(r.planner_name, "jps");
-    EXPECT_NE(r.status.message.find("cost_weight 1 is not supported by jps"), std::string::npos)
-        << r.status.message;
-  }
+  const auto r = node::resolve_request(jps, cfg, &map);
+  ASSERT_TRUE(r.status.ok()) << r.status.message;
+  EXPECT_EQ(r.planner_name, "jps");
+  EXPECT_EQ(r.options.cost_weight, 0.0);
+  EXPECT_EQ(r.options.goal_tolerance, cfg.planner.options().goal_tolerance);
+  EXPECT_TRUE(core::validate(r.options).is_ok());
+  EXPECT_NE(r.warning.find("planner.cost_weight 1 not applied"), std::string::npos) << r.warning;
+  // The configured planner keeps its costs, and so does astar.
+  Job astar = jps;
+  astar.planner = "astar";
+  const auto a = node::resolve_request(astar, cfg, &map);
+  ASSERT_TRUE(a.status.ok()) << a.status.message;
+  EXPECT_EQ(a.options.cost_weight, cfg.planner.options().cost_weight);
+  EXPECT_TRUE(a.warning.empty()) << a.warning;
+  // Without costs there is nothing to warn about.
   node::NodeConfig uniform = cfg;
   uniform.planner.settings.cost_weight = 0.0;
-  EXPECT_TRUE(node::resolve_request(jps, uniform, &map).status.ok());
+  const auto u = node::resolve_request(jps, uniform, &map);
+  EXPECT_TRUE(u.status.ok());
+  EXPECT_TRUE(u.warning.empty()) << u.warning;
+  // A setting jps cannot plan with at all is refused, map or no map.
+  node::NodeConfig touch = cfg;
+  touch.planner.settings.corner_policy = core::CornerPolicy::kTouch;
+  for (const core::GridMap* m : {&map, static_cast<const core::GridMap*>(nullptr)}) {
+    const auto t = node::resolve_request(jps, touch, m);
+    EXPECT_EQ(node::code_name(t.status.code), "INVALID_REQUEST");
+    EXPECT_NE(t.status.message.find("corner_policy"), std::string::npos) << t.status.message;
+  }
 }
 
 // The goal's orientation: a unit quaternion gives the final yaw; a finite one of another norm

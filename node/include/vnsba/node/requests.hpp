@@ -75,7 +75,8 @@ struct ResolvedRequest {
 };
 // `map` may be null (no map yet: NO_MAP). Checks, first failure wins: the string fields' lengths,
 // the id, the planner name, the options the planner would run with (core::validate: e.g. jps with
-// planner.cost_weight > 0 is INVALID_REQUEST naming cost_weight), the start (a goal_pose without
+// corner_policy touch is INVALID_REQUEST naming it; jps on a node with planner.cost_weight > 0
+// plans on uniform costs with a warning), the start (a goal_pose without
 // robot_pose), both poses (frame, finite), then start and goal against the map: the start inside
 // it (START_OUTSIDE_MAP), the goal inside it or, with planner.goal_tolerance > 0, within that
 // distance of it (GOAL_OUTSIDE_MAP), then core::check_query (blocked cells, tolerances).
