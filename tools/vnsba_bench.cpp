@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "bench/common.hpp"
+#include "bench/costs.hpp"
 #include "bench/large.hpp"
 #include "bench/movingai.hpp"
 #include "bench/paper.hpp"
@@ -147,6 +148,27 @@ int main(int argc, char** argv) {
   large->add_option("--queries", large_options.queries, "queries per map and size")
       ->capture_default_str();
 
+  vnsba::bench::CostsOptions costs_options;
+  costs_options.maps_dir = maps_dir;
+  costs_options.scene_path = VNSBA_SCENE_PATH;
+  std::string costs_planner_list;
+  auto* costs = app.add_subcommand(
+      "costs", "binary against cost-aware planning (config/paper.yaml against default.yaml's "
+               "robot) on the demo scene and the Moving AI maps");
+  costs->add_option("--maps", costs_options.maps_dir, "folder with the Moving AI maps")
+      ->capture_default_str();
+  costs->add_option("--scene", costs_options.scene_path, "the demo scene, an OctoMap .bt file")
+      ->capture_default_str();
+  costs->add_option("--planners", costs_planner_list, "comma-separated planner names (default: all)");
+  costs
+      ->add_option("--max-scenarios", costs_options.max_scenarios,
+                   "at most N scenarios per Moving AI map, spread over the file (0: all)")
+      ->capture_default_str();
+  costs
+      ->add_option("--repetitions", costs_options.repetitions,
+                   "timed plans per demo-scene query (the median is reported)")
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -182,6 +204,11 @@ int main(int argc, char** argv) {
     if (!read_planners("large", large_planner_list, large_options.planners))
       return vnsba::bench::kExitBadInput;
     return vnsba::bench::run_large(large_options);
+  }
+  if (costs->parsed()) {
+    if (!read_planners("costs", costs_planner_list, costs_options.planners))
+      return vnsba::bench::kExitBadInput;
+    return vnsba::bench::run_costs(costs_options);
   }
   return vnsba::bench::kExitBadInput;
 }

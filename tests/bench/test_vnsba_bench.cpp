@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "bench/common.hpp"
+#include "bench/costs.hpp"
 #include "bench/movingai.hpp"
 #include "bench/paper.hpp"
 #include "bench/sweep.hpp"
@@ -182,6 +183,52 @@ TEST(VnsbaBench, LargeRowsPerMapAndPlannerAndItsOptions) {
     EXPECT_EQ(bad_code, 2) << message;
     EXPECT_NE(message.find(bad[3]), std::string::npos) << message;
   }
+}
+
+// The demo scene (embedded) and a Moving AI folder, both sides for every planner asked for; the
+// clearance the cost-aware side reports is at least the robot's radius (inflation keeps every
+// path that far from obstacle centres, so from their squares at least radius - half a diagonal).
+TEST(VnsbaBench, CostsComparesBothSidesOnTheSceneAndTheMaps) {
+  const std::string dir = fresh_folder("costs");
+  // 12 x 6 cells: a wall with a gap, so that costs have something to weigh.
+  std::ofstream(dir + "/wall.map") << "type octile\nheight 6\nwidth 12\nmap\n"
+                                      "............\n"
+                                      "............\n"
+                                      ".....@......\n"
+                                      ".....@......\n"
+                                      "............\n"
+                                      "............\n";
+  std::ofstream(dir + "/wall.map.scen")
+      << "version 1\n0\twall.map\t12\t6\t0\t2\t11\t3\t11.41421356\n"
+         "0\twall.map\t12\t6\t1\t0\t10\t5\t11.07106781\n";
+  const auto [code, output] = run_to_exit(
+      kBench, {"costs", "--maps", dir, "--planners", "astar,vns_bastar,jps", "--repetitions", "1"});
+  ASSERT_EQ(code, 0) << output;
+  for (const char* row : {"| astar | corridor |", "| vns_bastar | office_route |",
+                          "| jps (uniform costs) | hall_to_corridor |", "| game | astar |",
+                          "| game | jps (uniform costs) |", "Cost-aware A* / binary A* time"})
+    EXPECT_NE(output.find(row), std::string::npos) << row << "\n" << output;
+  // The summary rows: planner, min clearance binary, min clearance cost-aware, ...
+  for (const char* planner : {"astar", "vns_bastar", "jps (uniform costs)"}) {
+    const size_t at = output.find(std::string("| ") + planner + " | 0");
+    ASSERT_NE(at, std::string::npos) << planner << "\n" << output;
+    const auto fields = split(output.substr(at, output.find('\n', at) - at), '|');
+    ASSERT_GE(fields.size(), 4u);
+    const double cost_aware = std::stod(fields[3]);
+    EXPECT_GE(cost_aware, vnsba::bench::kDefaultYamlRobot.robot_radius - 0.08 * M_SQRT1_2)
+        << planner;
+  }
+  for (const std::vector<std::string>& bad :
+       {std::vector<std::string>{"costs", "--maps", dir, "--max-scenarios", "-1"},
+        std::vector<std::string>{"costs", "--maps", dir, "--repetitions", "0"},
+        std::vector<std::string>{"costs", "--maps", dir, "--planners", "astr"},
+        std::vector<std::string>{"costs", "--maps", dir, "--scene", dir + "/none.bt"}}) {
+    const auto [bad_code, message] = run_to_exit(kBench, bad);
+    EXPECT_EQ(bad_code, 2) << message;
+    EXPECT_NE(message.find(bad[3]), std::string::npos) << message;
+    EXPECT_NE(message.find(bad[4]), std::string::npos) << message;
+  }
+  fs::remove_all(dir);
 }
 
 TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {

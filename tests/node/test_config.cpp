@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/costs.hpp"
 #include "core/options_support.hpp"
 #include "vnsba/node/config.hpp"
 
@@ -150,6 +151,25 @@ TEST(Config, DefaultYamlLoadsAndEqualsTheDefaultsWithTheRobotKeys) {
   EXPECT_FALSE(c.planner.path_spacing.has_value());
   EXPECT_DOUBLE_EQ(c.planner.path_spacing_for(0.05), 0.05);
   EXPECT_TRUE(vnsba::core::validate(c.map).is_ok());
+}
+
+// vnsba_bench costs compares against config/default.yaml's robot without reading YAML (it builds
+// without the node library): its copy of those values must be the file's.
+TEST(Config, TheCostsBenchmarkUsesDefaultYamlsRobot) {
+  const ConfigResult result = load_config(DefaultYamlPath());
+  ASSERT_TRUE(result.config.has_value()) << Joined(result.errors);
+  const NodeConfig& c = *result.config;
+  const vnsba::bench::RobotSettings& robot = vnsba::bench::kDefaultYamlRobot;
+  EXPECT_EQ(robot.robot_radius, c.map.robot_radius);
+  EXPECT_EQ(robot.inflation_radius, c.map.inflation_radius);
+  EXPECT_EQ(robot.cost_scaling_factor, c.map.cost_scaling_factor);
+  const PlannerOptions o = c.planner.options();
+  EXPECT_EQ(robot.cost_weight, o.cost_weight);
+  EXPECT_EQ(robot.goal_tolerance, o.goal_tolerance);
+  EXPECT_EQ(robot.start_tolerance, o.start_tolerance);
+  EXPECT_EQ(vnsba::bench::kDemoSliceZMin, c.slicer.z_min);
+  EXPECT_EQ(vnsba::bench::kDemoSliceZMax, c.slicer.z_max);
+  EXPECT_EQ(c.slicer.resolution, 0.0);  // the bench slices at the tree's leaf size too
 }
 
 // config/paper.yaml is the paper's binary setting: exactly the built-in defaults.

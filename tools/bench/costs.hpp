@@ -1,0 +1,57 @@
+// `vnsba_bench costs`: binary planning (the paper, config/paper.yaml) against cost-aware planning
+// (config/default.yaml's robot settings, ALGORITHM.md section 8) for each planner, on the demo
+// scene and on the Moving AI maps: length, turns, clearance and time, and the targets
+// (clearance at least 2x at a length cost of at most 10 % on the demo scene; cost-aware A* at most
+// 1.3x binary A*'s time on the same queries).
+//
+// vnsba_bench builds without DDS (tools/bench/make_results.sh builds the core only), so it does
+// not read the YAML files: kDefaultYamlRobot below holds config/default.yaml's values, and a node
+// test checks that the two agree.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/planner_options.hpp"
+
+namespace vnsba::bench {
+
+// The robot settings of config/default.yaml (metres, per metre, a plain weight).
+struct RobotSettings {
+  double robot_radius = 0.0;         // map.robot_radius, metres
+  double inflation_radius = 0.0;     // map.inflation_radius, metres
+  double cost_scaling_factor = 3.0;  // map.cost_scaling_factor, per metre
+  double cost_weight = 0.0;          // planner.cost_weight
+  double goal_tolerance = 0.0;       // planner.goal_tolerance, metres
+  double start_tolerance = 0.0;      // planner.start_tolerance, metres
+};
+inline constexpr RobotSettings kDefaultYamlRobot{0.15, 0.55, 3.0, 2.0, 0.25, 0.2};
+
+// The demo scene's slice (tools/demo.sh: the config's height band, the tree's leaf size).
+inline constexpr double kDemoSliceZMin = 0.1;  // metres
+inline constexpr double kDemoSliceZMax = 1.5;  // metres
+
+// Moving AI maps carry no scale; they are read at this many metres a cell (an office slice's), so
+// that the robot's metres mean a number of cells (inflation_radius 0.55 m = 11 cells).
+inline constexpr double kMovingAiResolution = 0.05;
+
+struct CostsOptions {
+  std::string maps_dir;    // Moving AI maps with scenarios ("" or missing: that part is skipped)
+  std::string scene_path;  // the demo scene, an OctoMap (.bt)
+  std::vector<core::PlannerKind> planners;  // empty: all
+  int max_scenarios = 40;                   // per Moving AI map, spread over the file
+  int repetitions = 5;                      // timed plans per demo-scene query (median)
+  RobotSettings robot = kDefaultYamlRobot;
+};
+
+// The grid build options and planner settings of each side: binary is the paper's (no radius,
+// no gradient, cost_weight 0, exact endpoints); cost-aware is `robot`. On Moving AI maps the
+// radius is left out (`with_radius` false): their scenarios' endpoints are free cells of the
+// binary map, and a radius would block some, so there only the gradient and the weight differ.
+core::GridBuildOptions build_options(const RobotSettings& robot, bool with_radius);
+core::PlannerSettings planner_settings(const RobotSettings& robot);
+
+int run_costs(const CostsOptions& options);
+
+}  // namespace vnsba::bench
