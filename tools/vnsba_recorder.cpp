@@ -316,6 +316,8 @@ class Recorder {
         ref.occupied_threshold = config_.map.occupied_threshold;
         ref.allow_unknown = config_.map.allow_unknown;
         ref.robot_radius = config_.map.robot_radius;
+        ref.inflation_radius = config_.map.inflation_radius;
+        ref.cost_scaling_factor = config_.map.cost_scaling_factor;
         record.map = ref;
       }
       // What the bus brought is recorded as it came; what cannot be drawn is said.

@@ -12,6 +12,27 @@ namespace vnsba::render {
 using core::Cell;
 using core::Point2;
 
+namespace {
+// The cost levels of a planning map's free cells (MapPicture::cost_levels); empty without costs.
+std::vector<uint8_t> cost_levels_of(const core::GridMap& map) {
+  std::vector<uint8_t> levels;
+  if (!map.has_costs()) return levels;
+  levels.assign(static_cast<size_t>(map.cell_count()), 0);
+  for (int32_t y = 0; y < map.height(); ++y) {
+    for (int32_t x = 0; x < map.width(); ++x) {
+      const core::Cell c{x, y};
+      if (map.blocked(c)) continue;
+      const double cost = map.cost(c);
+      if (cost > 0.0)
+        levels[static_cast<size_t>(y) * map.width() + x] = static_cast<uint8_t>(
+            std::clamp(std::ceil(cost * MapPicture::kCostLevels), 1.0,
+                       static_cast<double>(MapPicture::kCostLevels)));
+    }
+  }
+  return levels;
+}
+}  // namespace
+
 MapPicture map_picture(const core::OccupancyGrid& grid, int occupied_threshold,
                        const core::GridMap* planning_map) {
   MapPicture picture;
@@ -38,6 +59,7 @@ MapPicture map_picture(const core::OccupancyGrid& grid, int occupied_threshold,
       picture.cells[static_cast<size_t>(y) * picture.width + x] = state;
     }
   }
+  if (use_planning_map) picture.cost_levels = cost_levels_of(*planning_map);
   return picture;
 }
 
@@ -53,6 +75,7 @@ MapPicture map_picture(const core::GridMap& map) {
     for (int32_t x = 0; x < map.width(); ++x)
       picture.cells[static_cast<size_t>(y) * map.width() + x] =
           map.blocked(x, y) ? CellState::kOccupied : CellState::kFree;
+  picture.cost_levels = cost_levels_of(map);
   return picture;
 }
 
@@ -82,6 +105,9 @@ namespace {
 constexpr std::string_view kOccupiedColour = "#7f7f7f";
 constexpr std::string_view kUnknownColour = "#d7dbe8";
 constexpr std::string_view kInflatedColour = "#c4c4c4";
+// Cell costs: one hue, each level more opaque (the highest level at 0.6).
+constexpr std::string_view kCostColour = "#e07b00";
+constexpr double kCostOpacityPerLevel = 0.15;
 constexpr std::string_view kForwardColour = "#f2d21b";
 constexpr std::string_view kBackwardColour = "#4a90d9";
 constexpr std::string_view kSmoothedColour = "#e01010";
@@ -258,6 +284,12 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kUnknownColour) + "\"/>"},
         {"inflated",
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kInflatedColour) + "\"/>"},
+        {"cell cost",
+         "<rect width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
+             "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel) +
+             "\"/><rect x=\"0.5\" width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
+             "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel * MapPicture::kCostLevels) +
+             "\"/>"},
         {"forward expansions",
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kForwardColour) + "\"/>"},
         {"backward expansions",
@@ -277,6 +309,11 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
          "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kGoalColour) + "\"/>"},
     };
   }
+  // The cost tint is explained only where a map has costs (the paper's pictures have none).
+  if (map.cost_levels.empty())
+    legend.erase(std::remove_if(legend.begin(), legend.end(),
+                                [](const LegendItem& item) { return item.label == "cell cost"; }),
+                 legend.end());
   struct Placed {
     double x, y;
   };
@@ -343,6 +380,21 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
   };
   const std::string crisp = "fill=\"none\" stroke-width=\"1\" shape-rendering=\"crispEdges\"";
 
+  // Cell costs, under everything else.
+  if (map_valid && !map.cost_levels.empty() && map.cost_levels.size() == map.cells.size()) {
+    for (int level = 1; level <= MapPicture::kCostLevels; ++level) {
+      RunPath runs(height);
+      const int64_t count = merged_runs(
+          map.width, map.height, [&](int32_t x, int32_t y) { return map.cost_level(x, y) == level; },
+          runs);
+      svg.begin_group("map-cost-" + std::to_string(level),
+                      "data-count=\"" + std::to_string(count) + "\"");
+      svg.path(runs.data(), crisp + " stroke-opacity=\"" +
+                                std::to_string(kCostOpacityPerLevel * level) + "\" stroke=\"" +
+                                std::string(kCostColour) + "\"");
+      svg.end_group();
+    }
+  }
   // Map layers.
   for (const auto& [id, state, colour] :
        {std::tuple{"map-occupied", CellState::kOccupied, kOccupiedColour},

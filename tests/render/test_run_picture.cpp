@@ -267,6 +267,63 @@ TEST(RunPicture, UnknownAndInflatedCellsAreTheirOwnLayers) {
             (std::set<std::pair<int, int>>{{8, 4}}));
 }
 
+// The cost gradient is drawn as kCostLevels layers under the map, each cell in the band of its
+// cost (GridMap::cost, the oracle); the legend names it only where a map has costs.
+TEST(RunPicture, CellCostsAreDrawnInBandsUnderTheMap) {
+  core::OccupancyGrid grid;
+  grid.width = 16;
+  grid.height = 9;
+  grid.data.assign(16 * 9, 0);
+  for (int y = 0; y < 9; ++y) grid.data[y * 16 + 3] = 100;  // a wall at x = 3
+  grid.data[4 * 16 + 12] = 40;                             // a graded cost of 0.4
+  core::GridBuildOptions options;
+  options.robot_radius = 1.0;
+  options.inflation_radius = 6.0;
+  options.cost_scaling_factor = 0.5;
+  auto built = core::GridMap::build(grid, options);
+  ASSERT_TRUE(built);
+  ASSERT_TRUE(built->has_costs());
+  const render::MapPicture picture = render::map_picture(grid, 65, &built.value());
+  std::set<std::pair<int, int>> band[render::MapPicture::kCostLevels + 1];
+  for (int y = 0; y < 9; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      const double cost = built->blocked(x, y) ? 0.0 : built->cost({x, y});
+      if (cost <= 0.0) continue;
+      int level = 1;
+      while (level < render::MapPicture::kCostLevels &&
+             cost > static_cast<double>(level) / render::MapPicture::kCostLevels)
+        ++level;
+      band[level].insert({x, y});
+    }
+  }
+  render::RunPicture run;
+  run.map = std::make_shared<const render::MapPicture>(picture);
+  Rendered r;
+  r.svg = render::render_svg(run);
+  ASSERT_TRUE(r.parse());
+  size_t drawn = 0;
+  for (int level = 1; level <= render::MapPicture::kCostLevels; ++level) {
+    SCOPED_TRACE(level);
+    EXPECT_EQ(decode_runs(find_id(r.root, ("map-cost-" + std::to_string(level)).c_str()), 9),
+              band[level]);
+    drawn += band[level].size();
+  }
+  EXPECT_GT(drawn, 20u);
+  EXPECT_EQ(band[2].count({12, 4}), 1u) << "the graded cell (0.4) is in the second band";
+  EXPECT_NE(r.svg.find("cell cost"), std::string::npos);
+  // A binary map (no graded values, no gradient): no cost layer, no legend entry.
+  grid.data[4 * 16 + 12] = 0;
+  auto binary = core::GridMap::build(grid, core::GridBuildOptions{});
+  ASSERT_TRUE(binary);
+  ASSERT_FALSE(binary->has_costs());
+  render::RunPicture plain;
+  plain.map = std::make_shared<const render::MapPicture>(
+      render::map_picture(grid, 65, &binary.value()));
+  const std::string svg = render::render_svg(plain);
+  EXPECT_EQ(svg.find("map-cost-"), std::string::npos);
+  EXPECT_EQ(svg.find("cell cost"), std::string::npos);
+}
+
 TEST(RunPicture, FailedRunShowsStartGoalAndTheMessage) {
   RoomsRun run;
   const core::PlanQuery blocked{{2, 2}, {0, 0}};  // the goal is in the outer wall

@@ -71,6 +71,26 @@ TEST(RunRecord, JsonRoundTripKeepsEverything) {
   EXPECT_EQ(back->map->file, "maps/m.yaml");
 }
 
+// The cost gradient's settings travel with the map reference; a record written before they
+// existed reads as no gradient (inflation_radius 0) with the default scaling.
+TEST(RunRecord, CostGradientRoundTripsAndOlderRecordsHaveNone) {
+  RunRecord r = full_record();
+  r.map->inflation_radius = 0.55;
+  r.map->cost_scaling_factor = 2.5;
+  auto back = tools::run_record_from_json(nlohmann::json::parse(tools::to_json(r).dump()));
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->map->inflation_radius, 0.55);
+  EXPECT_EQ(back->map->cost_scaling_factor, 2.5);
+  EXPECT_EQ(back->map->build_options().inflation_radius, 0.55);
+  nlohmann::json older = tools::to_json(r);
+  older["map"].erase("inflation_radius");
+  older["map"].erase("cost_scaling_factor");
+  back = tools::run_record_from_json(older);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->map->inflation_radius, 0.0);
+  EXPECT_EQ(back->map->cost_scaling_factor, core::GridBuildOptions{}.cost_scaling_factor);
+}
+
 // The clearance: metres, "inf" for a map without obstacles, null for NaN; a record written before
 // it existed reads NaN and still draws (without a clearance in the caption).
 TEST(RunRecord, ClearanceRoundTripsAndOlderRecordsReadNaN) {
@@ -260,6 +280,7 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
   ASSERT_TRUE(core::save_map_server(grid, (dir / "maps" / "m").string()));
   RunRecord base = full_record();
   base.map->robot_radius = 0.5;  // one cell: the obstacle's neighbours are drawn inflated
+  base.map->inflation_radius = 1.5;  // and the cells beyond them carry costs
   struct Case {
     const char* pointer;
     nlohmann::json value;
@@ -273,6 +294,9 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
       {"/map/origin", nlohmann::json::array({nullptr, 0}), "map: origin x must be finite"},
       {"/map/robot_radius", -1, "map: robot_radius"},
       {"/map/robot_radius", nullptr, "map: robot_radius"},  // NaN
+      {"/map/inflation_radius", -1, "map: inflation_radius"},
+      {"/map/inflation_radius", 0.25, "map: inflation_radius"},  // below robot_radius
+      {"/map/cost_scaling_factor", nullptr, "map: cost_scaling_factor"},  // NaN
       {"/debug/resolution", -1, "debug: resolution must be finite and > 0"},
       {"/debug/resolution", nullptr, "debug: resolution must be finite and > 0"},
       {"/debug/height", 0, "debug: height must be > 0"},
@@ -295,6 +319,11 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
       tinyxml2::XMLDocument doc;
       ASSERT_EQ(doc.Parse(drawn->c_str()), tinyxml2::XML_SUCCESS);
       EXPECT_GT(data_count(find_id(doc.RootElement(), "map-inflated")), 0);
+      // And its cost gradient: the free cells 1-1.5 m from the obstacle.
+      int64_t costly = 0;
+      for (int level = 1; level <= 4; ++level)
+        costly += data_count(find_id(doc.RootElement(), ("map-cost-" + std::to_string(level)).c_str()));
+      EXPECT_GT(costly, 0);
     }
     for (const Case& c : cases) {
       SCOPED_TRACE(std::string(c.pointer) + (with_file ? " with the map file" : " without it"));

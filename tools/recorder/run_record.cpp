@@ -259,7 +259,9 @@ json to_json(const RunRecord& r) {
                 {"origin", point({m.origin_x, m.origin_y})},
                 {"occupied_threshold", m.occupied_threshold},
                 {"allow_unknown", m.allow_unknown},
-                {"robot_radius", number(m.robot_radius)}};
+                {"robot_radius", number(m.robot_radius)},
+                {"inflation_radius", number(m.inflation_radius)},
+                {"cost_scaling_factor", number(m.cost_scaling_factor)}};
   } else {
     j["map"] = nullptr;
   }
@@ -354,6 +356,12 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     // check_record refuses.
     const double radius = in.real(*m, "robot_radius", "map");
     map.robot_radius = m->contains("robot_radius") ? radius : 0.0;
+    // Absent (records from before the cost gradient): no gradient.
+    const double inflation = in.real(*m, "inflation_radius", "map");
+    map.inflation_radius = m->contains("inflation_radius") ? inflation : 0.0;
+    const double scaling = in.real(*m, "cost_scaling_factor", "map");
+    map.cost_scaling_factor =
+        m->contains("cost_scaling_factor") ? scaling : MapReference{}.cost_scaling_factor;
     r.map = map;
   }
   if (!in.ok()) return core::Status::error(core::StatusCode::kInvalidRequest, in.error());
@@ -466,8 +474,8 @@ core::Status check_record(const RunRecord& r, const core::OccupancyGrid* grid, i
   options.max_cells = max_cells;
   const core::GridBuildOptions debug_options = options;
   if (r.map) {
-    options.occupied_threshold = r.map->occupied_threshold;
-    options.robot_radius = r.map->robot_radius;
+    options = r.map->build_options();
+    options.max_cells = max_cells;
     const core::Status s =
         check_grid("map", r.map->width, r.map->height, r.map->resolution, r.map->origin_x,
                    r.map->origin_y, grid != nullptr ? &grid->data : nullptr, options);
@@ -507,11 +515,9 @@ render::RunPicture picture_of(const RunRecord& r, const core::OccupancyGrid* gri
   std::shared_ptr<render::MapPicture> map;
   if (grid != nullptr && grid->width > 0 && grid->height > 0 &&
       grid->data.size() == static_cast<size_t>(grid->width) * grid->height) {
-    const int threshold = r.map ? r.map->occupied_threshold : 65;
-    core::GridBuildOptions build;
-    build.occupied_threshold = threshold;
-    build.allow_unknown = r.map && r.map->allow_unknown;
-    build.robot_radius = r.map ? r.map->robot_radius : 0.0;
+    const core::GridBuildOptions build =
+        r.map ? r.map->build_options() : MapReference{}.build_options();
+    const int threshold = build.occupied_threshold;
     auto planning = core::GridMap::build(*grid, build);
     map = std::make_shared<render::MapPicture>(
         render::map_picture(*grid, threshold, planning ? &planning.value() : nullptr));

@@ -35,10 +35,24 @@ struct MapReference {
   double resolution = 0.0;  // metres per cell
   double origin_x = 0.0;    // metres
   double origin_y = 0.0;
-  // The recorder's config (expected to match the node's): redraws inflated cells.
+  // The recorder's config (expected to match the node's): redraws inflated cells and the cost
+  // gradient (records written before the gradient existed have none).
   int occupied_threshold = 65;
   bool allow_unknown = false;
-  double robot_radius = 0.0;  // metres
+  double robot_radius = 0.0;         // metres
+  double inflation_radius = 0.0;     // metres, 0 = no gradient
+  double cost_scaling_factor = 3.0;  // per metre
+
+  // How the node built its planning map from the slice (the one conversion of these fields).
+  core::GridBuildOptions build_options() const {
+    core::GridBuildOptions options;
+    options.occupied_threshold = occupied_threshold;
+    options.allow_unknown = allow_unknown;
+    options.robot_radius = robot_radius;
+    options.inflation_radius = inflation_radius;
+    options.cost_scaling_factor = cost_scaling_factor;
+    return options;
+  }
 };
 
 struct RequestRecord {
@@ -83,7 +97,7 @@ std::string safe_file_stem(const std::string& request_id);
 
 // Checks the geometry a record carries before it is drawn, with core::validate: the map
 // reference's (map.width, map.height, map.resolution, map.origin, map.occupied_threshold,
-// map.robot_radius; with `grid`, the map file's cells in that geometry) and the debug data's
+// map.robot_radius, map.inflation_radius, map.cost_scaling_factor; with `grid`, the map file's cells in that geometry) and the debug data's
 // (debug.width, ...), whose cells (debug.expanded_forward[i], ...) must lie in its grid. At most
 // `max_cells` cells per grid. The error (kInvalidMap) names the JSON field.
 core::Status check_record(const RunRecord& record, const core::OccupancyGrid* grid,
@@ -97,8 +111,8 @@ render::RunPicture picture_of(const RunRecord& record, const core::OccupancyGrid
 // Reads RUN.json (and the map file it references, relative to the record's folder) and returns
 // the SVG. Errors name the file and the key at fault; a record that check_record refuses is not
 // drawn. The map is built for planning as the node builds it (GridMap::build with the record's
-// occupied_threshold, allow_unknown and robot_radius), so inflated cells are drawn as the node
-// saw them.
+// occupied_threshold, allow_unknown, robot_radius and cost gradient), so inflated cells and cell
+// costs are drawn as the node saw them.
 core::Expected<std::string> render_record_file(const std::string& json_path);
 
 }  // namespace vnsba::tools

@@ -37,15 +37,23 @@ struct MapPicture {
   double origin_x = 0.0;    // metres
   double origin_y = 0.0;    // metres
   std::vector<CellState> cells;
+  // The planning map's cell costs (ALGORITHM.md section 8) of free cells, in kCostLevels equal
+  // bands: 0 = no cost, k = cost in ((k - 1) / kCostLevels, k / kCostLevels]. Empty when the map
+  // has no costs (drawn as a tint that deepens toward obstacles).
+  static constexpr int kCostLevels = 4;
+  std::vector<uint8_t> cost_levels;
   CellState at(int32_t x, int32_t y) const { return cells[static_cast<size_t>(y) * width + x]; }
+  uint8_t cost_level(int32_t x, int32_t y) const {
+    return cost_levels.empty() ? 0 : cost_levels[static_cast<size_t>(y) * width + x];
+  }
 };
 
 // From an occupancy grid: values >= occupied_threshold are occupied, -1 unknown. When the
 // planning map built from that grid is given (same size), cells it blocks that the grid does not
-// are drawn as inflated.
+// are drawn as inflated, and its cell costs as cost levels.
 MapPicture map_picture(const core::OccupancyGrid& grid, int occupied_threshold = 65,
                        const core::GridMap* planning_map = nullptr);
-// From a planning map alone (blocked cells are occupied; no unknown).
+// From a planning map alone (blocked cells are occupied; no unknown; its costs as cost levels).
 MapPicture map_picture(const core::GridMap& map);
 
 // One planning run. Everything but the map is optional: a run without debug data still gets a
