@@ -504,6 +504,53 @@ TEST(CostsOptimality, AStarEqualsDijkstraForEveryWeightAndCornerPolicy) {
   EXPECT_GT(detours, 400);  // costs really change the paths
 }
 
+// Issue 15's invariant: with costs on, the exact planner's path is never dearer, under the cost
+// model, than the path it plans with costs off (the binary path is a valid path of the same
+// graph, priced by the oracle), and its final path after pruning and smoothing is never dearer
+// than that either.
+TEST(CostsOptimality, CostAwareAStarIsNeverDearerThanBinaryUnderTheCostModel) {
+  std::mt19937 rng(83011);
+  int compared = 0, cheaper = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    Spec spec;
+    spec.max_side = 40;
+    spec.force_costs = true;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    core::Planner planner(map);
+    const CornerPolicy policy = kAllCornerPolicies[trial % 3];
+    const double w = std::vector<double>{0.5, 2.0, 10.0}[trial % 3];
+    for (int q = 0; q < 4; ++q) {
+      const Cell start = pick(rng, cells), goal = pick(rng, cells);
+      SCOPED_TRACE("weight " + std::to_string(w) + " start " + str(start) + " goal " + str(goal));
+      PlannerOptions binary = core::default_options(PlannerKind::kAStar);
+      binary.corner_policy = policy;
+      PlannerOptions costed = binary;
+      costed.cost_weight = w;
+      const PlanResult off = planner.plan({start, goal}, binary);
+      const PlanResult on = planner.plan({start, goal}, costed);
+      ASSERT_EQ(off.status.code, on.status.code) << on.status.message;
+      if (!on.status.is_ok()) continue;
+      const double on_cost = oracle_path_cost(*map, on.raw_path, w);
+      const double off_cost = oracle_path_cost(*map, off.raw_path, w);
+      ASSERT_LE(on_cost, off_cost * (1.0 + 1e-9));
+      cheaper += on_cost < off_cost * (1.0 - 1e-9);
+      PlannerOptions post = costed;
+      post.prune = post.smooth = true;
+      const PlanResult final_path = planner.plan({start, goal}, post);
+      ASSERT_TRUE(final_path.status.is_ok()) << final_path.status.message;
+      ASSERT_LE(core::path_cost(*map, final_path.path, w, policy), off_cost * (1.0 + 1e-9));
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 400);
+  EXPECT_GT(cheaper, 50);  // costs really change the paths
+}
+
 TEST(CostsOptimality, OtherPlannersReturnValidPathsWithCosts) {
   std::mt19937 rng(83004);
   int checked = 0, long_moves = 0;

@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "core/test_support.hpp"
 #include "vnsba/core/path_poses.hpp"
+#include "vnsba/core/planner.hpp"
 
 namespace vnsba::core {
 namespace {
@@ -163,6 +165,44 @@ TEST(PathPoses, RandomPolylinesKeepEveryInvariant) {
     expect_invariants(path, s, goal);
     if (::testing::Test::HasFatalFailure()) return;
   }
+}
+
+// The same invariants on the paths the planners return (every planner, with and without pruning
+// and smoothing, on random maps of 5 cm cells as the property tests draw them), at the node's
+// default spacing (the resolution) and a coarser one.
+TEST(PathPoses, PlannedPathsOnRandomMapsKeepEveryInvariant) {
+  std::mt19937 rng(20261202);
+  std::uniform_int_distribution<int> side(8, 90);
+  std::uniform_real_distribution<double> density(0.0, 0.35);
+  std::uniform_real_distribution<double> yaw(-kPi, kPi);
+  int paths = 0;
+  for (int m = 0; m < 60; ++m) {
+    auto built = GridMap::from_rows(test::random_rows(rng, side(rng), side(rng), density(rng)), 0.05);
+    ASSERT_TRUE(built);
+    auto map = std::make_shared<const GridMap>(std::move(built).value());
+    const auto cells = test::free_cells(*map);
+    if (cells.size() < 2) continue;
+    std::uniform_int_distribution<size_t> pick(0, cells.size() - 1);
+    Planner planner(map);
+    const PlanQuery query{cells[pick(rng)], cells[pick(rng)]};
+    for (PlannerKind kind : all_planner_kinds()) {
+      for (bool post : {false, true}) {
+        SCOPED_TRACE(::testing::Message() << "map " << m << " " << to_string(kind)
+                                          << (post ? " with pruning and smoothing" : ""));
+        PlannerOptions options = default_options(kind);
+        if (post) options.prune = options.smooth = true;
+        const PlanResult r = planner.plan(query, options);
+        if (!r.status.is_ok()) continue;
+        const Points world(r.world_path.begin(), r.world_path.end());
+        for (const double spacing : {map->resolution(), 0.3}) {
+          expect_invariants(world, spacing, m % 2 ? std::optional<double>(yaw(rng)) : std::nullopt);
+          if (::testing::Test::HasFatalFailure()) return;
+        }
+        ++paths;
+      }
+    }
+  }
+  EXPECT_GT(paths, 400);
 }
 
 TEST(PathPoses, SegmentExactlyOneSpacingLongIsNotSplit) {
