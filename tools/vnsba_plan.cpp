@@ -43,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "text_format.hpp"
 #include "vnsba/core/map_io.hpp"
 #include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/path_poses.hpp"
@@ -136,15 +137,6 @@ core::Expected<Endpoint> to_endpoint(const core::GridMap& map, const std::vector
   return Endpoint{core::Cell{static_cast<int32_t>(std::floor(point.x())),
                              static_cast<int32_t>(std::floor(point.y()))},
                   point};
-}
-
-// "0.412", "inf" (no obstacle), "nan" (no path): the clearance as the result line prints it.
-std::string format_clearance(double clearance_m) {
-  if (std::isnan(clearance_m)) return "nan";
-  if (std::isinf(clearance_m)) return clearance_m > 0 ? "inf" : "-inf";
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3f", clearance_m);
-  return text;
 }
 
 std::string metres(double value) {
@@ -381,7 +373,7 @@ int main(int argc, char** argv) {
       "time_us=%lld",
       std::string(core::to_string(result.planner)).c_str(),
       std::string(core::to_string(result.status.code)).c_str(), m.length_m,
-      format_clearance(m.clearance_m).c_str(), m.turns, m.turn_angle_deg,
+      tools::format_metres(m.clearance_m).c_str(), m.turns, m.turn_angle_deg,
       static_cast<long long>(m.expanded), static_cast<long long>(m.planning_time_us));
   if (std::isfinite(m.length_ratio)) std::printf(" length_ratio=%.4f", m.length_ratio);
   if (result.endpoints.start_adjusted)

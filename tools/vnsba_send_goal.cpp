@@ -44,6 +44,7 @@
 #include <thread>
 #include <vector>
 
+#include "text_format.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
@@ -199,16 +200,6 @@ std::string default_request_id() {
                       std::chrono::system_clock::now().time_since_epoch())
                       .count();
   return "send_goal-" + std::to_string(getpid()) + "-" + std::to_string(ms);
-}
-
-// Metres with enough digits to be read back exactly enough for scripts, without noise; "nan"
-// and "inf" as such (a clearance on a map without obstacles is infinite).
-std::string format_metres(double metres) {
-  if (std::isnan(metres)) return "nan";
-  if (std::isinf(metres)) return metres > 0 ? "inf" : "-inf";
-  char text[64];
-  std::snprintf(text, sizeof text, "%.3f", metres);
-  return text;
 }
 
 }  // namespace
@@ -427,19 +418,19 @@ int main(int argc, char** argv) {
   }
   std::string adjusted;
   if (status->start_adjusted()) {
-    adjusted += " start_used=" + format_metres(status->start_x()) + "," +
-                format_metres(status->start_y()) +
-                " start_moved_m=" + format_metres(status->start_moved_m());
+    adjusted += " start_used=" + tools::format_metres(status->start_x()) + "," +
+                tools::format_metres(status->start_y()) +
+                " start_moved_m=" + tools::format_metres(status->start_moved_m());
   }
   if (status->goal_adjusted()) {
-    adjusted += " goal_used=" + format_metres(status->goal_x()) + "," +
-                format_metres(status->goal_y()) +
-                " goal_moved_m=" + format_metres(status->goal_moved_m());
+    adjusted += " goal_used=" + tools::format_metres(status->goal_x()) + "," +
+                tools::format_metres(status->goal_y()) +
+                " goal_moved_m=" + tools::format_metres(status->goal_moved_m());
   }
   std::printf("%s %s %s %s %d %lld%s\n",
               node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
-              node::code_name(status->code()).c_str(), format_metres(status->length_m()).c_str(),
-              format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
+              node::code_name(status->code()).c_str(), tools::format_metres(status->length_m()).c_str(),
+              tools::format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
               static_cast<long long>(status->planning_time_us()), adjusted.c_str());
   if (status->code() != node::wire::OK) {
     spdlog::warn("{}", node::printable(status->message(), 4096));

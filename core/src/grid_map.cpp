@@ -19,16 +19,11 @@ bool is_blocked_char(char c) {
   return c == '#' || c == '@' || c == 'O' || c == 'T' || c == 'W';
 }
 
-// A radius / resolution quotient this close to an integer n (in cells) means exactly n cells:
-// 0.15 m / 0.05 m evaluates to 2.9999999999999996 in doubles, and a radius of 3 cells must
-// inflate the cell 3 cells away (ALGORITHM.md section 1).
-constexpr double kWholeCellsTolerance = 1e-9;
-
 // The obstacles' distance transform and what follows from it, in one pass over the map
 // (ALGORITHM.md sections 1 and 8): every cell's distance to the nearest obstacle centre, the
 // inflation (free cells whose centre lies within `radius_cells` of an obstacle's: squared
-// distance dx*dx + dy*dy <= r*r in cells, r snapped to a whole number of cells when within
-// kWholeCellsTolerance of one) and the cost gradient beyond it. Linear in the cells whatever
+// distance dx*dx + dy*dy <= r*r in cells, r from metres_to_cells: snapped to a whole number of
+// cells when within 1e-9 of one) and the cost gradient beyond it. Linear in the cells whatever
 // the radii (the exact transform, 4 bytes of scratch per cell). Returns false when `cancel` was
 // raised.
 struct ObstacleDistances {
@@ -41,8 +36,6 @@ struct ObstacleDistances {
   double scaling_per_cell;  // cost_scaling_factor * resolution
 
   bool run(const std::atomic<bool>* cancel) {
-    const double nearest = std::round(radius_cells);
-    if (std::abs(radius_cells - nearest) <= kWholeCellsTolerance) radius_cells = nearest;
     // cells^2; for a whole radius both sides of the comparison below are exact integers.
     const double r2 = radius_cells * radius_cells;
     // Exact distances everywhere: every distance inside the map is below width + height.
@@ -211,8 +204,8 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
                               gradient ? &map.costs_ : nullptr,
                               map.width_,
                               map.height_,
-                              options.robot_radius / grid.resolution,
-                              options.inflation_radius / grid.resolution,
+                              metres_to_cells(options.robot_radius, grid.resolution),
+                              metres_to_cells(options.inflation_radius, grid.resolution),
                               options.cost_scaling_factor * grid.resolution};
   if (!distances.run(cancel)) return canceled();
   map.blocked_.assign(padded, 1);

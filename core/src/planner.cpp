@@ -448,12 +448,16 @@ Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query
   };
   const Point2 start_point = query.start_point.value_or(cell_centre(query.start));
   const Point2 goal_point = query.goal_point.value_or(cell_centre(query.goal));
-  const double start_tolerance_cells = options.start_tolerance / map.resolution();
-  const double goal_tolerance_cells = options.goal_tolerance / map.resolution();
+  const double start_tolerance_cells = metres_to_cells(options.start_tolerance, map.resolution());
+  const double goal_tolerance_cells = metres_to_cells(options.goal_tolerance, map.resolution());
 
   // The start: moved only out of inflation (a robot standing in an obstacle has a real problem).
   if (!map.in_bounds(query.start))
     return Status::error(StatusCode::kStartOutsideMap, outside("start", query.start));
+  // Without goal_tolerance a goal outside the map is final, and it is reported before a blocked
+  // start, in the order of sections 1-7: start outside, goal outside, start blocked, goal blocked.
+  if (!map.in_bounds(query.goal) && !(goal_tolerance_cells > 0.0))
+    return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal));
   if (map.blocked(query.start)) {
     const bool inflation = map.layer(query.start) == CellLayer::kInflated;
     const auto free =

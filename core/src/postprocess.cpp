@@ -11,6 +11,14 @@
 
 namespace vnsba::core {
 
+namespace {
+// A shortcut "costs no more" than the stretch it replaces up to rounding: a straight stretch of
+// the grid path, priced step by step, and the same stretch priced at once differ by an ulp or two,
+// and without this slack pruning would keep a turning point there (ALGORITHM.md section 8:
+// equal in exact arithmetic). Relative.
+constexpr double kCostRoundingTolerance = 1.0 + 1e-12;
+}  // namespace
+
 double segment_cost(const GridMap& map, const Point2& a, const Point2& b, double cost_weight,
                     CornerPolicy policy) {
   const double length = (b - a).norm();
@@ -44,8 +52,9 @@ std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path
                                                  cell_centre(path[k]), cost_weight, policy);
   }
   auto affordable = [&](size_t from, size_t to) {
-    return cost_to.empty() || segment_cost(map, cell_centre(path[from]), cell_centre(path[to]),
-                                           cost_weight, policy) <= cost_to[to] - cost_to[from];
+    return cost_to.empty() ||
+           segment_cost(map, cell_centre(path[from]), cell_centre(path[to]), cost_weight,
+                        policy) <= (cost_to[to] - cost_to[from]) * kCostRoundingTolerance;
   };
   size_t anchor = 0;  // index into path
   size_t i = 1;
@@ -189,7 +198,7 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
     const double after = segment_cost(map, prev, curve.front(), w, policy) +
                          path_cost(map, curve, w, policy) +
                          segment_cost(map, curve.back(), b, w, policy);
-    if (!(after <= cost_before)) return std::nullopt;
+    if (!(after <= cost_before * kCostRoundingTolerance)) return std::nullopt;
   }
   return curve;
 }

@@ -146,6 +146,15 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
     // overflow), so it is refused here.
     if (!(goal_tolerance > 0.0) || distance_to_map(*map, goal.x, goal.y) > goal_tolerance)
       return goal_outside();
+    // Within goal_tolerance of the map, but its cell index must also fit an int32: at a
+    // resolution below about 1e-7 m, 100 m are more cells than that (the cast would be undefined).
+    constexpr double kMaxCellIndex = 1e9;
+    if (!(std::abs(goal_point.x()) < kMaxCellIndex && std::abs(goal_point.y()) < kMaxCellIndex)) {
+      return fail(wire::GOAL_OUTSIDE_MAP,
+                  format_position("goal", goal.x, goal.y) + " is outside the map " +
+                      describe_world_bounds(*map) + ", more than 1e9 cells of " +
+                      short_number(map->resolution()) + " m away (beyond a cell index)");
+    }
     goal_cell = core::Cell{static_cast<int32_t>(std::floor(goal_point.x())),
                            static_cast<int32_t>(std::floor(goal_point.y()))};
   }

@@ -231,6 +231,27 @@ TEST(ResolveRequest, AGoalOutsideTheMapIsMovedOntoItWithinGoalTolerance) {
 // jps plans on uniform costs only. A request that picks it on a node configured with costs
 // plans with cost_weight 0 and a warning naming the key; every other configured option stays.
 // A corner policy jps cannot search with is still refused, before the map is looked at.
+// A goal within goal_tolerance of a map of nanometre cells can lie billions of cells away: refused
+// as outside, never cast to a cell index out of int32's range (a review finding; UBSan checks it).
+TEST(ResolveRequest, AGoalTooManyCellsAwayIsOutsideWhateverTheTolerance) {
+  node::NodeConfig cfg;
+  cfg.planner.settings.goal_tolerance = 5.0;
+  core::OccupancyGrid g;
+  g.width = 20;
+  g.height = 10;
+  g.resolution = 1e-9;
+  g.data.assign(200, 0);
+  auto built = core::GridMap::build(g);
+  ASSERT_TRUE(built) << built.error().message;
+  // 3 m: 3e9 cells, past int32's range.
+  const auto r = node::resolve_request(job("far", 5e-9, 5e-9, 3.0, 5e-9), cfg, &built.value());
+  EXPECT_EQ(node::code_name(r.status.code), "GOAL_OUTSIDE_MAP") << r.status.message;
+  EXPECT_NE(r.status.message.find("more than 1e9 cells"), std::string::npos) << r.status.message;
+  // 0.5 m (5e8 cells) is within reach: moved onto the map.
+  const auto near = node::resolve_request(job("near", 5e-9, 5e-9, 0.5, 5e-9), cfg, &built.value());
+  EXPECT_TRUE(near.status.ok()) << near.status.message;
+}
+
 TEST(ResolveRequest, JpsOnANodeWithCostsPlansOnUniformCostsWithAWarning) {
   const node::NodeConfig cfg = tolerant_config();
   ASSERT_GT(cfg.planner.options().cost_weight, 0.0);

@@ -16,14 +16,6 @@ namespace {
 
 const std::vector<std::string> kClasses = {"game", "maze", "room", "random", "street"};
 
-// The CSV header (kMovingAiCsvHeader in movingai.hpp predates the clearance column and is not
-// printed any more). clearance_m is the final path's core::Metrics::clearance_m ("inf" on a map
-// without obstacles; empty, like the other metrics of the path, when the plan failed), inserted
-// before time_us so that the time stays the last column (compare_outputs.sh drops it).
-constexpr const char* kCsvHeader =
-    "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,expanded,"
-    "clearance_m,time_us";
-
 std::string class_of_source_folder(const std::string& folder) {
   if (folder == "mazes" || folder == "maze") return "maze";
   if (folder == "rooms" || folder == "room") return "room";
@@ -165,7 +157,7 @@ int run_movingai(const MovingAiOptions& options) {
     for (const auto kind : planners)
       if (kind != core::PlannerKind::kVnsBaStar) configurations.push_back({kind, true});
 
-  if (options.csv) std::printf("%s\n", kCsvHeader);
+  if (options.csv) std::printf("%s\n", kMovingAiCsvHeader);
   std::vector<Run> runs;
   std::map<std::string, std::vector<std::string>> maps_of_class;
   size_t scenario_total = 0;

@@ -20,9 +20,13 @@ struct MovingAiOptions {
   bool with_post_processing = false;
 };
 
-// The CSV header (one row per scenario and planner follows it).
+// The CSV header (one row per scenario and planner follows it). clearance_m is the final path's
+// core::Metrics::clearance_m ("inf" on a map without obstacles; empty, like the other metrics of
+// the path, when the plan failed), before time_us so that the time stays the last column
+// (compare_outputs.sh compares every column but the last).
 constexpr const char* kMovingAiCsvHeader =
-    "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,expanded,time_us";
+    "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,expanded,"
+    "clearance_m,time_us";
 
 // The map's class from the folder's MANIFEST.tsv (its source path: dao, bg512, sc1 -> game;
 // mazes -> maze; rooms -> room; random -> random; cities, street -> street) or, without one,

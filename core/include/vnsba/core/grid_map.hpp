@@ -6,6 +6,7 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -54,6 +55,16 @@ struct GridBuildOptions {
   int64_t max_cells = int64_t{1} << 28;  // refuse larger maps (memory guard), cells, at most
                                          // kMaxCellsLimit
 };
+
+// A radius or tolerance in metres as a number of cells at `resolution` metres a cell, snapped to a
+// whole number of cells when within 1e-9 of one: 0.15 m / 0.05 m is 2.9999999999999996 in doubles
+// and means 3 cells (ALGORITHM.md section 1). The one conversion of robot_radius,
+// inflation_radius and the tolerances to cells.
+inline double metres_to_cells(double metres, double resolution) {
+  const double cells = metres / resolution;
+  const double whole = std::round(cells);
+  return std::abs(cells - whole) <= 1e-9 ? whole : cells;
+}
 
 // Checks the options alone (what a config can check before any map arrives).
 Status validate(const GridBuildOptions& options);

@@ -26,14 +26,13 @@ struct Metrics {
   double clearance_m = std::numeric_limits<double>::quiet_NaN();
 };
 
-// Samples of a polyline's clearance are at most this far apart (cells, ALGORITHM.md section 8).
-constexpr double kClearanceSampleStep = 0.1;
-
-// The smallest distance, in cells, from any point of `polyline` (continuous cell coordinates,
-// sampled at most kClearanceSampleStep apart, vertices included) to the square of an obstacle
-// cell (occupied or unknown: GridMap::obstacle_distance's cells; inflation is not an obstacle).
-// +inf when the map has no obstacle or the polyline is empty. Exact per sample: the distance
-// transform bounds which cells can be nearest, and only those are measured.
+// The smallest distance, in cells, from any point of `polyline` (continuous cell coordinates) to
+// the square of an obstacle cell (occupied or unknown: GridMap::obstacle_distance's cells;
+// inflation is not an obstacle). +inf when the map has no obstacle or the polyline is empty.
+// Exact: the distance from each segment itself, the limit of the sampling ALGORITHM.md section 8
+// allows (points at most 0.1 cell apart, which can only overstate it, by up to 0.05 cell). The
+// distance transform bounds which obstacles can be nearest, and only those are measured, about
+// once per cell of the path's length.
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
 
 constexpr double kTurnEpsilonRad = 1e-6;
