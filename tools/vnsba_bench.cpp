@@ -153,13 +153,15 @@ int main(int argc, char** argv) {
   costs_options.scene_path = VNSBA_SCENE_PATH;
   std::string costs_planner_list;
   auto* costs = app.add_subcommand(
-      "costs", "binary against cost-aware planning (config/paper.yaml against default.yaml's "
-               "robot) on the demo scene and the Moving AI maps");
+      "costs",
+      "binary against cost-aware planning (config/paper.yaml against default.yaml's "
+      "robot) on the demo scene and the Moving AI maps");
   costs->add_option("--maps", costs_options.maps_dir, "folder with the Moving AI maps")
       ->capture_default_str();
   costs->add_option("--scene", costs_options.scene_path, "the demo scene, an OctoMap .bt file")
       ->capture_default_str();
-  costs->add_option("--planners", costs_planner_list, "comma-separated planner names (default: all)");
+  costs->add_option("--planners", costs_planner_list,
+                    "comma-separated planner names (default: all)");
   costs
       ->add_option("--max-scenarios", costs_options.max_scenarios,
                    "at most N scenarios per Moving AI map, spread over the file (0: all)")

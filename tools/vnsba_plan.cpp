@@ -112,7 +112,8 @@ core::Expected<Endpoint> to_endpoint(const core::GridMap& map, const std::vector
       return core::Status::error(core::StatusCode::kInvalidRequest,
                                  option + " with --cells must be whole cell indices");
     const bool far = std::abs(xy[0]) > kFarCells || std::abs(xy[1]) > kFarCells;
-    const core::Cell c{far ? 0 : static_cast<int32_t>(xy[0]), far ? 0 : static_cast<int32_t>(xy[1])};
+    const core::Cell c{far ? 0 : static_cast<int32_t>(xy[0]),
+                       far ? 0 : static_cast<int32_t>(xy[1])};
     if (far || (!map.in_bounds(c) && !outside_ok))
       return core::Status::error(core::StatusCode::kInvalidRequest,
                                  option + " is outside the map (" + std::to_string(map.width()) +
@@ -223,18 +224,18 @@ int main(int argc, char** argv) {
       "robot radius))");
   // Costs, tolerances and poses (ALGORITHM.md section 8).
   double cost_weight = 0.0, goal_tolerance = 0.0, start_tolerance = 0.0;
-  auto* cost_weight_flag = app.add_option(
-      "--cost-weight", cost_weight,
-      "move cost = length * (1 + W * cell cost), " + core::kCostWeightRange.describe() +
-          " (default 0: the paper's binary grid)");
-  auto* goal_tolerance_flag = app.add_option(
-      "--goal-tolerance", goal_tolerance,
-      "plan to the nearest free cell within this of a blocked or outside goal, " +
-          core::kToleranceRange.describe() + " (default 0)");
-  auto* start_tolerance_flag = app.add_option(
-      "--start-tolerance", start_tolerance,
-      "move a start blocked by inflation to the nearest free cell within this, " +
-          core::kToleranceRange.describe() + " (default 0)");
+  auto* cost_weight_flag = app.add_option("--cost-weight", cost_weight,
+                                          "move cost = length * (1 + W * cell cost), " +
+                                              core::kCostWeightRange.describe() +
+                                              " (default 0: the paper's binary grid)");
+  auto* goal_tolerance_flag =
+      app.add_option("--goal-tolerance", goal_tolerance,
+                     "plan to the nearest free cell within this of a blocked or outside goal, " +
+                         core::kToleranceRange.describe() + " (default 0)");
+  auto* start_tolerance_flag =
+      app.add_option("--start-tolerance", start_tolerance,
+                     "move a start blocked by inflation to the nearest free cell within this, " +
+                         core::kToleranceRange.describe() + " (default 0)");
   std::string poses_path;
   double path_spacing = 0.0, goal_yaw = 0.0;
   app.add_option("--poses", poses_path,
@@ -242,9 +243,9 @@ int main(int argc, char** argv) {
   auto* path_spacing_flag = app.add_option(
       "--path-spacing", path_spacing,
       "--poses: poses at most this far apart, metres > 0 (default: the map's resolution)");
-  auto* goal_yaw_flag =
-      app.add_option("--goal-yaw", goal_yaw, "--poses: yaw of the last pose, radians (default: "
-                                             "the path's tangent)");
+  auto* goal_yaw_flag = app.add_option("--goal-yaw", goal_yaw,
+                                       "--poses: yaw of the last pose, radians (default: "
+                                       "the path's tangent)");
   // Planner options: each flag left out follows the planner's paper configuration.
   std::string neighborhood, corner_policy;
   bool prune = false, smooth = false;
@@ -299,8 +300,7 @@ int main(int argc, char** argv) {
   // Every new option named with its unit when its value is refused (before any map is read).
   const bool values_ok =
       check_range(cost_weight_flag, "--cost-weight", cost_weight, core::kCostWeightRange) &&
-      check_range(goal_tolerance_flag, "--goal-tolerance", goal_tolerance,
-                  core::kToleranceRange) &&
+      check_range(goal_tolerance_flag, "--goal-tolerance", goal_tolerance, core::kToleranceRange) &&
       check_range(start_tolerance_flag, "--start-tolerance", start_tolerance,
                   core::kToleranceRange) &&
       (robot_radius_flag->count() == 0 ||
@@ -319,8 +319,7 @@ int main(int argc, char** argv) {
        (std::isfinite(build.cost_scaling_factor) && build.cost_scaling_factor >= 0.0) ||
        refuse("--cost-scaling-factor", "a finite number per metre >= 0",
               build.cost_scaling_factor)) &&
-      (path_spacing_flag->count() == 0 ||
-       (std::isfinite(path_spacing) && path_spacing > 0.0) ||
+      (path_spacing_flag->count() == 0 || (std::isfinite(path_spacing) && path_spacing > 0.0) ||
        refuse("--path-spacing", "a finite number of metres > 0", path_spacing)) &&
       (goal_yaw_flag->count() == 0 || std::isfinite(goal_yaw) ||
        refuse("--goal-yaw", "a finite number of radians", goal_yaw));

@@ -427,11 +427,11 @@ int main(int argc, char** argv) {
                 tools::format_metres(status->goal_y()) +
                 " goal_moved_m=" + tools::format_metres(status->goal_moved_m());
   }
-  std::printf("%s %s %s %s %d %lld%s\n",
-              node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
-              node::code_name(status->code()).c_str(), tools::format_metres(status->length_m()).c_str(),
-              tools::format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
-              static_cast<long long>(status->planning_time_us()), adjusted.c_str());
+  std::printf(
+      "%s %s %s %s %d %lld%s\n", node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
+      node::code_name(status->code()).c_str(), tools::format_metres(status->length_m()).c_str(),
+      tools::format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
+      static_cast<long long>(status->planning_time_us()), adjusted.c_str());
   if (status->code() != node::wire::OK) {
     spdlog::warn("{}", node::printable(status->message(), 4096));
     return kOtherStatusOrBadInput;

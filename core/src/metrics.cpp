@@ -108,9 +108,8 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
     if (best > 1.0 && map.obstacle_distance(c) - kProbeReach >= best) return;
     if (candidates_of != c) {
       candidates.clear();
-      const double reach = std::isfinite(best)
-                               ? best + kProbeReach
-                               : map.obstacle_distance(c) + kSqrt2 + kProbeReach;
+      const double reach = std::isfinite(best) ? best + kProbeReach
+                                               : map.obstacle_distance(c) + kSqrt2 + kProbeReach;
       const double reach_squared = reach * reach;
       const int32_t r = static_cast<int32_t>(std::floor(reach));
       const int32_t x0 = std::max(0, c.x - r), x1 = std::min(map.width() - 1, c.x + r);

@@ -53,8 +53,8 @@ std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path
   }
   auto affordable = [&](size_t from, size_t to) {
     return cost_to.empty() ||
-           segment_cost(map, cell_centre(path[from]), cell_centre(path[to]), cost_weight,
-                        policy) <= (cost_to[to] - cost_to[from]) * kCostRoundingTolerance;
+           segment_cost(map, cell_centre(path[from]), cell_centre(path[to]), cost_weight, policy) <=
+               (cost_to[to] - cost_to[from]) * kCostRoundingTolerance;
   };
   size_t anchor = 0;  // index into path
   size_t i = 1;

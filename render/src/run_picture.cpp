@@ -24,9 +24,9 @@ std::vector<uint8_t> cost_levels_of(const core::GridMap& map) {
       if (map.blocked(c)) continue;
       const double cost = map.cost(c);
       if (cost > 0.0)
-        levels[static_cast<size_t>(y) * map.width() + x] = static_cast<uint8_t>(
-            std::clamp(std::ceil(cost * MapPicture::kCostLevels), 1.0,
-                       static_cast<double>(MapPicture::kCostLevels)));
+        levels[static_cast<size_t>(y) * map.width() + x] =
+            static_cast<uint8_t>(std::clamp(std::ceil(cost * MapPicture::kCostLevels), 1.0,
+                                            static_cast<double>(MapPicture::kCostLevels)));
     }
   }
   return levels;
@@ -284,12 +284,11 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kUnknownColour) + "\"/>"},
         {"inflated",
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kInflatedColour) + "\"/>"},
-        {"cell cost",
-         "<rect width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
-             "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel) +
-             "\"/><rect x=\"0.5\" width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
-             "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel * MapPicture::kCostLevels) +
-             "\"/>"},
+        {"cell cost", "<rect width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
+                          "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel) +
+                          "\"/><rect x=\"0.5\" width=\"0.5\" height=\"1\" fill=\"" +
+                          std::string(kCostColour) + "\" fill-opacity=\"" +
+                          std::to_string(kCostOpacityPerLevel * MapPicture::kCostLevels) + "\"/>"},
         {"forward expansions",
          "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kForwardColour) + "\"/>"},
         {"backward expansions",
@@ -385,8 +384,8 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
     for (int level = 1; level <= MapPicture::kCostLevels; ++level) {
       RunPath runs(height);
       const int64_t count = merged_runs(
-          map.width, map.height, [&](int32_t x, int32_t y) { return map.cost_level(x, y) == level; },
-          runs);
+          map.width, map.height,
+          [&](int32_t x, int32_t y) { return map.cost_level(x, y) == level; }, runs);
       svg.begin_group("map-cost-" + std::to_string(level),
                       "data-count=\"" + std::to_string(count) + "\"");
       svg.path(runs.data(), crisp + " stroke-opacity=\"" +

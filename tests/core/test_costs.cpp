@@ -67,11 +67,10 @@ struct Scenario {
   std::string describe() const {
     std::ostringstream s;
     s.precision(17);
-    s << grid.width << " x " << grid.height << " cells at " << grid.resolution
-      << " m, threshold " << options.occupied_threshold << ", allow_unknown "
-      << options.allow_unknown << ", robot_radius " << options.robot_radius
-      << ", inflation_radius " << options.inflation_radius << ", cost_scaling_factor "
-      << options.cost_scaling_factor;
+    s << grid.width << " x " << grid.height << " cells at " << grid.resolution << " m, threshold "
+      << options.occupied_threshold << ", allow_unknown " << options.allow_unknown
+      << ", robot_radius " << options.robot_radius << ", inflation_radius "
+      << options.inflation_radius << ", cost_scaling_factor " << options.cost_scaling_factor;
     return s.str();
   }
 };
@@ -146,11 +145,11 @@ struct Truth {
   int32_t width = 0, height = 0;
   double resolution = 1.0;
   std::vector<CellLayer> layer;
-  std::vector<int64_t> squared;     // cells^2 to the nearest obstacle centre; -1 without any
-  std::vector<double> cost;         // free cells (0 elsewhere)
-  std::vector<uint8_t> ambiguous;   // centre exactly on the inflation_radius: either cost is right
-  std::vector<Cell> obstacles;      // occupied and unknown cells
-  bool graded = false;              // some value 0 < v < threshold
+  std::vector<int64_t> squared;    // cells^2 to the nearest obstacle centre; -1 without any
+  std::vector<double> cost;        // free cells (0 elsewhere)
+  std::vector<uint8_t> ambiguous;  // centre exactly on the inflation_radius: either cost is right
+  std::vector<Cell> obstacles;     // occupied and unknown cells
+  bool graded = false;             // some value 0 < v < threshold
 
   size_t index(int32_t x, int32_t y) const { return static_cast<size_t>(y) * width + x; }
   bool free(int64_t x, int64_t y) const {
@@ -253,7 +252,8 @@ double oracle_segment_cost(const GridMap& map, const Point2& a, const Point2& b,
 double oracle_path_cost(const GridMap& map, const std::vector<Cell>& path, double w) {
   double total = 0.0;
   for (size_t i = 1; i < path.size(); ++i)
-    total += oracle_segment_cost(map, core::cell_centre(path[i - 1]), core::cell_centre(path[i]), w);
+    total +=
+        oracle_segment_cost(map, core::cell_centre(path[i - 1]), core::cell_centre(path[i]), w);
   return total;
 }
 
@@ -293,8 +293,8 @@ std::vector<double> dijkstra_from(const GridMap& map, Cell s, CornerPolicy polic
 // A raw grid path that starts at s, ends at g and moves only through free cells: with
 // max_step 1 along the 8-neighbour moves that `policy` allows, with 2 along steps of Chebyshev
 // length 1 or 2 with exact line of sight (the 8-11-13 moves).
-::testing::AssertionResult valid_raw_path(const GridMap& map, const std::vector<Cell>& path,
-                                          Cell s, Cell g, CornerPolicy policy, int max_step) {
+::testing::AssertionResult valid_raw_path(const GridMap& map, const std::vector<Cell>& path, Cell s,
+                                          Cell g, CornerPolicy policy, int max_step) {
   if (path.empty()) return ::testing::AssertionFailure() << "empty path";
   if (path.front() != s) return ::testing::AssertionFailure() << "does not begin at the start";
   if (path.back() != g) return ::testing::AssertionFailure() << "does not end at the goal";
@@ -313,8 +313,8 @@ std::vector<double> dijkstra_from(const GridMap& map, Cell s, CornerPolicy polic
       return ::testing::AssertionFailure() << "step " << i << " " << str(p) << " -> " << str(c)
                                            << " passes a corner the policy forbids";
     if (!reference_los_centres(map, p, c, policy))
-      return ::testing::AssertionFailure() << "step " << i << " " << str(p) << " -> " << str(c)
-                                           << " lacks line of sight";
+      return ::testing::AssertionFailure()
+             << "step " << i << " " << str(p) << " -> " << str(c) << " lacks line of sight";
   }
   return ::testing::AssertionSuccess();
 }
@@ -423,9 +423,8 @@ TEST(CostsCellCosts, EveryFreeCellMatchesBruteForce) {
           ++ambiguous;
           continue;
         }
-        ASSERT_NEAR(got, t.cost[i], 1e-6)
-            << "cell " << str(c) << " value " << int{s.grid.at(x, y)} << " squared distance "
-            << t.squared[i];
+        ASSERT_NEAR(got, t.cost[i], 1e-6) << "cell " << str(c) << " value " << int{s.grid.at(x, y)}
+                                          << " squared distance " << t.squared[i];
         const int v = s.grid.at(x, y);
         if (v > 0 && v < s.options.occupied_threshold) ++graded_cells;
         if (t.cost[i] > 0.0 && !(v > 0 && v < s.options.occupied_threshold)) ++gradient_cells;
@@ -830,8 +829,7 @@ TEST(CostsWeightZero, EqualsThePlanOnTheMapWithoutCosts) {
           o.corner_policy = kind == PlannerKind::kJps ? CornerPolicy::kNever : policy;
           if (post) o.prune = o.smooth = true;
           SCOPED_TRACE(std::string(core::to_string(kind)) + (post ? " with" : " without") +
-                       " post-processing, start " + str(query.start) + " goal " +
-                       str(query.goal));
+                       " post-processing, start " + str(query.start) + " goal " + str(query.goal));
           const PlanResult a = planner_with.plan(query, o);
           const PlanResult b = planner_without.plan(query, o);
           expect_same_plan(a, b);
@@ -987,7 +985,7 @@ TEST(ClearancePolylines, WithinHalfASampleOfTheBruteForceOnRandomPolylines) {
       const int n = uniform_int(rng, 1, 8);
       for (int i = 0; i < n; ++i) {
         Point2 p(uniform(rng, 0.0, t.width), uniform(rng, 0.0, t.height));
-        if (rng() % 6 == 0) p = p.array().round().matrix();        // lattice points, map edges included
+        if (rng() % 6 == 0) p = p.array().round().matrix();  // lattice points, map edges included
         if (rng() % 6 == 0) p = (p.array().floor() + 0.5).matrix();  // centres
         polyline.push_back(p);
       }
@@ -1017,8 +1015,8 @@ TEST(ClearanceCorridor, RisesWithCostWeight) {
   }
   // Pillars on the centre line, which the start and goal share, and two near the walls: the
   // shortest path brushes the central pillars, a weighted one keeps away from them.
-  for (const Cell& p :
-       std::vector<Cell>{{20, 10}, {21, 10}, {20, 11}, {40, 9}, {40, 10}, {41, 10}, {30, 4}, {30, 16}})
+  for (const Cell& p : std::vector<Cell>{
+           {20, 10}, {21, 10}, {20, 11}, {40, 9}, {40, 10}, {41, 10}, {30, 4}, {30, 16}})
     set(p.x, p.y, 100);
   GridBuildOptions build;
   build.robot_radius = 0.15;
@@ -1094,7 +1092,8 @@ TEST(ToleranceGoal, BlockedGoalMovesToTheNearestFreeCell) {
     if (free.empty() || blocked.empty()) continue;
     // Occupied goals first, as a robot's goal on a wall.
     const auto occupied = cells_where(t, [](CellLayer l) { return l == CellLayer::kOccupied; });
-    const Cell goal = !occupied.empty() && rng() % 3 != 0 ? pick(rng, occupied) : pick(rng, blocked);
+    const Cell goal =
+        !occupied.empty() && rng() % 3 != 0 ? pick(rng, occupied) : pick(rng, blocked);
     occupied_goals += t.layer[t.index(goal.x, goal.y)] == CellLayer::kOccupied;
     const Point2 goal_point = point_in(rng, goal);
     const Cell start = pick(rng, free);
@@ -1116,8 +1115,8 @@ TEST(ToleranceGoal, BlockedGoalMovesToTheNearestFreeCell) {
     }
     ++moved;
     ASSERT_TRUE(endpoints) << endpoints.error().message;
-    ASSERT_EQ(endpoints->goal, *expected.cell) << "got " << str(endpoints->goal) << ", expected "
-                                               << str(*expected.cell);
+    ASSERT_EQ(endpoints->goal, *expected.cell)
+        << "got " << str(endpoints->goal) << ", expected " << str(*expected.cell);
     ASSERT_EQ(map->layer(endpoints->goal), CellLayer::kFree);
     ASSERT_TRUE(endpoints->goal_adjusted);
     const double moved_m = std::sqrt(expected.squared) * s.grid.resolution;
@@ -1156,8 +1155,8 @@ TEST(ToleranceGoal, BlockedGoalWithoutToleranceNamesTheLayer) {
     if (free.empty() || blocked.empty()) continue;
     const Cell goal = pick(rng, blocked);
     const CellLayer layer = t.layer[t.index(goal.x, goal.y)];
-    const auto endpoints = core::resolve_endpoints(
-        *map, {pick(rng, free), goal}, core::default_options(PlannerKind::kAStar));
+    const auto endpoints = core::resolve_endpoints(*map, {pick(rng, free), goal},
+                                                   core::default_options(PlannerKind::kAStar));
     ASSERT_FALSE(endpoints);
     ASSERT_EQ(endpoints.error().code, StatusCode::kGoalOccupied);
     const std::string& m = endpoints.error().message;

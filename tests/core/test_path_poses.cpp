@@ -177,7 +177,8 @@ TEST(PathPoses, PlannedPathsOnRandomMapsKeepEveryInvariant) {
   std::uniform_real_distribution<double> yaw(-kPi, kPi);
   int paths = 0;
   for (int m = 0; m < 60; ++m) {
-    auto built = GridMap::from_rows(test::random_rows(rng, side(rng), side(rng), density(rng)), 0.05);
+    auto built =
+        GridMap::from_rows(test::random_rows(rng, side(rng), side(rng), density(rng)), 0.05);
     ASSERT_TRUE(built);
     auto map = std::make_shared<const GridMap>(std::move(built).value());
     const auto cells = test::free_cells(*map);

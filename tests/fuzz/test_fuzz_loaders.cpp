@@ -1834,12 +1834,40 @@ TEST_F(FuzzLoaders, Config) {
   const auto good = seeds_from(good_files), bad = seeds_from(bad_files);
   ASSERT_GE(bad.size(), 5u);
   expect_seeds(good, bad, dir_, "input.yaml", check_config);
-  const std::vector<std::string> words = {
-      "domain_id", "topics", "map",       "planner", "requests",   "debug",   "slicer",
-      "name",      "omega",  "true",      "no",      "~",          "null",    "!!str",
-      "&a",        "*a",     "<<",        "---",     "...",        "- ",      "? ",
-      "|",         ">",      "%YAML 1.2", "\t",      "vns_bastar", "8-11-13", "always",
-      "jps",       "cost_weight", "inflation_radius", "goal_tolerance", "path_spacing", "1e309"};
+  const std::vector<std::string> words = {"domain_id",
+                                          "topics",
+                                          "map",
+                                          "planner",
+                                          "requests",
+                                          "debug",
+                                          "slicer",
+                                          "name",
+                                          "omega",
+                                          "true",
+                                          "no",
+                                          "~",
+                                          "null",
+                                          "!!str",
+                                          "&a",
+                                          "*a",
+                                          "<<",
+                                          "---",
+                                          "...",
+                                          "- ",
+                                          "? ",
+                                          "|",
+                                          ">",
+                                          "%YAML 1.2",
+                                          "\t",
+                                          "vns_bastar",
+                                          "8-11-13",
+                                          "always",
+                                          "jps",
+                                          "cost_weight",
+                                          "inflation_radius",
+                                          "goal_tolerance",
+                                          "path_spacing",
+                                          "1e309"};
   run("config", Syntax::kYaml, words, single_file(good, "input.yaml", bad),
       on_first_file(check_config));
 }

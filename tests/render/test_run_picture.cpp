@@ -275,7 +275,7 @@ TEST(RunPicture, CellCostsAreDrawnInBandsUnderTheMap) {
   grid.height = 9;
   grid.data.assign(16 * 9, 0);
   for (int y = 0; y < 9; ++y) grid.data[y * 16 + 3] = 100;  // a wall at x = 3
-  grid.data[4 * 16 + 12] = 40;                             // a graded cost of 0.4
+  grid.data[4 * 16 + 12] = 40;                              // a graded cost of 0.4
   core::GridBuildOptions options;
   options.robot_radius = 1.0;
   options.inflation_radius = 6.0;
@@ -317,8 +317,8 @@ TEST(RunPicture, CellCostsAreDrawnInBandsUnderTheMap) {
   ASSERT_TRUE(binary);
   ASSERT_FALSE(binary->has_costs());
   render::RunPicture plain;
-  plain.map = std::make_shared<const render::MapPicture>(
-      render::map_picture(grid, 65, &binary.value()));
+  plain.map =
+      std::make_shared<const render::MapPicture>(render::map_picture(grid, 65, &binary.value()));
   const std::string svg = render::render_svg(plain);
   EXPECT_EQ(svg.find("map-cost-"), std::string::npos);
   EXPECT_EQ(svg.find("cell cost"), std::string::npos);

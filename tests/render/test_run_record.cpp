@@ -279,7 +279,7 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
   grid.data = {0, 0, 100, 0, 0, 0, 0, 0};
   ASSERT_TRUE(core::save_map_server(grid, (dir / "maps" / "m").string()));
   RunRecord base = full_record();
-  base.map->robot_radius = 0.5;  // one cell: the obstacle's neighbours are drawn inflated
+  base.map->robot_radius = 0.5;      // one cell: the obstacle's neighbours are drawn inflated
   base.map->inflation_radius = 1.5;  // and the cells beyond them carry costs
   struct Case {
     const char* pointer;
@@ -295,7 +295,7 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
       {"/map/robot_radius", -1, "map: robot_radius"},
       {"/map/robot_radius", nullptr, "map: robot_radius"},  // NaN
       {"/map/inflation_radius", -1, "map: inflation_radius"},
-      {"/map/inflation_radius", 0.25, "map: inflation_radius"},  // below robot_radius
+      {"/map/inflation_radius", 0.25, "map: inflation_radius"},           // below robot_radius
       {"/map/cost_scaling_factor", nullptr, "map: cost_scaling_factor"},  // NaN
       {"/debug/resolution", -1, "debug: resolution must be finite and > 0"},
       {"/debug/resolution", nullptr, "debug: resolution must be finite and > 0"},
@@ -322,7 +322,8 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
       // And its cost gradient: the free cells 1-1.5 m from the obstacle.
       int64_t costly = 0;
       for (int level = 1; level <= 4; ++level)
-        costly += data_count(find_id(doc.RootElement(), ("map-cost-" + std::to_string(level)).c_str()));
+        costly +=
+            data_count(find_id(doc.RootElement(), ("map-cost-" + std::to_string(level)).c_str()));
       EXPECT_GT(costly, 0);
     }
     for (const Case& c : cases) {

@@ -98,8 +98,7 @@ struct SceneResult {
   std::string text;
 };
 
-SceneResult run_scene(const CostsOptions& options,
-                      const std::vector<core::PlannerKind>& planners) {
+SceneResult run_scene(const CostsOptions& options, const std::vector<core::PlannerKind>& planners) {
   SceneResult out;
   auto tree = core::load_octree(options.scene_path);
   if (!tree) {
@@ -233,8 +232,8 @@ MovingAiResult run_maps(const CostsOptions& options,
       out.ok = false;
       return out;
     }
-    const std::string map_class = movingai_map_class(
-        options.maps_dir, std::filesystem::path(path).filename().string());
+    const std::string map_class =
+        movingai_map_class(options.maps_dir, std::filesystem::path(path).filename().string());
     core::OccupancyGrid grid = loaded->grid;
     grid.resolution = kMovingAiResolution;
     std::vector<core::Planner> planner_of;
@@ -279,8 +278,8 @@ MovingAiResult run_maps(const CostsOptions& options,
         }
       }
     }
-    std::fprintf(stderr, "%s (%s): %zu scenarios x %zu planners x 2 sides\n",
-                 loaded->name.c_str(), map_class.c_str(), picked.size(), planners.size());
+    std::fprintf(stderr, "%s (%s): %zu scenarios x %zu planners x 2 sides\n", loaded->name.c_str(),
+                 map_class.c_str(), picked.size(), planners.size());
   }
 
   MarkdownTable table({"class", "planner", "length ratio mean (max)", "clearance binary (cells)",
@@ -293,15 +292,14 @@ MovingAiResult run_maps(const CostsOptions& options,
     for (const core::PlannerKind kind : planners) {
       const ClassSample& s = by_planner.at(kind);
       if (s.failures > 0) disagreements = true;
-      table.add_row({map_class, planner_label(kind),
-                     format(mean(s.length_ratio), 3) + " (" + format(max_of(s.length_ratio), 3) +
-                         ")",
-                     format(mean(s.clearance[kBinary]), 2), format(mean(s.clearance[kCostAware]), 2),
-                     format(mean(s.turns[kBinary]), 1), format(mean(s.turns[kCostAware]), 1),
-                     format(median(s.time_us[kBinary]), 1),
-                     format(median(s.time_us[kCostAware]), 1),
-                     format(sum_of(s.time_us[kCostAware]) / sum_of(s.time_us[kBinary]), 2),
-                     format(sum_of(s.expanded[kCostAware]) / sum_of(s.expanded[kBinary]), 2)});
+      table.add_row(
+          {map_class, planner_label(kind),
+           format(mean(s.length_ratio), 3) + " (" + format(max_of(s.length_ratio), 3) + ")",
+           format(mean(s.clearance[kBinary]), 2), format(mean(s.clearance[kCostAware]), 2),
+           format(mean(s.turns[kBinary]), 1), format(mean(s.turns[kCostAware]), 1),
+           format(median(s.time_us[kBinary]), 1), format(median(s.time_us[kCostAware]), 1),
+           format(sum_of(s.time_us[kCostAware]) / sum_of(s.time_us[kBinary]), 2),
+           format(sum_of(s.expanded[kCostAware]) / sum_of(s.expanded[kBinary]), 2)});
       if (kind == core::PlannerKind::kAStar) {
         for (int side : {kBinary, kCostAware}) {
           astar_time[side].insert(astar_time[side].end(), s.time_us[side].begin(),

@@ -201,11 +201,10 @@ int run_movingai(const MovingAiOptions& options) {
         if (options.csv) {
           const std::string status(core::to_string(timed.result.status.code));
           if (run.ok)
-            std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.4f,%.3f\n",
-                        loaded->name.c_str(), s.line, planner_name.c_str(), status.c_str(),
-                        s.optimal_length, m.raw_cost_cells, m.length_cells, m.turns,
-                        m.turn_angle_deg, static_cast<long long>(m.expanded), m.clearance_m,
-                        timed.time_us);
+            std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.4f,%.3f\n", loaded->name.c_str(),
+                        s.line, planner_name.c_str(), status.c_str(), s.optimal_length,
+                        m.raw_cost_cells, m.length_cells, m.turns, m.turn_angle_deg,
+                        static_cast<long long>(m.expanded), m.clearance_m, timed.time_us);
           else
             std::printf("%s,%d,%s,%s,%.8f,,,,,%lld,,%.3f\n", loaded->name.c_str(), s.line,
                         planner_name.c_str(), status.c_str(), s.optimal_length,
@@ -265,8 +264,7 @@ int run_movingai(const MovingAiOptions& options) {
                " %",
            format(mean(ratio), 4), format(mean(raw), 4), format(mean(turns), 1),
            format(mean(angle), 0), format(mean(clearance), 2), format(mean(expanded), 0),
-           format(median(time), 0),
-           format(percentile(time, 95), 0)});
+           format(median(time), 0), format(percentile(time, 95), 0)});
     }
     md += table.str() + "\n";
   }

@@ -97,9 +97,10 @@ std::string safe_file_stem(const std::string& request_id);
 
 // Checks the geometry a record carries before it is drawn, with core::validate: the map
 // reference's (map.width, map.height, map.resolution, map.origin, map.occupied_threshold,
-// map.robot_radius, map.inflation_radius, map.cost_scaling_factor; with `grid`, the map file's cells in that geometry) and the debug data's
-// (debug.width, ...), whose cells (debug.expanded_forward[i], ...) must lie in its grid. At most
-// `max_cells` cells per grid. The error (kInvalidMap) names the JSON field.
+// map.robot_radius, map.inflation_radius, map.cost_scaling_factor; with `grid`, the map file's
+// cells in that geometry) and the debug data's (debug.width, ...), whose cells
+// (debug.expanded_forward[i], ...) must lie in its grid. At most `max_cells` cells per grid. The
+// error (kInvalidMap) names the JSON field.
 core::Status check_record(const RunRecord& record, const core::OccupancyGrid* grid,
                           int64_t max_cells = core::GridBuildOptions{}.max_cells);
 

@@ -38,9 +38,12 @@ struct PlanQuery {
   // std::optional<Eigen::Vector2d> argument as maybe-uninitialized (a false positive that
   // -Werror turns into a build failure).
   PlanQuery(const Cell& start_cell, const Cell& goal_cell) : start(start_cell), goal(goal_cell) {}
-  PlanQuery(const Cell& start_cell, const Cell& goal_cell, const std::optional<Point2>& start_position,
-            const std::optional<Point2>& goal_position)
-      : start(start_cell), goal(goal_cell), start_point(start_position), goal_point(goal_position) {}
+  PlanQuery(const Cell& start_cell, const Cell& goal_cell,
+            const std::optional<Point2>& start_position, const std::optional<Point2>& goal_position)
+      : start(start_cell),
+        goal(goal_cell),
+        start_point(start_position),
+        goal_point(goal_position) {}
 
   Cell start;  // may lie outside the map (refused, or moved by start_tolerance; see below)
   Cell goal;   // likewise, with goal_tolerance
