@@ -98,7 +98,7 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
   const bool inflation = map.build_options().robot_radius > 0.0;
   std::vector<Cell> candidates;
   std::optional<Cell> candidates_of;
-  std::vector<Cell> measured, measured_before;  // this probe's and the previous probe's
+  std::vector<Cell> measured_before;  // the previous probe's candidates, on this segment
   auto probe = [&](const Point2& p, const Point2& a, const Point2& b) {
     const Cell c{std::clamp(static_cast<int32_t>(std::floor(p.x())), 0, map.width() - 1),
                  std::clamp(static_cast<int32_t>(std::floor(p.y())), 0, map.height() - 1)};
@@ -119,8 +119,7 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
         for (int32_t word = x0 >> 6; word <= x1 >> 6; ++word) {
           const int32_t from = std::max(x0, word << 6) & 63;
           const int32_t to = std::min(x1, (word << 6) + 63) & 63;
-          uint64_t bits = line[word] & (to == 63 ? ~uint64_t{0} : (uint64_t{1} << (to + 1)) - 1) &
-                          ~((uint64_t{1} << from) - 1);
+          uint64_t bits = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
           while (bits != 0) {
             const int32_t x = (word << 6) + __builtin_ctzll(bits);
             bits &= bits - 1;
@@ -135,9 +134,7 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
     }
     const Point2 ab = b - a;
     const double length_squared = ab.squaredNorm();
-    measured.clear();
     for (const Cell& o : candidates) {
-      measured.push_back(o);
       // Neighbouring probes of a segment share most candidates: each is measured once.
       if (std::find(measured_before.begin(), measured_before.end(), o) != measured_before.end())
         continue;
@@ -148,7 +145,7 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
       if ((a + t * ab - centre).squaredNorm() >= bound * bound) continue;
       best = std::min(best, segment_square_distance(a, b, o.x, o.y));
     }
-    measured_before.swap(measured);
+    measured_before = candidates;
   };
   // Collinear runs (a grid path's straight moves) are measured as one segment.
   std::vector<Point2> vertices;

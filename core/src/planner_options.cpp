@@ -76,6 +76,12 @@ bool supports_costs(PlannerKind kind) {
   return kind != PlannerKind::kJps;
 }
 
+bool drop_unsupported_costs(PlannerOptions& options) {
+  if (supports_costs(options.planner) || !(options.cost_weight > 0.0)) return false;
+  options.cost_weight = 0.0;
+  return true;
+}
+
 PlannerOptions default_options(PlannerKind kind) {
   PlannerOptions options;
   options.planner = kind;

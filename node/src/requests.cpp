@@ -101,13 +101,12 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   // A request that picks it on a node configured with costs asked for the shortest path, fast:
   // it gets that, and the status says the costs were not applied. (A config that names jps
   // itself must set cost_weight 0: there the two keys contradict each other.)
-  if (!core::supports_costs(out.options.planner) && out.options.cost_weight > 0.0) {
+  if (const double configured = out.options.cost_weight;
+      core::drop_unsupported_costs(out.options)) {
     out.warning = "warning: " + out.planner_name +
-                  " plans on uniform cell costs: planner.cost_weight " +
-                  short_number(out.options.cost_weight) +
+                  " plans on uniform cell costs: planner.cost_weight " + short_number(configured) +
                   " not applied (this is the shortest path, not the cheapest: astar plans the "
                   "cheapest)";
-    out.options.cost_weight = 0.0;
   }
   // The configuration is valid for its own planner (checked at load); a request's planner may
   // not accept it (jps with a corner_policy it cannot search with).

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "bench/common.hpp"
@@ -229,6 +230,38 @@ TEST(VnsbaBench, CostsComparesBothSidesOnTheSceneAndTheMaps) {
     EXPECT_NE(message.find(bad[4]), std::string::npos) << message;
   }
   fs::remove_all(dir);
+}
+
+// `costs` measures the demo's routes: every goal of tools/demo.sh expected OK is one of its
+// routes, and every route is such a goal (read from the script's goals=( ... ) lines).
+TEST(VnsbaBench, CostsRoutesAreTheDemosOkGoals) {
+  std::ifstream script(VNSBA_DEMO_SCRIPT);
+  ASSERT_TRUE(script) << VNSBA_DEMO_SCRIPT;
+  std::string line;
+  bool in_goals = false;
+  std::set<std::string> demo_routes, bench_routes;
+  auto key = [](double sx, double sy, double gx, double gy) {
+    std::ostringstream out;
+    out << sx << " " << sy << " " << gx << " " << gy;
+    return out.str();
+  };
+  while (std::getline(script, line)) {
+    if (line.rfind("goals=(", 0) == 0) {
+      in_goals = true;
+      continue;
+    }
+    if (!in_goals) continue;
+    if (line == ")") break;
+    std::istringstream fields(line.substr(line.find('"') + 1));
+    std::string id, planner, status;
+    double sx, sy, gx, gy;
+    ASSERT_TRUE(fields >> id >> planner >> sx >> sy >> gx >> gy >> status) << line;
+    if (status.rfind("OK", 0) == 0) demo_routes.insert(key(sx, sy, gx, gy));
+  }
+  ASSERT_GE(demo_routes.size(), 3u);
+  for (const vnsba::bench::Route& r : vnsba::bench::kDemoRoutes)
+    bench_routes.insert(key(r.start_x, r.start_y, r.goal_x, r.goal_y));
+  EXPECT_EQ(bench_routes, demo_routes);
 }
 
 TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {

@@ -521,8 +521,9 @@ TEST(CostsOptimality, CostAwareAStarIsNeverDearerThanBinaryUnderTheCostModel) {
     const auto cells = free_cells(*map);
     if (cells.size() < 2) continue;
     core::Planner planner(map);
+    // Every pairing of corner policy and weight.
     const CornerPolicy policy = kAllCornerPolicies[trial % 3];
-    const double w = std::vector<double>{0.5, 2.0, 10.0}[trial % 3];
+    const double w = std::vector<double>{0.5, 2.0, 10.0}[(trial / 3) % 3];
     for (int q = 0; q < 4; ++q) {
       const Cell start = pick(rng, cells), goal = pick(rng, cells);
       SCOPED_TRACE("weight " + std::to_string(w) + " start " + str(start) + " goal " + str(goal));
@@ -602,6 +603,21 @@ TEST(CostsOptimality, OtherPlannersReturnValidPathsWithCosts) {
   }
   EXPECT_GT(checked, 2000);
   EXPECT_GT(long_moves, 300);
+}
+
+// The one rule for a cost_weight configured for every planner: dropped (and reported) only for a
+// planner that plans on uniform costs.
+TEST(CostsOptimality, OnlyUniformCostPlannersDropACostWeight) {
+  for (PlannerKind kind : core::all_planner_kinds()) {
+    SCOPED_TRACE(std::string(core::to_string(kind)));
+    PlannerOptions o = core::default_options(kind);
+    o.cost_weight = 2.0;
+    EXPECT_EQ(core::drop_unsupported_costs(o), !core::supports_costs(kind));
+    EXPECT_EQ(o.cost_weight, core::supports_costs(kind) ? 2.0 : 0.0);
+    EXPECT_TRUE(core::validate(o).is_ok()) << core::validate(o).message;
+    o.cost_weight = 0.0;
+    EXPECT_FALSE(core::drop_unsupported_costs(o));
+  }
 }
 
 TEST(CostsOptimality, JpsRefusesCostWeight) {

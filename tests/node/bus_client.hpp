@@ -136,11 +136,13 @@ class BusClient {
                                       .value(),
                                   node::reader_qos(TopicQos::kStatus), &statuses)
                          .value();
-    participant_
-        ->reader(participant_->topic<nav_msgs::msg::dds_::Path_PubSubType>(name(cfg.topics.plan))
-                     .value(),
-                 node::reader_qos(TopicQos::kLatest), &paths)
-        .value();
+    path_reader_ =
+        participant_
+            ->reader(
+                participant_->topic<nav_msgs::msg::dds_::Path_PubSubType>(name(cfg.topics.plan))
+                    .value(),
+                node::reader_qos(TopicQos::kLatest), &paths)
+            .value();
     if (subscribe_debug_) {
       debug_reader_ = participant_
                           ->reader(participant_
@@ -163,9 +165,12 @@ class BusClient {
       // plan sent before that match would have none.
       node::dds::SubscriptionMatchedStatus debug_sub;
       if (debug_reader_ != nullptr) debug_reader_->get_subscription_matched_status(debug_sub);
+      // The path reader too: `plan` is volatile, so a path published before that match is lost.
+      node::dds::SubscriptionMatchedStatus path_sub;
+      path_reader_->get_subscription_matched_status(path_sub);
       if (node::matched_readers(request_) > 0 && node::matched_readers(goal_) > 0 &&
           node::matched_readers(robot_pose_) > 0 && sub.current_count > 0 &&
-          (debug_reader_ == nullptr || debug_sub.current_count > 0)) {
+          path_sub.current_count > 0 && (debug_reader_ == nullptr || debug_sub.current_count > 0)) {
         return true;
       }
       std::this_thread::sleep_for(10ms);
@@ -272,6 +277,7 @@ class BusClient {
   node::dds::DataWriter* goal_ = nullptr;
   node::dds::DataWriter* robot_pose_ = nullptr;
   node::dds::DataReader* status_reader_ = nullptr;
+  node::dds::DataReader* path_reader_ = nullptr;
   node::dds::DataReader* debug_reader_ = nullptr;
 };
 

@@ -18,18 +18,6 @@ namespace vnsba::bench {
 
 namespace {
 
-// The demo's routes that end OK (tools/demo.sh runs office_route with three planners; here every
-// route runs with every planner). Metres, in the frame of the scene.
-struct Route {
-  const char* name;
-  double start_x, start_y, goal_x, goal_y;
-};
-constexpr Route kDemoRoutes[] = {
-    {"corridor", -6.0, 0.5, 27.0, -0.5},
-    {"office_route", 2.0, -6.0, 16.0, -6.5},
-    {"hall_to_corridor", 16.0, -6.5, -6.0, 0.0},
-};
-
 // The two sides of every comparison.
 enum Side { kBinary = 0, kCostAware = 1 };
 constexpr const char* kSideName[] = {"binary", "cost-aware"};
@@ -49,7 +37,7 @@ struct Outcome {
 // tolerances), and is named so in the tables.
 core::PlannerOptions side_options(core::PlannerKind kind, const RobotSettings& robot) {
   core::PlannerOptions options = core::make_options(kind, planner_settings(robot));
-  if (!core::supports_costs(kind)) options.cost_weight = 0.0;
+  core::drop_unsupported_costs(options);
   return options;
 }
 

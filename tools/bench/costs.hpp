@@ -32,6 +32,18 @@ inline constexpr RobotSettings kDefaultYamlRobot{0.15, 0.55, 3.0, 2.0, 0.25, 0.2
 inline constexpr double kDemoSliceZMin = 0.1;  // metres
 inline constexpr double kDemoSliceZMax = 1.5;  // metres
 
+// The demo's routes that end OK (tools/demo.sh runs office_route with three planners; here every
+// route runs with every planner). Metres, in the scene's frame. A test keeps them tools/demo.sh's.
+struct Route {
+  const char* name;
+  double start_x, start_y, goal_x, goal_y;
+};
+inline constexpr Route kDemoRoutes[] = {
+    {"corridor", -6.0, 0.5, 27.0, -0.5},
+    {"office_route", 2.0, -6.0, 16.0, -6.5},
+    {"hall_to_corridor", 16.0, -6.5, -6.0, 0.0},
+};
+
 // Moving AI maps carry no scale; they are read at this many metres a cell (an office slice's), so
 // that the robot's metres mean a number of cells (inflation_radius 0.55 m = 11 cells).
 inline constexpr double kMovingAiResolution = 0.05;

@@ -111,6 +111,12 @@ PlannerOptions default_options(PlannerKind kind);
 // Checks ranges and finiteness; the message names the option at fault.
 Status validate(const PlannerOptions& options);
 
+// A cost_weight configured for every planner, applied to one that plans on uniform costs only:
+// sets it to 0 and returns true (the caller says so), false when nothing changed. How the node
+// plans a request that picks jps on a node with costs, and how the benchmarks run jps beside the
+// cost-aware planners.
+bool drop_unsupported_costs(PlannerOptions& options);
+
 // What a user configured, field by field: every PlannerOptions field except the planner itself,
 // unset (std::nullopt) where the user left it to the planner's paper configuration. Units and
 // ranges as in PlannerOptions; make_options does not check them (validate() and Planner::plan
