@@ -246,6 +246,7 @@ void PlannerNode::Impl::stop() {
   if (map_thread_.joinable()) map_thread_.join();
   if (participant_) participant_->shutdown();
   participant_.reset();
+  plan_writer_ = status_writer_ = debug_writer_ = nullptr;  // deleted with the participant
   listeners_.clear();
 }
 
@@ -562,6 +563,9 @@ PlannerNode::Stats PlannerNode::stats() const {
   s.plans_ok = impl_->plans_ok_;
   s.queue_peak = impl_->queue_peak_;
   s.other_status_writers = impl_->other_nodes_ ? impl_->other_nodes_->count() : 0;
+  s.plan_readers = impl_->plan_writer_ != nullptr
+                       ? static_cast<size_t>(matched_readers(impl_->plan_writer_))
+                       : 0;
   return s;
 }
 

@@ -72,7 +72,17 @@ struct Running {
   bool start() {
     const core::Status s = node.start();
     EXPECT_TRUE(s.is_ok()) << s.message;
-    return s.is_ok() && client.wait_for_node();
+    return s.is_ok() && client.wait_for_node() && wait_for_plan_reader();
+  }
+  // Matching is not symmetric: our path reader may have matched the node's writer before that
+  // writer has matched our reader, and a path written in between is lost (`plan` is volatile).
+  bool wait_for_plan_reader() {
+    const auto end = std::chrono::steady_clock::now() + 10s;
+    while (node.stats().plan_readers == 0) {
+      if (std::chrono::steady_clock::now() > end) return false;
+      std::this_thread::sleep_for(10ms);
+    }
+    return true;
   }
 };
 

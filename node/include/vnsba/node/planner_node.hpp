@@ -50,6 +50,9 @@ class PlannerNode {
     size_t queue_peak = 0;  // most requests ever waiting at once
     // Other participants seen writing plan_status (another node on the same domain and topics).
     size_t other_status_writers = 0;
+    // Readers matched by the `plan` writer. `plan` is volatile: a path written before a reader
+    // is matched never reaches it, so a client that needs the path waits for this.
+    size_t plan_readers = 0;
   };
   Stats stats() const;
 
