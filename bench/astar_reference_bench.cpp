@@ -22,12 +22,13 @@
 #include <vector>
 
 #include "scenario_maps.hpp"
-#include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace {
 
 using namespace vnsba::core;
+using namespace vnsba::maps;
 
 constexpr size_t kScenariosPerMap = 100;
 const char* const kBenchMaps[] = {"random512-20-0", "16room_000", "maze512-4-0", "ost100d",

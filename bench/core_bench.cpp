@@ -36,12 +36,13 @@
 #include "bench/large.hpp"
 #include "scenario_maps.hpp"
 #include "vnsba/core/line_of_sight.hpp"
-#include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace {
 
 using namespace vnsba::core;
+using namespace vnsba::maps;
 
 constexpr size_t kScenariosPerMap = 64;
 const char* const kBenchMaps[] = {"random512-20-0", "16room_000", "maze512-4-0", "ost100d"};

@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "vnsba/core/octomap_slice.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 
 namespace {
 
-using vnsba::core::SliceOptions;
+using vnsba::maps::SliceOptions;
 
 struct Case {
   std::string name;
@@ -53,7 +53,7 @@ double count_leaves_in_band(const octomap::OcTree& tree, double z_min, double z_
 void run_slice(benchmark::State& state, const Case* c) {
   int64_t cells = 0;
   for (auto _ : state) {
-    auto grid = vnsba::core::slice_octree(*c->tree, c->options);
+    auto grid = vnsba::maps::slice_octree(*c->tree, c->options);
     if (!grid) {
       state.SkipWithError(grid.error().message.c_str());
       return;
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "skipping %s: OctoMap data not found at %s\n", file, dir.c_str());
       continue;
     }
-    auto tree = vnsba::core::load_octree(path);
+    auto tree = vnsba::maps::load_octree(path);
     if (!tree) {
       std::fprintf(stderr, "skipping %s: %s\n", file, tree.error().message.c_str());
       continue;

@@ -8,14 +8,14 @@
 #include <vector>
 
 #include "vnsba/core/grid_map.hpp"
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace vnsba::bench {
 
 struct ScenarioMap {
   std::string name;
   std::shared_ptr<const core::GridMap> map;
-  std::vector<core::MovingAiScenario> scenarios;
+  std::vector<maps::MovingAiScenario> scenarios;
 };
 
 // `dir`/`name`.map and its .scen file, or nothing (with the reason on stderr: a benchmark skips
@@ -23,8 +23,8 @@ struct ScenarioMap {
 inline std::optional<ScenarioMap> load_scenario_map(const std::string& dir,
                                                     const std::string& name) {
   const std::string path = dir + "/" + name + ".map";
-  auto grid = core::load_movingai_map(path);
-  auto scenarios = core::load_movingai_scenarios(path + ".scen");
+  auto grid = maps::load_movingai_map(path);
+  auto scenarios = maps::load_movingai_scenarios(path + ".scen");
   if (!grid || !scenarios) {
     std::fprintf(stderr, "skipping %s: %s\n", name.c_str(),
                  (!grid ? grid.error() : scenarios.error()).message.c_str());

@@ -28,8 +28,8 @@
 #include "bench/movingai.hpp"
 #include "bench/paper.hpp"
 #include "bench/sweep.hpp"
-#include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace {
 

@@ -43,14 +43,14 @@
 #include <string>
 #include <vector>
 
-#include "text_format.hpp"
-#include "vnsba/core/map_io.hpp"
-#include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/core/planner_options.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/render/run_picture.hpp"
 #include "vnsba/render/svg.hpp"
+#include "vnsba/render/text_format.hpp"
 
 namespace {
 
@@ -69,9 +69,9 @@ bool has_suffix(const std::string& text, const std::string& suffix) {
 
 // Loads any supported map file as an occupancy grid; the error names the file.
 core::Expected<core::OccupancyGrid> load_map(const std::string& path,
-                                             const core::SliceOptions& slice) {
-  if (has_suffix(path, ".map")) return core::load_movingai_map(path);
-  if (has_suffix(path, ".yaml") || has_suffix(path, ".yml")) return core::load_map_server(path);
+                                             const maps::SliceOptions& slice) {
+  if (has_suffix(path, ".map")) return maps::load_movingai_map(path);
+  if (has_suffix(path, ".yaml") || has_suffix(path, ".yml")) return maps::load_map_server(path);
   if (has_suffix(path, ".pgm")) {
     // The map_server convention: the metadata lives in a YAML file beside the image.
     const std::string yaml = path.substr(0, path.size() - 4) + ".yaml";
@@ -79,12 +79,12 @@ core::Expected<core::OccupancyGrid> load_map(const std::string& path,
       return core::Status::error(
           core::StatusCode::kInvalidMap,
           path + ": a .pgm needs its map_server .yaml beside it (" + yaml + " is missing)");
-    return core::load_map_server(yaml);
+    return maps::load_map_server(yaml);
   }
   if (has_suffix(path, ".bt") || has_suffix(path, ".ot")) {
-    auto tree = core::load_octree(path);
+    auto tree = maps::load_octree(path);
     if (!tree) return tree.error();
-    auto grid = core::slice_octree(**tree, slice);
+    auto grid = maps::slice_octree(**tree, slice);
     if (!grid) return core::Status::error(grid.error().code, path + ": " + grid.error().message);
     return grid;
   }
@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
   std::string planner_name = "vns_bastar";
   std::string svg_path;
   bool cells = false;
-  core::SliceOptions slice;
+  maps::SliceOptions slice;
   slice.names = {"--z-min", "--z-max", "--resolution", "--bounds", "vnsba_plan's limit"};
   std::vector<double> bounds;
   core::GridBuildOptions build;
@@ -341,7 +341,7 @@ int main(int argc, char** argv) {
                    option->get_name().c_str(), map_path.c_str());
       return kBadInput;
     }
-  if (!bounds.empty()) slice.bounds = core::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
+  if (!bounds.empty()) slice.bounds = maps::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
   auto grid = load_map(map_path, slice);
   if (!grid) {
     std::fprintf(stderr, "%s\n", grid.error().message.c_str());
@@ -372,7 +372,7 @@ int main(int argc, char** argv) {
       "time_us=%lld",
       std::string(core::to_string(result.planner)).c_str(),
       std::string(core::to_string(result.status.code)).c_str(), m.length_m,
-      tools::format_metres(m.clearance_m).c_str(), m.turns, m.turn_angle_deg,
+      render::format_metres(m.clearance_m).c_str(), m.turns, m.turn_angle_deg,
       static_cast<long long>(m.expanded), static_cast<long long>(m.planning_time_us));
   if (std::isfinite(m.length_ratio)) std::printf(" length_ratio=%.4f", m.length_ratio);
   if (result.endpoints.start_adjusted)

@@ -38,13 +38,13 @@
 #include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "nav_msgs/msg/PathPubSubTypes.h"
-#include "recorder/open_runs.hpp"
-#include "recorder/run_record.hpp"
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/process.hpp"
+#include "vnsba/records/open_runs.hpp"
+#include "vnsba/records/run_record.hpp"
 #include "vnsba/render/svg.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
@@ -130,7 +130,7 @@ struct StoredMap {
   std::string file;  // relative to the output folder once saved
 };
 
-using tools::OpenRun;
+using records::OpenRun;
 
 std::string megabytes(uint64_t bytes) {
   return fmt::format("{:.3g} MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
@@ -169,7 +169,7 @@ class Recorder {
 
   // What was dropped to stay within the memory limits, for the summary at exit.
   std::string dropped_summary() const {
-    const tools::DropTotals& d = runs_.dropped();
+    const records::DropTotals& d = runs_.dropped();
     if (d.runs == 0 && d.debug == 0) return "nothing dropped";
     return fmt::format(
         "dropped to stay within {} open runs and --max-open-mb ({}): {} whole run(s) and the "
@@ -180,7 +180,7 @@ class Recorder {
  private:
   // Changes the open run of `id` (opened if new) and logs what the memory limits dropped.
   void update_run(const std::string& id, const std::function<void(OpenRun&)>& change) {
-    for (const tools::DroppedPart& part : runs_.update(id, change)) {
+    for (const records::DroppedPart& part : runs_.update(id, change)) {
       spdlog::warn("{}: dropped {} of run '{}' ({} bytes){}", part.reason,
                    part.whole_run ? "everything heard" : "the debug data", part.request_id,
                    part.bytes,
@@ -211,7 +211,7 @@ class Recorder {
       spdlog::warn("a plan_request without an id cannot be paired with its status; not recorded");
       return;
     }
-    tools::RequestRecord request;
+    records::RequestRecord request;
     request.source = "plan_request";
     request.planner = msg.planner();
     request.start = node::position_of(msg.start());
@@ -220,7 +220,7 @@ class Recorder {
   }
 
   void on(GoalEvent&& e) {
-    tools::RequestRecord request;
+    records::RequestRecord request;
     request.source = "goal_pose";
     request.goal = node::position_of(e.goal);
     request.start = robot_pose_;
@@ -257,7 +257,7 @@ class Recorder {
   }
 
   void set_status(OpenRun& run, const node::PlanStatusMsg& msg) {
-    tools::StatusRecord status;
+    records::StatusRecord status;
     status.code = msg.code();
     status.code_name = msg.code_name();
     status.message = msg.message();
@@ -283,7 +283,7 @@ class Recorder {
 
   // The slice a run was planned on: the one whose stamp the status names, else the newest one
   // with the debug data's geometry, else the newest one.
-  StoredMap* map_of(const tools::RunRecord& r) {
+  StoredMap* map_of(const records::RunRecord& r) {
     if (maps_.empty()) return nullptr;
     if (r.status)
       for (auto it = maps_.rbegin(); it != maps_.rend(); ++it)
@@ -298,12 +298,12 @@ class Recorder {
                : nullptr;
   }
 
-  bool write_run(tools::RunRecord& record) {
+  bool write_run(records::RunRecord& record) {
     try {
       StoredMap* map = map_of(record);
       if (map != nullptr) {
         if (map->file.empty()) save_map(*map);
-        tools::MapReference ref;
+        records::MapReference ref;
         ref.file = map->file;
         ref.frame_id = config_.frame_id;
         ref.stamp_sec = map->stamp_sec;
@@ -321,14 +321,14 @@ class Recorder {
         record.map = ref;
       }
       // What the bus brought is recorded as it came; what cannot be drawn is said.
-      if (const core::Status checked = tools::check_record(record, map ? &map->grid : nullptr);
+      if (const core::Status checked = records::check_record(record, map ? &map->grid : nullptr);
           !checked.is_ok())
         spdlog::warn("run '{}': {}; its picture leaves out what does not fit", record.request_id,
                      checked.message);
-      const std::string stem = tools::safe_file_stem(record.request_id);
+      const std::string stem = records::safe_file_stem(record.request_id);
       const std::string svg =
-          render::render_svg(tools::picture_of(record, map ? &map->grid : nullptr));
-      if (!write_file(stem + ".json", tools::to_json(record).dump(1)) ||
+          render::render_svg(records::picture_of(record, map ? &map->grid : nullptr));
+      if (!write_file(stem + ".json", records::to_json(record).dump(1)) ||
           !write_file(stem + ".svg", svg))
         return false;
       ++runs_written_;
@@ -347,7 +347,7 @@ class Recorder {
         "map_" + std::to_string(map.stamp_sec) + "_" + std::to_string(map.stamp_nanosec);
     std::error_code ec;
     std::filesystem::create_directories(out_dir_ / "maps", ec);
-    auto saved = core::save_map_server(map.grid, (out_dir_ / "maps" / stem).string(),
+    auto saved = maps::save_map_server(map.grid, (out_dir_ / "maps" / stem).string(),
                                        config_.map.occupied_threshold);
     if (!saved) {
       spdlog::error("could not save the slice: {}", saved.error().message);
@@ -374,16 +374,16 @@ class Recorder {
   node::NodeConfig config_;
   std::filesystem::path out_dir_;
   std::chrono::milliseconds debug_wait_;
-  tools::OpenRuns runs_;
+  records::OpenRuns runs_;
   std::deque<StoredMap> maps_;
-  std::deque<tools::RequestRecord> goals_;
+  std::deque<records::RequestRecord> goals_;
   std::optional<Eigen::Vector2d> robot_pose_;
   std::vector<Eigen::Vector2d> last_plan_;
   size_t runs_written_ = 0;
 };
 
 int render_command(const std::string& json_path, std::string svg_path) {
-  auto svg = tools::render_record_file(json_path);
+  auto svg = records::render_record_file(json_path);
   if (!svg) {
     spdlog::error("{}", svg.error().message);
     return kBadInput;

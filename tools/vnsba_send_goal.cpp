@@ -44,13 +44,13 @@
 #include <thread>
 #include <vector>
 
-#include "text_format.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/process.hpp"
 #include "vnsba/node/requests.hpp"
+#include "vnsba/render/text_format.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 
@@ -418,19 +418,19 @@ int main(int argc, char** argv) {
   }
   std::string adjusted;
   if (status->start_adjusted()) {
-    adjusted += " start_used=" + tools::format_metres(status->start_x()) + "," +
-                tools::format_metres(status->start_y()) +
-                " start_moved_m=" + tools::format_metres(status->start_moved_m());
+    adjusted += " start_used=" + render::format_metres(status->start_x()) + "," +
+                render::format_metres(status->start_y()) +
+                " start_moved_m=" + render::format_metres(status->start_moved_m());
   }
   if (status->goal_adjusted()) {
-    adjusted += " goal_used=" + tools::format_metres(status->goal_x()) + "," +
-                tools::format_metres(status->goal_y()) +
-                " goal_moved_m=" + tools::format_metres(status->goal_moved_m());
+    adjusted += " goal_used=" + render::format_metres(status->goal_x()) + "," +
+                render::format_metres(status->goal_y()) +
+                " goal_moved_m=" + render::format_metres(status->goal_moved_m());
   }
   std::printf(
       "%s %s %s %s %d %lld%s\n", node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
-      node::code_name(status->code()).c_str(), tools::format_metres(status->length_m()).c_str(),
-      tools::format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
+      node::code_name(status->code()).c_str(), render::format_metres(status->length_m()).c_str(),
+      render::format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
       static_cast<long long>(status->planning_time_us()), adjusted.c_str());
   if (status->code() != node::wire::OK) {
     spdlog::warn("{}", node::printable(status->message(), 4096));

@@ -25,8 +25,8 @@
 
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "octomap_msgs/msg/OctomapPubSubTypes.h"
-#include "vnsba/core/map_io.hpp"
-#include "vnsba/core/octomap_slice.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -78,17 +78,17 @@ std::filesystem::file_time_type modified(const std::string& path) {
 
 // Slicing errors start with what was sliced (the file, or "the received octomap").
 core::Expected<core::OccupancyGrid> slice_tree(const octomap::OcTree& tree,
-                                               const core::SliceOptions& options,
+                                               const maps::SliceOptions& options,
                                                const std::string& source) {
-  auto sliced = core::slice_octree(tree, options);
+  auto sliced = maps::slice_octree(tree, options);
   if (!sliced)
     return core::Status::error(sliced.error().code, source + ": " + sliced.error().message);
   return sliced;
 }
 
 core::Expected<core::OccupancyGrid> slice_file(const std::string& path,
-                                               const core::SliceOptions& options) {
-  auto tree = core::load_octree(path);
+                                               const maps::SliceOptions& options) {
+  auto tree = maps::load_octree(path);
   if (!tree) return tree.error();
   return slice_tree(**tree, options, path);
 }
@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
   if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
 
-  core::SliceOptions options;
+  maps::SliceOptions options;
   options.z_min = z_min.value_or(config.slicer.z_min);
   options.z_max = z_max.value_or(config.slicer.z_max);
   options.resolution = resolution.value_or(config.slicer.resolution);
@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
   options.names.bounds = "--bounds";
   options.names.max_cells = "map.max_cells" + in_config;
   if (!bounds.empty())
-    options.bounds = core::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
+    options.bounds = maps::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
 
   // File mode: slice once (errors are final), write it if asked.
   std::optional<core::OccupancyGrid> slice;
@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
     log_slice(*slice, input);
     if (!out.empty()) {
       const std::string stem = std::filesystem::path(out).replace_extension().string();
-      auto written = core::save_map_server(*slice, stem, config.map.occupied_threshold);
+      auto written = maps::save_map_server(*slice, stem, config.map.occupied_threshold);
       if (!written) {
         spdlog::error("{}", written.error().message);
         return kBadInput;

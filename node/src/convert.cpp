@@ -243,7 +243,7 @@ TreeCheck from_octomap_msg(const OctomapMsg& msg) {
                        "are supported, as on octomap_server's octomap_binary");
     return out;
   }
-  auto tree = core::octree_from_binary_data(msg.data(), msg.resolution(), msg.id());
+  auto tree = maps::octree_from_binary_data(msg.data(), msg.resolution(), msg.id());
   if (!tree) {
     out.status = error(wire::INVALID_MAP, "octomap: " + tree.error().message);
     return out;
@@ -260,7 +260,7 @@ OctomapMsg to_octomap_msg(const octomap::OcTree& tree, const std::string& frame,
   msg.binary(true);
   msg.id("OcTree");
   msg.resolution(tree.getResolution());
-  msg.data(core::octree_to_binary_data(tree));
+  msg.data(maps::octree_to_binary_data(tree));
   return msg;
 }
 

@@ -16,7 +16,7 @@
 #include "bench/paper.hpp"
 #include "bench/sweep.hpp"
 #include "node/child_process.hpp"
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -271,9 +271,9 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   const std::string dir = fresh_folder("movingai");
   fs::copy_file(source, dir + "/arena.map");
   fs::copy_file(source + ".scen", dir + "/arena.map.scen");
-  const auto scenarios = core::load_movingai_scenarios(dir + "/arena.map.scen");
+  const auto scenarios = maps::load_movingai_scenarios(dir + "/arena.map.scen");
   ASSERT_TRUE(scenarios);
-  std::map<int, core::MovingAiScenario> by_line;
+  std::map<int, maps::MovingAiScenario> by_line;
   for (const auto& s : *scenarios) by_line[s.line] = s;
 
   const auto [code, output] =

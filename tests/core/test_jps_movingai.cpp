@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/test_support.hpp"
-#include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -50,9 +50,9 @@ void check_movingai_scenarios(size_t every) {
   for (const std::string& map_file : maps) {
     const std::string scen_file = map_file + ".scen";
     if (!std::filesystem::exists(scen_file)) continue;
-    auto grid = core::load_movingai_map(map_file);
+    auto grid = maps::load_movingai_map(map_file);
     ASSERT_TRUE(grid) << grid.error().message;
-    auto scenarios = core::load_movingai_scenarios(scen_file);
+    auto scenarios = maps::load_movingai_scenarios(scen_file);
     ASSERT_TRUE(scenarios) << scenarios.error().message;
     auto built = GridMap::build(*grid);
     ASSERT_TRUE(built) << built.error().message;

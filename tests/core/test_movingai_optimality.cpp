@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include "core/test_support.hpp"
-#include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -25,9 +25,9 @@ TEST(MovingAiOptimality, AStarMatchesPublishedOptima) {
   size_t checked = 0, maps = 0;
   for (const char* name : kMaps) {
     const std::string map_file = dir + "/" + name + ".map";
-    auto grid = core::load_movingai_map(map_file);
+    auto grid = maps::load_movingai_map(map_file);
     ASSERT_TRUE(grid) << grid.error().message;
-    auto scenarios = core::load_movingai_scenarios(map_file + ".scen");
+    auto scenarios = maps::load_movingai_scenarios(map_file + ".scen");
     ASSERT_TRUE(scenarios) << scenarios.error().message;
     auto built = GridMap::build(*grid);
     ASSERT_TRUE(built) << built.error().message;

@@ -20,6 +20,7 @@
 #include <sys/resource.h>
 #include <tinyxml2.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <charconv>
@@ -42,16 +43,12 @@
 #include <vector>
 
 #include "fuzz/mutator.hpp"
-#include "recorder/run_record.hpp"
 #include "vnsba/core/grid_map.hpp"
-#include "vnsba/core/map_io.hpp"
-#include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/planner.hpp"
-#if VNSBA_FUZZ_CONFIG  // the config loader is in the node library (not in core-only builds)
-#include <yaml-cpp/yaml.h>
-
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/node/config.hpp"
-#endif
+#include "vnsba/records/run_record.hpp"
 
 // A loader that allocates without bound on some input (yaml-cpp 0.7's LoadAll does on a
 // document that starts with ',') must fail this test, not take the machine's memory with it:
@@ -308,7 +305,7 @@ std::optional<double> printed_unit(const std::string& token) {
   return unit;
 }
 
-std::optional<std::vector<core::MovingAiScenario>> read_movingai_scenarios(const std::string& text,
+std::optional<std::vector<maps::MovingAiScenario>> read_movingai_scenarios(const std::string& text,
                                                                            std::string* why) {
   const std::vector<std::string> lines = text_lines(text);
   auto fail = [&](const std::string& w) {
@@ -320,7 +317,7 @@ std::optional<std::vector<core::MovingAiScenario>> read_movingai_scenarios(const
   if (header.size() != 2 || header[0] != "version" || (header[1] != "1" && header[1] != "1.0")) {
     return fail("version line");
   }
-  std::vector<core::MovingAiScenario> out;
+  std::vector<maps::MovingAiScenario> out;
   for (size_t i = 1; i < lines.size(); ++i) {
     const auto cols = words(lines[i]);
     if (cols.empty()) continue;
@@ -340,7 +337,7 @@ std::optional<std::vector<core::MovingAiScenario>> read_movingai_scenarios(const
     if (!length || !std::isfinite(*length) || *length < 0.0) return fail("optimal length");
     const auto unit = printed_unit(cols[8]);
     if (!unit) return fail("optimal length printed beyond a double's range of precision");
-    core::MovingAiScenario s;
+    maps::MovingAiScenario s;
     s.bucket = static_cast<int>(v[0]);
     s.map_name = cols[1];
     s.map_width = static_cast<int>(v[2]);
@@ -637,7 +634,7 @@ std::string grid_difference(const OccupancyGrid& got, const OccupancyGrid& want)
 
 Outcome check_movingai_map(const fs::path& file) {
   Outcome out;
-  const auto grid = core::load_movingai_map(file.string());
+  const auto grid = maps::load_movingai_map(file.string());
   std::string why;
   const auto expected = read_movingai_map(read_bytes(file), &why);
   if (!grid) {
@@ -659,7 +656,7 @@ Outcome check_movingai_map(const fs::path& file) {
 
 Outcome check_movingai_scenarios(const fs::path& file) {
   Outcome out;
-  const auto scenarios = core::load_movingai_scenarios(file.string());
+  const auto scenarios = maps::load_movingai_scenarios(file.string());
   std::string why;
   const auto expected = read_movingai_scenarios(read_bytes(file), &why);
   if (!scenarios) {
@@ -708,7 +705,7 @@ Outcome check_movingai_scenarios(const fs::path& file) {
 
 Outcome check_map_server(const fs::path& yaml) {
   Outcome out;
-  const auto grid = core::load_map_server(yaml.string());
+  const auto grid = maps::load_map_server(yaml.string());
   if (!grid) {
     check_error_message(grid.error().message, yaml.string(), &out.problems);
     return out;
@@ -741,13 +738,13 @@ Outcome check_map_server(const fs::path& yaml) {
 void check_tree(const octomap::OcTree& tree, std::vector<std::string>* p) {
   const double res = tree.getResolution();
   if (!std::isfinite(res) || !(res > 0.0)) p->push_back("tree resolution not finite > 0");
-  core::SliceOptions band;
+  maps::SliceOptions band;
   band.max_cells = int64_t{1} << 22;  // bounds the time of a slice of a corrupt tree's far leaf
-  core::SliceOptions everything = band;
+  maps::SliceOptions everything = band;
   everything.z_min = -1e9;
   everything.z_max = 1e9;
-  for (const core::SliceOptions& o : {band, everything}) {
-    const auto slice = core::slice_octree(tree, o);
+  for (const maps::SliceOptions& o : {band, everything}) {
+    const auto slice = maps::slice_octree(tree, o);
     if (!slice) {
       check_error_message(slice.error().message, "", p);
       if (slice.error().code == core::StatusCode::kInternalError) {
@@ -773,7 +770,7 @@ void check_tree(const octomap::OcTree& tree, std::vector<std::string>* p) {
 
 Outcome check_octree_file(const fs::path& file) {
   Outcome out;
-  const auto tree = core::load_octree(file.string());
+  const auto tree = maps::load_octree(file.string());
   if (!tree) {
     check_error_message(tree.error().message, file.string(), &out.problems);
     return out;
@@ -808,7 +805,7 @@ Outcome check_octree_data(const fs::path& dir) {
   std::getline(params, id);
   const double res = strict_double(res_text).value_or(std::nan(""));
   const std::vector<int8_t> data(bytes.begin(), bytes.end());
-  const auto tree = core::octree_from_binary_data(data, res, id);
+  const auto tree = maps::octree_from_binary_data(data, res, id);
   if (!tree) {
     check_error_message(tree.error().message, "OctoMap message data", &out.problems);
     return out;
@@ -833,7 +830,7 @@ Outcome check_octree_data(const fs::path& dir) {
 }
 
 // A run record read back: documented ranges, and to_json -> from_json -> to_json is stable.
-void check_loaded_record(const tools::RunRecord& r, std::vector<std::string>* p) {
+void check_loaded_record(const records::RunRecord& r, std::vector<std::string>* p) {
   if (r.status) {
     const auto& s = *r.status;
     if (s.code < 0 || s.code > 255) p->push_back("status.code out of 0..255");
@@ -847,11 +844,11 @@ void check_loaded_record(const tools::RunRecord& r, std::vector<std::string>* p)
     if (!std::isfinite(r.map->robot_radius)) p->push_back("map.robot_radius not finite");
   }
   if (r.debug && (r.debug->width < 0 || r.debug->height < 0)) p->push_back("negative debug size");
-  const nlohmann::json once = tools::to_json(r);
-  const auto again = tools::run_record_from_json(once);
+  const nlohmann::json once = records::to_json(r);
+  const auto again = records::run_record_from_json(once);
   if (!again) {
     p->push_back("to_json of a loaded record does not read back: " + again.error().message);
-  } else if (tools::to_json(*again) != once) {
+  } else if (records::to_json(*again) != once) {
     p->push_back("to_json -> run_record_from_json -> to_json changed the record");
   }
 }
@@ -860,7 +857,7 @@ Outcome check_record_json(const fs::path& file) {
   Outcome out;
   const nlohmann::json j = nlohmann::json::parse(read_bytes(file), nullptr, false);
   if (j.is_discarded()) return out;  // not JSON: nlohmann's job, not the record reader's
-  const auto record = tools::run_record_from_json(j);
+  const auto record = records::run_record_from_json(j);
   if (!record) {
     check_error_message(record.error().message, "", &out.problems);
     return out;
@@ -896,7 +893,7 @@ bool bad_number_attribute(const tinyxml2::XMLElement* e, std::string* where) {
 
 Outcome check_record_file(const fs::path& file) {
   Outcome out;
-  const auto svg = tools::render_record_file(file.string());
+  const auto svg = records::render_record_file(file.string());
   if (!svg) {
     check_error_message(svg.error().message, file.string(), &out.problems);
     return out;
@@ -918,7 +915,6 @@ Outcome check_record_file(const fs::path& file) {
   return out;
 }
 
-#if VNSBA_FUZZ_CONFIG
 // The value of `key` in a YAML map, or an undefined node (never the invalid node that indexing
 // a scalar or a null gives, which throws on every use).
 YAML::Node child(const YAML::Node& map, const std::string& key) {
@@ -1133,7 +1129,6 @@ Outcome check_config(const fs::path& file) {
   }
   return out;
 }
-#endif  // VNSBA_FUZZ_CONFIG
 
 // ---------------------------------------------------------------------------------------------
 // Seeds
@@ -1238,7 +1233,7 @@ std::vector<Seed> tree_files(const std::string& name, const octomap::OcTree& tre
 }
 
 std::shared_ptr<octomap::OcTree> load_tree_or_null(const fs::path& file) {
-  auto tree = core::load_octree(file.string());
+  auto tree = maps::load_octree(file.string());
   return tree ? *tree : nullptr;
 }
 
@@ -1510,7 +1505,7 @@ std::vector<MapServerSeed> map_server_seeds(const fs::path& scratch) {
   // map_saver's output (save_map_server) of the rooms fixture and of a slice of the embedded
   // scene, and the latter's image under the other modes.
   std::vector<std::pair<std::string, OccupancyGrid>> grids;
-  if (auto rooms = core::load_movingai_map(fixture("maps/rooms_32.map").string())) {
+  if (auto rooms = maps::load_movingai_map(fixture("maps/rooms_32.map").string())) {
     rooms->resolution = 0.05;
     rooms->origin_x = -1.6;
     rooms->origin_y = 3.25;
@@ -1518,10 +1513,10 @@ std::vector<MapServerSeed> map_server_seeds(const fs::path& scratch) {
   }
   for (const auto& [name, tree] : project_trees()) {
     if (name != "geb079 crop") continue;
-    if (auto slice = core::slice_octree(*tree, {})) grids.emplace_back("geb079_slice", *slice);
+    if (auto slice = maps::slice_octree(*tree, {})) grids.emplace_back("geb079_slice", *slice);
   }
   for (const auto& [stem, grid] : grids) {
-    const auto saved = core::save_map_server(grid, (scratch / stem).string());
+    const auto saved = maps::save_map_server(grid, (scratch / stem).string());
     if (!saved) continue;
     const std::string yaml = read_bytes(*saved);
     const std::string pgm = read_bytes(scratch / (stem + ".pgm"));
@@ -1637,7 +1632,7 @@ TEST_F(FuzzLoaders, OctoMapMessageData) {
   // The data of the project's trees as binaryMapToMsg would send it.
   std::vector<Seed> good;
   for (const auto& [name, tree] : project_trees()) {
-    const auto data = core::octree_to_binary_data(*tree);
+    const auto data = maps::octree_to_binary_data(*tree);
     // Data and resolution in one seed, split again below.
     good.push_back({name + " data", std::string(data.begin(), data.end()) + "\n" +
                                         std::to_string(tree->getResolution())});
@@ -1676,9 +1671,9 @@ TEST_F(FuzzLoaders, OctoMapMessageData) {
 
 // Records as the recorder writes them: a real VNS-BA* run on the rooms fixture (debug data and
 // all), a run that failed, and one that never got a status.
-std::vector<tools::RunRecord> record_seeds() {
-  std::vector<tools::RunRecord> out;
-  auto grid = core::load_movingai_map(fixture("maps/rooms_32.map").string());
+std::vector<records::RunRecord> record_seeds() {
+  std::vector<records::RunRecord> out;
+  auto grid = maps::load_movingai_map(fixture("maps/rooms_32.map").string());
   if (!grid) return out;
   grid->resolution = 0.25;
   grid->origin_x = -2.0;
@@ -1699,7 +1694,7 @@ std::vector<tools::RunRecord> record_seeds() {
   if (grid->at(goal.x, goal.y) != 0) return out;
   const core::PlanResult r = core::plan_once(shared, {start, goal}, options);
 
-  tools::MapReference ref;
+  records::MapReference ref;
   ref.file = "maps/rooms.yaml";
   ref.frame_id = "map";
   ref.stamp_sec = 1700000000;
@@ -1715,10 +1710,10 @@ std::vector<tools::RunRecord> record_seeds() {
                                grid->resolution);
   };
 
-  tools::RunRecord run;
+  records::RunRecord run;
   run.request_id = "send_goal-4182-1795331597879";
-  run.request = tools::RequestRecord{"plan_request", "", to_world(start), to_world(goal)};
-  tools::StatusRecord st;
+  run.request = records::RequestRecord{"plan_request", "", to_world(start), to_world(goal)};
+  records::StatusRecord st;
   st.code = static_cast<int>(r.status.code);
   st.code_name = std::string(core::to_string(r.status.code));
   st.message = r.status.message;
@@ -1728,7 +1723,7 @@ std::vector<tools::RunRecord> record_seeds() {
   st.map_stamp_nanosec = ref.stamp_nanosec;
   run.status = st;
   run.path = r.world_path;
-  tools::DebugRecord d;
+  records::DebugRecord d;
   d.planner = "vns_bastar";
   d.width = grid->width;
   d.height = grid->height;
@@ -1747,7 +1742,7 @@ std::vector<tools::RunRecord> record_seeds() {
   run.map = ref;
   out.push_back(run);
 
-  tools::RunRecord failed = run;
+  records::RunRecord failed = run;
   failed.request_id = "into wall/2";
   failed.status->code = static_cast<int>(core::StatusCode::kGoalOccupied);
   failed.status->code_name = "GOAL_OCCUPIED";
@@ -1757,10 +1752,10 @@ std::vector<tools::RunRecord> record_seeds() {
   failed.debug.reset();
   out.push_back(failed);
 
-  tools::RunRecord no_status;
+  records::RunRecord no_status;
   no_status.request_id = "lost";
   no_status.request =
-      tools::RequestRecord{"goal_pose", "astar", Eigen::Vector2d(1, 2), std::nullopt};
+      records::RequestRecord{"goal_pose", "astar", Eigen::Vector2d(1, 2), std::nullopt};
   out.push_back(no_status);
   return out;
 }
@@ -1774,8 +1769,8 @@ std::vector<Seed> record_json_seeds() {
   int i = 0;
   for (const auto& r : record_seeds()) {
     // Both layouts the recorder might produce: compact and indented.
-    out.push_back({"record " + std::to_string(i), tools::to_json(r).dump()});
-    out.push_back({"record " + std::to_string(i++) + " indented", tools::to_json(r).dump(2)});
+    out.push_back({"record " + std::to_string(i), records::to_json(r).dump()});
+    out.push_back({"record " + std::to_string(i++) + " indented", records::to_json(r).dump(2)});
   }
   return out;
 }
@@ -1793,13 +1788,13 @@ TEST_F(FuzzLoaders, RunRecordFile) {
   ASSERT_EQ(good.size(), 6u);
   // The map the records reference, as the recorder saves it (maps/rooms.yaml + .pgm), beside
   // every input unchanged (the map_server test fuzzes such files) so a saved input replays.
-  auto grid = core::load_movingai_map(fixture("maps/rooms_32.map").string());
+  auto grid = maps::load_movingai_map(fixture("maps/rooms_32.map").string());
   ASSERT_TRUE(grid);
   grid->resolution = 0.25;
   grid->origin_x = -2.0;
   grid->origin_y = 1.5;
   fs::create_directories(dir_ / "maps");
-  const auto yaml = core::save_map_server(*grid, (dir_ / "maps" / "rooms").string());
+  const auto yaml = maps::save_map_server(*grid, (dir_ / "maps" / "rooms").string());
   ASSERT_TRUE(yaml) << yaml.error().message;
   const std::vector<std::pair<std::string, std::string>> map_files = {
       {"maps/rooms.yaml", read_bytes(dir_ / "maps" / "rooms.yaml")},
@@ -1819,7 +1814,6 @@ TEST_F(FuzzLoaders, RunRecordFile) {
 // ---------------------------------------------------------------------------------------------
 // Config
 
-#if VNSBA_FUZZ_CONFIG
 TEST_F(FuzzLoaders, Config) {
   std::vector<fs::path> good_files = {config_dir() / "default.yaml"};
   for (const char* f : {"custom.yaml", "empty.yaml", "comments_only.yaml"}) {
@@ -1871,7 +1865,6 @@ TEST_F(FuzzLoaders, Config) {
   run("config", Syntax::kYaml, words, single_file(good, "input.yaml", bad),
       on_first_file(check_config));
 }
-#endif  // VNSBA_FUZZ_CONFIG
 
 // ---------------------------------------------------------------------------------------------
 // The mutator itself
@@ -1925,16 +1918,15 @@ struct Replay {
 
 const std::vector<Replay>& replays() {
   static const std::vector<Replay> table = {
-    {"movingai_map", [](const fs::path& d) { return check_movingai_map(d / "input.map"); }},
-    {"movingai_scen", [](const fs::path& d) { return check_movingai_scenarios(d / "input.scen"); }},
-    {"map_server", [](const fs::path& d) { return check_map_server(d / "input.yaml"); }},
-    {"octomap_file", [](const fs::path& d) { return check_octree_file(d / "input.bt"); }},
-    {"octomap_data", [](const fs::path& d) { return check_octree_data(d); }},
-    {"run_record_json", [](const fs::path& d) { return check_record_json(d / "input.json"); }},
-    {"run_record_file", [](const fs::path& d) { return check_record_file(d / "input.json"); }},
-#if VNSBA_FUZZ_CONFIG
-    {"config", [](const fs::path& d) { return check_config(d / "input.yaml"); }},
-#endif
+      {"movingai_map", [](const fs::path& d) { return check_movingai_map(d / "input.map"); }},
+      {"movingai_scen",
+       [](const fs::path& d) { return check_movingai_scenarios(d / "input.scen"); }},
+      {"map_server", [](const fs::path& d) { return check_map_server(d / "input.yaml"); }},
+      {"octomap_file", [](const fs::path& d) { return check_octree_file(d / "input.bt"); }},
+      {"octomap_data", [](const fs::path& d) { return check_octree_data(d); }},
+      {"run_record_json", [](const fs::path& d) { return check_record_json(d / "input.json"); }},
+      {"run_record_file", [](const fs::path& d) { return check_record_file(d / "input.json"); }},
+      {"config", [](const fs::path& d) { return check_config(d / "input.yaml"); }},
   };
   return table;
 }
@@ -1966,7 +1958,7 @@ INSTANTIATE_TEST_SUITE_P(Loaders, FuzzRegression, ::testing::Range<size_t>(0, re
 // The map_io.cpp fixes behind the regression inputs above, with the values they must give.
 
 TEST(MapIoFuzzFixes, OptimumInExponentFormIsPrintedToItsExponent) {
-  const auto s = core::load_movingai_scenarios(
+  const auto s = maps::load_movingai_scenarios(
       (fixture("fuzz") / "movingai_scen" / "optimum_exponent" / "input.scen").string());
   ASSERT_TRUE(s) << s.error().message;
   ASSERT_EQ(s->size(), 2u);
@@ -1978,7 +1970,7 @@ TEST(MapIoFuzzFixes, OptimumInExponentFormIsPrintedToItsExponent) {
 
 TEST(MapIoFuzzFixes, OptimumPrintedBeyondADoublesPrecisionIsRefused) {
   const fs::path file = fixture("fuzz") / "movingai_scen" / "optimum_400_decimals" / "input.scen";
-  const auto s = core::load_movingai_scenarios(file.string());
+  const auto s = maps::load_movingai_scenarios(file.string());
   ASSERT_FALSE(s) << "loaded with optimal_resolution " << (*s)[0].optimal_resolution;
   EXPECT_TRUE(contains(s.error().message, file.string() + ":2: optimal length '5.000"))
       << s.error().message;
@@ -1987,7 +1979,7 @@ TEST(MapIoFuzzFixes, OptimumPrintedBeyondADoublesPrecisionIsRefused) {
 
 TEST(MapIoFuzzFixes, PgmMagicMustBeTheFirstTwoBytes) {
   const fs::path dir = fixture("fuzz") / "map_server" / "p5_comment_before_magic";
-  const auto grid = core::load_map_server((dir / "input.yaml").string());
+  const auto grid = maps::load_map_server((dir / "input.yaml").string());
   ASSERT_FALSE(grid) << "loaded a PGM whose first line is a comment";
   EXPECT_TRUE(contains(grid.error().message,
                        (dir / "p5_8bit.pgm").string() + ": not a PGM image (its first two bytes"))
@@ -1996,7 +1988,7 @@ TEST(MapIoFuzzFixes, PgmMagicMustBeTheFirstTwoBytes) {
 
 TEST(MapIoFuzzFixes, P5CommentAfterMaxvalEndsTheHeader) {
   const fs::path dir = fixture("fuzz") / "map_server" / "p5_comment_after_maxval";
-  const auto grid = core::load_map_server((dir / "input.yaml").string());
+  const auto grid = maps::load_map_server((dir / "input.yaml").string());
   ASSERT_TRUE(grid) << grid.error().message;
   ASSERT_EQ(grid->width, 4);
   ASSERT_EQ(grid->height, 3);

@@ -10,10 +10,10 @@
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
-#include "recorder/run_record.hpp"
 #include "render/svg_test_support.hpp"
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
 #include "vnsba/node/planner_node.hpp"
+#include "vnsba/records/run_record.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -32,7 +32,7 @@ fs::path fresh_dir(const std::string& tag) {
 // plus a free cell walled in on all sides: cell (29, 2) is unreachable.
 core::OccupancyGrid rooms_slice() {
   core::OccupancyGrid grid =
-      core::load_movingai_map(VNSBA_FIXTURE_DIR "/maps/rooms_32.map").value();
+      maps::load_movingai_map(VNSBA_FIXTURE_DIR "/maps/rooms_32.map").value();
   grid.resolution = 0.5;
   grid.origin_x = -3.0;
   grid.origin_y = 2.0;
@@ -106,9 +106,9 @@ TEST(RecorderProcess, WritesOnePictureAndOneRecordPerRequest) {
   const auto statuses = client.statuses.snapshot();
   const auto debugs = client.debug.snapshot();
   for (const auto& [id, code_name] : expected) {
-    const std::string stem = tools::safe_file_stem(id);
+    const std::string stem = records::safe_file_stem(id);
     SCOPED_TRACE(id);
-    auto record = tools::run_record_from_json(read_json(out / (stem + ".json")));
+    auto record = records::run_record_from_json(read_json(out / (stem + ".json")));
     ASSERT_TRUE(record) << record.error().message;
     EXPECT_EQ(record->request_id, id);
     ASSERT_TRUE(record->status);
@@ -116,7 +116,7 @@ TEST(RecorderProcess, WritesOnePictureAndOneRecordPerRequest) {
     ASSERT_TRUE(record->request);
     EXPECT_EQ(record->request->source, id == "goal-1" ? "goal_pose" : "plan_request");
     ASSERT_TRUE(record->map);
-    auto map = core::load_map_server((out / record->map->file).string());
+    auto map = maps::load_map_server((out / record->map->file).string());
     ASSERT_TRUE(map) << map.error().message;
     EXPECT_EQ(map->width, grid.width);
     EXPECT_EQ(map->height, grid.height);
@@ -172,7 +172,7 @@ TEST(RecorderProcess, WritesOnePictureAndOneRecordPerRequest) {
     }
   }
   // goal_pose goals: the recorder pairs them with the robot pose as the start.
-  auto goal_record = tools::run_record_from_json(read_json(out / "goal-1.json"));
+  auto goal_record = records::run_record_from_json(read_json(out / "goal-1.json"));
   ASSERT_TRUE(goal_record && goal_record->request && goal_record->request->goal);
   EXPECT_NEAR(goal_record->request->goal->x(), gx, 1e-9);
   ASSERT_TRUE(goal_record->request->start);
@@ -204,7 +204,7 @@ TEST(RecorderProcess, SigintWritesWhatItHeard) {
   EXPECT_FALSE(fs::exists(out / "unanswered.json"));
   recorder.signal(SIGINT);
   ASSERT_EQ(recorder.wait(), 0) << recorder.output();
-  auto record = tools::run_record_from_json(read_json(out / "unanswered.json"));
+  auto record = records::run_record_from_json(read_json(out / "unanswered.json"));
   ASSERT_TRUE(record) << record.error().message;
   EXPECT_FALSE(record->status);
   ASSERT_TRUE(record->request && record->request->goal);
@@ -267,7 +267,7 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
 
   ASSERT_EQ(recorder.wait(), 0) << recorder.output();
   for (const char* id : {"junk", "fine"}) {
-    auto record = tools::run_record_from_json(read_json(out / (std::string(id) + ".json")));
+    auto record = records::run_record_from_json(read_json(out / (std::string(id) + ".json")));
     ASSERT_TRUE(record) << id << ": " << record.error().message;
     tinyxml2::XMLDocument doc;
     EXPECT_EQ(doc.LoadFile((out / (std::string(id) + ".svg")).c_str()), tinyxml2::XML_SUCCESS)
@@ -284,16 +284,16 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
 TEST(RecorderRender, RefusesARecordItCannotDrawAndWritesNoPicture) {
   const fs::path dir = fresh_dir("render_bad");
   fs::create_directories(dir);
-  tools::RunRecord r;
+  records::RunRecord r;
   r.request_id = "bad";
-  tools::MapReference map;
+  records::MapReference map;
   map.width = 4;
   map.height = 2;
   for (const double resolution : {-0.5, std::nan("")}) {
     map.resolution = resolution;
     r.map = map;
     const fs::path json = dir / "bad.json", svg = dir / "bad.svg";
-    std::ofstream(json) << tools::to_json(r).dump(1);
+    std::ofstream(json) << records::to_json(r).dump(1);
     const auto [code, output] =
         run_to_exit(kRecorder, {"render", json.string(), "--out", svg.string()});
     EXPECT_EQ(code, 2) << output;

@@ -6,8 +6,8 @@
 #include "bus_client.hpp"
 #include "child_process.hpp"
 #include "octomap_msgs/msg/OctomapPubSubTypes.h"
-#include "vnsba/core/map_io.hpp"
-#include "vnsba/core/octomap_slice.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/node/planner_node.hpp"
 
 namespace vnsba::test {
@@ -38,8 +38,8 @@ std::string write_tree(const octomap::OcTree& tree, const std::string& name) {
   return path;
 }
 
-core::SliceOptions band(double z_min, double z_max) {
-  core::SliceOptions o;
+maps::SliceOptions band(double z_min, double z_max) {
+  maps::SliceOptions o;
   o.z_min = z_min;
   o.z_max = z_max;
   return o;
@@ -53,9 +53,9 @@ TEST(SlicerProcess, FileToMapServerMapEqualsTheCoreSlice) {
       run_to_exit(kSlicer, {bt, "--z-min", "0.2", "--z-max", "0.8", "--out", out, "--config",
                             VNSBA_CONFIG_DIR "/default.yaml"});
   ASSERT_EQ(code, 0) << output;
-  auto loaded = core::load_map_server(out.substr(0, out.size() - 4) + ".yaml");
+  auto loaded = maps::load_map_server(out.substr(0, out.size() - 4) + ".yaml");
   ASSERT_TRUE(loaded) << loaded.error().message;
-  auto expected = core::slice_octree(*tree, band(0.2, 0.8));
+  auto expected = maps::slice_octree(*tree, band(0.2, 0.8));
   ASSERT_TRUE(expected) << expected.error().message;
   EXPECT_EQ(loaded->width, expected->width);
   EXPECT_EQ(loaded->height, expected->height);
@@ -130,7 +130,7 @@ TEST(SlicerProcess, ErrorsNameTheFlagOrTheConfigKeyAndBoundsTakeCommas) {
     args.insert(args.end(), bounds.begin(), bounds.end());
     const auto [code, output] = run_to_exit(kSlicer, args);
     ASSERT_EQ(code, 0) << output;
-    auto loaded = core::load_map_server(out.substr(0, out.size() - 4) + ".yaml");
+    auto loaded = maps::load_map_server(out.substr(0, out.size() - 4) + ".yaml");
     ASSERT_TRUE(loaded) << loaded.error().message;
     EXPECT_EQ(loaded->width, 9);
     EXPECT_EQ(loaded->height, 9);
@@ -194,7 +194,7 @@ TEST(SlicerBus, TreeOnTheBusBecomesASlice) {
   node::OctomapMsg msg = node::to_octomap_msg(*tree, "map", node::now_msg());
   (*writer)->write(&msg);
   ASSERT_TRUE(slices.wait([](const auto& all) { return !all.empty(); }, 15s)) << slicer.output();
-  const auto expected = core::slice_octree(*tree, band(0.2, 0.8));
+  const auto expected = maps::slice_octree(*tree, band(0.2, 0.8));
   ASSERT_TRUE(expected);
   auto received =
       node::from_slice_msg(std::move(slices.snapshot().front()), "map", int64_t{1} << 24);

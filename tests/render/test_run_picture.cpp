@@ -11,8 +11,8 @@
 #include <set>
 
 #include "svg_test_support.hpp"
-#include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
 #include "vnsba/render/run_picture.hpp"
 #include "vnsba/render/svg.hpp"
 
@@ -23,7 +23,7 @@ using core::Cell;
 using core::Point2;
 
 std::shared_ptr<const core::GridMap> rooms_map(core::OccupancyGrid* grid_out = nullptr) {
-  auto grid = core::load_movingai_map(VNSBA_FIXTURE_DIR "/maps/rooms_32.map");
+  auto grid = maps::load_movingai_map(VNSBA_FIXTURE_DIR "/maps/rooms_32.map");
   EXPECT_TRUE(grid) << grid.error().message;
   if (grid_out) *grid_out = *grid;
   return std::make_shared<const core::GridMap>(core::GridMap::build(*grid).value());

@@ -7,22 +7,22 @@
 #include <fstream>
 #include <limits>
 
-#include "recorder/open_runs.hpp"
-#include "recorder/run_record.hpp"
 #include "svg_test_support.hpp"
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/records/open_runs.hpp"
+#include "vnsba/records/run_record.hpp"
 
 namespace vnsba::test {
 namespace {
 
-using tools::RunRecord;
+using records::RunRecord;
 
 RunRecord full_record() {
   RunRecord r;
   r.request_id = "req-1";
-  r.request = tools::RequestRecord{"plan_request", "astar", Eigen::Vector2d(0.25, 0.25),
-                                   Eigen::Vector2d(1.75, 0.75)};
-  tools::StatusRecord s;
+  r.request = records::RequestRecord{"plan_request", "astar", Eigen::Vector2d(0.25, 0.25),
+                                     Eigen::Vector2d(1.75, 0.75)};
+  records::StatusRecord s;
   s.code = 0;
   s.code_name = "OK";
   s.planner = "astar";
@@ -38,7 +38,7 @@ RunRecord full_record() {
   s.map_stamp_nanosec = 7;
   r.status = s;
   r.path = {{0.25, 0.25}, {1.25, 0.75}, {1.75, 0.75}};
-  tools::DebugRecord d;
+  records::DebugRecord d;
   d.planner = "astar";
   d.width = 4;
   d.height = 2;
@@ -49,7 +49,7 @@ RunRecord full_record() {
   d.raw_path = {{0, 0}, {1, 1}, {2, 1}, {3, 1}};
   d.pruned_waypoints = {{0.25, 0.25}, {0.75, 0.75}, {1.75, 0.75}};
   r.debug = d;
-  tools::MapReference m;
+  records::MapReference m;
   m.file = "maps/m.yaml";
   m.frame_id = "map";
   m.width = 4;
@@ -61,9 +61,10 @@ RunRecord full_record() {
 
 TEST(RunRecord, JsonRoundTripKeepsEverything) {
   const RunRecord r = full_record();
-  const auto back = tools::run_record_from_json(nlohmann::json::parse(tools::to_json(r).dump()));
+  const auto back =
+      records::run_record_from_json(nlohmann::json::parse(records::to_json(r).dump()));
   ASSERT_TRUE(back) << back.error().message;
-  EXPECT_EQ(tools::to_json(*back), tools::to_json(r));
+  EXPECT_EQ(records::to_json(*back), records::to_json(r));
   EXPECT_EQ(back->debug->expanded_forward.size(), 3u);
   EXPECT_EQ(back->status->metrics.turns, 1);
   EXPECT_TRUE(std::isnan(back->status->metrics.length_ratio));  // NaN travels as null
@@ -77,15 +78,15 @@ TEST(RunRecord, CostGradientRoundTripsAndOlderRecordsHaveNone) {
   RunRecord r = full_record();
   r.map->inflation_radius = 0.55;
   r.map->cost_scaling_factor = 2.5;
-  auto back = tools::run_record_from_json(nlohmann::json::parse(tools::to_json(r).dump()));
+  auto back = records::run_record_from_json(nlohmann::json::parse(records::to_json(r).dump()));
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_EQ(back->map->inflation_radius, 0.55);
   EXPECT_EQ(back->map->cost_scaling_factor, 2.5);
   EXPECT_EQ(back->map->build_options().inflation_radius, 0.55);
-  nlohmann::json older = tools::to_json(r);
+  nlohmann::json older = records::to_json(r);
   older["map"].erase("inflation_radius");
   older["map"].erase("cost_scaling_factor");
-  back = tools::run_record_from_json(older);
+  back = records::run_record_from_json(older);
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_EQ(back->map->inflation_radius, 0.0);
   EXPECT_EQ(back->map->cost_scaling_factor, core::GridBuildOptions{}.cost_scaling_factor);
@@ -95,35 +96,35 @@ TEST(RunRecord, CostGradientRoundTripsAndOlderRecordsHaveNone) {
 // it existed reads NaN and still draws (without a clearance in the caption).
 TEST(RunRecord, ClearanceRoundTripsAndOlderRecordsReadNaN) {
   RunRecord r = full_record();
-  EXPECT_EQ(tools::to_json(r)["status"]["clearance_m"], 0.25);
+  EXPECT_EQ(records::to_json(r)["status"]["clearance_m"], 0.25);
   r.status->metrics.clearance_m = std::numeric_limits<double>::infinity();
-  nlohmann::json j = tools::to_json(r);
+  nlohmann::json j = records::to_json(r);
   EXPECT_EQ(j["status"]["clearance_m"], "inf");
-  auto back = tools::run_record_from_json(nlohmann::json::parse(j.dump()));
+  auto back = records::run_record_from_json(nlohmann::json::parse(j.dump()));
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_TRUE(std::isinf(back->status->metrics.clearance_m));
   EXPECT_GT(back->status->metrics.clearance_m, 0.0);
 
   r.status->metrics.clearance_m = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_TRUE(tools::to_json(r)["status"]["clearance_m"].is_null());
-  j = tools::to_json(full_record());
+  EXPECT_TRUE(records::to_json(r)["status"]["clearance_m"].is_null());
+  j = records::to_json(full_record());
   j["status"].erase("clearance_m");  // an older record
-  back = tools::run_record_from_json(j);
+  back = records::run_record_from_json(j);
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_TRUE(std::isnan(back->status->metrics.clearance_m));
   EXPECT_EQ(back->status->metrics.turns, 1);
-  const render::RunPicture picture = tools::picture_of(*back, nullptr);
+  const render::RunPicture picture = records::picture_of(*back, nullptr);
   ASSERT_TRUE(picture.metrics.has_value());
   const std::string svg = render::render_svg(picture);
   EXPECT_NE(svg.find("turns 1"), std::string::npos);
   EXPECT_EQ(svg.find("clearance"), std::string::npos);
   // The record's clearance reaches the caption.
-  const std::string with = render::render_svg(tools::picture_of(full_record(), nullptr));
+  const std::string with = render::render_svg(records::picture_of(full_record(), nullptr));
   EXPECT_NE(with.find("clearance 0.25 m"), std::string::npos);
 
   for (const nlohmann::json& bad : {nlohmann::json("wide"), nlohmann::json::array({1})}) {
     j["status"]["clearance_m"] = bad;
-    const auto parsed = tools::run_record_from_json(j);
+    const auto parsed = records::run_record_from_json(j);
     ASSERT_FALSE(parsed) << bad;
     EXPECT_NE(parsed.error().message.find("status.clearance_m"), std::string::npos)
         << parsed.error().message;
@@ -131,7 +132,7 @@ TEST(RunRecord, ClearanceRoundTripsAndOlderRecordsReadNaN) {
 }
 
 TEST(RunRecord, BadFieldsAreNamed) {
-  const nlohmann::json good = tools::to_json(full_record());
+  const nlohmann::json good = records::to_json(full_record());
   struct Case {
     const char* pointer;
     nlohmann::json value;
@@ -145,7 +146,7 @@ TEST(RunRecord, BadFieldsAreNamed) {
         Case{"/request", 5, "request"}, Case{"/request_id", nullptr, "request_id"}}) {
     nlohmann::json bad = good;
     bad[nlohmann::json::json_pointer(c.pointer)] = c.value;
-    const auto parsed = tools::run_record_from_json(bad);
+    const auto parsed = records::run_record_from_json(bad);
     ASSERT_FALSE(parsed) << c.pointer;
     EXPECT_NE(parsed.error().message.find(c.named), std::string::npos)
         << c.pointer << ": " << parsed.error().message;
@@ -153,18 +154,18 @@ TEST(RunRecord, BadFieldsAreNamed) {
 }
 
 TEST(RunRecord, SafeFileStems) {
-  EXPECT_EQ(tools::safe_file_stem("goal-3"), "goal-3");
+  EXPECT_EQ(records::safe_file_stem("goal-3"), "goal-3");
   for (const std::string& id : std::vector<std::string>{"../../etc/passwd", "", ".", "..", "a/b",
                                                         std::string(500, 'x'), "sp ace"}) {
-    const std::string stem = tools::safe_file_stem(id);
+    const std::string stem = records::safe_file_stem(id);
     EXPECT_FALSE(stem.empty());
     EXPECT_EQ(stem.find('/'), std::string::npos) << id;
     EXPECT_NE(stem.front(), '.') << id;
     EXPECT_LE(stem.size(), 130u) << id;
   }
   // Ids that clean to the same text still get different files.
-  EXPECT_NE(tools::safe_file_stem("a/b"), tools::safe_file_stem("a_b"));
-  EXPECT_NE(tools::safe_file_stem("a/b"), tools::safe_file_stem("a:b"));
+  EXPECT_NE(records::safe_file_stem("a/b"), records::safe_file_stem("a_b"));
+  EXPECT_NE(records::safe_file_stem("a/b"), records::safe_file_stem("a:b"));
 }
 
 // The picture of a record: debug cells where the debug says, the path in cell coordinates.
@@ -175,7 +176,7 @@ TEST(RunRecord, PictureOfARecordWithItsMap) {
   grid.height = 2;
   grid.resolution = 0.5;
   grid.data = {0, 0, 0, 0, 0, 0, 0, 0};
-  const render::RunPicture p = tools::picture_of(r, &grid);
+  const render::RunPicture p = records::picture_of(r, &grid);
   EXPECT_EQ(p.expanded_forward.size(), 3u);
   ASSERT_EQ(p.path.size(), 3u);
   EXPECT_NEAR(p.path[1].x(), 2.5, 1e-9);  // 1.25 m at 0.5 m per cell
@@ -195,13 +196,13 @@ TEST(RunRecord, MismatchedOrMissingPartsStillDraw) {
   other.height = 8;
   other.resolution = 0.5;
   other.data.assign(64, 0);
-  const render::RunPicture p = tools::picture_of(r, &other);
+  const render::RunPicture p = records::picture_of(r, &other);
   EXPECT_TRUE(p.expanded_forward.empty());
   EXPECT_EQ(p.path.size(), 3u);
 
   r.debug.reset();
   r.map.reset();
-  const render::RunPicture bare = tools::picture_of(r, nullptr);
+  const render::RunPicture bare = records::picture_of(r, nullptr);
   ASSERT_TRUE(bare.map);
   EXPECT_GT(bare.map->width, 0);
   for (const auto& q : bare.path) {
@@ -220,12 +221,12 @@ TEST(RunRecord, MismatchedOrMissingPartsStillDraw) {
   absurd.map.reset();
   absurd.debug->width = 2000000000;
   absurd.debug->height = 2000000000;
-  const render::RunPicture q = tools::picture_of(absurd, nullptr);
+  const render::RunPicture q = records::picture_of(absurd, nullptr);
   EXPECT_LE(int64_t{q.map->width} * q.map->height, int64_t{4096} * 4096);
   absurd.debug->width = 4;
   absurd.debug->height = 2;
   absurd.debug->resolution = NAN;
-  EXPECT_LE(int64_t{tools::picture_of(absurd, nullptr).map->width}, 4096);
+  EXPECT_LE(int64_t{records::picture_of(absurd, nullptr).map->width}, 4096);
 }
 
 TEST(RunRecord, RenderRecordFileReadsTheMapBesideIt) {
@@ -237,10 +238,10 @@ TEST(RunRecord, RenderRecordFileReadsTheMapBesideIt) {
   grid.height = 2;
   grid.resolution = 0.5;
   grid.data = {0, 0, 100, 0, 0, 0, 0, -1};
-  ASSERT_TRUE(core::save_map_server(grid, (dir / "maps" / "m").string()));
+  ASSERT_TRUE(maps::save_map_server(grid, (dir / "maps" / "m").string()));
   const RunRecord r = full_record();
-  std::ofstream(dir / "run.json") << tools::to_json(r).dump(1);
-  auto svg = tools::render_record_file((dir / "run.json").string());
+  std::ofstream(dir / "run.json") << records::to_json(r).dump(1);
+  auto svg = records::render_record_file((dir / "run.json").string());
   ASSERT_TRUE(svg) << svg.error().message;
   tinyxml2::XMLDocument doc;
   ASSERT_EQ(doc.Parse(svg->c_str()), tinyxml2::XML_SUCCESS);
@@ -252,16 +253,16 @@ TEST(RunRecord, RenderRecordFileReadsTheMapBesideIt) {
 
   // Broken files: errors name the file and the problem, never a crash.
   std::ofstream(dir / "broken.json") << "{ not json";
-  auto broken = tools::render_record_file((dir / "broken.json").string());
+  auto broken = records::render_record_file((dir / "broken.json").string());
   ASSERT_FALSE(broken);
   EXPECT_NE(broken.error().message.find("broken.json"), std::string::npos);
-  nlohmann::json missing_map = tools::to_json(r);
+  nlohmann::json missing_map = records::to_json(r);
   missing_map["map"]["file"] = "maps/none.yaml";
   std::ofstream(dir / "missing.json") << missing_map.dump();
-  auto missing = tools::render_record_file((dir / "missing.json").string());
+  auto missing = records::render_record_file((dir / "missing.json").string());
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("map.file"), std::string::npos) << missing.error().message;
-  EXPECT_FALSE(tools::render_record_file((dir / "absent.json").string()));
+  EXPECT_FALSE(records::render_record_file((dir / "absent.json").string()));
   std::filesystem::remove_all(dir);
 }
 
@@ -277,7 +278,7 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
   grid.height = 2;
   grid.resolution = 0.5;
   grid.data = {0, 0, 100, 0, 0, 0, 0, 0};
-  ASSERT_TRUE(core::save_map_server(grid, (dir / "maps" / "m").string()));
+  ASSERT_TRUE(maps::save_map_server(grid, (dir / "maps" / "m").string()));
   RunRecord base = full_record();
   base.map->robot_radius = 0.5;      // one cell: the obstacle's neighbours are drawn inflated
   base.map->inflation_radius = 1.5;  // and the cells beyond them carry costs
@@ -310,9 +311,9 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
   for (const bool with_file : {true, false}) {
     RunRecord r = base;
     if (!with_file) r.map->file.clear();
-    const nlohmann::json good = tools::to_json(r);
+    const nlohmann::json good = records::to_json(r);
     std::ofstream(dir / "good.json") << good.dump(1);
-    const auto drawn = tools::render_record_file((dir / "good.json").string());
+    const auto drawn = records::render_record_file((dir / "good.json").string());
     ASSERT_TRUE(drawn) << drawn.error().message;
     if (with_file) {
       // The record's robot radius reaches the planning map the picture is drawn from.
@@ -332,18 +333,18 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
       bad[nlohmann::json::json_pointer(c.pointer)] = c.value;
       const std::filesystem::path path = dir / "bad.json";
       std::ofstream(path) << bad.dump(1);
-      const auto svg = tools::render_record_file(path.string());
+      const auto svg = records::render_record_file(path.string());
       ASSERT_FALSE(svg) << bad[nlohmann::json::json_pointer(c.pointer)];
       EXPECT_EQ(svg.error().message.rfind(path.string() + ": ", 0), 0u) << svg.error().message;
       EXPECT_NE(svg.error().message.find(c.named), std::string::npos) << svg.error().message;
     }
   }
   // An absurd size is refused before any cell is allocated.
-  nlohmann::json absurd = tools::to_json(base);
+  nlohmann::json absurd = records::to_json(base);
   absurd["map"]["file"] = "";
   absurd["map"]["width"] = absurd["map"]["height"] = 2000000000;
   std::ofstream(dir / "absurd.json") << absurd.dump();
-  const auto huge = tools::render_record_file((dir / "absurd.json").string());
+  const auto huge = records::render_record_file((dir / "absurd.json").string());
   ASSERT_FALSE(huge);
   EXPECT_NE(huge.error().message.find("map: width x height"), std::string::npos)
       << huge.error().message;
@@ -352,18 +353,18 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
 
 // --- Open runs: what the recorder holds until a run is complete, bounded in bytes. ---
 
-tools::DebugRecord debug_of(size_t cells) {
-  tools::DebugRecord d;
+records::DebugRecord debug_of(size_t cells) {
+  records::DebugRecord d;
   d.width = d.height = 1000;
   d.resolution = 0.1;
   d.expanded_forward.assign(cells, core::Cell{1, 2});
   return d;
 }
 
-size_t sum_of_bytes(const tools::OpenRuns& runs, const std::vector<std::string>& ids) {
+size_t sum_of_bytes(const records::OpenRuns& runs, const std::vector<std::string>& ids) {
   size_t sum = 0;
   for (const std::string& id : ids)
-    if (const tools::OpenRun* run = runs.find(id)) sum += run->bytes;
+    if (const records::OpenRun* run = runs.find(id)) sum += run->bytes;
   return sum;
 }
 
@@ -374,13 +375,13 @@ TEST(OpenRuns, DebugDataPastTheByteCapIsDroppedOldestFirstAndReported) {
   const size_t cells_per_run = 25000;
   const size_t debug_bytes = cells_per_run * sizeof(core::Cell);
   const size_t cap = 5 * debug_bytes;  // room for fewer than five runs with their overheads
-  tools::OpenRuns runs(1000, cap);
+  records::OpenRuns runs(1000, cap);
   std::vector<std::string> ids;
-  std::vector<tools::DroppedPart> drops;
+  std::vector<records::DroppedPart> drops;
   for (int i = 0; i < 10; ++i) {
     ids.push_back("run-" + std::to_string(i));
     const auto dropped = runs.update(
-        ids.back(), [&](tools::OpenRun& run) { run.record.debug = debug_of(cells_per_run); });
+        ids.back(), [&](records::OpenRun& run) { run.record.debug = debug_of(cells_per_run); });
     drops.insert(drops.end(), dropped.begin(), dropped.end());
     EXPECT_LE(runs.bytes(), cap) << ids.back();
     EXPECT_EQ(runs.bytes(), sum_of_bytes(runs, ids)) << ids.back();
@@ -403,7 +404,7 @@ TEST(OpenRuns, DebugDataPastTheByteCapIsDroppedOldestFirstAndReported) {
   EXPECT_EQ(runs.dropped().bytes, freed);
 
   // One debug message larger than the cap on its own is dropped at once; its run stays.
-  const auto alone = runs.update("huge", [&](tools::OpenRun& run) {
+  const auto alone = runs.update("huge", [&](records::OpenRun& run) {
     run.record.debug = debug_of(cap / sizeof(core::Cell) + 1);
   });
   ASSERT_FALSE(alone.empty());
@@ -414,7 +415,7 @@ TEST(OpenRuns, DebugDataPastTheByteCapIsDroppedOldestFirstAndReported) {
   EXPECT_FALSE(runs.find("huge")->record.debug.has_value());
 
   // Writing the runs out releases their bytes.
-  const auto taken = runs.take([](const tools::OpenRun&) { return true; });
+  const auto taken = runs.take([](const records::OpenRun&) { return true; });
   EXPECT_EQ(taken.size(), 11u);
   EXPECT_EQ(runs.bytes(), 0u);
   EXPECT_EQ(runs.size(), 0u);
@@ -424,10 +425,10 @@ TEST(OpenRuns, DebugDataPastTheByteCapIsDroppedOldestFirstAndReported) {
 // past the count limit too.
 TEST(OpenRuns, WholeRunsGoWhenDebugDataIsNotEnoughOrTooManyAreOpen) {
   const size_t path_bytes = 10000 * sizeof(Eigen::Vector2d);
-  tools::OpenRuns by_bytes(1000, 3 * path_bytes);
-  std::vector<tools::DroppedPart> drops;
+  records::OpenRuns by_bytes(1000, 3 * path_bytes);
+  std::vector<records::DroppedPart> drops;
   for (int i = 0; i < 6; ++i) {
-    const auto d = by_bytes.update("p" + std::to_string(i), [&](tools::OpenRun& run) {
+    const auto d = by_bytes.update("p" + std::to_string(i), [&](records::OpenRun& run) {
       run.record.path.assign(10000, Eigen::Vector2d(1, 2));
     });
     drops.insert(drops.end(), d.begin(), d.end());
@@ -440,17 +441,17 @@ TEST(OpenRuns, WholeRunsGoWhenDebugDataIsNotEnoughOrTooManyAreOpen) {
   EXPECT_NE(by_bytes.find("p5"), nullptr);
   EXPECT_EQ(by_bytes.dropped().runs, drops.size());
 
-  tools::OpenRuns by_count(3, size_t{1} << 30);
+  records::OpenRuns by_count(3, size_t{1} << 30);
   for (const char* id : {"a", "b", "c"})
-    EXPECT_TRUE(by_count.update(id, [](tools::OpenRun&) {}).empty());
-  const auto d = by_count.update("d", [](tools::OpenRun&) {});
+    EXPECT_TRUE(by_count.update(id, [](records::OpenRun&) {}).empty());
+  const auto d = by_count.update("d", [](records::OpenRun&) {});
   ASSERT_EQ(d.size(), 1u);
   EXPECT_EQ(d[0].request_id, "a");
   EXPECT_TRUE(d[0].whole_run);
   EXPECT_NE(d[0].reason.find("more than 3 open runs"), std::string::npos) << d[0].reason;
   EXPECT_EQ(by_count.size(), 3u);
   // Changing an open run opens nothing and drops nothing.
-  EXPECT_TRUE(by_count.update("b", [](tools::OpenRun&) {}).empty());
+  EXPECT_TRUE(by_count.update("b", [](records::OpenRun&) {}).empty());
 }
 
 }  // namespace

@@ -12,10 +12,10 @@
 
 #include "node/child_process.hpp"
 #include "svg_test_support.hpp"
-#include "vnsba/core/map_io.hpp"
-#include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -109,7 +109,7 @@ TEST(VnsbaPlan, CellsAndOtherPlanners) {
 // configuration.
 TEST(VnsbaPlan, PlannerFlagsAreSettingsOnTopOfThePlannersPaperConfiguration) {
   auto map = std::make_shared<const core::GridMap>(
-      core::GridMap::build(core::load_movingai_map(kRooms).value()).value());
+      core::GridMap::build(maps::load_movingai_map(kRooms).value()).value());
   const core::PlanQuery query{{2, 2}, {29, 13}};
   auto printed = [&](core::PlannerKind kind, const core::PlannerSettings& settings) {
     const std::string line = printed_line(map, query, kind, settings);
@@ -195,11 +195,11 @@ TEST(VnsbaPlan, BoundsPlanOnAPartOfATreeTooLargeToSliceWhole) {
                                   std::string("--resolution"), std::string("the tree's extent")})
     EXPECT_NE(whole.find(part), std::string::npos) << part << " not in: " << whole;
 
-  core::SliceOptions area;  // vnsba_plan's default band
-  area.bounds = core::SliceBounds{-10, -10, 10, 10};
-  const auto tree = core::load_octree(bt);
+  maps::SliceOptions area;  // vnsba_plan's default band
+  area.bounds = maps::SliceBounds{-10, -10, 10, 10};
+  const auto tree = maps::load_octree(bt);
   ASSERT_TRUE(tree) << tree.error().message;
-  const auto slice = core::slice_octree(**tree, area);
+  const auto slice = maps::slice_octree(**tree, area);
   ASSERT_TRUE(slice) << slice.error().message;
   auto map = std::make_shared<const core::GridMap>(core::GridMap::build(*slice).value());
   // The first and the last free cell in row order, as start and goal.
@@ -337,24 +337,21 @@ TEST(VnsbaPlan, CostOptionsAreTheMapBuildAndPlannerSettings) {
   core::GridBuildOptions build;
   build.inflation_radius = 4.0;
   build.cost_scaling_factor = 0.5;
-  auto grid = core::load_movingai_map(kRooms).value();
+  auto grid = maps::load_movingai_map(kRooms).value();
   auto costly = std::make_shared<const core::GridMap>(core::GridMap::build(grid, build).value());
   auto plain = std::make_shared<const core::GridMap>(core::GridMap::build(grid).value());
   ASSERT_TRUE(costly->has_costs());
   const core::PlanQuery query{{2, 2}, {29, 13}};
   core::PlannerSettings settings;
   settings.cost_weight = 20.0;
-  const std::string expected =
-      printed_line(costly, query, core::PlannerKind::kVnsBaStar, settings);
+  const std::string expected = printed_line(costly, query, core::PlannerKind::kVnsBaStar, settings);
   ASSERT_NE(expected.find(" OK "), std::string::npos) << expected;
   EXPECT_NE(expected, printed_line(plain, query, core::PlannerKind::kVnsBaStar, {}));
-  const auto [code, output] =
-      run_to_exit(kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13",
-                          "--inflation-radius", "4", "--cost-scaling-factor", "0.5",
-                          "--cost-weight", "20"});
+  const auto [code, output] = run_to_exit(
+      kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--inflation-radius",
+              "4", "--cost-scaling-factor", "0.5", "--cost-weight", "20"});
   ASSERT_EQ(code, 0) << output;
-  EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n"
-                                                      << output;
+  EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n" << output;
 }
 
 // clearance_m comes right after length_m: positive metres on a map with walls, inf without any.
@@ -391,10 +388,11 @@ TEST(VnsbaPlan, PosesAreAtMostTheSpacingApartWithTheTangentAsYaw) {
     double spacing;
     std::optional<double> goal_yaw;
   };
-  for (const Case& c : {Case{{}, 1.0, std::nullopt}, Case{{"--path-spacing", "0.3"}, 0.3, std::nullopt},
-                        Case{{"--path-spacing", "0.25", "--goal-yaw", "2.5"}, 0.25, 2.5},
-                        Case{{"--goal-yaw", "-4"}, 1.0, -4.0 + 2.0 * M_PI}}) {
-    std::vector<std::string> args = {kRooms, "--start", "2.5", "2.5",    "--goal",
+  for (const Case& c :
+       {Case{{}, 1.0, std::nullopt}, Case{{"--path-spacing", "0.3"}, 0.3, std::nullopt},
+        Case{{"--path-spacing", "0.25", "--goal-yaw", "2.5"}, 0.25, 2.5},
+        Case{{"--goal-yaw", "-4"}, 1.0, -4.0 + 2.0 * M_PI}}) {
+    std::vector<std::string> args = {kRooms, "--start", "2.5",     "2.5",     "--goal",
                                      "29.5", "13.5",    "--poses", poses_file};
     args.insert(args.end(), c.flags.begin(), c.flags.end());
     SCOPED_TRACE(::testing::PrintToString(c.flags));
@@ -506,8 +504,8 @@ TEST(VnsbaPlan, GoalToleranceBringsAGoalOutsideTheMapIn) {
 TEST(VnsbaPlan, StartToleranceMovesAStartOutOfInflation) {
   // (1.5, 1.5) is 1 m from the walls' cell centres: inflated by a 1 m robot radius.
   // The goal stays in the same room: a 1 m radius closes the rooms map's doors.
-  const std::vector<std::string> args = {kRooms, "--start", "1.5", "1.5", "--goal",
-                                         "12.5", "2.5",     "--robot-radius", "1"};
+  const std::vector<std::string> args = {kRooms, "--start",        "1.5", "1.5", "--goal", "12.5",
+                                         "2.5",  "--robot-radius", "1"};
   const auto [blocked_code, blocked] = run_to_exit(kPlan, args);
   EXPECT_EQ(blocked_code, 1) << blocked;
   EXPECT_NE(blocked.find("START_OCCUPIED"), std::string::npos) << blocked;

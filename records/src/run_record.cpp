@@ -1,4 +1,4 @@
-#include "run_record.hpp"
+#include "vnsba/records/run_record.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,9 +10,9 @@
 #include <memory>
 #include <sstream>
 
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
 
-namespace vnsba::tools {
+namespace vnsba::records {
 
 using nlohmann::json;
 
@@ -601,7 +601,7 @@ core::Expected<std::string> render_record_file(const std::string& json_path) {
   if (record->map && !record->map->file.empty()) {
     const std::filesystem::path map_path =
         std::filesystem::path(json_path).parent_path() / record->map->file;
-    auto loaded = core::load_map_server(map_path.string());
+    auto loaded = maps::load_map_server(map_path.string());
     if (!loaded)
       return core::Status::error(core::StatusCode::kInvalidMap,
                                  json_path + ": map.file: " + loaded.error().message);
@@ -627,4 +627,4 @@ core::Expected<std::string> render_record_file(const std::string& json_path) {
   return render::render_svg(picture_of(*record, grid ? &*grid : nullptr));
 }
 
-}  // namespace vnsba::tools
+}  // namespace vnsba::records

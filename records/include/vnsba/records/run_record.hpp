@@ -22,7 +22,7 @@
 #include "vnsba/core/status.hpp"
 #include "vnsba/render/run_picture.hpp"
 
-namespace vnsba::tools {
+namespace vnsba::records {
 
 // Where the map of a run lies and how it was turned into a planning grid.
 struct MapReference {
@@ -116,4 +116,4 @@ render::RunPicture picture_of(const RunRecord& record, const core::OccupancyGrid
 // costs are drawn as the node saw them.
 core::Expected<std::string> render_record_file(const std::string& json_path);
 
-}  // namespace vnsba::tools
+}  // namespace vnsba::records

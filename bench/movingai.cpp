@@ -181,7 +181,7 @@ int run_movingai(const MovingAiOptions& options) {
         planner.plan({s.start, s.goal}, plan_options);
       }
       for (const size_t index : picked) {
-        const core::MovingAiScenario& s = loaded->scenarios[index];
+        const maps::MovingAiScenario& s = loaded->scenarios[index];
         const TimedPlan timed = timed_plan(planner, {s.start, s.goal}, plan_options);
         const core::Metrics& m = timed.result.metrics;
         Run run{map_class, c};

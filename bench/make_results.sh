@@ -1,10 +1,10 @@
 #!/bin/sh
 # Regenerates docs/RESULTS.md and the pictures in docs/results/ from fresh measurements:
 # builds vnsba_bench (Release, no DDS needed), runs `vnsba_bench paper`, `sweep`, `movingai` and
-# `large` and `costs`, and fills the measured tables into tools/bench/RESULTS.md.in.
+# `large` and `costs`, and fills the measured tables into bench/RESULTS.md.in.
 #
-#   tools/bench/make_results.sh                 # about 5 minutes on 2 cores
-#   VNSBA_MOVINGAI_SCENARIOS=0 tools/bench/make_results.sh   # every Moving AI scenario (an hour)
+#   bench/make_results.sh                 # about 5 minutes on 2 cores
+#   VNSBA_MOVINGAI_SCENARIOS=0 bench/make_results.sh   # every Moving AI scenario (an hour)
 #
 # Environment: VNSBA_BUILD_DIR (default build/bench), VNSBA_DATA_DIR (default ../shared/data
 # beside the project), VNSBA_MOVINGAI_SCENARIOS (per map, default 300; 0 = all),
@@ -12,10 +12,10 @@
 # and size, default 12), VNSBA_COSTS_SCENARIOS (per map for `costs`, default 40).
 #
 # The head-to-head table against the reference JPS (docs/results/reference_jps.md) needs that
-# program, which is not a dependency: tools/bench/reference_jps.sh writes it, and this script
+# program, which is not a dependency: bench/reference_jps.sh writes it, and this script
 # includes the last one written.
 set -eu
-root=$(cd "$(dirname "$0")/../.." && pwd)
+root=$(cd "$(dirname "$0")/.." && pwd)
 build=${VNSBA_BUILD_DIR:-$root/build/bench}
 data=${VNSBA_DATA_DIR:-$(cd "$root/.." && pwd)/shared/data}
 scenarios=${VNSBA_MOVINGAI_SCENARIOS:-300}
@@ -68,9 +68,9 @@ awk -v machine="$machine" -v scenarios="$scenarios" -v repetitions="$repetitions
   /^@COSTS@$/ { include(costs); next }
   /^@REFERENCE_JPS@$/ {
     if ((getline line < reference) > 0) { print line; include(reference) }
-    else print "(not measured: run tools/bench/reference_jps.sh with the reference program)"
+    else print "(not measured: run bench/reference_jps.sh with the reference program)"
     next
   }
   { gsub(/@MACHINE@/, machine); gsub(/@SCENARIOS@/, scenarios); gsub(/@REPETITIONS@/, repetitions); gsub(/@COSTS_SCENARIOS@/, costs_scenarios); print }
-' "$root/tools/bench/RESULTS.md.in" > "$root/docs/RESULTS.md"
+' "$root/bench/RESULTS.md.in" > "$root/docs/RESULTS.md"
 echo "wrote docs/RESULTS.md and docs/results/" >&2

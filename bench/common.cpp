@@ -17,9 +17,9 @@ using core::Status;
 using core::StatusCode;
 
 Expected<LoadedMap> load_map_with_scenarios(const std::string& map_path) {
-  auto grid = core::load_movingai_map(map_path);
+  auto grid = maps::load_movingai_map(map_path);
   if (!grid) return grid.error();
-  auto scenarios = core::load_movingai_scenarios(map_path + ".scen");
+  auto scenarios = maps::load_movingai_scenarios(map_path + ".scen");
   if (!scenarios) return scenarios.error();
   auto built = core::GridMap::build(*grid);
   if (!built) return Status::error(built.error().code, map_path + ": " + built.error().message);

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-namespace vnsba::tools {
+namespace vnsba::render {
 
 // Metres to the millimetre ("0.412"), and "nan" (no path) and "inf" (a clearance on a map without
 // obstacles) as such.
@@ -18,4 +18,4 @@ inline std::string format_metres(double metres) {
   return text;
 }
 
-}  // namespace vnsba::tools
+}  // namespace vnsba::render

@@ -2,15 +2,15 @@
 # What VNS-BA* would cost with a heuristic that costs nothing: the ceiling of any speed-up of its
 # heuristic (line of sight, summed-area table, exp) that keeps the results identical.
 #
-# Builds vnsba_bench from the current commit with bench/experiments/free_heuristic.patch applied,
+# Builds vnsba_bench from the current commit with bench/free_heuristic.patch applied,
 # in a temporary worktree, and runs `vnsba_bench movingai` twice on the same queries: as is, and
 # with VNSBA_REPLAY_HEURISTIC set, where every VNS-BA* query is first planned untimed to record
 # its heuristic values and then timed while replaying them in the same order (same expansions,
 # same paths; the replay costs one array read per value). Pruning and smoothing stay on.
-#   tools/bench/free_heuristic.sh [MAPS_DIR] [SCENARIOS_PER_MAP]
+#   bench/free_heuristic.sh [MAPS_DIR] [SCENARIOS_PER_MAP]
 # Defaults: ../shared/data/movingai beside the repository, 300 scenarios a map.
 set -euo pipefail
-repo=$(cd "$(dirname "$0")/../.." && pwd)
+repo=$(cd "$(dirname "$0")/.." && pwd)
 maps=${1:-$repo/../shared/data/movingai}
 per_map=${2:-300}
 [[ -d $maps ]] || { echo "free_heuristic: no Moving AI maps at $maps" >&2; exit 2; }
@@ -18,7 +18,7 @@ maps=$(cd "$maps" && pwd)
 work=$(mktemp -d)
 trap 'git -C "$repo" worktree remove --force "$work/tree" >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
 git -C "$repo" worktree add --detach "$work/tree" HEAD >/dev/null
-git -C "$work/tree" apply "$repo/bench/experiments/free_heuristic.patch"
+git -C "$work/tree" apply "$repo/bench/free_heuristic.patch"
 cmake -S "$work/tree" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DVNSBA_CORE_ONLY=ON \
   -DVNSBA_BUILD_TESTS=OFF >/dev/null
 cmake --build "$work/build" -j "$(nproc)" --target vnsba_bench >/dev/null

@@ -29,7 +29,7 @@ constexpr LargeMapSpec kLargeMaps[] = {
 };
 
 // A scenario's query on the grown map (see large.hpp).
-core::PlanQuery grown_query(const core::MovingAiScenario& s, int factor, Growth growth,
+core::PlanQuery grown_query(const maps::MovingAiScenario& s, int factor, Growth growth,
                             int32_t source_width, int32_t source_height) {
   if (growth == Growth::kScaled) {
     auto centre = [&](const core::Cell& c) {

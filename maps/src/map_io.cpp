@@ -5,7 +5,7 @@
 // bounded by the file size: map rows are checked before the grid is allocated, and a PGM header
 // cannot claim more pixels than the file holds, so a corrupt header cannot force a huge
 // allocation.
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -22,7 +22,9 @@
 #include <string_view>
 #include <system_error>
 
-namespace vnsba::core {
+namespace vnsba::maps {
+// The core types this file reads and writes.
+using namespace core;  // NOLINT(google-build-using-namespace)
 namespace {
 
 constexpr int64_t kMaxSide = 100000;  // cells (or pixels) per side; larger headers are corrupt
@@ -567,4 +569,4 @@ Expected<std::string> save_map_server(const OccupancyGrid& grid, const std::stri
   return yaml_path;
 }
 
-}  // namespace vnsba::core
+}  // namespace vnsba::maps

@@ -4,7 +4,7 @@
 // (clearance at least 2x at a length cost of at most 10 % on the demo scene; cost-aware A* at most
 // 1.3x binary A*'s time on the same queries).
 //
-// vnsba_bench builds without DDS (tools/bench/make_results.sh builds the core only), so it does
+// vnsba_bench builds without DDS (bench/make_results.sh builds the core only), so it does
 // not read the YAML files: kDefaultYamlRobot below holds config/default.yaml's values, and a node
 // test checks that the two agree.
 #pragma once

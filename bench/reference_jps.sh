@@ -7,7 +7,7 @@
 #
 #   cmake -S warthog-jps -B warthog-jps/build -DCMAKE_BUILD_TYPE=Release
 #   cmake --build warthog-jps/build --target warthog_jps
-#   tools/bench/reference_jps.sh warthog-jps/build/warthog-jps [OUT.md]
+#   bench/reference_jps.sh warthog-jps/build/warthog-jps [OUT.md]
 #
 # Prints (and writes to OUT.md, default docs/results/reference_jps.md) per map class and per map:
 # the median per-query time of our astar and jps and of warthog's jps2, the two JPS medians as a
@@ -30,7 +30,7 @@ if [ $# -lt 1 ] || [ ! -x "$1" ]; then
   exit 2
 fi
 reference=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-root=$(cd "$(dirname "$0")/../.." && pwd)
+root=$(cd "$(dirname "$0")/.." && pwd)
 out=${2:-$root/docs/results/reference_jps.md}
 build=${VNSBA_BUILD_DIR:-$root/build/bench}
 data=${VNSBA_DATA_DIR:-$(cd "$root/.." && pwd)/shared/data}
@@ -126,7 +126,7 @@ cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1)
 {
   echo "Measured $(date -u +%Y-%m-%d) on $(nproc) cores ($cpu), ${pin:-not pinned}, every map of"
   echo "the data set, $( [ "$scenarios" -gt 0 ] && echo "$scenarios scenarios per map" || echo "every scenario"),"
-  echo "by \`tools/bench/reference_jps.sh\` (warthog-jps, \`--alg jps2\`)."
+  echo "by \`bench/reference_jps.sh\` (warthog-jps, \`--alg jps2\`)."
   echo
   summarise 1 class
   echo

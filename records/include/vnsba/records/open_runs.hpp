@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "run_record.hpp"
+#include "vnsba/records/run_record.hpp"
 
-namespace vnsba::tools {
+namespace vnsba::records {
 
 // The bytes `record` holds, about: the objects and the capacity of their strings and lists.
 inline size_t record_bytes(const RunRecord& r) {
@@ -195,4 +195,4 @@ class OpenRuns {
   DropTotals totals_;
 };
 
-}  // namespace vnsba::tools
+}  // namespace vnsba::records

@@ -22,9 +22,9 @@
 #include <vector>
 
 #include "vnsba/core/grid_map.hpp"
-#include "vnsba/core/map_io.hpp"
-#include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 
 namespace {
 
@@ -33,10 +33,10 @@ using octomap::OcTree;
 using vnsba::core::Cell;
 using vnsba::core::GridMap;
 using vnsba::core::OccupancyGrid;
-using vnsba::core::slice_octree;
-using vnsba::core::SliceBounds;
-using vnsba::core::SliceOptions;
 using vnsba::core::StatusCode;
+using vnsba::maps::slice_octree;
+using vnsba::maps::SliceBounds;
+using vnsba::maps::SliceOptions;
 
 constexpr float kOccupied = 2.0f;  // log-odds written into synthetic voxels
 constexpr float kFree = -2.0f;
@@ -409,13 +409,13 @@ TEST(OctomapSlice, ALeafSizeWhoseExtentOverflowsIsSaidToBeTooLarge) {
   OcTree huge(1e305);
   huge.setNodeValue(octomap::OcTreeKey(32768, 32768, 32768), kOccupied);
   expect_too_large(slice_octree(huge, Band(0.0, 1e305)), "the tree's resolution (leaf size)");
-  expect_too_large(vnsba::core::octree_from_binary_data(vnsba::core::octree_to_binary_data(huge),
+  expect_too_large(vnsba::maps::octree_from_binary_data(vnsba::maps::octree_to_binary_data(huge),
                                                         1e305, "OcTree"),
                    "resolution (the leaf size)");
   const fs::path dir = FreshTempDir("huge_res");
   WriteBytes(dir / "huge_res.bt",
              "# Octomap OcTree binary file\nid OcTree\nsize 1\nres 1e305\ndata\n");
-  expect_too_large(vnsba::core::load_octree((dir / "huge_res.bt").string()),
+  expect_too_large(vnsba::maps::load_octree((dir / "huge_res.bt").string()),
                    "header res (the leaf size)");
   // Large leaves whose extent still fits are trees like any other.
   OcTree large(1e300);
@@ -429,7 +429,7 @@ TEST(OctomapSlice, ALeafSizeWhoseExtentOverflowsIsSaidToBeTooLarge) {
 // and a slice over the cell limit says which options make it fit and how far the tree reaches.
 TEST(OctomapSlice, ErrorsUseTheCallersNamesAndSayWhatFixesThem) {
   const auto tree = Scene(0.1, true);
-  const vnsba::core::SliceOptionNames names = {"--z-min", "--z-max",
+  const vnsba::maps::SliceOptionNames names = {"--z-min", "--z-max",
                                                "slicer.resolution in cfg.yaml", "--bounds",
                                                "map.max_cells in cfg.yaml"};
   auto message = [&](SliceOptions o) {
@@ -492,9 +492,9 @@ TEST(OctomapSlice, ArbitraryOptionsNeverCrash) {
 
 TEST(OctomapBinaryData, RoundTripKeepsTheLeaves) {
   const auto tree = Scene(0.05, true);
-  const std::vector<int8_t> data = vnsba::core::octree_to_binary_data(*tree);
+  const std::vector<int8_t> data = vnsba::maps::octree_to_binary_data(*tree);
   ASSERT_FALSE(data.empty());
-  const auto back = vnsba::core::octree_from_binary_data(data, 0.05, "OcTree");
+  const auto back = vnsba::maps::octree_from_binary_data(data, 0.05, "OcTree");
   ASSERT_TRUE(back) << back.error().message;
   EXPECT_EQ((*back)->size(), tree->size());
   EXPECT_EQ((*back)->getNumLeafNodes(), tree->getNumLeafNodes());
@@ -508,40 +508,40 @@ TEST(OctomapBinaryData, RoundTripKeepsTheLeaves) {
   }
   // An empty tree writes no bytes and reads back empty.
   OcTree empty(0.1);
-  EXPECT_TRUE(vnsba::core::octree_to_binary_data(empty).empty());
-  const auto none = vnsba::core::octree_from_binary_data({}, 0.1, "OcTree");
+  EXPECT_TRUE(vnsba::maps::octree_to_binary_data(empty).empty());
+  const auto none = vnsba::maps::octree_from_binary_data({}, 0.1, "OcTree");
   ASSERT_TRUE(none);
   EXPECT_EQ((*none)->size(), 0u);
 }
 
 TEST(OctomapBinaryData, BadIdResolutionOrBytesAreErrorsNotCrashes) {
   const auto tree = Scene(0.1, true);
-  const std::vector<int8_t> data = vnsba::core::octree_to_binary_data(*tree);
+  const std::vector<int8_t> data = vnsba::maps::octree_to_binary_data(*tree);
   auto expect_invalid = [](const auto& r, const std::string& text) {
     ASSERT_FALSE(r) << text;
     EXPECT_EQ(r.error().code, StatusCode::kInvalidMap);
     EXPECT_NE(r.error().message.find(text), std::string::npos) << r.error().message;
   };
-  expect_invalid(vnsba::core::octree_from_binary_data(data, 0.1, "ColorOcTree"), "OcTree");
-  expect_invalid(vnsba::core::octree_from_binary_data(data, 0.0, "OcTree"), "resolution");
-  expect_invalid(vnsba::core::octree_from_binary_data(data, kNaN, "OcTree"), "resolution");
-  expect_invalid(vnsba::core::octree_from_binary_data(data, -0.1, "OcTree"), "resolution");
+  expect_invalid(vnsba::maps::octree_from_binary_data(data, 0.1, "ColorOcTree"), "OcTree");
+  expect_invalid(vnsba::maps::octree_from_binary_data(data, 0.0, "OcTree"), "resolution");
+  expect_invalid(vnsba::maps::octree_from_binary_data(data, kNaN, "OcTree"), "resolution");
+  expect_invalid(vnsba::maps::octree_from_binary_data(data, -0.1, "OcTree"), "resolution");
   for (size_t cut = 1; cut < data.size(); cut += 1 + cut / 16) {
     const std::vector<int8_t> head(data.begin(), data.begin() + static_cast<ptrdiff_t>(cut));
-    expect_invalid(vnsba::core::octree_from_binary_data(head, 0.1, "OcTree"), "truncated");
+    expect_invalid(vnsba::maps::octree_from_binary_data(head, 0.1, "OcTree"), "truncated");
   }
   std::vector<int8_t> longer = data;
   longer.push_back(0);
-  expect_invalid(vnsba::core::octree_from_binary_data(longer, 0.1, "OcTree"), "after the end");
+  expect_invalid(vnsba::maps::octree_from_binary_data(longer, 0.1, "OcTree"), "after the end");
   // Inner nodes nested below the tree depth (16): 17 levels of "child 0 has children".
   const std::vector<int8_t> deep(2 * 18, 0x03);
-  expect_invalid(vnsba::core::octree_from_binary_data(deep, 0.1, "OcTree"), "depth");
+  expect_invalid(vnsba::maps::octree_from_binary_data(deep, 0.1, "OcTree"), "depth");
   // Random corruption: any outcome but a crash; what loads must slice.
   std::mt19937 rng(11);
   for (int i = 0; i < 300; ++i) {
     std::vector<int8_t> bad = data;
     for (int k = 0; k < 1 + i % 4; ++k) bad[rng() % bad.size()] = static_cast<int8_t>(rng());
-    const auto r = vnsba::core::octree_from_binary_data(bad, 0.1, "OcTree");
+    const auto r = vnsba::maps::octree_from_binary_data(bad, 0.1, "OcTree");
     if (r) {
       const auto s = slice_octree(**r, Band(0.1, 0.6));
       if (!s) {
@@ -558,7 +558,7 @@ TEST(OctomapBinaryData, BadIdResolutionOrBytesAreErrorsNotCrashes) {
 TEST(OctomapLoad, MissingOrForeignFilesAreInvalidMaps) {
   const fs::path dir = FreshTempDir("load_errors");
   auto expect_invalid = [](const std::string& path, const std::string& text) {
-    const auto r = vnsba::core::load_octree(path);
+    const auto r = vnsba::maps::load_octree(path);
     ASSERT_FALSE(r) << path;
     EXPECT_EQ(r.error().code, StatusCode::kInvalidMap);
     EXPECT_NE(r.error().message.find(path), std::string::npos) << r.error().message;
@@ -590,8 +590,8 @@ TEST(OctomapLoad, FullAndBinaryFilesOfTheSameTreeSliceAlike) {
   auto tree = Scene(0.1, true);
   ASSERT_TRUE(tree->write((dir / "scene.ot").string()));
   ASSERT_TRUE(tree->writeBinary((dir / "scene.bt").string()));  // max-likelihood + prune first
-  const auto full = vnsba::core::load_octree((dir / "scene.ot").string());
-  const auto binary = vnsba::core::load_octree((dir / "scene.bt").string());
+  const auto full = vnsba::maps::load_octree((dir / "scene.ot").string());
+  const auto binary = vnsba::maps::load_octree((dir / "scene.bt").string());
   ASSERT_TRUE(full) << full.error().message;
   ASSERT_TRUE(binary) << binary.error().message;
   const auto a = slice_octree(**full, Band(0.1, 0.6));
@@ -605,7 +605,7 @@ TEST(OctomapLoad, FullAndBinaryFilesOfTheSameTreeSliceAlike) {
     const std::string bytes = ReadBytes((dir / name).string());
     for (const size_t keep : {bytes.size() - 1, bytes.size() / 2, bytes.size() - 100}) {
       WriteBytes(dir / ("cut_" + name), bytes.substr(0, keep));
-      const auto r = vnsba::core::load_octree((dir / ("cut_" + name)).string());
+      const auto r = vnsba::maps::load_octree((dir / ("cut_" + name)).string());
       ASSERT_FALSE(r) << name << " cut to " << keep;
       EXPECT_NE(r.error().message.find("truncated"), std::string::npos) << r.error().message;
     }
@@ -665,7 +665,7 @@ TEST_F(RealOctomap, SlicesHaveTheTreeBoundsAndCarryAPlannableMap) {
   const fs::path tmp = FreshTempDir("real");
   for (const std::string name : {"geb079.bt", "fr_078_tidyup.bt"}) {
     SCOPED_TRACE(name);
-    const auto loaded = vnsba::core::load_octree(OctomapDir() + "/" + name);
+    const auto loaded = vnsba::maps::load_octree(OctomapDir() + "/" + name);
     ASSERT_TRUE(loaded) << loaded.error().message;
     const OcTree& tree = **loaded;
     const double res = tree.getResolution();
@@ -701,9 +701,9 @@ TEST_F(RealOctomap, SlicesHaveTheTreeBoundsAndCarryAPlannableMap) {
       for (const Cell& c : plan.raw_path) EXPECT_TRUE(map->free(c));
 
       // map_server round trip is exact for 0 / 100 / -1 slices.
-      const auto yaml = vnsba::core::save_map_server(*grid, (tmp / (name + "_slice")).string());
+      const auto yaml = vnsba::maps::save_map_server(*grid, (tmp / (name + "_slice")).string());
       ASSERT_TRUE(yaml) << yaml.error().message;
-      const auto back = vnsba::core::load_map_server(*yaml);
+      const auto back = vnsba::maps::load_map_server(*yaml);
       ASSERT_TRUE(back) << back.error().message;
       EXPECT_EQ(back->width, grid->width);
       EXPECT_EQ(back->height, grid->height);
@@ -719,7 +719,7 @@ TEST_F(RealOctomap, SlicesHaveTheTreeBoundsAndCarryAPlannableMap) {
 }
 
 TEST_F(RealOctomap, WindowOfARealTreeMatchesBruteForce) {
-  const auto loaded = vnsba::core::load_octree(OctomapDir() + "/geb079.bt");
+  const auto loaded = vnsba::maps::load_octree(OctomapDir() + "/geb079.bt");
   ASSERT_TRUE(loaded) << loaded.error().message;
   const OcTree& tree = **loaded;
   const double leaf = tree.getResolution();  // 0.08
@@ -742,7 +742,7 @@ TEST_F(RealOctomap, TruncatedCopyIsAnError) {
   for (const size_t keep : {size_t{200}, bytes.size() / 3, bytes.size() - 1}) {
     const fs::path path = dir / "geb079_cut.bt";
     WriteBytes(path, bytes.substr(0, keep));
-    const auto r = vnsba::core::load_octree(path.string());
+    const auto r = vnsba::maps::load_octree(path.string());
     ASSERT_FALSE(r) << keep;
     EXPECT_EQ(r.error().code, StatusCode::kInvalidMap);
     EXPECT_NE(r.error().message.find("truncated"), std::string::npos) << r.error().message;
@@ -752,7 +752,7 @@ TEST_F(RealOctomap, TruncatedCopyIsAnError) {
 
 TEST_F(RealOctomap, HugePrunedLeavesAreBoundedByMaxCells) {
   // simple.bt (1 m) has leaves spanning the whole key space (+-32768 m).
-  const auto loaded = vnsba::core::load_octree(OctomapDir() + "/simple.bt");
+  const auto loaded = vnsba::maps::load_octree(OctomapDir() + "/simple.bt");
   ASSERT_TRUE(loaded) << loaded.error().message;
   const auto r = slice_octree(**loaded, Band(-1.0, 1.0));
   ASSERT_FALSE(r);

@@ -16,7 +16,7 @@ namespace octomap {
 class OcTree;
 }
 
-namespace vnsba::core {
+namespace vnsba::maps {
 
 struct SliceBounds {
   double x_min = 0.0, y_min = 0.0;  // metres
@@ -72,7 +72,8 @@ struct SliceOptions {
 // Cost: the leaves in the band (OctoMap's leaf_bbx iterator over the output area and band) plus
 // a branch-and-bound walk along the tree's outer faces for its key box (z always, x and y only
 // for default bounds); no pass over all leaves. Never throws (out of memory: kInternalError).
-Expected<OccupancyGrid> slice_octree(const octomap::OcTree& tree, const SliceOptions& options);
+core::Expected<core::OccupancyGrid> slice_octree(const octomap::OcTree& tree,
+                                                 const SliceOptions& options);
 
 // Reads a .bt (binary) or .ot (full, OcTree only) file. Errors (kInvalidMap) name the file and
 // the problem: missing, unreadable, truncated, not an OctoMap file, not an OcTree.
@@ -81,19 +82,18 @@ Expected<OccupancyGrid> slice_octree(const octomap::OcTree& tree, const SliceOpt
 // is walked and its node count compared with the header before OctoMap reads it (OctoMap's
 // readers use unread bytes on truncated input and recurse without a depth limit on corrupt
 // input), so truncated or corrupt files are errors, never crashes.
-Expected<std::shared_ptr<octomap::OcTree>> load_octree(const std::string& path);
+core::Expected<std::shared_ptr<octomap::OcTree>> load_octree(const std::string& path);
 
 // A tree from the data of an octomap_msgs/Octomap message with binary = true (the bytes of
 // OcTree::writeBinaryData), as octomap_msgs' binaryMsgToMap reads it. Only id "OcTree" is
 // accepted; resolution must be finite and > 0; empty data is an empty tree (as binaryMapToMsg
 // writes one). Truncated, trailing or corrupt bytes are kInvalidMap (checked before OctoMap).
-Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(const std::vector<int8_t>& data,
-                                                                   double resolution,
-                                                                   const std::string& id);
+core::Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(
+    const std::vector<int8_t>& data, double resolution, const std::string& id);
 
 // The inverse, for tools and tests: the bytes octomap_msgs' binaryMapToMsg would put in data.
 // Empty for an empty tree (or, never thrown, when out of memory). Debian's liboctomap prints a
 // "Writing N nodes to output stream..." debug line to stderr on each call.
 std::vector<int8_t> octree_to_binary_data(const octomap::OcTree& tree);
 
-}  // namespace vnsba::core
+}  // namespace vnsba::maps

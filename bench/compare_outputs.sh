@@ -3,8 +3,8 @@
 # planner on the same Moving AI scenarios with each, and compares everything but the time:
 # status, raw grid path cost, final length, turns, turn angle and expanded nodes, per scenario.
 #
-#   tools/bench/compare_outputs.sh BASE [HEAD]     # revisions; HEAD defaults to the work tree
-#   tools/bench/compare_outputs.sh 1a2b3c4 HEAD
+#   bench/compare_outputs.sh BASE [HEAD]     # revisions; HEAD defaults to the work tree
+#   bench/compare_outputs.sh 1a2b3c4 HEAD
 #
 # Exit 0 when every row is identical, 1 when any differs (the first differences are printed),
 # 2 on bad use. Environment: VNSBA_DATA_DIR (default ../shared/data beside the project),
@@ -13,7 +13,7 @@
 # (comma-separated, default all). About 10-15 minutes on 2 cores for two fresh builds and 300
 # scenarios per map.
 set -eu
-root=$(cd "$(dirname "$0")/../.." && pwd)
+root=$(cd "$(dirname "$0")/.." && pwd)
 if [ $# -lt 1 ] || [ $# -gt 2 ]; then
   sed -n '2,14p' "$0" >&2
   exit 2

@@ -11,8 +11,8 @@
 
 #include "bench/common.hpp"
 #include "bench/movingai.hpp"
-#include "vnsba/core/octomap_slice.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 
 namespace vnsba::bench {
 
@@ -88,16 +88,16 @@ struct SceneResult {
 
 SceneResult run_scene(const CostsOptions& options, const std::vector<core::PlannerKind>& planners) {
   SceneResult out;
-  auto tree = core::load_octree(options.scene_path);
+  auto tree = maps::load_octree(options.scene_path);
   if (!tree) {
     std::fprintf(stderr, "vnsba_bench costs: --scene: %s\n", tree.error().message.c_str());
     out.ok = false;
     return out;
   }
-  core::SliceOptions slice;
+  maps::SliceOptions slice;
   slice.z_min = kDemoSliceZMin;
   slice.z_max = kDemoSliceZMax;
-  auto grid = core::slice_octree(**tree, slice);
+  auto grid = maps::slice_octree(**tree, slice);
   if (!grid) {
     std::fprintf(stderr, "vnsba_bench costs: --scene: %s\n", grid.error().message.c_str());
     out.ok = false;
@@ -248,7 +248,7 @@ MovingAiResult run_maps(const CostsOptions& options,
       }
       // Interleaved by query, so that a slow moment of the machine hits both sides alike.
       for (const size_t index : picked) {
-        const core::MovingAiScenario& s = loaded->scenarios[index];
+        const maps::MovingAiScenario& s = loaded->scenarios[index];
         Outcome o[2];
         for (int side : {kBinary, kCostAware}) {
           // Cells: metres / resolution.

@@ -8,7 +8,7 @@
 // pruned node at depth d spans 2^(16 - d) leaves starting at a multiple of that span. Below,
 // "relative keys" are k - 2^15: the voxel's index from 0. An output cell of m leaves covers the
 // relative keys [c * m, c * m + m), so the output grid anchored at 0 stays aligned with voxels.
-#include "vnsba/core/octomap_slice.hpp"
+#include "vnsba/maps/octomap_slice.hpp"
 
 #include <octomap/OcTree.h>
 
@@ -24,7 +24,9 @@
 #include <string_view>
 #include <utility>
 
-namespace vnsba::core {
+namespace vnsba::maps {
+// The core types this file reads and writes.
+using namespace core;  // NOLINT(google-build-using-namespace)
 namespace {
 
 std::string fmt(double value) {
@@ -424,4 +426,4 @@ std::vector<int8_t> octree_to_binary_data(const octomap::OcTree& tree) {
   }
 }
 
-}  // namespace vnsba::core
+}  // namespace vnsba::maps

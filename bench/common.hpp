@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "vnsba/core/grid_map.hpp"
-#include "vnsba/core/map_io.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/core/status.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace vnsba::bench {
 
@@ -25,7 +25,7 @@ struct LoadedMap {
   std::string name;  // file name without ".map"
   core::OccupancyGrid grid;
   std::shared_ptr<const core::GridMap> map;
-  std::vector<core::MovingAiScenario> scenarios;
+  std::vector<maps::MovingAiScenario> scenarios;
 };
 
 // Loads `map_path` and `map_path + ".scen"`; the status message names the file at fault.

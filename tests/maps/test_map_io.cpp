@@ -15,20 +15,20 @@
 #include <string>
 #include <vector>
 
-#include "vnsba/core/map_io.hpp"
+#include "vnsba/maps/map_io.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using vnsba::core::Cell;
 using vnsba::core::Expected;
-using vnsba::core::load_map_server;
-using vnsba::core::load_movingai_map;
-using vnsba::core::load_movingai_scenarios;
-using vnsba::core::MovingAiScenario;
 using vnsba::core::OccupancyGrid;
-using vnsba::core::save_map_server;
 using vnsba::core::StatusCode;
+using vnsba::maps::load_map_server;
+using vnsba::maps::load_movingai_map;
+using vnsba::maps::load_movingai_scenarios;
+using vnsba::maps::MovingAiScenario;
+using vnsba::maps::save_map_server;
 
 std::string Fixture(const std::string& relative) {
   return std::string(VNSBA_FIXTURE_DIR) + "/" + relative;
