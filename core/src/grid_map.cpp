@@ -177,14 +177,8 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
   for (int32_t y = 0; y < grid.height; ++y) {
     for (int32_t x = 0; x < grid.width; ++x) {
       const int8_t v = grid.at(x, y);
-      CellLayer layer = CellLayer::kFree;
-      if (v == kOccupancyUnknown) {
-        if (!options.allow_unknown) layer = CellLayer::kUnknown;
-      } else if (v >= options.occupied_threshold) {
-        layer = CellLayer::kOccupied;
-      } else if (v > 0) {
-        graded = true;
-      }
+      const CellLayer layer = classify_value(v, options.occupied_threshold, options.allow_unknown);
+      if (layer == CellLayer::kFree && v > 0) graded = true;
       map.layers_[static_cast<size_t>(y) * grid.width + x] = layer;
     }
   }

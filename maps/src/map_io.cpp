@@ -551,7 +551,8 @@ Expected<std::string> save_map_server(const OccupancyGrid& grid, const std::stri
   for (int32_t row = 0; row < grid.height; ++row) {  // PGM rows run top to bottom
     for (int32_t x = 0; x < grid.width; ++x) {
       const int value = grid.at(x, grid.height - 1 - row);
-      const bool occupied = value >= occupied_threshold;
+      const bool occupied =
+          classify_value(value, occupied_threshold, true) == CellLayer::kOccupied;
       pgm.push_back(static_cast<char>(occupied                            ? 0
                                       : (value >= 0 && value <= kFreeMax) ? 254
                                                                           : 205));

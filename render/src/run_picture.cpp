@@ -48,13 +48,10 @@ MapPicture map_picture(const core::OccupancyGrid& grid, int occupied_threshold,
                                 planning_map->height() == picture.height;
   for (int32_t y = 0; y < picture.height; ++y) {
     for (int32_t x = 0; x < picture.width; ++x) {
-      const int8_t value = grid.at(x, y);
-      CellState state = CellState::kFree;
-      if (value < 0)
-        state = CellState::kUnknown;
-      else if (value >= occupied_threshold)
-        state = CellState::kOccupied;
-      else if (use_planning_map && planning_map->blocked(x, y))
+      // The map's own value decides occupied and unknown (drawn even where the planner was
+      // allowed into unknown space); the planning map adds what inflation blocked.
+      CellState state = core::classify_value(grid.at(x, y), occupied_threshold, false);
+      if (state == CellState::kFree && use_planning_map && planning_map->blocked(x, y))
         state = CellState::kInflated;
       picture.cells[static_cast<size_t>(y) * picture.width + x] = state;
     }
@@ -73,8 +70,7 @@ MapPicture map_picture(const core::GridMap& map) {
   picture.cells.resize(static_cast<size_t>(map.cell_count()));
   for (int32_t y = 0; y < map.height(); ++y)
     for (int32_t x = 0; x < map.width(); ++x)
-      picture.cells[static_cast<size_t>(y) * map.width() + x] =
-          map.blocked(x, y) ? CellState::kOccupied : CellState::kFree;
+      picture.cells[static_cast<size_t>(y) * map.width() + x] = map.layer({x, y});
   picture.cost_levels = cost_levels_of(map);
   return picture;
 }

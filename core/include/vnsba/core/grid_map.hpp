@@ -100,6 +100,15 @@ enum class CellLayer : uint8_t {
 };
 std::string_view to_string(CellLayer layer);  // "free", "occupied", "unknown", "inflation"
 
+// The one rule for a map value on its own (no inflation, which needs the neighbours): occupied at
+// or above `occupied_threshold`, unknown when negative (-1) unless `allow_unknown` makes it free,
+// free otherwise (graded values 1..threshold-1 are free cells with a cost). GridMap, the pictures
+// and the map files all classify through it.
+constexpr CellLayer classify_value(int value, int occupied_threshold, bool allow_unknown) {
+  if (value < 0) return allow_unknown ? CellLayer::kFree : CellLayer::kUnknown;
+  return value >= occupied_threshold ? CellLayer::kOccupied : CellLayer::kFree;
+}
+
 class GridMap {
  public:
   // Validates, thresholds, inflates and builds the summed-area table and the bit grids.

@@ -22,12 +22,8 @@
 
 namespace vnsba::render {
 
-enum class CellState : uint8_t {
-  kFree,
-  kOccupied,  // at or above the occupied threshold
-  kUnknown,   // -1 in the occupancy grid
-  kInflated,  // free in the grid, blocked for planning by the robot radius
-};
+// A cell as the picture shows it: core's classification (free, occupied, unknown, inflated).
+using CellState = core::CellLayer;
 
 // The map as the picture shows it: one state per cell, row-major, row 0 at the origin.
 struct MapPicture {
