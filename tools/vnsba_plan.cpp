@@ -46,6 +46,7 @@
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/core/planner_options.hpp"
+#include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/render/run_picture.hpp"
@@ -61,36 +62,6 @@ constexpr int kBadInput = 2;
 // --poses writes at most this many poses (a path of 10 km at 1 mm spacing): a tiny
 // --path-spacing is refused rather than filling the disk.
 constexpr double kMaxPoses = 1e7;
-
-bool has_suffix(const std::string& text, const std::string& suffix) {
-  return text.size() >= suffix.size() &&
-         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// Loads any supported map file as an occupancy grid; the error names the file.
-core::Expected<core::OccupancyGrid> load_map(const std::string& path,
-                                             const maps::SliceOptions& slice) {
-  if (has_suffix(path, ".map")) return maps::load_movingai_map(path);
-  if (has_suffix(path, ".yaml") || has_suffix(path, ".yml")) return maps::load_map_server(path);
-  if (has_suffix(path, ".pgm")) {
-    // The map_server convention: the metadata lives in a YAML file beside the image.
-    const std::string yaml = path.substr(0, path.size() - 4) + ".yaml";
-    if (!std::filesystem::exists(yaml))
-      return core::Status::error(
-          core::StatusCode::kInvalidMap,
-          path + ": a .pgm needs its map_server .yaml beside it (" + yaml + " is missing)");
-    return maps::load_map_server(yaml);
-  }
-  if (has_suffix(path, ".bt") || has_suffix(path, ".ot")) {
-    auto tree = maps::load_octree(path);
-    if (!tree) return tree.error();
-    auto grid = maps::slice_octree(**tree, slice);
-    if (!grid) return core::Status::error(grid.error().code, path + ": " + grid.error().message);
-    return grid;
-  }
-  return core::Status::error(core::StatusCode::kInvalidMap,
-                             path + ": unknown map format (expected .map, .yaml, .pgm, .bt, .ot)");
-}
 
 // A start or goal given on the command line: its cell and the requested point in continuous cell
 // coordinates (unset with --cells: the cell's centre). `outside_ok` (a goal with goal_tolerance)
@@ -334,7 +305,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", valid.message.c_str());  // names the option at fault
     return kBadInput;
   }
-  const bool octomap = has_suffix(map_path, ".bt") || has_suffix(map_path, ".ot");
+  const bool octomap = maps::map_file_kind(map_path) == maps::MapFileKind::kOctoMap;
   for (const CLI::Option* option : octomap_options)
     if (option->count() > 0 && !octomap) {
       std::fprintf(stderr, "%s: only for OctoMap files (.bt, .ot), not %s\n",
@@ -342,7 +313,7 @@ int main(int argc, char** argv) {
       return kBadInput;
     }
   if (!bounds.empty()) slice.bounds = maps::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
-  auto grid = load_map(map_path, slice);
+  auto grid = maps::load_map_file(map_path, slice);
   if (!grid) {
     std::fprintf(stderr, "%s\n", grid.error().message.c_str());
     return kBadInput;
