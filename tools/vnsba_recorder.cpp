@@ -414,14 +414,14 @@ core::Status subscribe(node::Participant& bus, const node::NodeConfig& config,
 int main(int argc, char** argv) {
   node::init_logging("vnsba_recorder");
   CLI::App app{"vnsba_recorder: planning runs on the bus to SVG pictures and run records"};
-  std::string out_dir, config_path = "config/default.yaml";
+  std::string out_dir, config_path = "";
   int domain = -1;
   std::optional<double> duration;
   std::optional<int64_t> runs_wanted;
   double debug_wait_s = 0.5;
   double max_open_mb = kDefaultMaxOpenMb;
   app.add_option("--out", out_dir, "folder for <id>.svg and <id>.json (created if missing)");
-  app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
+  app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
   auto* duration_opt = app.add_option("--duration", duration, "stop after this many seconds");
   app.add_option("--runs", runs_wanted, "stop after this many runs are written")

@@ -210,13 +210,13 @@ int main(int argc, char** argv) {
   const node::StopSignals stop_signals;
   node::init_logging("vnsba_send_goal");
   CLI::App app{"vnsba_send_goal: send one plan request and print the status it gets"};
-  std::string config_path = "config/default.yaml", planner, request_id;
+  std::string config_path = "", planner, request_id;
   std::optional<int> domain;
   std::vector<double> start, goal;
   double yaw = 0.0;
   double wait_seconds = 10.0;
   int min_readers = 1;
-  app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
+  app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)")
       ->check(CLI::Range(0, 232));
   app.add_option("--start", start, "start X Y in metres, in the config's frame_id")

@@ -111,7 +111,7 @@ void log_slice(const core::OccupancyGrid& g, const std::string& source) {
 int main(int argc, char** argv) {
   node::init_logging("vnsba_slicer");
   CLI::App app{"vnsba_slicer: OctoMap 3D maps to 2D occupancy slices"};
-  std::string input, out, config_path = "config/default.yaml";
+  std::string input, out, config_path = "";
   std::optional<double> z_min, z_max, resolution;
   int domain = -1;
   bool publish = false, watch = false, subscribe = false, speckles = false;
@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
   app.add_flag("--publish", publish, "publish the slice on the slice topic and keep serving it");
   app.add_flag("--watch", watch, "with --publish: republish when the file changes");
   app.add_flag("--subscribe", subscribe, "slice the binary octomaps received on the octomap topic");
-  app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
+  app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
   CLI11_PARSE(app, argc, argv);
 

@@ -570,4 +570,25 @@ std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
   return config.ros2_naming ? "rt/" + bare : bare;
 }
 
+core::Expected<std::string> find_default_config() {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> candidates;
+  std::error_code error;
+  // The executable's own path (not argv[0], which may be a bare name found through PATH).
+  const fs::path executable = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    candidates.push_back(executable.parent_path().parent_path() / "share" / "vnsba" /
+                         "default.yaml");
+  }
+  candidates.push_back(fs::path(VNSBA_SOURCE_CONFIG_DIR) / "default.yaml");
+  std::string looked;
+  for (const fs::path& candidate : candidates) {
+    if (fs::is_regular_file(candidate, error)) return candidate.lexically_normal().string();
+    looked += (looked.empty() ? "" : ", ") + candidate.lexically_normal().string();
+  }
+  return core::Status::error(
+      core::StatusCode::kInvalidRequest,
+      "no --config given and no default config found (looked at " + looked + ")");
+}
+
 }  // namespace vnsba::node

@@ -11,9 +11,9 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"vnsba_node: VNS-BA* global path planner on DDS"};
-  std::string config_path = "config/default.yaml";
+  std::string config_path = "";
   int domain = -1;
-  app.add_option("--config", config_path, "YAML configuration file")->capture_default_str();
+  app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
   CLI11_PARSE(app, argc, argv);
 

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <ctime>
+#include <filesystem>
 
 namespace vnsba::node {
 
@@ -17,7 +18,18 @@ void init_logging(const std::string& program) {
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
 }
 
-std::optional<NodeConfig> load_config_or_report(const std::string& path, int domain_override) {
+std::optional<NodeConfig> load_config_or_report(const std::string& given_path,
+                                                int domain_override) {
+  std::string path = given_path;
+  if (path.empty()) {
+    const core::Expected<std::string> found = find_default_config();
+    if (!found) {
+      spdlog::error("{}", found.error().message);
+      return std::nullopt;
+    }
+    path = *found;
+  }
+  spdlog::info("config: {}", std::filesystem::absolute(path).lexically_normal().string());
   ConfigResult loaded = load_config(path);
   if (!loaded.config) {
     spdlog::error("{} error(s) in {}:", loaded.errors.size(), path);

@@ -13,6 +13,7 @@
 
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/planner_options.hpp"
+#include "vnsba/core/status.hpp"
 
 namespace vnsba::node {
 
@@ -127,6 +128,16 @@ ConfigResult load_config(const std::string& path);
 
 // The same from YAML text; `source` names it in messages.
 ConfigResult parse_config(const std::string& yaml_text, const std::string& source = "<config>");
+
+// The config a tool reads when it is given no --config, so that it runs from any directory: the
+// installed `<prefix>/share/vnsba/default.yaml` beside the running executable
+// (`<prefix>/bin/<tool>`), then the source tree's `config/default.yaml` (a build tree's tools).
+// Returns the first that exists, or kInvalidRequest listing where it looked.
+core::Expected<std::string> find_default_config();
+// Every tool's --config help text, which says where the file comes from without the option.
+inline constexpr const char* kConfigOptionHelp =
+    "YAML configuration file (default: <prefix>/share/vnsba/default.yaml of this installation, "
+    "else the source tree's config/default.yaml)";
 
 // The DDS topic name of a configured topic name: "rt/" + name with ros2_naming, else the name.
 // A leading '/' is dropped first in both cases, as ROS 2 does ("/plan" -> "rt/plan").

@@ -16,8 +16,9 @@ namespace vnsba::node {
 void init_logging(const std::string& program);
 
 // Loads and validates the config; on errors logs every one of them (naming the file) and
-// returns nullopt. A non-negative `domain_override` replaces domain_id (the --domain flag). Sets
-// the log level from the config.
+// returns nullopt. An empty `path` (no --config) means find_default_config(). The first log line
+// names the file read. A non-negative `domain_override` replaces domain_id (the --domain flag).
+// Sets the log level from the config.
 std::optional<NodeConfig> load_config_or_report(const std::string& path, int domain_override);
 
 // Blocks SIGINT and SIGTERM in the calling thread, and so in every thread it starts later (DDS
