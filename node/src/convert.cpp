@@ -163,11 +163,18 @@ TimeMsg now_msg() {
   return to_time_msg(std::chrono::system_clock::now());
 }
 
+bool same_frame(std::string_view a, std::string_view b) {
+  // tf2 strips one leading '/' from a frame id (ROS 1 wrote "/map"); so do we, on both sides.
+  if (!a.empty() && a.front() == '/') a.remove_prefix(1);
+  if (!b.empty() && b.front() == '/') b.remove_prefix(1);
+  return a == b;
+}
+
 SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_frame,
                           int64_t max_cells) {
   SliceCheck out;
   const std::string& frame = msg.header().frame_id();
-  if (!frame.empty() && frame != expected_frame) {
+  if (!frame.empty() && !same_frame(frame, expected_frame)) {
     out.status = error(wire::FRAME_MISMATCH, "slice header.frame_id is '" + printable(frame) +
                                                  "', the node plans in '" + expected_frame + "'");
     return out;
@@ -268,7 +275,7 @@ PoseCheck check_pose(const PoseStampedMsg& pose, const std::string& field,
                      const std::string& expected_frame) {
   PoseCheck out;
   const std::string& frame = pose.header().frame_id();
-  if (!frame.empty() && frame != expected_frame) {
+  if (!frame.empty() && !same_frame(frame, expected_frame)) {
     out.status = error(wire::FRAME_MISMATCH, field + ".header.frame_id is '" + printable(frame) +
                                                  "', the map's frame is '" + expected_frame + "'");
     return out;

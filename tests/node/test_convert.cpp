@@ -146,5 +146,35 @@ TEST(StatusMsg, ClearanceAndTheUsedEndpointsAreFilledAndReadBack) {
   EXPECT_TRUE(std::isnan(map_report.goal_x()));
 }
 
+// Frames (issue: "/map" from ROS 1 bridges and old configs got FRAME_MISMATCH): a leading '/'
+// does not make another frame, on the message's side or the config's; another name still does.
+TEST(Frames, ALeadingSlashNamesTheSameFrame) {
+  EXPECT_TRUE(node::same_frame("map", "map"));
+  EXPECT_TRUE(node::same_frame("/map", "map"));
+  EXPECT_TRUE(node::same_frame("map", "/map"));
+  EXPECT_FALSE(node::same_frame("odom", "map"));
+  EXPECT_FALSE(node::same_frame("//map", "map"));  // tf2 drops one slash only
+  EXPECT_FALSE(node::same_frame("/", "map"));
+
+  const node::PoseStampedMsg slashed = node::to_pose_msg(1.0, 2.0, 0.0, "/map", node::now_msg());
+  EXPECT_TRUE(node::check_pose(slashed, "start", "map").status.ok());
+  const node::PoseStampedMsg odom = node::to_pose_msg(1.0, 2.0, 0.0, "odom", node::now_msg());
+  const node::PoseCheck refused = node::check_pose(odom, "start", "map");
+  EXPECT_EQ(refused.status.code, wire::FRAME_MISMATCH);
+  EXPECT_NE(refused.status.message.find("start.header.frame_id is 'odom'"), std::string::npos);
+
+  core::OccupancyGrid grid;
+  grid.width = 2;
+  grid.height = 1;
+  grid.resolution = 0.5;
+  grid.data = {0, 100};
+  EXPECT_TRUE(
+      node::from_slice_msg(node::to_slice_msg(grid, "/map", node::now_msg()), "map", 1 << 20)
+          .status.ok());
+  EXPECT_EQ(node::from_slice_msg(node::to_slice_msg(grid, "odom", node::now_msg()), "map", 1 << 20)
+                .status.code,
+            wire::FRAME_MISMATCH);
+}
+
 }  // namespace
 }  // namespace vnsba::test

@@ -64,6 +64,10 @@ std::string code_name(uint8_t code);
 TimeMsg to_time_msg(std::chrono::system_clock::time_point t);
 TimeMsg now_msg();
 
+// Whether two frame ids name one frame: equal once a leading '/' is dropped from each, as tf2
+// does ("/map" from a ROS 1 bridge or an old config is "map"). Anything else differs ("odom").
+bool same_frame(std::string_view a, std::string_view b);
+
 // A slice off the bus, checked and converted: frame, size, resolution, origin (finite, no
 // rotation: grids must be axis-aligned), data length, values in -1..100, size limit. Errors are
 // FRAME_MISMATCH or INVALID_MAP with the offending field named.
