@@ -9,6 +9,7 @@ packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen default-jre-headless
   libcli11-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev librsvg2-bin
+  librsvg2-dev libcairo2-dev
 )
 
 missing=()
