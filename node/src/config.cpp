@@ -106,10 +106,6 @@ std::string topic_name_problem(const std::string& name) {
   return "";
 }
 
-std::string without_leading_slash(const std::string& name) {
-  return !name.empty() && name[0] == '/' ? name.substr(1) : name;
-}
-
 // A getter's target is a plain field (an absent key keeps its value) or an optional setting
 // (an absent key leaves it unset); value_of<Out> is what the check reads either way.
 template <class T>
@@ -340,6 +336,9 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   map.number("cost_scaling_factor", c.map.cost_scaling_factor, "a finite number per metre >= 0",
              [](double v) { return v >= 0.0; });
   map.integer("max_cells", c.map.max_cells, 1, core::kMaxCellsLimit);
+  map.choice("durability", c.map_durability,
+             {{"transient_local", MapDurability::kTransientLocal},
+              {"volatile", MapDurability::kVolatile}});
   map.finish();
 
   // Every key the file gives becomes a setting; a key left out stays unset, so that it follows
@@ -566,8 +565,13 @@ ConfigResult load_config(const std::string& path) {
 }
 
 std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
-  const std::string bare = without_leading_slash(name);
+  const std::string bare(without_leading_slash(name));
   return config.ros2_naming ? "rt/" + bare : bare;
+}
+
+std::string_view without_leading_slash(std::string_view name) {
+  if (!name.empty() && name.front() == '/') name.remove_prefix(1);
+  return name;
 }
 
 core::Expected<std::string> find_default_config() {

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "vnsba/core/path_poses.hpp"
+#include "vnsba/node/config.hpp"
 
 namespace vnsba::node {
 
@@ -164,10 +165,7 @@ TimeMsg now_msg() {
 }
 
 bool same_frame(std::string_view a, std::string_view b) {
-  // tf2 strips one leading '/' from a frame id (ROS 1 wrote "/map"); so do we, on both sides.
-  if (!a.empty() && a.front() == '/') a.remove_prefix(1);
-  if (!b.empty() && b.front() == '/') b.remove_prefix(1);
-  return a == b;
+  return without_leading_slash(a) == without_leading_slash(b);
 }
 
 SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_frame,

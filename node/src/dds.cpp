@@ -2,6 +2,7 @@
 
 #include <fastdds/rtps/common/WriteParams.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -48,6 +49,22 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
   qos.data_sharing().off();
 }
 
+std::string describe(TopicQos profile) {
+  switch (profile) {
+    case TopicQos::kLatched:
+      return "reliable, transient local, keep last 1";
+    case TopicQos::kEvents:
+      return "reliable, volatile, keep all";
+    case TopicQos::kStatus:
+      return "reliable, transient local, keep last " + std::to_string(kStatusHistory);
+    case TopicQos::kLatest:
+      return "reliable, volatile, keep last 1";
+    case TopicQos::kDebug:
+      return "reliable, volatile, keep last 8";
+  }
+  return "";
+}
+
 dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
   dds::DataWriterQos qos = dds::DATAWRITER_QOS_DEFAULT;
   apply_common(qos, profile, /*reader=*/false);
@@ -92,7 +109,12 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
   qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
   qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
   self->participant_ = dds::DomainParticipantFactory::get_instance()->create_participant(
-      domain_id, qos, listener, dds::StatusMask::none());  // discovery callbacks only
+      domain_id, qos, listener,
+      // Discovery callbacks (always delivered) and, from every reader and writer, incompatible
+      // QoS: their own listeners leave those statuses out of their masks, so they come here.
+      listener != nullptr ? dds::StatusMask::requested_incompatible_qos()
+                                << dds::StatusMask::offered_incompatible_qos()
+                          : dds::StatusMask::none());
   if (self->participant_ == nullptr)
     return dds_error("create_participant(domain " + std::to_string(domain_id) + ")");
   self->publisher_ = self->participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
@@ -171,13 +193,13 @@ std::string prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
 
 }  // namespace
 
-void OtherWritersWatch::on_participant_discovery(
+void ParticipantWatch::on_participant_discovery(
     dds::DomainParticipant*, eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
   std::lock_guard<std::mutex> lock(mutex_);
   names_[prefix_text(info.info.m_guid.guidPrefix)] = info.info.m_participantName.to_string();
 }
 
-void OtherWritersWatch::on_publisher_discovery(
+void ParticipantWatch::on_publisher_discovery(
     dds::DomainParticipant* participant, eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) {
   using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
   if (info.status != Status::DISCOVERED_WRITER) return;
@@ -195,7 +217,62 @@ void OtherWritersWatch::on_publisher_discovery(
   if (on_other_) on_other_(name, key);
 }
 
-size_t OtherWritersWatch::count() const {
+namespace {
+
+// The policies a ROS 2 or DDS peer most often sets differently; the rest by their number.
+std::string policy_name(uint32_t id) {
+  switch (id) {
+    case dds::DURABILITY_QOS_POLICY_ID:
+      return "DURABILITY";
+    case dds::DEADLINE_QOS_POLICY_ID:
+      return "DEADLINE";
+    case dds::LIVELINESS_QOS_POLICY_ID:
+      return "LIVELINESS";
+    case dds::RELIABILITY_QOS_POLICY_ID:
+      return "RELIABILITY";
+    case dds::OWNERSHIP_QOS_POLICY_ID:
+      return "OWNERSHIP";
+    case dds::DESTINATIONORDER_QOS_POLICY_ID:
+      return "DESTINATION_ORDER";
+    case dds::PRESENTATION_QOS_POLICY_ID:
+      return "PRESENTATION";
+    case dds::DATAREPRESENTATION_QOS_POLICY_ID:
+      return "DATA_REPRESENTATION";
+    default:
+      return "QoS policy " + std::to_string(id);
+  }
+}
+
+}  // namespace
+
+void ParticipantWatch::report_incompatible(const std::string& topic, bool ours_reads,
+                                           uint32_t policy_id, int32_t new_endpoints) {
+  if (new_endpoints <= 0) return;
+  incompatible_qos_ += static_cast<size_t>(new_endpoints);
+  const std::string policy = policy_name(policy_id);
+  const std::string fix = fix_ ? fix_(topic, policy) : "";
+  spdlog::warn("incompatible QoS on '{}': {} remote {} never match the node's {} ({}){}{}", topic,
+               new_endpoints, ours_reads ? "writer(s)" : "reader(s)",
+               ours_reads ? "reader" : "writer", policy, fix.empty() ? "" : ": ", fix);
+}
+
+void ParticipantWatch::on_requested_incompatible_qos(
+    dds::DataReader* reader, const dds::RequestedIncompatibleQosStatus& status) {
+  report_incompatible(reader->get_topicdescription()->get_name(), true, status.last_policy_id,
+                      status.total_count_change);
+}
+
+void ParticipantWatch::on_offered_incompatible_qos(
+    dds::DataWriter* writer, const dds::OfferedIncompatibleQosStatus& status) {
+  report_incompatible(writer->get_topic()->get_name(), false, status.last_policy_id,
+                      status.total_count_change);
+}
+
+size_t ParticipantWatch::incompatible_qos() const {
+  return incompatible_qos_.load();
+}
+
+size_t ParticipantWatch::count() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return reported_.size();
 }

@@ -83,7 +83,7 @@ class PlannerNode::Impl {
 
   NodeConfig cfg_;
   // Declared before the participant, which calls it, so that it is destroyed after it.
-  std::unique_ptr<OtherWritersWatch> other_nodes_;
+  std::unique_ptr<ParticipantWatch> participant_watch_;
   std::unique_ptr<Participant> participant_;
   dds::DataWriter* plan_writer_ = nullptr;
   dds::DataWriter* status_writer_ = nullptr;
@@ -138,7 +138,33 @@ class PlannerNode::Impl {
   void report_map(const WireStatus& status, const TimeMsg& map_stamp);
   void write_status(PlanStatusMsg& msg, const std::string& what);
   bool debug_wanted() const;
+  // What makes a remote endpoint on `topic` match the node's, for the incompatible-QoS warning.
+  template <class Name>
+  std::string qos_fix(const std::string& topic, const std::string& policy, Name name) const;
 };
+
+template <class Name>
+std::string PlannerNode::Impl::qos_fix(const std::string& topic, const std::string& policy,
+                                       Name name) const {
+  if (topic == name(cfg_.topics.projected_map)) {
+    if (policy == "DURABILITY" && cfg_.map_durability == MapDurability::kTransientLocal)
+      return "the map publisher is volatile: set map.durability: volatile in the node's config";
+    return "the node reads maps reliable, " +
+           std::string(cfg_.map_durability == MapDurability::kVolatile ? "volatile"
+                                                                       : "transient local") +
+           " (map.durability)";
+  }
+  const std::pair<const std::string*, TopicQos> fixed[] = {
+      {&cfg_.topics.goal_pose, TopicQos::kEvents},
+      {&cfg_.topics.robot_pose, TopicQos::kLatest},
+      {&cfg_.topics.plan_request, TopicQos::kEvents},
+      {&cfg_.topics.plan, TopicQos::kLatest},
+      {&cfg_.topics.plan_status, TopicQos::kStatus},
+      {&cfg_.topics.planner_debug, TopicQos::kDebug}};
+  for (const auto& [configured, profile] : fixed)
+    if (topic == name(*configured)) return "the node's endpoint is " + describe(profile);
+  return "";
+}
 
 // ---------------------------------------------------------------------------------------------
 // Start and stop.
@@ -146,14 +172,18 @@ class PlannerNode::Impl {
 core::Status PlannerNode::Impl::start() {
   auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
   // Two nodes on one domain and topics answer every request twice: say so (issue 13).
-  other_nodes_ = std::make_unique<OtherWritersWatch>(
-      name(cfg_.topics.plan_status), [this, name](const std::string& who, const std::string& guid) {
+  participant_watch_ = std::make_unique<ParticipantWatch>(
+      name(cfg_.topics.plan_status),
+      [this, name](const std::string& who, const std::string& guid) {
         spdlog::warn(
             "another participant ('{}', GUID prefix {}) also writes '{}': every request on this "
             "domain gets one answer from each; give each node its own domain_id or topics",
             printable(who), guid, name(cfg_.topics.plan_status));
+      },
+      [this, name](const std::string& topic, const std::string& policy) {
+        return qos_fix(topic, policy, name);
       });
-  auto participant = Participant::create(cfg_.domain_id, "vnsba_node", other_nodes_.get());
+  auto participant = Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get());
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
 
@@ -214,13 +244,16 @@ core::Status PlannerNode::Impl::start() {
         job.planner = std::move(m.planner());
         on_request(std::move(job));
       }));
-  const std::pair<dds::Topic*, TopicQos> readers[] = {{*slice_topic, TopicQos::kLatched},
-                                                      {*goal_topic, TopicQos::kEvents},
-                                                      {*pose_topic, TopicQos::kLatest},
-                                                      {*request_topic, TopicQos::kEvents}};
+  dds::DataReaderQos slice_qos = reader_qos(TopicQos::kLatched);
+  if (cfg_.map_durability == MapDurability::kVolatile)
+    slice_qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
+  const std::pair<dds::Topic*, dds::DataReaderQos> readers[] = {
+      {*slice_topic, slice_qos},
+      {*goal_topic, reader_qos(TopicQos::kEvents)},
+      {*pose_topic, reader_qos(TopicQos::kLatest)},
+      {*request_topic, reader_qos(TopicQos::kEvents)}};
   for (size_t i = 0; i < 4; ++i) {
-    auto reader =
-        participant_->reader(readers[i].first, reader_qos(readers[i].second), listeners_[i].get());
+    auto reader = participant_->reader(readers[i].first, readers[i].second, listeners_[i].get());
     if (!reader) return reader.error();
   }
   spdlog::info("vnsba_node up on domain {}: slices on '{}', requests on '{}', goals on '{}'",
@@ -562,7 +595,9 @@ PlannerNode::Stats PlannerNode::stats() const {
   s.maps_superseded = impl_->maps_superseded_;
   s.plans_ok = impl_->plans_ok_;
   s.queue_peak = impl_->queue_peak_;
-  s.other_status_writers = impl_->other_nodes_ ? impl_->other_nodes_->count() : 0;
+  s.other_status_writers = impl_->participant_watch_ ? impl_->participant_watch_->count() : 0;
+  s.incompatible_qos =
+      impl_->participant_watch_ ? impl_->participant_watch_->incompatible_qos() : 0;
   s.plan_readers = impl_->plan_writer_ != nullptr
                        ? static_cast<size_t>(matched_readers(impl_->plan_writer_))
                        : 0;

@@ -27,6 +27,7 @@ using vnsba::node::ConfigResult;
 using vnsba::node::dds_topic_name;
 using vnsba::node::DebugPublishing;
 using vnsba::node::load_config;
+using vnsba::node::MapDurability;
 using vnsba::node::NodeConfig;
 using vnsba::node::parse_config;
 using vnsba::test::ExpectSameOptions;
@@ -213,6 +214,7 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "inflation_radius:",
                           "cost_scaling_factor:",
                           "max_cells:",
+                          "durability:",
                           "planner:",
                           "name:",
                           "omega:",
@@ -545,6 +547,17 @@ TEST(Config, UnknownEnumNamesListTheValidNames) {
   EXPECT_TRUE(HasError(r, "debug.publish", {"\"maybe\"", "auto, always, never"}));
   EXPECT_TRUE(
       HasError(r, "log_level", {"\"verbose\"", "trace, debug, info, warn, error, critical, off"}));
+}
+
+TEST(Config, MapDurabilityIsTransientLocalOrVolatile) {
+  EXPECT_EQ(parse_config("").config->map_durability, MapDurability::kTransientLocal);
+  EXPECT_EQ(parse_config("map: {durability: volatile}\n").config->map_durability,
+            MapDurability::kVolatile);
+  EXPECT_EQ(parse_config("map: {durability: transient_local}\n").config->map_durability,
+            MapDurability::kTransientLocal);
+  const ConfigResult bad = parse_config("map: {durability: latched}\n");
+  EXPECT_FALSE(bad.config.has_value());
+  EXPECT_TRUE(HasError(bad, "map.durability", {"\"latched\"", "transient_local, volatile"}));
 }
 
 TEST(Config, UnknownKeysAreReportedWithSuggestions) {

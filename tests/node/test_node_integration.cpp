@@ -86,6 +86,54 @@ struct Running {
   }
 };
 
+// A map publisher with its own durability (octomap_server with latch:=false publishes volatile),
+// on its own participant: it publishes `grid` until `node` has a map or `timeout` passes.
+bool publish_until_accepted(const node::NodeConfig& cfg, node::PlannerNode& planner_node,
+                            const core::OccupancyGrid& grid, bool volatile_writer,
+                            std::chrono::milliseconds timeout) {
+  auto participant = node::Participant::create(cfg.domain_id, "map_publisher").value();
+  auto topic = participant
+                   ->topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+                       node::dds_topic_name(cfg, cfg.topics.projected_map))
+                   .value();
+  node::dds::DataWriterQos qos = node::writer_qos(node::TopicQos::kLatched, true);
+  if (volatile_writer) qos.durability().kind = node::dds::VOLATILE_DURABILITY_QOS;
+  node::dds::DataWriter* writer = participant->writer(topic, qos).value();
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    auto msg = node::to_slice_msg(grid, cfg.frame_id, node::now_msg());
+    writer->write(&msg);
+    if (planner_node.wait_for_map(200ms)) break;
+  }
+  const bool accepted = planner_node.wait_for_map(0ms);
+  participant->shutdown();
+  return accepted;
+}
+
+// issue 17, item 1: a volatile map publisher never matches the default transient-local map reader
+// (DDS forbids it); the node says so instead of answering NO_MAP in silence, and with
+// map.durability: volatile it takes maps from volatile and latched publishers alike.
+TEST(NodeIntegration, MapDurabilityDecidesWhichPublishersMatchAndAMismatchIsCounted) {
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  {
+    node::NodeConfig cfg = test_config("durable_map");
+    node::PlannerNode planner_node(cfg);
+    ASSERT_TRUE(planner_node.start().is_ok());
+    EXPECT_FALSE(publish_until_accepted(cfg, planner_node, grid, /*volatile_writer=*/true, 2s));
+    EXPECT_GE(planner_node.stats().incompatible_qos, 1u);
+    EXPECT_TRUE(publish_until_accepted(cfg, planner_node, grid, /*volatile_writer=*/false, 10s));
+  }
+  for (const bool volatile_writer : {true, false}) {
+    SCOPED_TRACE(volatile_writer ? "volatile publisher" : "latched publisher");
+    node::NodeConfig cfg = test_config(volatile_writer ? "volatile_map_v" : "volatile_map_l");
+    cfg.map_durability = node::MapDurability::kVolatile;
+    node::PlannerNode planner_node(cfg);
+    ASSERT_TRUE(planner_node.start().is_ok());
+    EXPECT_TRUE(publish_until_accepted(cfg, planner_node, grid, volatile_writer, 10s));
+    EXPECT_EQ(planner_node.stats().incompatible_qos, 0u);
+  }
+}
+
 TEST(NodeIntegration, LateJoiningNodeGetsTheLatchedSliceAndPlansOnIt) {
   node::NodeConfig cfg = test_config("late");
   BusClient client(cfg);

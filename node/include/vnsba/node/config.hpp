@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vnsba/core/grid_map.hpp"
@@ -34,6 +35,8 @@ enum class DebugPublishing {
   kAlways,  // always publish
   kNever,   // never publish
 };
+
+enum class MapDurability { kTransientLocal, kVolatile };
 
 // OctoMap slicing settings (used by vnsba_slicer).
 struct SlicerConfig {
@@ -101,6 +104,11 @@ struct NodeConfig {
   // defaults are the paper's binary grid (no radius, no gradient); config/default.yaml sets a
   // real robot's values.
   core::GridBuildOptions map = default_map_options();
+  // map.durability: the slice reader's DDS durability. transient_local (default, as Nav2's static
+  // layer with map_subscribe_transient_local) also receives the last map of a latched publisher
+  // that started first, but never matches a volatile one (octomap_server with latch:=false, any
+  // QoS(10) publisher); volatile matches both and receives maps published after it joined.
+  MapDurability map_durability = MapDurability::kTransientLocal;
 
   // The planner and what the file configured of its options (max_planning_time is read in
   // seconds, 0 = unlimited; compute_length_ratio costs a second, optimal A* search per plan;
@@ -138,6 +146,10 @@ core::Expected<std::string> find_default_config();
 inline constexpr const char* kConfigOptionHelp =
     "YAML configuration file (default: <prefix>/share/vnsba/default.yaml of this installation, "
     "else the source tree's config/default.yaml)";
+
+// A ROS 2 name without one leading '/': topics ("/plan" is "plan") and frame ids ("/map" is
+// "map", as tf2 strips it).
+std::string_view without_leading_slash(std::string_view name);
 
 // The DDS topic name of a configured topic name: "rt/" + name with ros2_naming, else the name.
 // A leading '/' is dropped first in both cases, as ROS 2 does ("/plan" -> "rt/plan").

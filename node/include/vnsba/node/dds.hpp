@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -48,21 +49,35 @@ constexpr int32_t kStatusHistory = 1024;
 
 dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples);
 dds::DataReaderQos reader_qos(TopicQos profile);
+// The profile in words, for messages: "reliable, transient local, keep last 1".
+std::string describe(TopicQos profile);
 
-// Reports, once per remote participant, a writer on `topic_name` in a participant other than
-// the one it listens on: on the status topic that is a second node answering every request.
-// Attach it at Participant::create so that writers discovered at once are seen too; it must
-// outlive the participant. `on_other(participant_name, guid_prefix)` runs on a DDS thread.
-class OtherWritersWatch : public dds::DomainParticipantListener {
+// The node participant's own events, on DDS threads; attach it at Participant::create so that
+// endpoints discovered at once are seen too; it must outlive the participant.
+// - Once per remote participant, a writer on `topic_name` in a participant other than the one it
+//   listens on: on the status topic that is a second node answering every request.
+//   `on_other(participant_name, guid_prefix)` is called.
+// - Incompatible QoS on any of the participant's readers or writers (a remote endpoint that will
+//   never match, so nothing flows and nothing else says why): logged as a warning once per remote
+//   endpoint (each increment of the status's total count), naming the topic, the policy and
+//   `fix(topic, policy)`, the config key or QoS that makes them match.
+class ParticipantWatch : public dds::DomainParticipantListener {
  public:
   using OnOther = std::function<void(const std::string& name, const std::string& guid_prefix)>;
-  OtherWritersWatch(std::string topic_name, OnOther on_other)
-      : topic_name_(std::move(topic_name)), on_other_(std::move(on_other)) {}
+  using FixHint = std::function<std::string(const std::string& topic, const std::string& policy)>;
+  ParticipantWatch(std::string topic_name, OnOther on_other, FixHint fix = nullptr)
+      : topic_name_(std::move(topic_name)), on_other_(std::move(on_other)), fix_(std::move(fix)) {}
 
   void on_participant_discovery(dds::DomainParticipant* participant,
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
   void on_publisher_discovery(dds::DomainParticipant* participant,
                               eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
+  void on_requested_incompatible_qos(dds::DataReader* reader,
+                                     const dds::RequestedIncompatibleQosStatus& status) override;
+  void on_offered_incompatible_qos(dds::DataWriter* writer,
+                                   const dds::OfferedIncompatibleQosStatus& status) override;
+  // Incompatible remote endpoints seen so far, on every reader and writer.
+  size_t incompatible_qos() const;
   // Remote participants seen writing the topic so far.
   size_t count() const;
 
@@ -72,6 +87,10 @@ class OtherWritersWatch : public dds::DomainParticipantListener {
   mutable std::mutex mutex_;
   std::map<std::string, std::string> names_;  // guid prefix -> participant name
   std::set<std::string> reported_;            // guid prefixes
+  FixHint fix_;
+  std::atomic<size_t> incompatible_qos_{0};
+  void report_incompatible(const std::string& topic, bool ours_reads, uint32_t policy_id,
+                           int32_t new_endpoints);
 };
 
 // One DomainParticipant with a publisher and a subscriber. Not copyable; the destructor deletes

@@ -53,6 +53,8 @@ class PlannerNode {
     // Readers matched by the `plan` writer. `plan` is volatile: a path written before a reader
     // is matched never reaches it, so a client that needs the path waits for this.
     size_t plan_readers = 0;
+    // Remote endpoints whose QoS can never match one of the node's (each is logged once).
+    size_t incompatible_qos = 0;
   };
   Stats stats() const;
 
