@@ -1,6 +1,7 @@
 // vnsba_plan: plan offline on a map file and draw the run, for users without a DDS system.
 //
 //   vnsba_plan MAP --start X Y --goal X Y [--planner NAME] [--svg out.svg] [--cells]
+//              [--config FILE] [--repeat N] [--json run.json] [--png out.png]
 //              [--z-min A --z-max B] [--resolution R] [--bounds XMIN,YMIN,XMAX,YMAX]
 //                                                       (OctoMap files)
 //              [--allow-unknown] [--robot-radius M] [--occupied-threshold T]
@@ -9,6 +10,7 @@
 //              [--inflation-radius M] [--cost-scaling-factor PER_M] [--cost-weight W]
 //              [--goal-tolerance M] [--start-tolerance M]
 //              [--poses FILE [--path-spacing M] [--goal-yaw RAD]]
+//   vnsba_plan [MAP] --scen FILE.scen [--scen-index N] [--progress] [other options as above]
 //
 // MAP is a Moving AI `.map` (1 m cells, origin (0, 0), row 0 at the bottom), a map_server
 // `.yaml` (with its `.pgm`), or an OctoMap `.bt`/`.ot` sliced at the height band given, over the
@@ -20,7 +22,23 @@
 // status, length in metres, clearance in metres (`inf` on a map without obstacles, `nan` without
 // a path), turns, turn angle, expansions, time, the length ratio to optimal A* (a second search,
 // which the time does not include), and start_moved_m / goal_moved_m when a tolerance moved the
-// start or the goal.
+// start or the goal. With --repeat N the query is planned N times on one Planner (its search
+// state allocated once): time_us is the first plan's, and `repeats=N first_time_us=
+// median_time_us=` follow (the first includes one-off allocation, the median does not).
+//
+// --config FILE reads the node's config (node::load_config, no DDS): its planner section (name,
+// options, costs, tolerances, path_spacing), its map section (thresholds, robot_radius, cost
+// gradient, max_cells) and, for OctoMaps, its slicer band are the defaults; every flag given
+// overrides its key. A bad file is refused with every error the loader reports.
+//
+// --scen FILE runs Moving AI scenario lines as the file writes them (its rows count from the
+// top; the loader turns them into ours), on MAP or, without MAP, on the map the first line names,
+// beside the .scen file. One line per scenario, then a summary: with an exact planner (astar or
+// jps on the Moving AI graph: 8-neighbourhood, corners never cut, no cost weight) how many grid
+// path costs match the line's optimum within its printed precision, otherwise the mean and
+// largest ratio of the final length to the optimum. --scen-index N runs the N-th line alone
+// (0-based); only then may --svg, --png, --json and --poses draw it. Progress on stderr (at
+// most once a second) when stderr is a terminal or with --progress.
 //
 // --inflation-radius and --cost-scaling-factor add the cost gradient to the map as it is built
 // (GridBuildOptions), --cost-weight plans with it. --poses FILE writes the poses the node would
@@ -28,13 +46,20 @@
 // resolution; the last with --goal-yaw when given), one `x y yaw` per line in metres and
 // radians; an empty file when no path was found.
 //
+// --json FILE writes the run record as vnsba_recorder writes it (records::to_json), with the map
+// saved beside it as FILE's stem + "_map.yaml"/".pgm" (map_server), so that
+// `vnsba_recorder render FILE` redraws it. --png FILE writes the picture as PNG (librsvg,
+// in-process).
+//
 // The planner options are core::make_options(--planner, the option flags given): a flag left out
 // follows the chosen planner's paper configuration, exactly as a config key left out does in
 // vnsba_node.
 //
-// Exit codes: 0 a path was found, 1 the planner answered another status (printed), 2 bad
-// arguments or map file.
+// Exit codes: 0 a path was found (with --scen: every line planned, and matched its optimum where
+// the planner is exact), 1 the planner answered another status (printed) or missed an optimum,
+// 2 bad arguments, config, map or output file.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -49,6 +74,10 @@
 #include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/node/config.hpp"
+#include "vnsba/records/run_record.hpp"
+#include "vnsba/render/png.hpp"
+#include "vnsba/render/progress.hpp"
 #include "vnsba/render/run_picture.hpp"
 #include "vnsba/render/svg.hpp"
 #include "vnsba/render/text_format.hpp"
@@ -144,6 +173,223 @@ core::Status write_poses(const std::string& path, const std::vector<core::Pose2>
   return core::Status::error(written.code, "--poses: " + written.message);
 }
 
+// PlanStatus.idl's code for a core status (vnsba_plan links no DDS, so not node::to_wire_code):
+// the number a run record carries beside the code's name.
+int wire_code(core::StatusCode code) {
+  switch (code) {
+    case core::StatusCode::kOk:
+      return 0;
+    case core::StatusCode::kInvalidMap:
+      return 2;
+    case core::StatusCode::kInvalidRequest:
+      return 3;
+    case core::StatusCode::kStartOutsideMap:
+      return 5;
+    case core::StatusCode::kGoalOutsideMap:
+      return 6;
+    case core::StatusCode::kStartOccupied:
+      return 7;
+    case core::StatusCode::kGoalOccupied:
+      return 8;
+    case core::StatusCode::kNoValidPath:
+      return 9;
+    case core::StatusCode::kTimeout:
+      return 10;
+    case core::StatusCode::kCanceled:
+      return 11;
+    case core::StatusCode::kInternalError:
+      return 12;
+  }
+  return 12;
+}
+
+// The run as vnsba_recorder records it from the bus (request, status, path, debug, map): the
+// same JSON, so `vnsba_recorder render` and records::run_record_from_json read it. `map_file` is
+// the saved map_server file relative to the record's folder.
+records::RunRecord run_record(const std::string& request_id, const core::GridMap& map,
+                              const core::PlanQuery& query, const core::PlanResult& result,
+                              const core::GridBuildOptions& build, const std::string& frame_id,
+                              const std::string& map_file) {
+  records::RunRecord record;
+  record.request_id = request_id;
+  auto requested = [&](const core::Cell& cell, const std::optional<core::Point2>& point) {
+    return point ? map.grid_to_world(*point) : map.cell_centre_world(cell);
+  };
+  records::RequestRecord request;
+  request.source = "vnsba_plan";
+  request.planner = std::string(core::to_string(result.planner));
+  request.start = requested(query.start, query.start_point);
+  request.goal = requested(query.goal, query.goal_point);
+  record.request = request;
+  records::StatusRecord status;
+  status.code = wire_code(result.status.code);
+  status.code_name = std::string(core::to_string(result.status.code));
+  status.message = result.status.message;
+  status.planner = std::string(core::to_string(result.planner));
+  status.metrics = result.metrics;
+  record.status = status;
+  record.path = result.world_path;
+  core::SearchTrace trace;
+  trace.planner = status.planner;
+  trace.width = map.width();
+  trace.height = map.height();
+  trace.resolution = map.resolution();
+  trace.origin_x = map.origin_x();
+  trace.origin_y = map.origin_y();
+  trace.expanded_forward = result.expanded_forward;
+  trace.expanded_backward = result.expanded_backward;
+  trace.meeting_cell = result.meeting_cell;
+  trace.raw_path = result.raw_path;
+  for (const core::Point2& w : result.waypoints)
+    trace.pruned_waypoints.push_back(map.grid_to_world(w));
+  record.debug = std::move(trace);
+  records::MapReference ref;
+  ref.file = map_file;
+  ref.frame_id = frame_id;
+  ref.width = map.width();
+  ref.height = map.height();
+  ref.resolution = map.resolution();
+  ref.origin_x = map.origin_x();
+  ref.origin_y = map.origin_y();
+  ref.occupied_threshold = build.occupied_threshold;
+  ref.allow_unknown = build.allow_unknown;
+  ref.robot_radius = build.robot_radius;
+  ref.inflation_radius = build.inflation_radius;
+  ref.cost_scaling_factor = build.cost_scaling_factor;
+  record.map = ref;
+  return record;
+}
+
+// What a run writes besides its line: poses, SVG, PNG, run record. Empty paths are skipped.
+struct Outputs {
+  std::string poses, svg, png, json;
+  std::optional<double> path_spacing;  // metres; unset = the map's resolution
+  std::optional<double> goal_yaw;      // radians
+  std::string frame_id = "map";
+  bool any_picture() const { return !svg.empty() || !png.empty() || !json.empty(); }
+};
+
+// Writes the outputs of one run; false (with the message printed, naming the option or file)
+// when one cannot be written.
+bool write_outputs(const Outputs& out, const std::string& map_path, const core::OccupancyGrid& grid,
+                   const core::GridBuildOptions& build,
+                   const std::shared_ptr<const core::GridMap>& map, const core::PlanQuery& query,
+                   const core::PlanResult& result) {
+  if (!out.poses.empty()) {
+    const double spacing = out.path_spacing.value_or(map->resolution());
+    if (const core::Status valid = core::validate_path_spacing(result.world_path, spacing);
+        !valid.is_ok()) {
+      std::fprintf(stderr, "--path-spacing: %s\n", valid.message.c_str());
+      return false;
+    }
+    double pose_count = 1.0;
+    for (size_t i = 1; i < result.world_path.size(); ++i)
+      pose_count += std::ceil((result.world_path[i] - result.world_path[i - 1]).norm() / spacing);
+    if (pose_count > kMaxPoses) {
+      std::fprintf(stderr,
+                   "--path-spacing %g metres gives about %.0f poses for this %.3f m path, more "
+                   "than the %.0f --poses writes\n",
+                   spacing, pose_count, result.metrics.length_m, kMaxPoses);
+      return false;
+    }
+    const core::Status written =
+        write_poses(out.poses, core::path_poses(result.world_path, spacing, out.goal_yaw));
+    if (!written.is_ok()) {
+      std::fprintf(stderr, "%s\n", written.message.c_str());
+      return false;
+    }
+    std::fprintf(stderr, "wrote %s\n", out.poses.c_str());
+  }
+  if (!out.svg.empty() || !out.png.empty()) {
+    auto picture = std::make_shared<const render::MapPicture>(
+        render::map_picture(grid, build.occupied_threshold, map.get()));
+    render::RunPicture run = render::picture_of(picture, query, result);
+    run.title = std::filesystem::path(map_path).filename().string();
+    const std::string svg = render::render_svg(run);
+    if (!out.svg.empty()) {
+      const core::Status written = render::write_text_file(out.svg, svg);
+      if (!written.is_ok()) {
+        std::fprintf(stderr, "--svg: %s\n", written.message.c_str());
+        return false;
+      }
+      std::fprintf(stderr, "wrote %s\n", out.svg.c_str());
+    }
+    if (!out.png.empty()) {
+      const core::Status written = render::write_png_file(out.png, svg);
+      if (!written.is_ok()) {
+        std::fprintf(stderr, "--png: %s\n", written.message.c_str());
+        return false;
+      }
+      std::fprintf(stderr, "wrote %s\n", out.png.c_str());
+    }
+  }
+  if (!out.json.empty()) {
+    // The map beside the record, as the recorder saves slices: map_server, trinary.
+    const std::filesystem::path json_path(out.json);
+    const std::filesystem::path stem =
+        json_path.parent_path() / (json_path.stem().string() + "_map");
+    auto saved = maps::save_map_server(grid, stem.string(), build.occupied_threshold);
+    if (!saved) {
+      std::fprintf(stderr, "--json: the map beside it: %s\n", saved.error().message.c_str());
+      return false;
+    }
+    const std::string request_id = "vnsba_plan-" + std::filesystem::path(map_path).stem().string();
+    const records::RunRecord record =
+        run_record(request_id, *map, query, result, build, out.frame_id,
+                   std::filesystem::path(*saved).filename().string());
+    const core::Status written =
+        render::write_text_file(out.json, records::to_json(record).dump(1));
+    if (!written.is_ok()) {
+      std::fprintf(stderr, "--json: %s\n", written.message.c_str());
+      return false;
+    }
+    std::fprintf(stderr, "wrote %s and %s\n", out.json.c_str(), saved->c_str());
+  }
+  return true;
+}
+
+// Whether `options` find the optimum of a Moving AI scenario: an optimal search (A*, JPS) on the
+// graph the files measure (8-neighbourhood, no corner cutting, uniform costs).
+bool exact_on_movingai_graph(const core::PlannerOptions& options) {
+  return (options.planner == core::PlannerKind::kAStar ||
+          options.planner == core::PlannerKind::kJps) &&
+         options.neighborhood == core::Neighborhood::kEight &&
+         options.corner_policy == core::CornerPolicy::kNever && options.cost_weight == 0.0;
+}
+
+// The result line of a single run (scripts and tests parse it); `times_us` holds every plan's
+// time when --repeat was given.
+void print_result_line(const core::PlanResult& result, const std::vector<int64_t>& times_us,
+                       bool repeated) {
+  const core::Metrics& m = result.metrics;
+  std::printf(
+      "%s %s length_m=%.3f clearance_m=%s turns=%d turn_angle_deg=%.1f expanded=%lld "
+      "time_us=%lld",
+      std::string(core::to_string(result.planner)).c_str(),
+      std::string(core::to_string(result.status.code)).c_str(), m.length_m,
+      render::format_metres(m.clearance_m).c_str(), m.turns, m.turn_angle_deg,
+      static_cast<long long>(m.expanded),
+      static_cast<long long>(times_us.empty() ? m.planning_time_us : times_us.front()));
+  if (std::isfinite(m.length_ratio)) std::printf(" length_ratio=%.4f", m.length_ratio);
+  if (result.endpoints.start_adjusted)
+    std::printf(" start_moved_m=%.3f", result.endpoints.start_moved_m);
+  if (result.endpoints.goal_adjusted)
+    std::printf(" goal_moved_m=%.3f", result.endpoints.goal_moved_m);
+  if (repeated && !times_us.empty()) {
+    std::vector<int64_t> sorted = times_us;
+    std::sort(sorted.begin(), sorted.end());
+    const size_t n = sorted.size();
+    // Microseconds; the mean of the two middle plans for an even count.
+    const double median = n % 2 == 1 ? static_cast<double>(sorted[n / 2])
+                                     : 0.5 * static_cast<double>(sorted[n / 2 - 1] + sorted[n / 2]);
+    std::printf(" repeats=%zu first_time_us=%lld median_time_us=%lld", n,
+                static_cast<long long>(times_us.front()),
+                static_cast<long long>(std::llround(median)));
+  }
+  std::printf("\n");
+  if (!result.status.is_ok()) std::fprintf(stderr, "%s\n", result.status.message.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -151,46 +397,87 @@ int main(int argc, char** argv) {
   std::string map_path;
   std::vector<double> start, goal;
   std::string planner_name = "vns_bastar";
-  std::string svg_path;
+  std::string config_path, scen_path;
+  int scen_index = -1;
+  int repeat = 1;
+  bool progress_flag = false;
+  Outputs out;
   bool cells = false;
   maps::SliceOptions slice;
   slice.names = {"--z-min", "--z-max", "--resolution", "--bounds", "vnsba_plan's limit"};
   std::vector<double> bounds;
-  core::GridBuildOptions build;
-  app.add_option("map", map_path, "map file: .map, .yaml/.pgm (map_server), .bt/.ot (OctoMap)")
-      ->required();
-  app.add_option("--start", start, "start X Y (metres; cell indices with --cells)")
-      ->expected(2)
-      ->required();
-  app.add_option("--goal", goal, "goal X Y (metres; cell indices with --cells)")
-      ->expected(2)
-      ->required();
-  app.add_option("--planner", planner_name,
-                 "vns_bastar, astar, weighted_astar, bidirectional_astar, "
-                 "alternating_bidirectional_astar, jps");
-  app.add_option("--svg", svg_path, "write a picture of the run here");
-  app.add_flag("--cells", cells, "start and goal are cell indices (column, row from the bottom)");
-  const std::vector<CLI::Option*> octomap_options = {
-      app.add_option("--z-min", slice.z_min, "OctoMap: bottom of the height band, metres"),
-      app.add_option("--z-max", slice.z_max, "OctoMap: top of the height band, metres"),
+  // Flags parse into `cli`; the build options are the config's map section (or core's
+  // defaults) with every flag given on top.
+  core::GridBuildOptions cli;
+  app.add_option("map", map_path,
+                 "map file: .map, .yaml/.pgm (map_server), .bt/.ot (OctoMap); with --scen, "
+                 "default: the map the .scen file names, beside it");
+  auto* start_flag =
+      app.add_option("--start", start, "start X Y (metres; cell indices with --cells)")
+          ->expected(2);
+  auto* goal_flag =
+      app.add_option("--goal", goal, "goal X Y (metres; cell indices with --cells)")->expected(2);
+  auto* planner_flag = app.add_option("--planner", planner_name,
+                                      "vns_bastar, astar, weighted_astar, bidirectional_astar, "
+                                      "alternating_bidirectional_astar, jps (default: the "
+                                      "config's planner.name, else vns_bastar)");
+  app.add_option("--config", config_path,
+                 "the node's YAML config: its planner and map sections (and, for OctoMaps, its "
+                 "slicer band) are the defaults of the options below; a flag given overrides its "
+                 "key");
+  app.add_option("--svg", out.svg, "write a picture of the run here");
+  app.add_option("--png", out.png, "write the picture as PNG here (rendered in-process)");
+  app.add_option("--json", out.json,
+                 "write the run record here as vnsba_recorder does (JSON), and the map beside it "
+                 "as <stem>_map.yaml/.pgm");
+  auto* repeat_flag =
+      app.add_option("--repeat", repeat,
+                     "plan the query N times on one planner (search state allocated once) and "
+                     "print first_time_us= and median_time_us= (1..100000)")
+          ->check(CLI::Range(1, 100000));
+  auto* scen_flag =
+      app.add_option("--scen", scen_path,
+                     "run the lines of a Moving AI .scen file as written (rows from the top), "
+                     "one result line each and a summary against their optima");
+  auto* scen_index_flag =
+      app.add_option("--scen-index", scen_index,
+                     "with --scen: run only this line (0 = the first scenario of the file)");
+  app.add_flag("--progress", progress_flag,
+               "with --scen: progress on stderr even when it is not a terminal");
+  auto* cells_flag = app.add_flag(
+      "--cells", cells,
+      "start and goal are cell indices (column, row counted from the bottom; a .scen file counts "
+      "rows from the top: run its lines as written with --scen)");
+  auto* z_min_flag =
+      app.add_option("--z-min", slice.z_min,
+                     "OctoMap: bottom of the height band, metres (default: the config's "
+                     "slicer.z_min, else 0.1)");
+  auto* z_max_flag = app.add_option("--z-max", slice.z_max,
+                                    "OctoMap: top of the height band, metres (default: the "
+                                    "config's slicer.z_max, else 1.5)");
+  auto* resolution_flag =
       app.add_option("--resolution", slice.resolution,
-                     "OctoMap: metres per cell, a whole multiple of the leaf size (0 = leaf size)"),
+                     "OctoMap: metres per cell, a whole multiple of the leaf size (0 = leaf size)");
+  const std::vector<CLI::Option*> octomap_options = {
+      z_min_flag, z_max_flag, resolution_flag,
       app.add_option("--bounds", bounds,
                      "OctoMap: the area to slice, x_min,y_min,x_max,y_max in metres (default: "
                      "the tree's extent)")
           ->expected(4)
           ->delimiter(',')};
-  app.add_option("--occupied-threshold", build.occupied_threshold,
-                 "occupancy percent at or above which a cell is blocked (1..100)");
-  app.add_flag("--allow-unknown", build.allow_unknown, "plan through unknown cells");
+  auto* occupied_threshold_flag =
+      app.add_option("--occupied-threshold", cli.occupied_threshold,
+                     "occupancy percent at or above which a cell is blocked (1..100)");
+  auto* allow_unknown_flag =
+      app.add_flag("--allow-unknown", cli.allow_unknown, "plan through unknown cells");
   auto* robot_radius_flag =
-      app.add_option("--robot-radius", build.robot_radius, "inflate obstacles by this, metres");
+      app.add_option("--robot-radius", cli.robot_radius, "inflate obstacles by this, metres");
   auto* inflation_radius_flag = app.add_option(
-      "--inflation-radius", build.inflation_radius,
+      "--inflation-radius", cli.inflation_radius,
       "cost gradient around obstacles out to this, metres: 0 (none, the default) or >= "
       "--robot-radius");
   auto* cost_scaling_flag = app.add_option(
-      "--cost-scaling-factor", build.cost_scaling_factor,
+      "--cost-scaling-factor", cli.cost_scaling_factor,
       "decay of the cost gradient, per metre, >= 0 (default 3): cost 0.99 * exp(-factor * (d - "
       "robot radius))");
   // Costs, tolerances and poses (ALGORITHM.md section 8).
@@ -207,13 +494,13 @@ int main(int argc, char** argv) {
       app.add_option("--start-tolerance", start_tolerance,
                      "move a start blocked by inflation to the nearest free cell within this, " +
                          core::kToleranceRange.describe() + " (default 0)");
-  std::string poses_path;
   double path_spacing = 0.0, goal_yaw = 0.0;
-  app.add_option("--poses", poses_path,
+  app.add_option("--poses", out.poses,
                  "write the path's poses here, one `x y yaw` per line (metres, radians)");
-  auto* path_spacing_flag = app.add_option(
-      "--path-spacing", path_spacing,
-      "--poses: poses at most this far apart, metres > 0 (default: the map's resolution)");
+  auto* path_spacing_flag =
+      app.add_option("--path-spacing", path_spacing,
+                     "--poses: poses at most this far apart, metres > 0 (default: the config's "
+                     "planner.path_spacing, else the map's resolution)");
   auto* goal_yaw_flag = app.add_option("--goal-yaw", goal_yaw,
                                        "--poses: yaw of the last pose, radians (default: "
                                        "the path's tangent)");
@@ -251,12 +538,27 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : kBadInput;
   }
 
-  const auto kind = core::planner_kind_from_string(planner_name);
+  // The config's sections are the defaults of every flag below.
+  std::optional<node::NodeConfig> config;
+  if (!config_path.empty()) {
+    node::ConfigResult loaded = node::load_config(config_path);
+    if (!loaded.config) {
+      std::fprintf(stderr, "--config %s: %zu error(s)\n", config_path.c_str(),
+                   loaded.errors.size());
+      for (const std::string& error : loaded.errors) std::fprintf(stderr, "%s\n", error.c_str());
+      return kBadInput;
+    }
+    config = std::move(loaded.config);
+  }
+
+  std::optional<core::PlannerKind> kind = config && planner_flag->count() == 0
+                                              ? std::optional(config->planner.kind)
+                                              : core::planner_kind_from_string(planner_name);
   if (!kind) {
     std::fprintf(stderr, "--planner: unknown planner '%s'\n", planner_name.c_str());
     return kBadInput;
   }
-  core::PlannerSettings settings;
+  core::PlannerSettings settings = config ? config->planner.settings : core::PlannerSettings{};
   if (*neighborhood_flag) settings.neighborhood = core::neighborhood_from_string(neighborhood);
   if (*corner_policy_flag) settings.corner_policy = core::corner_policy_from_string(corner_policy);
   if (*prune_flag) settings.prune = prune;
@@ -266,8 +568,27 @@ int main(int argc, char** argv) {
   if (*cost_weight_flag) settings.cost_weight = cost_weight;
   if (*goal_tolerance_flag) settings.goal_tolerance = goal_tolerance;
   if (*start_tolerance_flag) settings.start_tolerance = start_tolerance;
-  settings.record_expansions = !svg_path.empty();
-  settings.compute_length_ratio = true;
+  const bool scen_mode = scen_flag->count() > 0;
+  settings.record_expansions = out.any_picture();
+  // The scenario files give the optimum; a second A* per line would double the run.
+  settings.compute_length_ratio = !scen_mode;
+  core::GridBuildOptions build = config ? config->map : core::GridBuildOptions{};
+  if (*occupied_threshold_flag) build.occupied_threshold = cli.occupied_threshold;
+  if (*allow_unknown_flag) build.allow_unknown = cli.allow_unknown;
+  if (*robot_radius_flag) build.robot_radius = cli.robot_radius;
+  if (*inflation_radius_flag) build.inflation_radius = cli.inflation_radius;
+  if (*cost_scaling_flag) build.cost_scaling_factor = cli.cost_scaling_factor;
+  if (config) {
+    if (!*z_min_flag) slice.z_min = config->slicer.z_min;
+    if (!*z_max_flag) slice.z_max = config->slicer.z_max;
+    if (!*resolution_flag) slice.resolution = config->slicer.resolution;
+    slice.remove_speckles = config->slicer.remove_speckles;
+    out.frame_id = config->frame_id;
+    out.path_spacing = config->planner.path_spacing;
+  }
+  if (*path_spacing_flag) out.path_spacing = path_spacing;
+  if (*goal_yaw_flag) out.goal_yaw = goal_yaw;
+
   // Every new option named with its unit when its value is refused (before any map is read).
   const bool values_ok =
       check_range(cost_weight_flag, "--cost-weight", cost_weight, core::kCostWeightRange) &&
@@ -280,8 +601,8 @@ int main(int argc, char** argv) {
       (inflation_radius_flag->count() == 0 ||
        (std::isfinite(build.inflation_radius) && build.inflation_radius >= 0.0) ||
        refuse("--inflation-radius", "a finite number of metres >= 0", build.inflation_radius)) &&
-      (inflation_radius_flag->count() == 0 || build.inflation_radius == 0.0 ||
-       build.inflation_radius >= build.robot_radius ||
+      ((inflation_radius_flag->count() == 0 && robot_radius_flag->count() == 0) ||
+       build.inflation_radius == 0.0 || build.inflation_radius >= build.robot_radius ||
        refuse("--inflation-radius",
               "0 (no cost gradient) or at least --robot-radius (" + metres(build.robot_radius) +
                   " metres)",
@@ -296,15 +617,83 @@ int main(int argc, char** argv) {
        refuse("--goal-yaw", "a finite number of radians", goal_yaw));
   if (!values_ok) return kBadInput;
   for (const CLI::Option* option : {path_spacing_flag, goal_yaw_flag})
-    if (option->count() > 0 && poses_path.empty()) {
+    if (option->count() > 0 && out.poses.empty()) {
       std::fprintf(stderr, "%s: only with --poses FILE\n", option->get_name().c_str());
       return kBadInput;
     }
-  const core::PlannerOptions options = core::make_options(*kind, settings);
+  core::PlannerOptions options = core::make_options(*kind, settings);
+  // A cost weight the config gives every planner, on one that plans on uniform costs (jps):
+  // dropped with a warning, as the node does; given as a flag it is refused below.
+  if (config && cost_weight_flag->count() == 0) {
+    const double configured = options.cost_weight;
+    if (core::drop_unsupported_costs(options))
+      std::fprintf(stderr,
+                   "warning: %s plans on uniform cell costs: the config's planner.cost_weight %g "
+                   "not applied\n",
+                   std::string(core::to_string(*kind)).c_str(), configured);
+  }
   if (const core::Status valid = core::validate(options); !valid.is_ok()) {
     std::fprintf(stderr, "%s\n", valid.message.c_str());  // names the option at fault
     return kBadInput;
   }
+
+  // What the run plans: start and goal from the command line, or the lines of a .scen file.
+  std::vector<maps::MovingAiScenario> scenarios;
+  if (scen_mode) {
+    for (const CLI::Option* option : {start_flag, goal_flag, cells_flag, repeat_flag})
+      if (option->count() > 0) {
+        std::fprintf(stderr, "%s: not with --scen (its lines give start and goal)\n",
+                     option->get_name().c_str());
+        return kBadInput;
+      }
+    auto loaded = maps::load_movingai_scenarios(scen_path);
+    if (!loaded) {
+      std::fprintf(stderr, "--scen: %s\n", loaded.error().message.c_str());
+      return kBadInput;
+    }
+    scenarios = std::move(loaded).value();
+    if (scenarios.empty()) {
+      std::fprintf(stderr, "--scen: %s holds no scenario lines\n", scen_path.c_str());
+      return kBadInput;
+    }
+    if (scen_index_flag->count() > 0) {
+      if (scen_index < 0 || static_cast<size_t>(scen_index) >= scenarios.size()) {
+        std::fprintf(stderr, "--scen-index %d: %s has %zu scenarios (0..%zu)\n", scen_index,
+                     scen_path.c_str(), scenarios.size(), scenarios.size() - 1);
+        return kBadInput;
+      }
+      scenarios = {scenarios[static_cast<size_t>(scen_index)]};
+    } else {
+      for (const std::string* path : {&out.svg, &out.png, &out.json, &out.poses})
+        if (!path->empty()) {
+          const char* name = path == &out.svg    ? "--svg"
+                             : path == &out.png  ? "--png"
+                             : path == &out.json ? "--json"
+                                                 : "--poses";
+          std::fprintf(stderr, "%s: with --scen only for one line (--scen-index N)\n", name);
+          return kBadInput;
+        }
+    }
+    // Without MAP: the map the (first run) line names, in the .scen file's folder.
+    if (map_path.empty())
+      map_path =
+          (std::filesystem::path(scen_path).parent_path() / scenarios.front().map_name).string();
+  } else {
+    if (scen_index_flag->count() > 0) {
+      std::fprintf(stderr, "--scen-index: only with --scen FILE\n");
+      return kBadInput;
+    }
+    if (map_path.empty()) {
+      std::fprintf(stderr, "map: a map file is required (or --scen FILE, whose lines name it)\n");
+      return kBadInput;
+    }
+    for (const CLI::Option* option : {start_flag, goal_flag})
+      if (option->count() == 0) {
+        std::fprintf(stderr, "%s X Y is required (or --scen FILE)\n", option->get_name().c_str());
+        return kBadInput;
+      }
+  }
+
   const bool octomap = maps::map_file_kind(map_path) == maps::MapFileKind::kOctoMap;
   for (const CLI::Option* option : octomap_options)
     if (option->count() > 0 && !octomap) {
@@ -324,6 +713,77 @@ int main(int argc, char** argv) {
     return kBadInput;
   }
   auto map = std::make_shared<const core::GridMap>(std::move(built).value());
+  core::Planner planner(map);
+
+  if (scen_mode) {
+    for (const maps::MovingAiScenario& s : scenarios)
+      if (s.map_width != map->width() || s.map_height != map->height()) {
+        std::fprintf(stderr,
+                     "--scen: %s line %d is for a %d x %d map (%s), not %s (%d x %d cells)\n",
+                     scen_path.c_str(), s.line, s.map_width, s.map_height, s.map_name.c_str(),
+                     map_path.c_str(), map->width(), map->height());
+        return kBadInput;
+      }
+    const bool exact = exact_on_movingai_graph(options);
+    render::Progress progress("vnsba_plan --scen", static_cast<int64_t>(scenarios.size()),
+                              render::progress_wanted(progress_flag));
+    size_t ok = 0, with_optimum = 0, matched = 0;
+    double ratio_sum = 0.0, ratio_max = 0.0;
+    core::PlanQuery last_query;
+    core::PlanResult last;
+    for (size_t i = 0; i < scenarios.size(); ++i) {
+      const maps::MovingAiScenario& s = scenarios[i];
+      last_query = core::PlanQuery{s.start, s.goal};
+      last = planner.plan(last_query, options);
+      const core::Metrics& m = last.metrics;
+      // The cells as the file writes them (rows from the top), to find the line again.
+      std::printf(
+          "line=%d bucket=%d scen_start=%d,%d scen_goal=%d,%d %s %s length_m=%.3f "
+          "cost_cells=%.8f optimal=%.8f expanded=%lld time_us=%lld",
+          s.line, s.bucket, s.start.x, map->height() - 1 - s.start.y, s.goal.x,
+          map->height() - 1 - s.goal.y, std::string(core::to_string(last.planner)).c_str(),
+          std::string(core::to_string(last.status.code)).c_str(), m.length_m, m.raw_cost_cells,
+          s.optimal_length, static_cast<long long>(m.expanded),
+          static_cast<long long>(m.planning_time_us));
+      if (last.status.is_ok()) {
+        ++ok;
+        if (s.optimal_length > 0.0) {
+          ++with_optimum;
+          if (exact) {
+            // Relative 1e-6, or the precision the file prints (as vnsba_bench optimality).
+            const bool match = std::abs(m.raw_cost_cells - s.optimal_length) <=
+                               std::max(1e-6 * s.optimal_length, s.optimal_resolution);
+            matched += match ? 1 : 0;
+            std::printf(" optimum=%s", match ? "matched" : "missed");
+          } else {
+            const double ratio = m.length_cells / s.optimal_length;
+            ratio_sum += ratio;
+            ratio_max = std::max(ratio_max, ratio);
+            std::printf(" length_ratio=%.4f", ratio);
+          }
+        }
+      } else if (scenarios.size() == 1) {
+        std::fprintf(stderr, "%s\n", last.status.message.c_str());
+      }
+      std::printf("\n");
+      progress.update(static_cast<int64_t>(i + 1));
+    }
+    progress.finish(static_cast<int64_t>(scenarios.size()));
+    std::printf("summary scenarios=%zu ok=%zu with_optimum=%zu", scenarios.size(), ok,
+                with_optimum);
+    if (exact)
+      std::printf(" matched_optimum=%zu\n", matched);
+    else if (with_optimum > 0)
+      std::printf(" mean_length_ratio=%.4f max_length_ratio=%.4f\n",
+                  ratio_sum / static_cast<double>(with_optimum), ratio_max);
+    else
+      std::printf("\n");
+    std::fflush(stdout);
+    if (scenarios.size() == 1 && !write_outputs(out, map_path, *grid, build, map, last_query, last))
+      return kBadInput;
+    return ok == scenarios.size() && (!exact || matched == with_optimum) ? 0 : kPlanFailed;
+  }
+
   // A start outside the map is refused here (start_tolerance only moves a start out of
   // inflation); a goal outside it goes to core when goal_tolerance may bring it in.
   const auto start_at = to_endpoint(*map, start, cells, false, "--start");
@@ -335,63 +795,16 @@ int main(int argc, char** argv) {
     }
 
   const core::PlanQuery query{start_at->cell, goal_at->cell, start_at->point, goal_at->point};
-  core::Planner planner(map);
-  const core::PlanResult result = planner.plan(query, options);
-  const core::Metrics& m = result.metrics;
-  std::printf(
-      "%s %s length_m=%.3f clearance_m=%s turns=%d turn_angle_deg=%.1f expanded=%lld "
-      "time_us=%lld",
-      std::string(core::to_string(result.planner)).c_str(),
-      std::string(core::to_string(result.status.code)).c_str(), m.length_m,
-      render::format_metres(m.clearance_m).c_str(), m.turns, m.turn_angle_deg,
-      static_cast<long long>(m.expanded), static_cast<long long>(m.planning_time_us));
-  if (std::isfinite(m.length_ratio)) std::printf(" length_ratio=%.4f", m.length_ratio);
-  if (result.endpoints.start_adjusted)
-    std::printf(" start_moved_m=%.3f", result.endpoints.start_moved_m);
-  if (result.endpoints.goal_adjusted)
-    std::printf(" goal_moved_m=%.3f", result.endpoints.goal_moved_m);
-  std::printf("\n");
-  if (!result.status.is_ok()) std::fprintf(stderr, "%s\n", result.status.message.c_str());
-
-  if (!poses_path.empty()) {
-    const double spacing = path_spacing_flag->count() > 0 ? path_spacing : map->resolution();
-    if (const core::Status valid = core::validate_path_spacing(result.world_path, spacing);
-        !valid.is_ok()) {
-      std::fprintf(stderr, "--path-spacing: %s\n", valid.message.c_str());
-      return kBadInput;
-    }
-    double pose_count = 1.0;
-    for (size_t i = 1; i < result.world_path.size(); ++i)
-      pose_count += std::ceil((result.world_path[i] - result.world_path[i - 1]).norm() / spacing);
-    if (pose_count > kMaxPoses) {
-      std::fprintf(stderr,
-                   "--path-spacing %g metres gives about %.0f poses for this %.3f m path, more "
-                   "than the %.0f --poses writes\n",
-                   spacing, pose_count, m.length_m, kMaxPoses);
-      return kBadInput;
-    }
-    const std::optional<double> yaw =
-        goal_yaw_flag->count() > 0 ? std::optional<double>(goal_yaw) : std::nullopt;
-    const core::Status written =
-        write_poses(poses_path, core::path_poses(result.world_path, spacing, yaw));
-    if (!written.is_ok()) {
-      std::fprintf(stderr, "%s\n", written.message.c_str());
-      return kBadInput;
-    }
-    std::fprintf(stderr, "wrote %s\n", poses_path.c_str());
+  // --repeat: the same query on the same Planner; only the first plan pays for growing the
+  // heaps (the per-cell arrays came with the Planner).
+  std::vector<int64_t> times_us;
+  core::PlanResult result;
+  for (int r = 0; r < repeat; ++r) {
+    result = planner.plan(query, options);
+    times_us.push_back(result.metrics.planning_time_us);
   }
-
-  if (!svg_path.empty()) {
-    auto picture = std::make_shared<const render::MapPicture>(
-        render::map_picture(*grid, build.occupied_threshold, map.get()));
-    render::RunPicture run = render::picture_of(picture, query, result);
-    run.title = std::filesystem::path(map_path).filename().string();
-    const core::Status written = render::write_text_file(svg_path, render::render_svg(run));
-    if (!written.is_ok()) {
-      std::fprintf(stderr, "--svg: %s\n", written.message.c_str());
-      return kBadInput;
-    }
-    std::fprintf(stderr, "wrote %s\n", svg_path.c_str());
-  }
+  print_result_line(result, times_us, repeat_flag->count() > 0);
+  std::fflush(stdout);
+  if (!write_outputs(out, map_path, *grid, build, map, query, result)) return kBadInput;
   return result.status.is_ok() ? 0 : kPlanFailed;
 }
