@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -16,6 +18,7 @@
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/records/run_record.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -521,6 +524,319 @@ TEST(VnsbaPlan, StartToleranceMovesAStartOutOfInflation) {
   EXPECT_GT(std::stod(*moved), 0.0);
   EXPECT_LE(std::stod(*moved), 2.0);
   EXPECT_EQ(output.find(" goal_moved_m="), std::string::npos) << output;
+}
+
+// The result line without its times (time_us= and what --repeat adds), for comparing two runs.
+std::string without_times(const std::string& output) {
+  const size_t newline = output.find('\n');
+  std::string line = output.substr(0, newline);
+  for (const char* key : {" time_us=", " repeats=", " first_time_us=", " median_time_us="}) {
+    const size_t at = line.find(key);
+    if (at == std::string::npos) continue;
+    const size_t end = line.find(' ', at + 1);
+    line.erase(at, end == std::string::npos ? std::string::npos : end - at);
+  }
+  return line;
+}
+
+// --config FILE: its planner and map keys plan exactly as the same values given as flags (the
+// oracle is the flag run), and a flag given beside the config overrides its key.
+TEST(VnsbaPlan, ConfigKeysPlanAsTheSameFlags) {
+  const std::string config = write_temp_file("plan_config.yaml",
+                                             "planner:\n"
+                                             "  name: astar\n"
+                                             "  neighborhood: \"8-11-13\"\n"
+                                             "  prune: true\n"
+                                             "  smooth: true\n"
+                                             "  cost_weight: 2.0\n"
+                                             "  goal_tolerance: 0.5\n"
+                                             "map:\n"
+                                             "  robot_radius: 0.5\n"
+                                             "  inflation_radius: 2.0\n"
+                                             "  cost_scaling_factor: 1.5\n");
+  const std::vector<std::string> query = {kRooms,   "--start", "2.5", "2.5",
+                                          "--goal", "29.5",    "13.5"};
+  const std::vector<std::string> as_flags = {
+      "--neighborhood",        "8-11-13", "--prune",        "--smooth", "--cost-weight",      "2",
+      "--goal-tolerance",      "0.5",     "--robot-radius", "0.5",      "--inflation-radius", "2",
+      "--cost-scaling-factor", "1.5"};
+  auto with = [&](std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  const auto [config_code, config_output] = run_to_exit(kPlan, with(query, {"--config", config}));
+  ASSERT_EQ(config_code, 0) << config_output;
+  const auto [flag_code, flag_output] =
+      run_to_exit(kPlan, with(with(query, as_flags), {"--planner", "astar"}));
+  ASSERT_EQ(flag_code, 0) << flag_output;
+  EXPECT_EQ(config_output.rfind("astar OK", 0), 0u) << config_output;  // planner.name was read
+  EXPECT_EQ(without_times(config_output), without_times(flag_output));
+
+  // Flags override: the config's planner and smoothing replaced.
+  const auto [override_code, override_output] = run_to_exit(
+      kPlan, with(query, {"--config", config, "--planner", "vns_bastar", "--no-smooth"}));
+  ASSERT_EQ(override_code, 0) << override_output;
+  std::vector<std::string> override_flags = as_flags;
+  override_flags[3] = "--no-smooth";
+  const auto [oracle_code, oracle_output] =
+      run_to_exit(kPlan, with(with(query, override_flags), {"--planner", "vns_bastar"}));
+  ASSERT_EQ(oracle_code, 0) << oracle_output;
+  EXPECT_EQ(override_output.rfind("vns_bastar OK", 0), 0u) << override_output;
+  EXPECT_EQ(without_times(override_output), without_times(oracle_output));
+  std::remove(config.c_str());
+}
+
+// A bad config is refused with every error the loader finds, each naming its key.
+TEST(VnsbaPlan, BadConfigNamesEveryKey) {
+  const std::string config = write_temp_file("plan_bad_config.yaml",
+                                             "planner:\n  name: dijkstra\n"
+                                             "map:\n  robot_radius: -1\n");
+  const auto [code, output] = run_to_exit(
+      kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config", config});
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("planner.name"), std::string::npos) << output;
+  EXPECT_NE(output.find("map.robot_radius"), std::string::npos) << output;
+  const auto [missing_code, missing_output] =
+      run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config",
+                          "/nonexistent-dir/none.yaml"});
+  EXPECT_EQ(missing_code, 2) << missing_output;
+  EXPECT_NE(missing_output.find("none.yaml"), std::string::npos) << missing_output;
+  std::remove(config.c_str());
+}
+
+const std::string kTinyMap = VNSBA_FIXTURE_DIR "/maps/tiny.map";
+const std::string kTinyScen = VNSBA_FIXTURE_DIR "/maps/tiny.map.scen";
+
+// The output line of a .scen line, by its line number in the file.
+std::optional<std::string> scenario_line(const std::string& output, int line) {
+  const std::string key = "line=" + std::to_string(line) + " ";
+  std::istringstream in(output);
+  for (std::string l; std::getline(in, l);)
+    if (l.rfind(key, 0) == 0) return " " + l;
+  return std::nullopt;
+}
+
+// The scenario lines of a .scen file as written: x y of start and goal, rows from the top.
+std::vector<std::vector<std::string>> scen_fields(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // "version 1"
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::vector<std::string> row{std::istream_iterator<std::string>(fields), {}};
+    if (row.size() == 9) rows.push_back(row);
+  }
+  return rows;
+}
+
+// --scen runs each line as written: with A* every grid path cost is the file's optimum (the
+// oracle), the start and goal printed are the file's own numbers (rows from the top), and the
+// summary counts them all. Without MAP, the map the .scen names beside it is used.
+TEST(VnsbaPlan, ScenarioLinesAsWrittenMatchTheirOptima) {
+  auto scenarios = maps::load_movingai_scenarios(kTinyScen);
+  ASSERT_TRUE(scenarios) << scenarios.error().message;
+  const auto fields = scen_fields(kTinyScen);
+  ASSERT_EQ(fields.size(), scenarios->size());
+  for (const bool with_map : {true, false}) {
+    std::vector<std::string> args = {"--scen", kTinyScen, "--planner", "astar"};
+    if (with_map) args.insert(args.begin(), kTinyMap);
+    const auto [code, output] = run_to_exit(kPlan, args);
+    ASSERT_EQ(code, 0) << output;
+    for (size_t i = 0; i < scenarios->size(); ++i) {
+      const maps::MovingAiScenario& s = (*scenarios)[i];
+      const auto line = scenario_line(output, s.line);
+      ASSERT_TRUE(line) << "line " << s.line << ": " << output;
+      EXPECT_NE(line->find(" astar OK "), std::string::npos) << *line;
+      const double cost = std::stod(field(*line, "cost_cells").value_or("nan"));
+      EXPECT_LE(std::abs(cost - s.optimal_length),
+                std::max(1e-6 * s.optimal_length, s.optimal_resolution))
+          << *line;
+      EXPECT_EQ(field(*line, "optimum"), "matched") << *line;
+      EXPECT_EQ(field(*line, "scen_start"), fields[i][4] + "," + fields[i][5]) << *line;
+      EXPECT_EQ(field(*line, "scen_goal"), fields[i][6] + "," + fields[i][7]) << *line;
+    }
+    const std::string n = std::to_string(scenarios->size());
+    const size_t summary = output.find("summary ");
+    ASSERT_NE(summary, std::string::npos) << output;
+    const std::string summary_line = output.substr(summary - 1);
+    EXPECT_EQ(field(summary_line, "scenarios"), n);
+    EXPECT_EQ(field(summary_line, "ok"), n);
+    EXPECT_EQ(field(summary_line, "matched_optimum"), n);
+  }
+}
+
+// A planner that is not exact on the Moving AI graph gets length ratios instead: each line's
+// final length over the file's optimum, their mean and maximum in the summary.
+TEST(VnsbaPlan, ScenarioSummaryOfOtherPlannersIsTheLengthRatio) {
+  auto scenarios = maps::load_movingai_scenarios(kTinyScen);
+  ASSERT_TRUE(scenarios);
+  const auto [code, output] = run_to_exit(kPlan, {kTinyMap, "--scen", kTinyScen});
+  ASSERT_EQ(code, 0) << output;
+  double sum = 0.0, largest = 0.0;
+  for (const maps::MovingAiScenario& s : *scenarios) {
+    const auto line = scenario_line(output, s.line);
+    ASSERT_TRUE(line) << output;
+    EXPECT_EQ(field(*line, "optimum"), std::nullopt) << *line;
+    const double ratio = std::stod(field(*line, "length_ratio").value_or("nan"));
+    EXPECT_NEAR(ratio, std::stod(field(*line, "length_m").value_or("nan")) / s.optimal_length,
+                1e-3);
+    sum += ratio;
+    largest = std::max(largest, ratio);
+  }
+  const std::string summary = output.substr(output.find("summary ") - 1);
+  EXPECT_NEAR(std::stod(field(summary, "mean_length_ratio").value_or("nan")),
+              sum / static_cast<double>(scenarios->size()), 1e-3);
+  EXPECT_NEAR(std::stod(field(summary, "max_length_ratio").value_or("nan")), largest, 1e-4);
+}
+
+TEST(VnsbaPlan, ScenIndexRunsOneLine) {
+  auto scenarios = maps::load_movingai_scenarios(kTinyScen);
+  ASSERT_TRUE(scenarios);
+  ASSERT_GE(scenarios->size(), 2u);
+  const auto [code, output] =
+      run_to_exit(kPlan, {kTinyMap, "--scen", kTinyScen, "--scen-index", "1", "--planner", "jps"});
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_TRUE(scenario_line(output, (*scenarios)[1].line)) << output;
+  EXPECT_FALSE(scenario_line(output, (*scenarios)[0].line)) << output;
+  EXPECT_EQ(field(output.substr(output.find("summary ") - 1), "scenarios"), "1") << output;
+}
+
+TEST(VnsbaPlan, BadScenarioInputExitsTwoNamingTheOption) {
+  struct Case {
+    std::vector<std::string> args;
+    const char* named;
+  };
+  for (const Case& c : {
+           Case{{kTinyMap, "--scen", kTinyScen, "--scen-index", "99"}, "--scen-index"},
+           Case{{kTinyMap, "--scen", kTinyScen, "--start", "1", "1"}, "--start"},
+           Case{{kTinyMap, "--scen", kTinyScen, "--svg", temp_file("scen.svg")}, "--svg"},
+           Case{{kTinyMap, "--scen", VNSBA_FIXTURE_DIR "/maps/none.scen"}, "none.scen"},
+           Case{{kRooms, "--scen", kTinyScen}, "line"},  // the lines are for a 6 x 4 map
+           Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--scen-index", "0"},
+                "--scen-index"},
+       }) {
+    const auto [code, output] = run_to_exit(kPlan, c.args);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find(c.named), std::string::npos) << c.named << ": " << output;
+  }
+}
+
+// --repeat N plans the query N times on one planner: the same plan each time (the line equals a
+// single run's up to the times), with the first plan's time and the median of all N.
+TEST(VnsbaPlan, RepeatReportsFirstAndMedianTimes) {
+  const std::vector<std::string> query = {kRooms,   "--start", "2.5", "2.5",
+                                          "--goal", "29.5",    "13.5"};
+  const auto [single_code, single] = run_to_exit(kPlan, query);
+  ASSERT_EQ(single_code, 0) << single;
+  std::vector<std::string> args = query;
+  args.insert(args.end(), {"--repeat", "7"});
+  const auto [code, output] = run_to_exit(kPlan, args);
+  ASSERT_EQ(code, 0) << output;
+  EXPECT_EQ(without_times(output), without_times(single));
+  EXPECT_EQ(field(output, "repeats"), "7") << output;
+  const auto first = field(output, "first_time_us");
+  const auto median = field(output, "median_time_us");
+  ASSERT_TRUE(first && median) << output;
+  EXPECT_GE(std::stoll(*first), 0);
+  EXPECT_GE(std::stoll(*median), 0);
+  EXPECT_EQ(field(output, "time_us"), first) << output;  // time_us stays the first plan's
+  EXPECT_EQ(field(single, "repeats"), std::nullopt) << single;
+  const auto [bad_code, bad] = run_to_exit(
+      kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--repeat", "0"});
+  EXPECT_EQ(bad_code, 2) << bad;
+  EXPECT_NE(bad.find("--repeat"), std::string::npos) << bad;
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// --json writes the run record the recorder writes: it reads back with run_record_from_json and
+// records::render_record_file draws the same final path as the run's own --svg.
+TEST(VnsbaPlan, JsonIsARunRecordThatRendersAsTheRun) {
+  const std::string json = temp_file("record") + ".json";
+  const std::string svg = temp_file("record") + ".svg";
+  const auto [code, output] =
+      run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5",
+                          "--robot-radius", "0.4", "--json", json, "--svg", svg});
+  ASSERT_EQ(code, 0) << output;
+  const auto parsed = nlohmann::json::parse(read_bytes(json), nullptr, false);
+  ASSERT_FALSE(parsed.is_discarded());
+  const auto record = records::run_record_from_json(parsed);
+  ASSERT_TRUE(record) << record.error().message;
+  ASSERT_TRUE(record->status && record->request && record->map && record->debug);
+  EXPECT_EQ(record->status->code_name, "OK");
+  EXPECT_EQ(record->status->code, 0);
+  EXPECT_NEAR(record->status->metrics.length_m, std::stod(field(" " + output, "length_m").value()),
+              5e-4);
+  EXPECT_EQ(record->status->metrics.expanded, std::stoll(field(output, "expanded").value()));
+  ASSERT_TRUE(record->request->start && record->request->goal);
+  EXPECT_NEAR(record->request->start->x(), 2.5, 1e-9);
+  EXPECT_NEAR(record->request->goal->y(), 13.5, 1e-9);
+  EXPECT_EQ(record->map->width, 32);
+  EXPECT_EQ(record->map->height, 16);
+  EXPECT_DOUBLE_EQ(record->map->robot_radius, 0.4);
+  ASSERT_GE(record->path.size(), 2u);
+  EXPECT_NEAR(record->path.front().x(), 2.5, 1e-6);
+  EXPECT_NEAR(record->path.back().y(), 13.5, 1e-6);
+
+  const auto rendered = records::render_record_file(json);
+  ASSERT_TRUE(rendered) << rendered.error().message;
+  tinyxml2::XMLDocument from_record, from_run;
+  ASSERT_EQ(from_record.Parse(rendered->c_str()), tinyxml2::XML_SUCCESS);
+  ASSERT_EQ(from_run.LoadFile(svg.c_str()), tinyxml2::XML_SUCCESS);
+  const auto record_path = decode_polylines(find_id(from_record.RootElement(), "final-path"), 16);
+  const auto run_path = decode_polylines(find_id(from_run.RootElement(), "final-path"), 16);
+  ASSERT_EQ(record_path.size(), 1u);
+  ASSERT_EQ(run_path.size(), 1u);
+  ASSERT_EQ(record_path[0].size(), run_path[0].size());
+  for (size_t i = 0; i < run_path[0].size(); ++i)
+    EXPECT_LT((record_path[0][i] - run_path[0][i]).norm(), 1e-3) << i;
+  EXPECT_EQ(data_count(find_id(from_record.RootElement(), "expanded-forward")),
+            data_count(find_id(from_run.RootElement(), "expanded-forward")));
+  for (const std::string& f :
+       {json, svg, temp_file("record") + "_map.yaml", temp_file("record") + "_map.pgm"})
+    std::remove(f.c_str());
+}
+
+uint32_t big_endian(const std::string& bytes, size_t at) {
+  uint32_t v = 0;
+  for (size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
+  return v;
+}
+
+// --png writes a PNG (signature, then IHDR) of the size the SVG of the same run declares; an
+// unwritable file is exit 2 naming it.
+TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
+  const std::string png = temp_file("picture") + ".png";
+  const std::string svg = temp_file("picture") + ".svg";
+  const auto [code, output] = run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5",
+                                                  "13.5", "--png", png, "--svg", svg});
+  ASSERT_EQ(code, 0) << output;
+  const std::string bytes = read_bytes(png);
+  ASSERT_GE(bytes.size(), 24u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_EQ(bytes.substr(12, 4), "IHDR");
+  tinyxml2::XMLDocument doc;
+  ASSERT_EQ(doc.LoadFile(svg.c_str()), tinyxml2::XML_SUCCESS);
+  EXPECT_EQ(big_endian(bytes, 16),
+            static_cast<uint32_t>(std::ceil(doc.RootElement()->DoubleAttribute("width"))));
+  EXPECT_EQ(big_endian(bytes, 20),
+            static_cast<uint32_t>(std::ceil(doc.RootElement()->DoubleAttribute("height"))));
+  std::remove(png.c_str());
+  std::remove(svg.c_str());
+
+  for (const char* option : {"--png", "--json"}) {
+    const std::string bad = std::string("/nonexistent-dir/picture") +
+                            (std::string(option) == "--png" ? ".png" : ".json");
+    const auto [bad_code, bad_output] = run_to_exit(
+        kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", option, bad});
+    EXPECT_EQ(bad_code, 2) << bad_output;
+    EXPECT_NE(bad_output.find("/nonexistent-dir/picture"), std::string::npos) << bad_output;
+    EXPECT_NE(bad_output.find(option), std::string::npos) << bad_output;
+  }
 }
 
 }  // namespace
