@@ -303,7 +303,8 @@ int main(int argc, char** argv) {
   // The listeners outlive every entity that calls them (the participant is destroyed first).
   StatusReaderListener status_events;
   RequestWriterListener request_events;
-  auto participant = node::Participant::create(config.domain_id, "vnsba_send_goal");
+  auto participant = node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr,
+                                              config.localhost_only);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

@@ -14,6 +14,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -413,6 +414,10 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   requests.integer("queue_capacity", c.queue_capacity, 1, 100000);
   requests.finish();
 
+  Section network = top.child("network");
+  network.boolean("localhost_only", c.localhost_only);
+  network.finish();
+
   Section debug = top.child("debug");
   debug.choice<DebugPublishing>("publish", c.debug,
                                 {{"auto", DebugPublishing::kAuto},
@@ -572,6 +577,11 @@ std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
 std::string_view without_leading_slash(std::string_view name) {
   if (!name.empty() && name.front() == '/') name.remove_prefix(1);
   return name;
+}
+
+bool ros_localhost_only_from_environment() {
+  const char* value = std::getenv("ROS_LOCALHOST_ONLY");
+  return value != nullptr && std::string_view(value) == "1";
 }
 
 core::Expected<std::string> find_default_config() {

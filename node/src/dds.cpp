@@ -85,7 +85,8 @@ dds::DataReaderQos reader_qos(TopicQos profile) {
 }
 
 core::Expected<std::unique_ptr<Participant>> Participant::create(
-    int domain_id, const std::string& name, dds::DomainParticipantListener* listener) {
+    int domain_id, const std::string& name, dds::DomainParticipantListener* listener,
+    bool localhost_only) {
   if (domain_id < 0 || domain_id > 232) {
     return core::Status::error(core::StatusCode::kInvalidRequest,
                                "domain id " + std::to_string(domain_id) + " is outside 0..232");
@@ -99,6 +100,9 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
   // Room for bursts of map fragments on loopback.
   udp->sendBufferSize = 4 * 1024 * 1024;
   udp->receiveBufferSize = 4 * 1024 * 1024;
+  // As rmw_fastrtps does for ROS_LOCALHOST_ONLY: the whitelist limits both the interfaces used
+  // and the locators announced, so loopback-only peers can reach this participant.
+  if (localhost_only) udp->interfaceWhiteList.emplace_back("127.0.0.1");
   qos.transport().user_transports.push_back(udp);
   // A participant that starts after another (a send_goal after the node) is matched only once
   // the older one announces itself again: Fast DDS does not answer a new participant's initial

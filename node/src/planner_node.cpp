@@ -183,7 +183,8 @@ core::Status PlannerNode::Impl::start() {
       [this, name](const std::string& topic, const std::string& policy) {
         return qos_fix(topic, policy, name);
       });
-  auto participant = Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get());
+  auto participant = Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get(),
+                                         cfg_.localhost_only);
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
 

@@ -38,6 +38,10 @@ std::optional<NodeConfig> load_config_or_report(const std::string& given_path,
   }
   NodeConfig config = std::move(*loaded.config);
   if (domain_override >= 0) config.domain_id = domain_override;
+  if (!config.localhost_only && ros_localhost_only_from_environment()) {
+    spdlog::info("ROS_LOCALHOST_ONLY=1: DDS on the loopback interface only");
+    config.localhost_only = true;
+  }
   spdlog::set_level(spdlog::level::from_str(config.log_level));
   return config;
 }

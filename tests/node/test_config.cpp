@@ -234,6 +234,8 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "requests:",
                           "preempt:",
                           "queue_capacity:",
+                          "network:",
+                          "localhost_only:",
                           "debug:",
                           "publish:",
                           "log_level:",
@@ -341,6 +343,7 @@ TEST(Config, EveryKeyReachesItsField) {
   EXPECT_DOUBLE_EQ(c.slicer.z_max, 2.0);
   EXPECT_DOUBLE_EQ(c.slicer.resolution, 0.1);
   EXPECT_TRUE(c.slicer.remove_speckles);
+  EXPECT_TRUE(c.localhost_only);
 }
 
 TEST(Config, WrongTypesAreReportedWithTheirKeys) {

@@ -1,5 +1,6 @@
 // The planner node over real loopback DDS: a node and a client participant in one process,
 // each test on its own topics (see bus_client.hpp).
+#include <fastrtps/utils/IPLocator.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -132,6 +133,54 @@ TEST(NodeIntegration, MapDurabilityDecidesWhichPublishersMatchAndAMismatchIsCoun
     EXPECT_TRUE(publish_until_accepted(cfg, planner_node, grid, volatile_writer, 10s));
     EXPECT_EQ(planner_node.stats().incompatible_qos, 0u);
   }
+}
+
+// issue 17, item 3: with network.localhost_only (or ROS_LOCALHOST_ONLY=1) the node announces and
+// listens on loopback only, and a loopback-only client (as a ROS 2 system with
+// ROS_LOCALHOST_ONLY=1 is) discovers it and gets its plan.
+TEST(NodeIntegration, ALoopbackOnlyNodeServesALoopbackOnlyClient) {
+  node::NodeConfig cfg = test_config("localhost_only");
+  cfg.localhost_only = true;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  const auto [sx, sy] = centre(grid, 1, 1);
+  const auto [gx, gy] = centre(grid, 18, 8);
+  run.client.publish_request("loopback-1", sx, sy, gx, gy, "astar");
+  const auto status = run.client.wait_status("loopback-1");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(code_name(status->code()), "OK") << status->message();
+
+  // What the node announces, as a third participant's discovery sees it: unicast locators on
+  // 127.0.0.1 only (without the setting it announces its external interfaces).
+  struct Announced : node::dds::DomainParticipantListener {
+    std::mutex mutex;
+    std::vector<std::string> node_unicast;
+    void on_participant_discovery(
+        node::dds::DomainParticipant*,
+        eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+      if (info.info.m_participantName.to_string() != "vnsba_node") return;
+      std::lock_guard<std::mutex> lock(mutex);
+      for (const auto& list : {info.info.metatraffic_locators, info.info.default_locators})
+        for (const auto& locator : list.unicast)
+          node_unicast.push_back(eprosima::fastrtps::rtps::IPLocator::toIPv4string(locator));
+    }
+  } announced;
+  auto observer = node::Participant::create(cfg.domain_id, "observer", &announced, true).value();
+  const auto end = std::chrono::steady_clock::now() + 10s;
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(announced.mutex);
+      if (!announced.node_unicast.empty() || std::chrono::steady_clock::now() > end) break;
+    }
+    std::this_thread::sleep_for(20ms);
+  }
+  observer->shutdown();
+  std::lock_guard<std::mutex> lock(announced.mutex);
+  ASSERT_FALSE(announced.node_unicast.empty()) << "the node was never discovered";
+  for (const std::string& address : announced.node_unicast) EXPECT_EQ(address, "127.0.0.1");
 }
 
 TEST(NodeIntegration, LateJoiningNodeGetsTheLatchedSliceAndPlansOnIt) {

@@ -122,6 +122,11 @@ struct NodeConfig {
   std::string log_level = "info";  // trace, debug, info, warn, error, critical, off
 
   SlicerConfig slicer;
+
+  // network.localhost_only: every participant (node and tools) sends and listens on 127.0.0.1
+  // only, and so advertises only loopback locators: what a ROS 2 system with
+  // ROS_LOCALHOST_ONLY=1 reaches (that variable set to 1 turns it on too, as in rmw_fastrtps).
+  bool localhost_only = false;
 };
 
 struct ConfigResult {
@@ -142,6 +147,9 @@ ConfigResult parse_config(const std::string& yaml_text, const std::string& sourc
 // (`<prefix>/bin/<tool>`), then the source tree's `config/default.yaml` (a build tree's tools).
 // Returns the first that exists, or kInvalidRequest listing where it looked.
 core::Expected<std::string> find_default_config();
+
+// ROS_LOCALHOST_ONLY=1 in the environment (as rmw_fastrtps reads it): forces localhost_only.
+bool ros_localhost_only_from_environment();
 // Every tool's --config help text, which says where the file comes from without the option.
 inline constexpr const char* kConfigOptionHelp =
     "YAML configuration file (default: <prefix>/share/vnsba/default.yaml of this installation, "

@@ -98,8 +98,10 @@ class ParticipantWatch : public dds::DomainParticipantListener {
 class Participant {
  public:
   // `listener` (may be null) receives discovery events from the start; it must outlive this.
+  // `localhost_only`: UDP on 127.0.0.1 only (network.localhost_only, ROS_LOCALHOST_ONLY=1).
   static core::Expected<std::unique_ptr<Participant>> create(
-      int domain_id, const std::string& name, dds::DomainParticipantListener* listener = nullptr);
+      int domain_id, const std::string& name, dds::DomainParticipantListener* listener = nullptr,
+      bool localhost_only = false);
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
