@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "bench/common.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/render/progress.hpp"
 
 namespace vnsba::bench {
 namespace {
@@ -157,6 +159,17 @@ int run_movingai(const MovingAiOptions& options) {
     for (const auto kind : planners)
       if (kind != core::PlannerKind::kVnsBaStar) configurations.push_back({kind, true});
 
+  // The plans to come, for the progress line: the scenario files alone are read here (the maps
+  // load one at a time below); a file that does not load counts 0 and fails below.
+  int64_t plans_total = 0;
+  for (const std::string& path : *maps)
+    if (const auto scenarios = maps::load_movingai_scenarios(path + ".scen"))
+      plans_total += static_cast<int64_t>(
+          pick_scenarios(scenarios->size(), options.max_scenarios).size() * configurations.size());
+  render::Progress progress("vnsba_bench movingai", plans_total,
+                            render::progress_wanted(options.progress));
+  int64_t plans_done = 0;
+
   if (options.csv) std::printf("%s\n", kMovingAiCsvHeader);
   std::vector<Run> runs;
   std::map<std::string, std::vector<std::string>> maps_of_class;
@@ -198,6 +211,7 @@ int run_movingai(const MovingAiOptions& options) {
         run.expanded = static_cast<double>(m.expanded);
         run.time_us = timed.time_us;
         runs.push_back(run);
+        progress.update(++plans_done);
         if (options.csv) {
           const std::string status(core::to_string(timed.result.status.code));
           if (run.ok)
@@ -217,6 +231,7 @@ int run_movingai(const MovingAiOptions& options) {
     std::fprintf(stderr, "%s (%s): %zu scenarios x %zu configurations\n", loaded->name.c_str(),
                  map_class.c_str(), picked.size(), configurations.size());
   }
+  progress.finish(plans_done);
   if (options.csv) return kExitOk;
 
   std::string md = "### Moving AI benchmarks, per map class\n\n";

@@ -18,6 +18,9 @@ struct MovingAiOptions {
   // Also run each baseline with VNS-BA*'s pruning and smoothing (named "<planner>+prune+smooth"),
   // to separate what the search gains from what post-processing gains.
   bool with_post_processing = false;
+  // Progress on stderr (plans done / total, elapsed, ETA, at most once a second) even when stderr
+  // is not a terminal; on a terminal it is always shown.
+  bool progress = false;
 };
 
 // The CSV header (one row per scenario and planner follows it). clearance_m is the final path's

@@ -8,7 +8,7 @@
 //                                         Figures 8-12, an ablation (bench/paper.hpp)
 //   vnsba_bench sweep [--out DIR] [--repetitions N]
 //                                         omega / eta from 0 to 1 on the Figure 3 maps
-//   vnsba_bench movingai [--maps DIR] [--planners a,b] [--csv] [--max-scenarios N]
+//   vnsba_bench movingai [--maps DIR] [--planners a,b] [--csv] [--max-scenarios N] [--progress]
 //                        [--with-post-processing]
 //                                         every planner on Moving AI scenarios, per map class
 //
@@ -133,6 +133,9 @@ int main(int argc, char** argv) {
       ->add_option("--max-scenarios", movingai_options.max_scenarios,
                    "at most N scenarios per map, spread over the file (0: all)")
       ->capture_default_str();
+  movingai->add_flag("--progress", movingai_options.progress,
+                     "plans done / total, elapsed and ETA on stderr at most once a second, also "
+                     "when stderr is not a terminal (on a terminal: always)");
 
   vnsba::bench::LargeOptions large_options;
   large_options.maps_dir = maps_dir;
