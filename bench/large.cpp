@@ -10,6 +10,8 @@
 
 #include "bench/common.hpp"
 #include "vnsba/core/planner_options.hpp"
+#include "vnsba/maps/map_io.hpp"
+#include "vnsba/render/progress.hpp"
 
 namespace vnsba::bench {
 
@@ -90,6 +92,18 @@ int run_large(const LargeOptions& options) {
   if (with_astar) headers.push_back("p50 / A*'s");
   MarkdownTable table(headers);
   bool all_ok = true;
+  // The plans to come, for the progress line (a scenario file that does not load counts 0 and
+  // fails below).
+  int64_t plans_total = 0;
+  for (const LargeMapSpec& spec : kLargeMaps)
+    if (const auto scenarios =
+            maps::load_movingai_scenarios(options.maps_dir + "/" + spec.name + ".map.scen"))
+      plans_total +=
+          static_cast<int64_t>(pick_scenarios(scenarios->size(), options.queries).size() *
+                               planners.size() * options.sizes.size());
+  render::Progress progress("vnsba_bench large", plans_total,
+                            render::progress_wanted(options.progress));
+  int64_t plans_done = 0;
   for (const LargeMapSpec& spec : kLargeMaps) {
     auto loaded = load_map_with_scenarios(options.maps_dir + "/" + spec.name + ".map");
     if (!loaded) {
@@ -130,6 +144,7 @@ int run_large(const LargeOptions& options) {
           samples[p].expanded.push_back(static_cast<double>(timed.result.metrics.expanded));
           found.push_back(timed.result.status.is_ok());
           if (!found.back()) ++samples[p].failures;
+          progress.update(++plans_done);
         }
         // Every planner here is complete: all find a path or none does (a tiled query's two
         // copies may not be connected). Anything else is a planner's failure.
@@ -159,6 +174,7 @@ int run_large(const LargeOptions& options) {
       }
     }
   }
+  progress.finish(plans_done);
   std::printf(
       "**Large maps.** Planning time per query (search and each planner's paper "
       "configuration of pruning and smoothing), p50 and p95 over the same queries, "

@@ -28,6 +28,9 @@ struct LargeOptions {
   std::vector<core::PlannerKind> planners;  // empty: astar, jps, vns_bastar
   std::vector<int> sizes = {2048, 4096};    // cells a side, each a multiple of 512
   int queries = 20;                         // per map and size
+  // Progress on stderr (plans done / total, elapsed, ETA, at most once a second) even when stderr
+  // is not a terminal; on a terminal it is always shown.
+  bool progress = false;
 };
 
 int run_large(const LargeOptions& options);

@@ -150,6 +150,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   large->add_option("--queries", large_options.queries, "queries per map and size")
       ->capture_default_str();
+  large->add_flag("--progress", large_options.progress,
+                  "plans done / total, elapsed and ETA on stderr at most once a second, also when "
+                  "stderr is not a terminal (on a terminal: always)");
 
   vnsba::bench::CostsOptions costs_options;
   costs_options.maps_dir = maps_dir;
