@@ -12,7 +12,9 @@
 #include "bench/common.hpp"
 #include "bench/movingai.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/render/progress.hpp"
 
 namespace vnsba::bench {
 
@@ -213,6 +215,16 @@ MovingAiResult run_maps(const CostsOptions& options,
   const RobotSettings sides[2] = {RobotSettings{}, options.robot};
   // class -> planner -> sample
   std::map<std::string, std::map<core::PlannerKind, ClassSample>> samples;
+  // Queries to come (each planned on both sides), for the progress line; a scenario file that
+  // does not load counts 0 and fails below.
+  int64_t queries_total = 0;
+  for (const std::string& path : *maps)
+    if (const auto scenarios = maps::load_movingai_scenarios(path + ".scen"))
+      queries_total += static_cast<int64_t>(
+          pick_scenarios(scenarios->size(), options.max_scenarios).size() * planners.size());
+  render::Progress progress("vnsba_bench costs", queries_total,
+                            render::progress_wanted(options.progress));
+  int64_t queries_done = 0;
   for (const std::string& path : *maps) {
     auto loaded = load_map_with_scenarios(path);
     if (!loaded) {
@@ -257,6 +269,7 @@ MovingAiResult run_maps(const CostsOptions& options,
           sample.time_us[side].push_back(o[side].time_us);
           sample.expanded[side].push_back(o[side].expanded);
         }
+        progress.update(++queries_done);
         if (o[kBinary].ok != o[kCostAware].ok) ++sample.failures;
         if (!o[kBinary].ok || !o[kCostAware].ok) continue;
         sample.length_ratio.push_back(o[kCostAware].length / o[kBinary].length);
@@ -269,6 +282,7 @@ MovingAiResult run_maps(const CostsOptions& options,
     std::fprintf(stderr, "%s (%s): %zu scenarios x %zu planners x 2 sides\n", loaded->name.c_str(),
                  map_class.c_str(), picked.size(), planners.size());
   }
+  progress.finish(queries_done);
 
   MarkdownTable table({"class", "planner", "length ratio mean (max)", "clearance binary (cells)",
                        "clearance cost-aware (cells)", "turns binary", "turns cost-aware",

@@ -55,6 +55,9 @@ struct CostsOptions {
   int max_scenarios = 40;                   // per Moving AI map, spread over the file
   int repetitions = 5;                      // timed plans per demo-scene query (median)
   RobotSettings robot = kDefaultYamlRobot;
+  // Progress of the Moving AI part on stderr (queries done / total, elapsed, ETA, at most once a
+  // second) even when stderr is not a terminal; on a terminal it is always shown.
+  bool progress = false;
 };
 
 // The grid build options and planner settings of each side: binary is the paper's (no radius,

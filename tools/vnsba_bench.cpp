@@ -172,6 +172,9 @@ int main(int argc, char** argv) {
       ->add_option("--max-scenarios", costs_options.max_scenarios,
                    "at most N scenarios per Moving AI map, spread over the file (0: all)")
       ->capture_default_str();
+  costs->add_flag("--progress", costs_options.progress,
+                  "Moving AI part: queries done / total, elapsed and ETA on stderr at most once a "
+                  "second, also when stderr is not a terminal (on a terminal: always)");
   costs
       ->add_option("--repetitions", costs_options.repetitions,
                    "timed plans per demo-scene query (the median is reported)")

@@ -57,11 +57,12 @@ void Progress::update(int64_t done) {
   if (now - last_ < std::chrono::seconds(1)) return;
   last_ = now;
   ++lines_;
+  last_done_ = done;
   out_ << line(done, std::chrono::duration<double>(now - start_).count()) << '\n' << std::flush;
 }
 
 void Progress::finish(int64_t done) {
-  if (!enabled_ || lines_ == 0) return;
+  if (!enabled_ || lines_ == 0 || last_done_ == done) return;
   const auto now = clock_();
   ++lines_;
   out_ << line(done, std::chrono::duration<double>(now - start_).count()) << '\n' << std::flush;

@@ -69,6 +69,16 @@ TEST(Progress, LineGivesDoneTotalElapsedAndEta) {
             "vnsba_plan --scen: 200/200 (100.0%), elapsed 1h05m, ETA 0s");
 }
 
+TEST(Progress, FinishAddsNoLineTheLastOneAlreadySaid) {
+  TimePoint now{};
+  std::ostringstream out;
+  render::Progress progress("run", 3, true, out, [&] { return now; });
+  now += std::chrono::seconds(2);
+  progress.update(3);
+  progress.finish(3);
+  EXPECT_EQ(lines_of(out.str()).size(), 1u) << out.str();
+}
+
 TEST(Progress, EtaUnknownBeforeTheFirstStep) {
   TimePoint now{};
   std::ostringstream out;

@@ -36,7 +36,7 @@ class Progress {
   // shorter than that prints nothing).
   void update(int64_t done);
   // The run is over: a last line with the final count, only if a line was printed before (a
-  // reader of the earlier lines learns how it ended).
+  // reader of the earlier lines learns how it ended) and the last one had another count.
   void finish(int64_t done);
 
   // The line for `done` steps after `elapsed_s` seconds (no newline): what update() prints.
@@ -52,6 +52,7 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_;
   int64_t lines_ = 0;
+  int64_t last_done_ = -1;  // the count of the last line printed
 };
 
 }  // namespace vnsba::render
