@@ -169,6 +169,7 @@ int run_paper(const PaperOptions& options) {
         }
         if (config == Config::kPaper) {
           render::RunPicture picture = render::picture_of(picture_map, query, row.result);
+          picture.options = render::path_options(core::make_options(kind, measured));
           picture.title = std::string("map ") + paper_map.name + " (figure " +
                           std::to_string(paper_map.figure) + ")";
           char name[96];

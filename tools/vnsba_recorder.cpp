@@ -320,6 +320,16 @@ class Recorder {
         ref.cost_scaling_factor = config_.map.cost_scaling_factor;
         record.map = ref;
       }
+      // The options the node plans with: its config's for the planner the run names (a
+      // request names nothing else), as the node applies them (no costs for jps).
+      const std::string planner_name = record.status && !record.status->planner.empty()
+                                           ? record.status->planner
+                                       : record.request ? record.request->planner
+                                                        : std::string();
+      core::PlannerOptions run_options = config_.planner.options(
+          core::planner_kind_from_string(planner_name).value_or(config_.planner.kind));
+      core::drop_unsupported_costs(run_options);
+      record.options = records::options_record(run_options);
       // What the bus brought is recorded as it came; what cannot be drawn is said.
       if (const core::Status checked = records::check_record(record, map ? &map->grid : nullptr);
           !checked.is_ok())
@@ -477,7 +487,8 @@ int main(int argc, char** argv) {
   // Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder");
+  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder", nullptr,
+                                              config.localhost_only);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

@@ -265,7 +265,26 @@ json to_json(const RunRecord& r) {
   } else {
     j["map"] = nullptr;
   }
+  if (r.options) {
+    json o = json::object();
+    if (r.options->neighborhood) o["neighborhood"] = core::to_string(*r.options->neighborhood);
+    if (r.options->prune) o["prune"] = *r.options->prune;
+    if (r.options->smooth) o["smooth"] = *r.options->smooth;
+    if (r.options->cost_weight) o["cost_weight"] = number(*r.options->cost_weight);
+    j["options"] = o;
+  } else {
+    j["options"] = nullptr;
+  }
   return j;
+}
+
+OptionsRecord options_record(const core::PlannerOptions& options) {
+  OptionsRecord o;
+  o.neighborhood = options.neighborhood;
+  o.prune = options.prune;
+  o.smooth = options.smooth;
+  o.cost_weight = options.cost_weight;
+  return o;
 }
 
 core::Expected<RunRecord> run_record_from_json(const json& j) {
@@ -363,6 +382,26 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     map.cost_scaling_factor =
         m->contains("cost_scaling_factor") ? scaling : MapReference{}.cost_scaling_factor;
     r.map = map;
+  }
+  // Absent in records from before the options were recorded, and field by field: not recorded.
+  if (const json* o = in.member(j, "options", "")) {
+    OptionsRecord options;
+    if (in.member(*o, "neighborhood", "options") != nullptr) {
+      const std::string name = in.string(*o, "neighborhood", "options");
+      options.neighborhood = core::neighborhood_from_string(name);
+      if (in.ok() && !options.neighborhood)
+        in.fail("options.neighborhood", "is \"" + name + "\", must be \"8\" or \"8-11-13\"");
+    }
+    if (in.member(*o, "prune", "options") != nullptr)
+      options.prune = in.boolean(*o, "prune", "options");
+    if (in.member(*o, "smooth", "options") != nullptr)
+      options.smooth = in.boolean(*o, "smooth", "options");
+    if (in.member(*o, "cost_weight", "options") != nullptr) {
+      options.cost_weight = in.real(*o, "cost_weight", "options");
+      if (in.ok() && !core::kCostWeightRange.contains(*options.cost_weight))
+        in.fail("options.cost_weight", "must be " + core::kCostWeightRange.describe());
+    }
+    r.options = options;
   }
   if (!in.ok()) return core::Status::error(core::StatusCode::kInvalidRequest, in.error());
   return r;
@@ -580,6 +619,17 @@ render::RunPicture picture_of(const RunRecord& r, const core::OccupancyGrid* gri
   } else {
     picture.status = "NO_STATUS";
     picture.message = "no status was received for this request";
+  }
+  if (r.options) {
+    picture.options.neighborhood = r.options->neighborhood;
+    picture.options.prune = r.options->prune;
+    picture.options.smooth = r.options->smooth;
+    picture.options.cost_weight = r.options->cost_weight;
+  }
+  if (r.map) {
+    // Older records read 0 for radii they lack; the caption names only positive ones.
+    picture.options.robot_radius = r.map->robot_radius;
+    picture.options.inflation_radius = r.map->inflation_radius;
   }
   if (picture.planner.empty() && r.debug) picture.planner = r.debug->planner;
   if (picture.planner.empty() && r.request) picture.planner = r.request->planner;

@@ -244,12 +244,153 @@ double nice_length(double target) {
   return power;
 }
 
+// The smallest round step (1, 2 or 5 times a power of ten) of at least `minimum`.
+double nice_step_at_least(double minimum) {
+  if (!(minimum > 0) || !std::isfinite(minimum)) return 1.0;
+  const double power = std::pow(10.0, std::floor(std::log10(minimum)));
+  for (const double step : {1.0, 2.0, 5.0, 10.0})
+    if (step * power >= minimum * (1 - 1e-12)) return step * power;
+  return 10.0 * power;
+}
+
+// The next round step after `step` (1 -> 2 -> 5 -> 10).
+double next_nice_step(double step) {
+  return nice_step_at_least(step * 1.5);
+}
+
+// Characters of UTF-8 text (continuation bytes do not count), what the layout measures.
+size_t char_count(std::string_view text) {
+  size_t n = 0;
+  for (const char c : text)
+    if ((static_cast<unsigned char>(c) & 0xC0) != 0x80) ++n;
+  return n;
+}
+
+// Cuts UTF-8 text after `chars` characters.
+size_t byte_offset_of_char(std::string_view text, size_t chars) {
+  size_t n = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) {
+      if (n == chars) return i;
+      ++n;
+    }
+  }
+  return text.size();
+}
+
+// Splits a caption line into lines of at most `max_chars` characters, at spaces where it can
+// (a word longer than a line is cut).
+std::vector<std::string> wrap(const std::string& line, size_t max_chars) {
+  std::vector<std::string> out;
+  max_chars = std::max<size_t>(max_chars, 1);
+  std::string_view rest = line;
+  while (char_count(rest) > max_chars) {
+    const size_t limit = byte_offset_of_char(rest, max_chars);
+    // Between the caption's items (", ") where one ends in the line, else at a space.
+    size_t cut = rest.rfind(", ", limit - 1);
+    if (cut != std::string_view::npos && cut > 0) {
+      out.emplace_back(rest.substr(0, cut + 1));
+      rest.remove_prefix(cut + 2);
+      continue;
+    }
+    cut = rest.rfind(' ', limit);
+    if (cut == std::string_view::npos || cut == 0) {
+      out.emplace_back(rest.substr(0, limit));
+      rest.remove_prefix(limit);
+    } else {
+      out.emplace_back(rest.substr(0, cut));
+      rest.remove_prefix(cut + 1);
+    }
+  }
+  if (!rest.empty() || out.empty()) out.emplace_back(rest);
+  return out;
+}
+
+// Ticks along one edge of the map: a round step in metres, the world coordinates of the ticks
+// within [origin, origin + cells * resolution] and their places in cells from the map's corner.
+struct Tick {
+  double value;     // metres
+  double position;  // cells from the map's lower (or left) edge
+  std::string label;
+};
+struct Axis {
+  double step = 0.0;  // metres
+  std::vector<Tick> ticks;
+  double widest = 0.0;  // the widest label, characters
+};
+
+Axis axis_with_step(double origin, int32_t cells, double resolution, double step) {
+  Axis axis;
+  axis.step = step;
+  const double end = origin + cells * resolution;
+  // Decimals enough to tell ticks apart: 0 for steps of 1 m and more, 1 for 0.5 m, 2 for 0.02 m.
+  const int decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
+  const double first = std::ceil(origin / step - 1e-9);
+  const double last = std::floor(end / step + 1e-9);
+  constexpr double kMaxTicks = 1000;  // a step too small for the map is refused by the caller
+  if (!(last - first < kMaxTicks)) return axis;
+  for (double k = first; k <= last; ++k) {
+    double value = k * step;
+    if (std::abs(value) < 1e-9 * step) value = 0.0;  // no "-0"
+    Tick tick{value, (value - origin) / resolution, {}};
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+    tick.label = buf;
+    // A value that rounds to zero is "0", never "-0.0".
+    if (tick.label[0] == '-' && tick.label.find_first_not_of("0.", 1) == std::string::npos)
+      tick.label.erase(0, 1);
+    tick.position = std::clamp(tick.position, 0.0, static_cast<double>(cells));
+    axis.widest = std::max(axis.widest, static_cast<double>(char_count(tick.label)));
+    axis.ticks.push_back(std::move(tick));
+  }
+  return axis;
+}
+
+// The axis with the smallest round step whose neighbouring labels keep `gap(axis)` cells apart
+// (a function of the widest label on the x axis, of the font height on the y axis).
+template <class Spacing>
+Axis choose_axis(double origin, int32_t cells, double resolution, Spacing spacing) {
+  if (!std::isfinite(origin) || !(resolution > 0) || !std::isfinite(resolution) || cells <= 0)
+    return {};
+  // Start where at most ~kMaxTicks could fit, then widen until labels do not crowd.
+  double step = nice_step_at_least(cells * resolution / 500.0);
+  for (int attempt = 0; attempt < 40; ++attempt, step = next_nice_step(step)) {
+    Axis axis = axis_with_step(origin, cells, resolution, step);
+    if (axis.ticks.empty() && cells * resolution / step >= 1000) continue;
+    if (step / resolution >= spacing(axis)) return axis;
+  }
+  return {};
+}
+
 struct LegendItem {
   std::string_view label;
-  std::string swatch;  // markup drawn in a 1 x 1 box at (0, 0), scaled by the legend
+  std::string_view layer;  // the layer group it explains ("map-cost" for every cost level)
+  std::string swatch;      // markup drawn in a 1 x 1 box at (0, 0), scaled by the legend
+};
+
+// One layer's drawn markup and its group, prepared before the layout so that the legend can
+// list only what is drawn.
+struct Layer {
+  std::string id;
+  std::string group_attributes;
+  std::string markup;
+  bool drawn() const { return !markup.empty(); }
 };
 
 }  // namespace
+
+PathOptions path_options(const core::PlannerOptions& planner, const core::GridBuildOptions* build) {
+  PathOptions o;
+  o.neighborhood = planner.neighborhood;
+  o.prune = planner.prune;
+  o.smooth = planner.smooth;
+  o.cost_weight = planner.cost_weight;
+  if (build != nullptr) {
+    o.robot_radius = build->robot_radius;
+    o.inflation_radius = build->inflation_radius;
+  }
+  return o;
+}
 
 std::string render_svg(const RunPicture& run, const RenderOptions& options) {
   static const MapPicture kEmptyMap{};
@@ -259,6 +400,8 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
   const bool map_valid =
       map.width > 0 && map.height > 0 &&
       map.cells.size() == static_cast<size_t>(map.width) * static_cast<size_t>(map.height);
+  const double resolution =
+      map.resolution > 0 && std::isfinite(map.resolution) ? map.resolution : 1.0;
 
   const double ppc = options.pixels_per_cell > 0
                          ? options.pixels_per_cell
@@ -268,102 +411,7 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
   const double font = 14 * px;
   const double line_height = 1.6 * font;
   const double margin = 8 * px;
-
-  // Legend layout: items flow left to right, wrapping at the map's width.
-  const double swatch = font;
-  std::vector<LegendItem> legend;
-  if (options.legend) {
-    legend = {
-        {"occupied",
-         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kOccupiedColour) + "\"/>"},
-        {"unknown",
-         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kUnknownColour) + "\"/>"},
-        {"inflated",
-         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kInflatedColour) + "\"/>"},
-        {"cell cost", "<rect width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
-                          "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel) +
-                          "\"/><rect x=\"0.5\" width=\"0.5\" height=\"1\" fill=\"" +
-                          std::string(kCostColour) + "\" fill-opacity=\"" +
-                          std::to_string(kCostOpacityPerLevel * MapPicture::kCostLevels) + "\"/>"},
-        {"forward expansions",
-         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kForwardColour) + "\"/>"},
-        {"backward expansions",
-         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kBackwardColour) + "\"/>"},
-        {"raw grid path",
-         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.08\"/>"},
-        {"pruned path",
-         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.2\"/>"},
-        {"smoothed corners", "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"" +
-                                 std::string(kSmoothedColour) + "\" stroke-width=\"0.2\"/>"},
-        {"meeting cell",
-         "<rect x=\"0.1\" y=\"0.1\" width=\"0.8\" height=\"0.8\" fill=\"none\" stroke=\"" +
-             std::string(kMeetingColour) + "\" stroke-width=\"0.2\"/>"},
-        {"start",
-         "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kStartColour) + "\"/>"},
-        {"goal",
-         "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kGoalColour) + "\"/>"},
-    };
-  }
-  // The cost tint is explained only where a map has costs (the paper's pictures have none).
-  if (map.cost_levels.empty())
-    legend.erase(std::remove_if(legend.begin(), legend.end(),
-                                [](const LegendItem& item) { return item.label == "cell cost"; }),
-                 legend.end());
-  struct Placed {
-    double x, y;
-  };
-  std::vector<Placed> legend_places;
-  double legend_height = 0;
-  {
-    double x = 0, y = 0;
-    const double char_width = 0.6 * font;
-    for (const LegendItem& item : legend) {
-      const double item_width = swatch + 0.5 * font + char_width * item.label.size() + font;
-      if (x > 0 && x + item_width > width) {
-        x = 0;
-        y += line_height;
-      }
-      legend_places.push_back({x, y});
-      x += item_width;
-    }
-    if (!legend.empty()) legend_height = y + line_height;
-  }
-
-  // Caption lines.
-  std::vector<std::string> caption;
-  if (options.caption) {
-    std::string head = run.title.empty() ? std::string("run") : run.title;
-    if (!run.planner.empty()) head += " | planner " + run.planner;
-    head += " | " + run.status;
-    if (!run.message.empty() && run.status != "OK") head += ": " + run.message;
-    caption.push_back(head);
-    if (run.metrics) {
-      const core::Metrics& m = *run.metrics;
-      std::string line = "length " + format_number("%.2f", m.length_m) + " m (" +
-                         format_number("%.2f", m.length_cells) + " cells), " +
-                         (std::isnan(m.clearance_m) ? std::string()
-                          : std::isinf(m.clearance_m)
-                              ? std::string("clearance inf (no obstacle), ")
-                              : "clearance " + format_number("%.2f", m.clearance_m) + " m, ") +
-                         "turns " + std::to_string(m.turns) + ", turn angle " +
-                         format_number("%.1f", m.turn_angle_deg) + " deg, expanded " +
-                         std::to_string(m.expanded) + ", time " +
-                         format_number("%.3f", m.planning_time_us / 1000.0) + " ms";
-      if (std::isfinite(m.length_ratio))
-        line += ", length / optimal " + format_number("%.3f", m.length_ratio);
-      caption.push_back(line);
-    }
-    caption.push_back("map " + std::to_string(map.width) + " x " + std::to_string(map.height) +
-                      " cells at " + format_number("%g", map.resolution) + " m, origin (" +
-                      format_number("%g", map.origin_x) + ", " + format_number("%g", map.origin_y) +
-                      ") m");
-  }
-  const double scale_bar_height = 2.2 * font;
-  const double below = margin + scale_bar_height + legend_height +
-                       line_height * static_cast<double>(caption.size()) + margin;
-  const double doc_height = height + below;
-  SvgDocument svg(width, doc_height, width * ppc);
-  svg.rect(0, 0, width, doc_height, "fill=\"#ffffff\"");
+  const double char_width = kCharWidthEm * font;
 
   const auto svg_y = [&](double y) { return height - y; };  // world rows up, SVG rows down
   const auto flip = [&](const std::vector<Point2>& points) {
@@ -374,23 +422,38 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
     return out;
   };
   const std::string crisp = "fill=\"none\" stroke-width=\"1\" shape-rendering=\"crispEdges\"";
+  const auto count_attribute = [](int64_t count) {
+    return "data-count=\"" + std::to_string(count) + "\"";
+  };
+  const auto path_markup = [](const std::string& data, const std::string& attributes) {
+    return data.empty() ? std::string() : "<path d=\"" + data + "\" " + attributes + "/>\n";
+  };
+  const auto polyline_markup = [](const std::vector<Point2>& points,
+                                  const std::string& attributes) {
+    if (points.size() < 2) return std::string();
+    std::string out = "<polyline points=\"";
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (i) out += ' ';
+      out += fmt(points[i].x()) + "," + fmt(points[i].y());
+    }
+    return out + "\" " + attributes + "/>\n";
+  };
 
-  // Cell costs, under everything else.
+  // Every layer, before the layout: the legend lists the ones with something drawn.
+  std::vector<Layer> under;  // cost levels, map layers, expansions (under the grid lines)
   if (map_valid && !map.cost_levels.empty() && map.cost_levels.size() == map.cells.size()) {
     for (int level = 1; level <= MapPicture::kCostLevels; ++level) {
       RunPath runs(height);
       const int64_t count = merged_runs(
           map.width, map.height,
           [&](int32_t x, int32_t y) { return map.cost_level(x, y) == level; }, runs);
-      svg.begin_group("map-cost-" + std::to_string(level),
-                      "data-count=\"" + std::to_string(count) + "\"");
-      svg.path(runs.data(), crisp + " stroke-opacity=\"" +
-                                std::to_string(kCostOpacityPerLevel * level) + "\" stroke=\"" +
-                                std::string(kCostColour) + "\"");
-      svg.end_group();
+      under.push_back(
+          {"map-cost-" + std::to_string(level), count_attribute(count),
+           path_markup(runs.data(), crisp + " stroke-opacity=\"" +
+                                        std::to_string(kCostOpacityPerLevel * level) +
+                                        "\" stroke=\"" + std::string(kCostColour) + "\"")});
     }
   }
-  // Map layers.
   for (const auto& [id, state, colour] :
        {std::tuple{"map-occupied", CellState::kOccupied, kOccupiedColour},
         std::tuple{"map-unknown", CellState::kUnknown, kUnknownColour},
@@ -401,9 +464,8 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
                         map.width, map.height,
                         [&](int32_t x, int32_t y) { return map.at(x, y) == state; }, runs)
                   : 0;
-    svg.begin_group(id, "data-count=\"" + std::to_string(count) + "\"");
-    svg.path(runs.data(), crisp + " stroke=\"" + std::string(colour) + "\"");
-    svg.end_group();
+    under.push_back({id, count_attribute(count),
+                     path_markup(runs.data(), crisp + " stroke=\"" + std::string(colour) + "\"")});
   }
   // Expansions, semi-transparent so cells closed by both searches show both colours.
   for (const auto& [id, cells, colour] :
@@ -418,105 +480,329 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
           [&](int32_t x, int32_t y) { return mask[static_cast<size_t>(y) * map.width + x] != 0; },
           runs);
     }
-    svg.begin_group(id, "data-count=\"" + std::to_string(count) + "\"");
-    svg.path(runs.data(),
-             crisp + " stroke-opacity=\"0.75\" stroke=\"" + std::string(colour) + "\"");
-    svg.end_group();
+    under.push_back({id, count_attribute(count),
+                     path_markup(runs.data(), crisp + " stroke-opacity=\"0.75\" stroke=\"" +
+                                                  std::string(colour) + "\"")});
   }
+  std::vector<Layer> over;  // paths and markers
+  const std::vector<Point2> raw = flip(core::cell_centres(run.raw_path));
+  over.push_back({"raw-path", count_attribute(static_cast<int64_t>(raw.size())),
+                  polyline_markup(raw, "fill=\"none\" stroke=\"#000\" stroke-width=\"" +
+                                           fmt(1.2 * px) + "\" stroke-dasharray=\"" + fmt(4 * px) +
+                                           "," + fmt(3 * px) + "\"")});
+  const std::vector<Point2> pruned = flip(run.waypoints);
+  over.push_back({"pruned-path", count_attribute(static_cast<int64_t>(pruned.size())),
+                  polyline_markup(pruned,
+                                  "fill=\"none\" stroke=\"#000\" stroke-linejoin=\"round\" "
+                                  "stroke-width=\"" +
+                                      fmt(3 * px) + "\"")});
+  const std::vector<Point2> final_path = flip(run.path);
+  const auto stretches = smoothed_stretches(final_path, pruned);
+  {
+    size_t smoothed_points = 0;
+    std::string markup;
+    for (const auto& s : stretches) {
+      smoothed_points += s.size();
+      markup += polyline_markup(s, "fill=\"none\" stroke=\"" + std::string(kSmoothedColour) +
+                                       "\" stroke-linecap=\"round\" stroke-width=\"" + fmt(3 * px) +
+                                       "\"");
+    }
+    over.push_back({"smoothed-corners",
+                    count_attribute(static_cast<int64_t>(smoothed_points)) + " data-stretches=\"" +
+                        std::to_string(stretches.size()) + "\"",
+                    markup});
+  }
+  // The final path itself, so tools can read its exact geometry back: invisible under the
+  // pruned polyline and its corners, drawn (thin black) when there is no polyline to show it
+  // (a run record without debug data).
+  const bool path_alone = pruned.size() < 2 && final_path.size() >= 2;
+  over.push_back({"final-path", count_attribute(static_cast<int64_t>(final_path.size())),
+                  polyline_markup(final_path, path_alone ? "fill=\"none\" stroke=\"#000\" "
+                                                           "stroke-linejoin=\"round\" "
+                                                           "stroke-width=\"" +
+                                                               fmt(2 * px) + "\""
+                                                         : "fill=\"none\" stroke=\"none\"")});
+  // Markers, sized in pixels but at least most of a cell so they stay visible on small maps.
+  const double marker = std::max(6 * px, 0.35);
+  {
+    std::string markup;
+    if (run.meeting_cell) {
+      markup = "<rect x=\"" + fmt(run.meeting_cell->x) + "\" y=\"" +
+               fmt(svg_y(run.meeting_cell->y + 1.0)) +
+               "\" width=\"1\" height=\"1\" fill=\"none\" stroke=\"" + std::string(kMeetingColour) +
+               "\" stroke-width=\"" + fmt(std::max(2.5 * px, 0.12)) + "\"/>\n";
+    }
+    over.push_back({"meeting-cell", count_attribute(run.meeting_cell ? 1 : 0), markup});
+  }
+  for (const auto& [id, point, colour] : {std::tuple{"start", &run.start, kStartColour},
+                                          std::tuple{"goal", &run.goal, kGoalColour}}) {
+    const bool shown = point->has_value() && finite_point(**point);
+    std::string markup;
+    if (shown)
+      markup = "<circle cx=\"" + fmt((*point)->x()) + "\" cy=\"" + fmt(svg_y((*point)->y())) +
+               "\" r=\"" + fmt(marker) + "\" fill=\"" + std::string(colour) +
+               "\" stroke=\"#000\" stroke-width=\"" + fmt(px) + "\"/>\n";
+    over.push_back({id, count_attribute(shown ? 1 : 0), markup});
+  }
+  const auto drawn = [&](std::string_view layer) {
+    for (const auto* list : {&under, &over})
+      for (const Layer& l : *list)
+        if (l.drawn() &&
+            (l.id == layer || (layer == "map-cost" && l.id.rfind("map-cost-", 0) == 0)))
+          return true;
+    return false;
+  };
+
+  // The legend: what is drawn, in drawing order.
+  const double swatch = font;
+  std::vector<LegendItem> legend;
+  if (options.legend) {
+    const std::vector<LegendItem> all = {
+        {"occupied", "map-occupied",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kOccupiedColour) + "\"/>"},
+        {"unknown", "map-unknown",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kUnknownColour) + "\"/>"},
+        {"inflated", "map-inflated",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kInflatedColour) + "\"/>"},
+        {"cell cost", "map-cost",
+         "<rect width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
+             "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel) +
+             "\"/><rect x=\"0.5\" width=\"0.5\" height=\"1\" fill=\"" + std::string(kCostColour) +
+             "\" fill-opacity=\"" + std::to_string(kCostOpacityPerLevel * MapPicture::kCostLevels) +
+             "\"/>"},
+        {"forward expansions", "expanded-forward",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kForwardColour) + "\"/>"},
+        {"backward expansions", "expanded-backward",
+         "<rect width=\"1\" height=\"1\" fill=\"" + std::string(kBackwardColour) + "\"/>"},
+        {"raw grid path", "raw-path",
+         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.08\" "
+         "stroke-dasharray=\"0.3,0.2\"/>"},
+        {"pruned path", "pruned-path",
+         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.2\"/>"},
+        {"smoothed corners", "smoothed-corners",
+         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"" + std::string(kSmoothedColour) +
+             "\" stroke-width=\"0.2\"/>"},
+        {"path", "final-path",
+         "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.14\"/>"},
+        {"meeting cell", "meeting-cell",
+         "<rect x=\"0.1\" y=\"0.1\" width=\"0.8\" height=\"0.8\" fill=\"none\" stroke=\"" +
+             std::string(kMeetingColour) + "\" stroke-width=\"0.2\"/>"},
+        {"start", "start",
+         "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kStartColour) + "\"/>"},
+        {"goal", "goal",
+         "<circle cx=\"0.5\" cy=\"0.5\" r=\"0.4\" fill=\"" + std::string(kGoalColour) + "\"/>"},
+    };
+    for (const LegendItem& item : all)
+      if (item.layer == "final-path" ? path_alone : drawn(item.layer)) legend.push_back(item);
+  }
+
+  // Axes: ticks in metres, world coordinates (origin + cells * resolution), along the bottom
+  // and the left edge, each step the smallest round one whose labels do not crowd.
+  const double axis_font = 12 * px;
+  const double tick_length = 5 * px;
+  const double tick_gap = 3 * px;
+  Axis axis_x, axis_y;
+  if (options.axes) {
+    axis_x = choose_axis(map.origin_x, width, resolution, [&](const Axis& a) {
+      return (a.widest * kCharWidthEm + 0.6) * axis_font;  // a label and 0.6 em between labels
+    });
+    axis_y = choose_axis(map.origin_y, height, resolution,
+                         [&](const Axis&) { return 2.0 * axis_font; });  // text 1.05 em high
+  }
+  double widest_y_label = 0;
+  for (const Tick& t : axis_y.ticks)
+    widest_y_label = std::max(widest_y_label, char_count(t.label) * kCharWidthEm * axis_font);
+  // Left of the map: the y labels (right-aligned before their ticks), and half of the first x
+  // label (centred on its tick); right of it half of the last x label.
+  double left = margin;
+  if (!axis_y.ticks.empty()) left += tick_length + tick_gap + widest_y_label;
+  double right_extent = width + margin;
+  for (const Tick& t : axis_x.ticks) {
+    const double half = 0.5 * char_count(t.label) * kCharWidthEm * axis_font;
+    left = std::max(left, half - t.position + margin);
+    right_extent = std::max(right_extent, t.position + half + margin);
+  }
+  // Above: half a y label's height over the top tick.
+  const double top = margin + (axis_y.ticks.empty() ? 0.0 : 0.5 * axis_font);
+  const double doc_width = std::max(left + right_extent, kMinTextWidthPx * px);
+  const double text_left = -left + margin;
+  const double text_right = doc_width - left - margin;
+  const double text_width = text_right - text_left;
+
+  // Below the map: the x axis, the scale bar, the legend in a box, the caption.
+  double y = height + margin;
+  if (!axis_x.ticks.empty()) y = height + tick_length + tick_gap + 1.05 * axis_font + margin;
+  const double scale_bar_top = y;
+  const double scale_bar_height = 2.2 * font;
+  y += scale_bar_height;
+
+  const double pad = 6 * px;
+  struct Placed {
+    double x, y;
+  };
+  std::vector<Placed> legend_places;
+  double legend_box_width = 0;
+  double legend_box_height = 0;
+  const double legend_top = y;
+  if (!legend.empty()) {
+    double x = 0, row = 0;
+    for (const LegendItem& item : legend) {
+      const double label_width = char_width * static_cast<double>(char_count(item.label));
+      const double item_width = swatch + 0.4 * font + label_width;
+      if (x > 0 && x + font + item_width > text_width - 2 * pad) {
+        x = 0;
+        row += line_height;
+      } else if (x > 0) {
+        x += font;  // an em between entries
+      }
+      legend_places.push_back({text_left + pad + x, legend_top + pad + row});
+      x += item_width;
+      legend_box_width = std::max(legend_box_width, x + 2 * pad);
+    }
+    legend_box_height = row + 1.2 * font + 2 * pad;
+    y += legend_box_height + margin;
+  }
+
+  // Caption lines, wrapped to the document's width.
+  std::vector<std::string> caption;
+  if (options.caption) {
+    std::vector<std::string> lines;
+    std::string head = run.title.empty() ? std::string("run") : run.title;
+    if (!run.planner.empty()) head += " | planner " + run.planner;
+    head += " | " + run.status;
+    if (!run.message.empty() && run.status != "OK") head += ": " + run.message;
+    lines.push_back(head);
+    // The options that shape the path, those recorded only.
+    std::vector<std::string> shaping;
+    const PathOptions& o = run.options;
+    if (o.neighborhood)
+      shaping.push_back(std::string(core::to_string(*o.neighborhood)) + " neighbourhood");
+    if (o.prune) shaping.push_back(std::string("prune ") + (*o.prune ? "on" : "off"));
+    if (o.smooth) shaping.push_back(std::string("smooth ") + (*o.smooth ? "on" : "off"));
+    if (o.cost_weight) shaping.push_back("cost_weight " + format_number("%g", *o.cost_weight));
+    if (o.robot_radius && *o.robot_radius > 0)
+      shaping.push_back("robot radius " + format_number("%g", *o.robot_radius) + " m");
+    if (o.inflation_radius && *o.inflation_radius > 0)
+      shaping.push_back("inflation radius " + format_number("%g", *o.inflation_radius) + " m");
+    if (!shaping.empty()) {
+      std::string line = "options: ";
+      for (size_t i = 0; i < shaping.size(); ++i) line += (i ? ", " : "") + shaping[i];
+      lines.push_back(line);
+    }
+    if (run.metrics) {
+      const core::Metrics& m = *run.metrics;
+      std::string line = "length " + format_number("%.2f", m.length_m) + " m (" +
+                         format_number("%.2f", m.length_cells) + " cells), " +
+                         (std::isnan(m.clearance_m) ? std::string()
+                          : std::isinf(m.clearance_m)
+                              ? std::string("clearance inf (no obstacle), ")
+                              : "clearance " + format_number("%.2f", m.clearance_m) + " m, ") +
+                         "turns " + std::to_string(m.turns) + ", turn angle " +
+                         format_number("%.1f", m.turn_angle_deg) + " deg, expanded " +
+                         std::to_string(m.expanded) + ", time " +
+                         format_number("%.3f", m.planning_time_us / 1000.0) + " ms";
+      if (std::isfinite(m.length_ratio))
+        line += ", length / optimal " + format_number("%.3f", m.length_ratio);
+      lines.push_back(line);
+    }
+    lines.push_back("map " + std::to_string(map.width) + " x " + std::to_string(map.height) +
+                    " cells at " + format_number("%g", map.resolution) + " m, origin (" +
+                    format_number("%g", map.origin_x) + ", " + format_number("%g", map.origin_y) +
+                    ") m");
+    const size_t max_chars = static_cast<size_t>(std::max(1.0, text_width / char_width));
+    for (const std::string& line : lines)
+      for (std::string& part : wrap(line, max_chars)) caption.push_back(std::move(part));
+  }
+  const double caption_top = y;
+  y += line_height * static_cast<double>(caption.size());
+  const double doc_bottom = y + margin;
+
+  SvgDocument svg(-left, -top, doc_width, top + doc_bottom, doc_width * ppc);
+  svg.rect(-left, -top, doc_width, top + doc_bottom, "fill=\"#ffffff\"");
+  const auto emit = [&](const Layer& layer) {
+    svg.begin_group(layer.id, layer.group_attributes);
+    svg.raw(layer.markup);
+    svg.end_group();
+  };
+  for (const Layer& layer : under) emit(layer);
   // A light grid on small maps, as in the paper's figures.
   if (map_valid && ppc >= 12) {
     std::string data;
     for (int32_t x = 0; x <= map.width; ++x)
       data += "M" + std::to_string(x) + " 0v" + std::to_string(map.height);
-    for (int32_t y = 0; y <= map.height; ++y)
-      data += "M0 " + std::to_string(y) + "h" + std::to_string(map.width);
+    for (int32_t row = 0; row <= map.height; ++row)
+      data += "M0 " + std::to_string(row) + "h" + std::to_string(map.width);
     svg.begin_group("grid-lines");
     svg.path(data, "fill=\"none\" stroke=\"#d0d0d0\" stroke-width=\"" + fmt(0.6 * px) + "\"");
     svg.end_group();
   }
   svg.rect(0, 0, width, height, "fill=\"none\" stroke=\"#000\" stroke-width=\"" + fmt(px) + "\"");
+  for (const Layer& layer : over) emit(layer);
 
-  // Paths.
-  const std::vector<Point2> raw = flip(core::cell_centres(run.raw_path));
-  svg.begin_group("raw-path", "data-count=\"" + std::to_string(raw.size()) + "\"");
-  svg.polyline(raw, "fill=\"none\" stroke=\"#000\" stroke-width=\"" + fmt(1.2 * px) +
-                        "\" stroke-dasharray=\"" + fmt(4 * px) + "," + fmt(3 * px) + "\"");
-  svg.end_group();
-  const std::vector<Point2> pruned = flip(run.waypoints);
-  svg.begin_group("pruned-path", "data-count=\"" + std::to_string(pruned.size()) + "\"");
-  svg.polyline(pruned, "fill=\"none\" stroke=\"#000\" stroke-linejoin=\"round\" stroke-width=\"" +
-                           fmt(3 * px) + "\"");
-  svg.end_group();
-  const auto stretches = smoothed_stretches(flip(run.path), pruned);
-  size_t smoothed_points = 0;
-  for (const auto& s : stretches) smoothed_points += s.size();
-  svg.begin_group("smoothed-corners", "data-count=\"" + std::to_string(smoothed_points) +
-                                          "\" data-stretches=\"" +
-                                          std::to_string(stretches.size()) + "\"");
-  for (const auto& s : stretches)
-    svg.polyline(s, "fill=\"none\" stroke=\"" + std::string(kSmoothedColour) +
-                        "\" stroke-linecap=\"round\" stroke-width=\"" + fmt(3 * px) + "\"");
-  svg.end_group();
-  // The final path itself, invisible, so tools can read its exact geometry back.
-  const std::vector<Point2> final_path = flip(run.path);
-  svg.begin_group("final-path", "data-count=\"" + std::to_string(final_path.size()) + "\"");
-  svg.polyline(final_path, "fill=\"none\" stroke=\"none\"");
-  svg.end_group();
-
-  // Markers, sized in pixels but at least most of a cell so they stay visible on small maps.
-  const double marker = std::max(6 * px, 0.35);
-  svg.begin_group("meeting-cell", run.meeting_cell ? "data-count=\"1\"" : "data-count=\"0\"");
-  if (run.meeting_cell)
-    svg.rect(run.meeting_cell->x, svg_y(run.meeting_cell->y + 1.0), 1, 1,
-             "fill=\"none\" stroke=\"" + std::string(kMeetingColour) + "\" stroke-width=\"" +
-                 fmt(std::max(2.5 * px, 0.12)) + "\"");
-  svg.end_group();
-  for (const auto& [id, point, colour] : {std::tuple{"start", &run.start, kStartColour},
-                                          std::tuple{"goal", &run.goal, kGoalColour}}) {
-    const bool shown = point->has_value() && finite_point(**point);
-    svg.begin_group(id, shown ? "data-count=\"1\"" : "data-count=\"0\"");
-    if (shown)
-      svg.circle(
-          (*point)->x(), svg_y((*point)->y()), marker,
-          "fill=\"" + std::string(colour) + "\" stroke=\"#000\" stroke-width=\"" + fmt(px) + "\"");
+  // Axes: a tick outside the map's edge and its label beyond it.
+  const std::string tick_stroke = "stroke=\"#000\" stroke-width=\"" + fmt(px) + "\"";
+  const std::string axis_text = "font-family=\"sans-serif\" font-size=\"" + fmt(axis_font) + "\"";
+  if (!axis_x.ticks.empty()) {
+    svg.begin_group("axis-x", "data-step=\"" + format_number("%g", axis_x.step) +
+                                  "\" text-anchor=\"middle\" " + axis_text);
+    for (const Tick& t : axis_x.ticks) {
+      svg.line(t.position, height, t.position, height + tick_length, tick_stroke);
+      svg.text(t.position, height + tick_length + tick_gap + 0.8 * axis_font, t.label,
+               "data-value=\"" + format_number("%.17g", t.value) + "\"");
+    }
+    svg.end_group();
+  }
+  if (!axis_y.ticks.empty()) {
+    svg.begin_group("axis-y", "data-step=\"" + format_number("%g", axis_y.step) +
+                                  "\" text-anchor=\"end\" " + axis_text);
+    for (const Tick& t : axis_y.ticks) {
+      const double ty = svg_y(t.position);
+      svg.line(-tick_length, ty, 0, ty, tick_stroke);
+      // Baseline 0.3 em below the tick: the digits' middle on it.
+      svg.text(-tick_length - tick_gap, ty + 0.3 * axis_font, t.label,
+               "data-value=\"" + format_number("%.17g", t.value) + "\"");
+    }
     svg.end_group();
   }
 
-  // Scale bar: a round length near a fifth of the map's width, in metres.
-  double y = height + margin;
+  // Scale bar: a round length near a fifth of the map's width (of the text's on a narrow map,
+  // where a fifth of the map would be a few pixels), in metres.
   {
-    const double resolution =
-        map.resolution > 0 && std::isfinite(map.resolution) ? map.resolution : 1.0;
-    const double metres = nice_length(0.2 * width * resolution);
+    const double metres = nice_length(0.2 * std::max<double>(width, text_width) * resolution);
     const double cells = metres / resolution;
+    const double x0 = text_left;
+    const double by = scale_bar_top;
     const std::string stroke = "stroke=\"#000\" stroke-width=\"" + fmt(2 * px) + "\"";
     svg.begin_group("scale-bar", "data-metres=\"" + format_number("%g", metres) +
                                      "\" data-cells=\"" + fmt(cells) + "\"");
-    svg.line(0, y + font * 0.5, cells, y + font * 0.5, stroke);
-    svg.line(0, y, 0, y + font, stroke);
-    svg.line(cells, y, cells, y + font, stroke);
-    svg.text(cells + 0.5 * font, y + font, format_number("%g", metres) + " m",
+    svg.line(x0, by + font * 0.5, x0 + cells, by + font * 0.5, stroke);
+    svg.line(x0, by, x0, by + font, stroke);
+    svg.line(x0 + cells, by, x0 + cells, by + font, stroke);
+    svg.text(x0 + cells + 0.5 * font, by + font, format_number("%g", metres) + " m",
              "font-family=\"sans-serif\" font-size=\"" + fmt(font) + "\"");
     svg.end_group();
-    y += scale_bar_height;
   }
   if (!legend.empty()) {
     svg.begin_group("legend", "font-family=\"sans-serif\" font-size=\"" + fmt(font) + "\"");
+    svg.rect(
+        text_left, legend_top, legend_box_width, legend_box_height,
+        "id=\"legend-box\" fill=\"#ffffff\" stroke=\"#808080\" stroke-width=\"" + fmt(px) + "\"");
     for (size_t i = 0; i < legend.size(); ++i) {
       const double lx = legend_places[i].x;
-      const double ly = y + legend_places[i].y;
+      const double ly = legend_places[i].y + 0.1 * font;
       svg.raw("<g transform=\"translate(" + fmt(lx) + " " + fmt(ly) + ") scale(" + fmt(swatch) +
               ")\">" + legend[i].swatch + "</g>\n");
-      svg.text(lx + swatch + 0.4 * font, ly + 0.85 * font, legend[i].label);
+      svg.text(lx + swatch + 0.4 * font, ly + 0.85 * font, legend[i].label,
+               "data-layer=\"" + std::string(legend[i].layer) + "\"");
     }
     svg.end_group();
-    y += legend_height;
   }
   if (!caption.empty()) {
     svg.begin_group("caption", "font-family=\"sans-serif\" font-size=\"" + fmt(font) + "\"");
+    double line_top = caption_top;
     for (const std::string& line : caption) {
-      svg.text(0, y + font, line);
-      y += line_height;
+      svg.text(text_left, line_top + font, line);
+      line_top += line_height;
     }
     svg.end_group();
   }

@@ -54,6 +54,13 @@ SvgDocument::SvgDocument(double width, double height, double pixel_width)
   body_.reserve(1 << 16);
 }
 
+SvgDocument::SvgDocument(double min_x, double min_y, double width, double height,
+                         double pixel_width)
+    : SvgDocument(width, height, pixel_width) {
+  min_x_ = min_x;
+  min_y_ = min_y;
+}
+
 static void append_attributes(std::string& out, std::string_view attributes) {
   if (!attributes.empty()) {
     out += ' ';
@@ -137,8 +144,8 @@ std::string SvgDocument::str() const {
   out.reserve(body_.size() + 512);
   out += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   out += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + fmt(pixel_width_) +
-         "\" height=\"" + fmt(pixel_height) + "\" viewBox=\"0 0 " + fmt(width_) + ' ' +
-         fmt(height_) + "\">\n";
+         "\" height=\"" + fmt(pixel_height) + "\" viewBox=\"" + fmt(min_x_) + ' ' + fmt(min_y_) +
+         ' ' + fmt(width_) + ' ' + fmt(height_) + "\">\n";
   out += body_;
   for (int i = 0; i < open_groups_; ++i) out += "</g>\n";  // never emit unbalanced markup
   out += "</svg>\n";

@@ -9,6 +9,8 @@
 #include <limits>
 #include <random>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "svg_test_support.hpp"
 #include "vnsba/core/planner.hpp"
@@ -39,6 +41,16 @@ struct Rendered {
     return ok && root != nullptr && std::string(root->Name()) == "svg";
   }
 };
+
+// The caption's lines joined by single spaces (the renderer wraps long lines at spaces).
+std::string caption_text(const tinyxml2::XMLElement* root) {
+  std::string text;
+  const auto* caption = find_id(root, "caption");
+  if (caption == nullptr) return text;
+  for (auto* t = caption->FirstChildElement("text"); t; t = t->NextSiblingElement("text"))
+    text += (text.empty() ? "" : " ") + std::string(t->GetText() ? t->GetText() : "");
+  return text;
+}
 
 std::set<std::pair<int, int>> as_set(const std::vector<Cell>& cells) {
   std::set<std::pair<int, int>> out;
@@ -83,9 +95,11 @@ TEST(RunPicture, HasEveryLayerTheLegendScaleBarAndCaption) {
   for (auto* t = find_id(r.root, "legend")->FirstChildElement("text"); t;
        t = t->NextSiblingElement("text"))
     legend.insert(t->GetText());
+  // The rooms map has no unknown or inflated cells: the legend does not list them (see
+  // LegendListsExactlyTheLayersDrawn).
   for (const char* label :
-       {"occupied", "unknown", "forward expansions", "backward expansions", "raw grid path",
-        "pruned path", "smoothed corners", "meeting cell", "start", "goal"})
+       {"occupied", "forward expansions", "backward expansions", "raw grid path", "pruned path",
+        "smoothed corners", "meeting cell", "start", "goal"})
     EXPECT_TRUE(legend.count(label)) << "legend lacks " << label;
   std::string caption;
   for (auto* t = find_id(r.root, "caption")->FirstChildElement("text"); t;
@@ -337,8 +351,9 @@ TEST(RunPicture, FailedRunShowsStartGoalAndTheMessage) {
   EXPECT_EQ(data_count(find_id(r.root, "start")), 1);
   EXPECT_EQ(data_count(find_id(r.root, "goal")), 1);
   EXPECT_EQ(data_count(find_id(r.root, "pruned-path")), 0);
-  EXPECT_NE(r.svg.find("GOAL_OCCUPIED: " + render::xml_escape(result.status.message)),
-            std::string::npos);
+  // Caption lines wrap at spaces: joined with one they are the caption's text again.
+  EXPECT_NE(caption_text(r.root).find("GOAL_OCCUPIED: " + result.status.message), std::string::npos)
+      << caption_text(r.root);
 }
 
 TEST(RunPicture, AnyTextStaysValidXml) {
@@ -413,6 +428,371 @@ TEST(RunPicture, RsvgConvertRendersItToPng) {
   EXPECT_NEAR(width, doc.RootElement()->DoubleAttribute("width"), 1.0);
   std::remove((base + ".svg").c_str());
   std::remove((base + ".png").c_str());
+}
+
+// ---- Layout: text, legend and axes fit the document and keep off the map and each other ----
+
+// A box in the document's user units (cells), SVG y down.
+struct Box {
+  double x0, y0, x1, y1;
+  bool overlaps(const Box& o) const {
+    constexpr double kTouch = 1e-6;  // boxes that only touch do not overlap
+    return std::min(x1, o.x1) - std::max(x0, o.x0) > kTouch &&
+           std::min(y1, o.y1) - std::max(y0, o.y0) > kTouch;
+  }
+  bool inside(const Box& o) const {
+    constexpr double kSlack = 2e-3;  // the SVG's numbers carry 3 decimals
+    return x0 >= o.x0 - kSlack && y0 >= o.y0 - kSlack && x1 <= o.x1 + kSlack && y1 <= o.y1 + kSlack;
+  }
+};
+
+// An attribute of the element or the nearest ancestor that has it (SVG inheritance).
+const char* inherited(const tinyxml2::XMLElement* e, const char* name) {
+  for (; e != nullptr; e = e->Parent() ? e->Parent()->ToElement() : nullptr)
+    if (const char* v = e->Attribute(name)) return v;
+  return nullptr;
+}
+
+size_t utf8_chars(const std::string& s) {
+  size_t n = 0;
+  for (const unsigned char c : s) n += (c & 0xC0) != 0x80;
+  return n;
+}
+
+// The estimated extent of a <text>: the estimate every layout check here rests on. Each
+// character is at most 0.6 em wide on average (the sans-serif fonts rsvg picks, DejaVu Sans or
+// Liberation Sans, average about 0.55 em over lowercase letters, digits and spaces), glyphs reach
+// 0.8 em above the baseline and 0.25 em below it; text-anchor start, middle or end.
+Box text_box(const tinyxml2::XMLElement* t) {
+  const char* size_attr = inherited(t, "font-size");
+  EXPECT_NE(size_attr, nullptr) << "a text without a font size";
+  const double size = size_attr ? std::atof(size_attr) : 0.0;
+  const double width =
+      0.6 * size * static_cast<double>(utf8_chars(t->GetText() ? t->GetText() : ""));
+  const char* anchor = inherited(t, "text-anchor");
+  const std::string a = anchor ? anchor : "start";
+  const double x = t->DoubleAttribute("x"), y = t->DoubleAttribute("y");
+  const double x0 = a == "middle" ? x - width / 2 : a == "end" ? x - width : x;
+  return {x0, y - 0.8 * size, x0 + width, y + 0.25 * size};
+}
+
+void collect_texts(const tinyxml2::XMLElement* e, std::vector<const tinyxml2::XMLElement*>& out) {
+  for (auto* c = e->FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
+    if (std::string(c->Name()) == "text") out.push_back(c);
+    collect_texts(c, out);
+  }
+}
+
+bool within(const tinyxml2::XMLElement* e, const tinyxml2::XMLElement* group) {
+  for (; e != nullptr; e = e->Parent() ? e->Parent()->ToElement() : nullptr)
+    if (e == group) return true;
+  return false;
+}
+
+// Checks the whole layout of a picture of a width x height map.
+void expect_layout_fits(const std::string& svg, int width, int height) {
+  Rendered r;
+  r.svg = svg;
+  ASSERT_TRUE(r.parse());
+  double vx, vy, vw, vh;
+  ASSERT_EQ(std::sscanf(r.root->Attribute("viewBox"), "%lf %lf %lf %lf", &vx, &vy, &vw, &vh), 4);
+  const Box view{vx, vy, vx + vw, vy + vh};
+  // The pixel size keeps the viewBox's aspect ratio (nothing is stretched or cut by it).
+  EXPECT_NEAR(r.root->DoubleAttribute("width") / r.root->DoubleAttribute("height"), vw / vh,
+              1e-3 * vw / vh);
+  const Box map{0, 0, static_cast<double>(width), static_cast<double>(height)};
+  EXPECT_TRUE(map.inside(view));
+
+  std::vector<const tinyxml2::XMLElement*> texts;
+  collect_texts(r.root, texts);
+  ASSERT_FALSE(texts.empty());
+  // A picture with nothing to explain (an empty map) has no legend.
+  const auto* legend = find_id(r.root, "legend");
+  const auto* legend_rect = find_id(r.root, "legend-box");
+  EXPECT_EQ(legend == nullptr, legend_rect == nullptr);
+  Box legend_box{0, 0, 0, 0};
+  if (legend_rect != nullptr) {
+    legend_box = {legend_rect->DoubleAttribute("x"), legend_rect->DoubleAttribute("y"),
+                  legend_rect->DoubleAttribute("x") + legend_rect->DoubleAttribute("width"),
+                  legend_rect->DoubleAttribute("y") + legend_rect->DoubleAttribute("height")};
+    EXPECT_TRUE(legend_box.inside(view)) << "legend box outside the document";
+    EXPECT_FALSE(legend_box.overlaps(map)) << "legend box over the map";
+  }
+  std::vector<Box> boxes;
+  for (const auto* t : texts) {
+    const Box b = text_box(t);
+    const std::string text = t->GetText() ? t->GetText() : "";
+    EXPECT_TRUE(b.inside(view)) << "text outside the document: '" << text << "' x " << b.x0 << ".."
+                                << b.x1 << " y " << b.y0 << ".." << b.y1 << " in " << view.x0
+                                << ".." << view.x1 << ", " << view.y0 << ".." << view.y1;
+    EXPECT_FALSE(b.overlaps(map)) << "text over the map: '" << text << "'";
+    if (within(t, legend))
+      EXPECT_TRUE(b.inside(legend_box)) << "legend text outside its box: '" << text << "'";
+    else
+      EXPECT_FALSE(b.overlaps(legend_box)) << "text over the legend: '" << text << "'";
+    for (size_t i = 0; i < boxes.size(); ++i)
+      EXPECT_FALSE(b.overlaps(boxes[i]))
+          << "'" << text << "' overlaps '" << texts[i]->GetText() << "'";
+    boxes.push_back(b);
+  }
+}
+
+// A random map (a fifth blocked) with a long run across it, every layer and a long title.
+render::RunPicture random_run(int width, int height, unsigned seed) {
+  std::mt19937 rng(seed);
+  core::OccupancyGrid grid;
+  grid.width = width;
+  grid.height = height;
+  grid.resolution = 0.05;
+  grid.origin_x = -12.3;
+  grid.origin_y = 4.56;
+  grid.data.assign(static_cast<size_t>(width) * height, 0);
+  for (auto& v : grid.data) v = std::uniform_real_distribution<>(0, 1)(rng) < 0.2 ? 100 : 0;
+  for (int y = 0; y < height; ++y)  // a band of unknown on the right
+    if (width > 4) grid.data[static_cast<size_t>(y) * width + width - 1] = -1;
+  const core::PlanQuery query{{0, 0}, {width - 1 - (width > 4 ? 1 : 0), height - 1}};
+  grid.data[0] = 0;
+  grid.data[static_cast<size_t>(query.goal.y) * width + query.goal.x] = 0;
+  core::GridBuildOptions build;
+  build.allow_unknown = true;
+  auto map = std::make_shared<const core::GridMap>(core::GridMap::build(grid, build).value());
+  core::PlannerOptions options = core::default_options(core::PlannerKind::kVnsBaStar);
+  options.record_expansions = true;
+  const core::PlanResult result = core::plan_once(map, query, options);
+  auto picture =
+      std::make_shared<const render::MapPicture>(render::map_picture(grid, 65, map.get()));
+  render::RunPicture run = render::picture_of(picture, query, result);
+  run.options = render::path_options(options, &build);
+  run.title = "a run with a rather long title that names its map, its robot and its request";
+  return run;
+}
+
+// The caption used to run off the right edge of tall maps: on a 40 x 800, an 800 x 40 and a
+// 1 x 1 map (and a failed run whose message is long) every text and the legend lie inside the
+// document, off the map and off each other.
+TEST(RunPicture, CaptionLegendAndAxesFitTallWideAndTinyMaps) {
+  for (const auto& [w, h] :
+       {std::pair{40, 800}, std::pair{800, 40}, std::pair{1, 1}, std::pair{32, 32}}) {
+    SCOPED_TRACE(std::to_string(w) + " x " + std::to_string(h));
+    render::RunPicture run = random_run(w, h, 11);
+    expect_layout_fits(render::render_svg(run), w, h);
+    // Whatever the run, and at a fixed scale too.
+    run.status = "NO_VALID_PATH";
+    run.message = std::string(300, 'x') + " and then a very long explanation of what went wrong";
+    run.metrics.reset();
+    expect_layout_fits(render::render_svg(run), w, h);
+    render::RenderOptions options;
+    options.pixels_per_cell = 3;
+    expect_layout_fits(render::render_svg(run, options), w, h);
+  }
+}
+
+// The legend lists exactly the layers that draw something. The oracle: the SVG's own layer
+// groups, a group drawing something when it has an element (a path, polyline, rect or circle),
+// the final path only when it is stroked (it is invisible under the pruned polyline).
+std::set<std::string> drawn_layers(const tinyxml2::XMLElement* root) {
+  std::set<std::string> layers;
+  for (const char* id : {"map-occupied", "map-unknown", "map-inflated", "expanded-forward",
+                         "expanded-backward", "raw-path", "pruned-path", "smoothed-corners",
+                         "final-path", "meeting-cell", "start", "goal"}) {
+    const auto* group = find_id(root, id);
+    EXPECT_NE(group, nullptr) << id;
+    const auto* child = group ? group->FirstChildElement() : nullptr;
+    if (child == nullptr) continue;
+    if (std::string(id) == "final-path" && std::string(child->Attribute("stroke")) == "none")
+      continue;
+    layers.insert(id);
+  }
+  for (int level = 1; level <= render::MapPicture::kCostLevels; ++level) {
+    const auto* group = find_id(root, "map-cost-" + std::to_string(level));
+    if (group != nullptr && group->FirstChildElement() != nullptr) layers.insert("map-cost");
+  }
+  return layers;
+}
+
+std::set<std::string> legend_layers(const tinyxml2::XMLElement* root) {
+  std::set<std::string> layers;
+  const auto* legend = find_id(root, "legend");
+  if (legend == nullptr) return layers;
+  for (auto* t = legend->FirstChildElement("text"); t; t = t->NextSiblingElement("text")) {
+    const char* layer = t->Attribute("data-layer");
+    EXPECT_NE(layer, nullptr) << t->GetText();
+    if (layer) {
+      EXPECT_TRUE(layers.insert(layer).second) << "listed twice: " << layer;
+    }
+  }
+  return layers;
+}
+
+TEST(RunPicture, LegendListsExactlyTheLayersDrawn) {
+  std::vector<std::pair<std::string, render::RunPicture>> runs;
+  {
+    RoomsRun rooms;
+    auto picture = std::make_shared<const render::MapPicture>(render::map_picture(rooms.grid));
+    runs.emplace_back("rooms, every search layer",
+                      render::picture_of(picture, rooms.query, rooms.result));
+    core::PlannerOptions plain = core::default_options(core::PlannerKind::kAStar);
+    runs.emplace_back(
+        "rooms, astar without smoothing or debug",
+        render::picture_of(picture, rooms.query, core::plan_once(rooms.map, rooms.query, plain)));
+    render::RunPicture path_only;  // a run record without debug data: the path alone
+    path_only.map = picture;
+    path_only.path = rooms.result.path;
+    runs.emplace_back("path without a polyline", path_only);
+  }
+  runs.emplace_back("random, unknown and inflated", random_run(40, 30, 5));
+  {
+    render::RunPicture empty;  // a map without obstacles, nothing on it
+    auto map = std::make_shared<render::MapPicture>();
+    map->width = 6;
+    map->height = 4;
+    map->cells.assign(24, render::CellState::kFree);
+    empty.map = map;
+    runs.emplace_back("an empty map", empty);
+    auto costly = std::make_shared<render::MapPicture>(*map);
+    costly->cells[3] = render::CellState::kInflated;
+    costly->cost_levels.assign(24, 0);
+    costly->cost_levels[5] = 2;
+    render::RunPicture with_costs;
+    with_costs.map = costly;
+    with_costs.start = Point2(0.5, 0.5);
+    runs.emplace_back("costs and one inflated cell", with_costs);
+  }
+  std::set<std::string> seen;
+  for (const auto& [name, run] : runs) {
+    SCOPED_TRACE(name);
+    Rendered r;
+    r.svg = render::render_svg(run);
+    ASSERT_TRUE(r.parse());
+    const std::set<std::string> drawn = drawn_layers(r.root);
+    EXPECT_EQ(legend_layers(r.root), drawn);
+    seen.insert(drawn.begin(), drawn.end());
+  }
+  // The runs between them exercise every layer, each present in some and absent in others.
+  for (const char* layer : {"map-occupied", "map-unknown", "map-inflated", "map-cost",
+                            "expanded-forward", "expanded-backward", "raw-path", "pruned-path",
+                            "smoothed-corners", "final-path", "meeting-cell", "start", "goal"})
+    EXPECT_TRUE(seen.count(layer)) << layer << " never drawn";
+}
+
+// Axis ticks: along the bottom and the left edge, a 1, 2 or 5 x 10^k metre step, labels in world
+// coordinates (origin + cells * resolution, row 0 at the bottom), increasing by the step, within
+// the map's extent, and each tick drawn where its label says.
+TEST(RunPicture, AxisTicksAreRoundWorldCoordinates) {
+  struct Case {
+    int width, height;
+    double resolution, origin_x, origin_y;
+  };
+  for (const Case& c : {Case{487, 187, 0.08, -8.0, -7.52}, Case{40, 800, 0.05, 1000.3, -2.0},
+                        Case{800, 40, 1.0, 0.0, 0.0}, Case{1, 1, 0.05, 0.01, 0.02},
+                        Case{32, 32, 0.25, -3.1, 2.0}}) {
+    SCOPED_TRACE(std::to_string(c.width) + " x " + std::to_string(c.height));
+    auto map = std::make_shared<render::MapPicture>();
+    map->width = c.width;
+    map->height = c.height;
+    map->resolution = c.resolution;
+    map->origin_x = c.origin_x;
+    map->origin_y = c.origin_y;
+    map->cells.assign(static_cast<size_t>(c.width) * c.height, render::CellState::kFree);
+    render::RunPicture run;
+    run.map = map;
+    Rendered r;
+    r.svg = render::render_svg(run);
+    ASSERT_TRUE(r.parse());
+    for (const bool x_axis : {true, false}) {
+      SCOPED_TRACE(x_axis ? "bottom axis" : "left axis");
+      const auto* axis = find_id(r.root, x_axis ? "axis-x" : "axis-y");
+      ASSERT_NE(axis, nullptr);
+      const double step = axis->DoubleAttribute("data-step");
+      ASSERT_GT(step, 0);
+      const double mantissa = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
+      EXPECT_TRUE(std::abs(mantissa - 1) < 1e-9 || std::abs(mantissa - 2) < 1e-9 ||
+                  std::abs(mantissa - 5) < 1e-9)
+          << "step " << step;
+      const double origin = x_axis ? c.origin_x : c.origin_y;
+      const double extent = (x_axis ? c.width : c.height) * c.resolution;
+      std::vector<double> labels;
+      const auto* line = axis->FirstChildElement("line");
+      const auto* text = axis->FirstChildElement("text");
+      for (; line && text;
+           line = line->NextSiblingElement("line"), text = text->NextSiblingElement("text")) {
+        const double label = std::atof(text->GetText());
+        labels.push_back(label);
+        EXPECT_GE(label, origin - 1e-9) << text->GetText();
+        EXPECT_LE(label, origin + extent + 1e-9) << text->GetText();
+        // The tick's place, back through the picture's scale (resolution metres per cell; the
+        // document's y runs down from the map's top row).
+        const double cells =
+            x_axis ? line->DoubleAttribute("x1") : c.height - line->DoubleAttribute("y1");
+        EXPECT_NEAR(origin + cells * c.resolution, label, 1e-3 * c.resolution + 1e-9)
+            << text->GetText();
+        // Ticks are outside the map, at its edge.
+        if (x_axis) {
+          EXPECT_NEAR(line->DoubleAttribute("y1"), c.height, 1e-9);
+          EXPECT_GT(line->DoubleAttribute("y2"), c.height);
+        } else {
+          EXPECT_NEAR(line->DoubleAttribute("x2"), 0.0, 1e-9);
+          EXPECT_LT(line->DoubleAttribute("x1"), 0.0);
+        }
+      }
+      EXPECT_EQ(line, nullptr);
+      EXPECT_EQ(text, nullptr);
+      ASSERT_GE(labels.size(), 1u);
+      if (extent >= 4 * step) {
+        EXPECT_GE(labels.size(), 4u);
+      }
+      for (size_t i = 1; i < labels.size(); ++i)
+        EXPECT_NEAR(labels[i] - labels[i - 1], step, 1e-9 * std::max(1.0, std::abs(labels[i])))
+            << "labels increase by the step";
+    }
+    expect_layout_fits(r.svg, c.width, c.height);
+  }
+}
+
+// The caption names the options that shape the path where they are known, and nothing about
+// those that are not.
+TEST(RunPicture, CaptionNamesThePlannerOptionsThatShapeThePath) {
+  RoomsRun rooms;
+  auto picture = std::make_shared<const render::MapPicture>(render::map_picture(rooms.grid));
+  render::RunPicture run = render::picture_of(picture, rooms.query, rooms.result);
+  Rendered unknown;
+  unknown.svg = render::render_svg(run);
+  ASSERT_TRUE(unknown.parse());
+  for (const char* word : {"neighbourhood", "prune", "smooth", "cost_weight", "radius"})
+    EXPECT_EQ(caption_text(unknown.root).find(word), std::string::npos) << word;
+
+  core::PlannerOptions options = core::default_options(core::PlannerKind::kVnsBaStar);
+  options.smooth = false;
+  options.cost_weight = 2.5;
+  core::GridBuildOptions build;
+  build.robot_radius = 0.3;
+  build.inflation_radius = 0.75;
+  run.options = render::path_options(options, &build);
+  EXPECT_EQ(run.options.neighborhood, options.neighborhood);
+  EXPECT_EQ(run.options.prune, options.prune);
+  EXPECT_EQ(run.options.smooth, options.smooth);
+  EXPECT_EQ(run.options.cost_weight, options.cost_weight);
+  EXPECT_EQ(run.options.robot_radius, build.robot_radius);
+  EXPECT_EQ(run.options.inflation_radius, build.inflation_radius);
+  Rendered known;
+  known.svg = render::render_svg(run);
+  ASSERT_TRUE(known.parse());
+  const std::string caption = caption_text(known.root);
+  for (const std::string& part :
+       {std::string(core::to_string(options.neighborhood)) + " neighbourhood",
+        std::string("prune on"), std::string("smooth off"), std::string("cost_weight 2.5"),
+        std::string("robot radius 0.3 m"), std::string("inflation radius 0.75 m")})
+    EXPECT_NE(caption.find(part), std::string::npos) << part << " not in: " << caption;
+
+  // The 8-neighbourhood, no radii (not named when zero), options without a map's build.
+  options = core::default_options(core::PlannerKind::kAStar);
+  run.options = render::path_options(options);
+  known.svg = render::render_svg(run);
+  ASSERT_TRUE(known.parse());
+  const std::string plain = caption_text(known.root);
+  EXPECT_NE(plain.find("8 neighbourhood, prune off, smooth off, cost_weight 0"), std::string::npos)
+      << plain;
+  EXPECT_EQ(plain.find("radius"), std::string::npos) << plain;
 }
 
 TEST(Svg, FormatsNumbersCompactlyAndEscapes) {

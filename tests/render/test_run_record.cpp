@@ -131,6 +131,77 @@ TEST(RunRecord, ClearanceRoundTripsAndOlderRecordsReadNaN) {
   }
 }
 
+// The planner options travel with the record and reach the caption; a record written before
+// they existed (no "options"), or with some of them, names only what it has: missing means "not
+// recorded", never a guessed default.
+TEST(RunRecord, PlannerOptionsRoundTripAndOlderRecordsNameNone) {
+  const auto caption_of = [](const RunRecord& record) {
+    tinyxml2::XMLDocument doc;
+    const std::string svg = render::render_svg(records::picture_of(record, nullptr));
+    EXPECT_EQ(doc.Parse(svg.c_str()), tinyxml2::XML_SUCCESS);
+    std::string text;
+    for (auto* t = find_id(doc.RootElement(), "caption")->FirstChildElement("text"); t;
+         t = t->NextSiblingElement("text"))
+      text += (text.empty() ? "" : " ") + std::string(t->GetText());
+    return text;
+  };
+  RunRecord r = full_record();
+  core::PlannerOptions options = core::default_options(core::PlannerKind::kAStar);
+  options.prune = true;
+  options.cost_weight = 4;
+  r.options = records::options_record(options);
+  r.map->robot_radius = 0.2;
+  nlohmann::json j = records::to_json(r);
+  EXPECT_EQ(j["options"]["neighborhood"], "8");
+  auto back = records::run_record_from_json(nlohmann::json::parse(j.dump()));
+  ASSERT_TRUE(back) << back.error().message;
+  ASSERT_TRUE(back->options.has_value());
+  EXPECT_EQ(back->options->neighborhood, options.neighborhood);
+  EXPECT_EQ(back->options->prune, true);
+  EXPECT_EQ(back->options->smooth, false);
+  EXPECT_EQ(back->options->cost_weight, 4.0);
+  EXPECT_EQ(records::to_json(*back), j);
+  std::string caption = caption_of(*back);
+  EXPECT_NE(
+      caption.find("8 neighbourhood, prune on, smooth off, cost_weight 4, robot radius 0.2 m"),
+      std::string::npos)
+      << caption;
+
+  // An older record: no options, no radii.
+  nlohmann::json older = records::to_json(full_record());
+  older.erase("options");
+  back = records::run_record_from_json(older);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_FALSE(back->options.has_value());
+  caption = caption_of(*back);
+  for (const char* word : {"neighbourhood", "prune", "smooth", "cost_weight", "radius"})
+    EXPECT_EQ(caption.find(word), std::string::npos) << word << " in: " << caption;
+
+  // Some options recorded: those alone are named.
+  j["options"].erase("smooth");
+  j["options"].erase("neighborhood");
+  back = records::run_record_from_json(j);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_FALSE(back->options->smooth.has_value());
+  EXPECT_FALSE(back->options->neighborhood.has_value());
+  caption = caption_of(*back);
+  EXPECT_NE(caption.find("prune on"), std::string::npos) << caption;
+  EXPECT_EQ(caption.find("smooth"), std::string::npos) << caption;
+  EXPECT_EQ(caption.find("neighbourhood"), std::string::npos) << caption;
+
+  // Bad values are named.
+  for (const auto& [key, value] :
+       {std::pair{"neighborhood", nlohmann::json("9")}, std::pair{"prune", nlohmann::json(1)},
+        std::pair{"cost_weight", nlohmann::json(-1)}, std::pair{"smooth", nlohmann::json("on")}}) {
+    nlohmann::json bad = records::to_json(r);
+    bad["options"][key] = value;
+    const auto parsed = records::run_record_from_json(bad);
+    ASSERT_FALSE(parsed) << key;
+    EXPECT_NE(parsed.error().message.find(std::string("options.") + key), std::string::npos)
+        << parsed.error().message;
+  }
+}
+
 TEST(RunRecord, BadFieldsAreNamed) {
   const nlohmann::json good = records::to_json(full_record());
   struct Case {

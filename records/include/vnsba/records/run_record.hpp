@@ -18,6 +18,7 @@
 #include "vnsba/core/geometry.hpp"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/metrics.hpp"
+#include "vnsba/core/planner_options.hpp"
 #include "vnsba/core/search_trace.hpp"
 #include "vnsba/core/status.hpp"
 #include "vnsba/render/run_picture.hpp"
@@ -75,6 +76,19 @@ struct StatusRecord {
 // The debug data of a run: the node's PlannerDebug in core types.
 using DebugRecord = core::SearchTrace;
 
+// The options that shape a run's path: the recorder's config (expected to match the node's)
+// for the planner the run used, since a request names its planner only. Each field is absent in
+// records written before it existed (not recorded: the caption then says nothing about it).
+struct OptionsRecord {
+  std::optional<core::Neighborhood> neighborhood;
+  std::optional<bool> prune;
+  std::optional<bool> smooth;
+  std::optional<double> cost_weight;  // 0 = the paper's binary grid
+};
+
+// The record of a plan run with these options.
+OptionsRecord options_record(const core::PlannerOptions& options);
+
 struct RunRecord {
   std::string request_id;
   std::optional<RequestRecord> request;
@@ -82,10 +96,12 @@ struct RunRecord {
   std::vector<Eigen::Vector2d> path;   // the final path, metres
   std::optional<DebugRecord> debug;
   std::optional<MapReference> map;
+  std::optional<OptionsRecord> options;
 };
 
-// JSON with the keys "request_id", "request", "status", "path", "debug", "map" (null when
-// absent). Non-finite numbers are written as null, except status.clearance_m: metres, "inf" on a
+// JSON with the keys "request_id", "request", "status", "path", "debug", "map", "options" (null
+// when absent; in "options", "neighborhood" is "8" or "8-11-13" and unrecorded fields are left
+// out). Non-finite numbers are written as null, except status.clearance_m: metres, "inf" on a
 // map without obstacles, null when NaN (no path); a record without it (older ones) reads NaN.
 nlohmann::json to_json(const RunRecord& record);
 // The inverse; errors (kInvalidRequest) name the key at fault ("status.metrics.turns").
@@ -106,7 +122,8 @@ core::Status check_record(const RunRecord& record, const core::OccupancyGrid* gr
 
 // The picture of a run. `grid` is the run's map when it is known (it must match the geometry
 // the record carries); otherwise the geometry of the debug data or, failing that, a frame around
-// the run's points is drawn without obstacles.
+// the run's points is drawn without obstacles. The caption names the recorded options and the
+// map reference's robot and inflation radii where positive.
 render::RunPicture picture_of(const RunRecord& record, const core::OccupancyGrid* grid);
 
 // Reads RUN.json (and the map file it references, relative to the record's folder) and returns

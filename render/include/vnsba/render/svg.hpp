@@ -25,6 +25,9 @@ class SvgDocument {
   // width/height: the document's size in user units; pixel_width: the rendered width in px
   // (height follows the aspect ratio).
   SvgDocument(double width, double height, double pixel_width);
+  // A document whose viewBox starts at (min_x, min_y) instead of the origin (content left of
+  // and above the origin, like axis labels around a map drawn from (0, 0)).
+  SvgDocument(double min_x, double min_y, double width, double height, double pixel_width);
 
   // Opens <g id="..." ...attributes>; attributes is raw markup like `fill="#ccc"` (escaped by
   // the caller where it holds text). Every begin_group needs an end_group.
@@ -47,6 +50,8 @@ class SvgDocument {
 
  private:
   std::string body_;
+  double min_x_ = 0.0;
+  double min_y_ = 0.0;
   double width_;
   double height_;
   double pixel_width_;
