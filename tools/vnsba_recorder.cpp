@@ -487,8 +487,7 @@ int main(int argc, char** argv) {
   // Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder", nullptr,
-                                              config.localhost_only);
+  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder");
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;
