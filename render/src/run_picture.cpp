@@ -1,6 +1,7 @@
 #include "vnsba/render/run_picture.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <string_view>
@@ -286,8 +287,12 @@ std::vector<std::string> wrap(const std::string& line, size_t max_chars) {
   std::string_view rest = line;
   while (char_count(rest) > max_chars) {
     const size_t limit = byte_offset_of_char(rest, max_chars);
-    // Between the caption's items (", ") where one ends in the line, else at a space.
+    // Between the caption's items (", " before a word, not inside "(x, y)") where one ends in
+    // the line, else at a space.
     size_t cut = rest.rfind(", ", limit - 1);
+    while (cut != std::string_view::npos && cut > 0 && cut + 2 < rest.size() &&
+           (std::isdigit(static_cast<unsigned char>(rest[cut + 2])) || rest[cut + 2] == '-'))
+      cut = rest.rfind(", ", cut - 1);
     if (cut != std::string_view::npos && cut > 0) {
       out.emplace_back(rest.substr(0, cut + 1));
       rest.remove_prefix(cut + 2);
@@ -346,20 +351,30 @@ Axis axis_with_step(double origin, int32_t cells, double resolution, double step
   return axis;
 }
 
-// The axis with the smallest round step whose neighbouring labels keep `gap(axis)` cells apart
-// (a function of the widest label on the x axis, of the font height on the y axis).
-template <class Spacing>
-Axis choose_axis(double origin, int32_t cells, double resolution, Spacing spacing) {
+// The axis with the smallest round step whose ticks lie `spacing(axis)` cells apart or more (a
+// function of the widest label on the x axis, of the font height on the y axis); where that
+// leaves fewer than two ticks (a narrow map), the smallest with `minimum(axis)`.
+template <class Spacing, class Minimum>
+Axis choose_axis(double origin, int32_t cells, double resolution, Spacing spacing,
+                 Minimum minimum) {
   if (!std::isfinite(origin) || !(resolution > 0) || !std::isfinite(resolution) || cells <= 0)
     return {};
-  // Start where at most ~kMaxTicks could fit, then widen until labels do not crowd.
-  double step = nice_step_at_least(cells * resolution / 500.0);
-  for (int attempt = 0; attempt < 40; ++attempt, step = next_nice_step(step)) {
-    Axis axis = axis_with_step(origin, cells, resolution, step);
-    if (axis.ticks.empty() && cells * resolution / step >= 1000) continue;
-    if (step / resolution >= spacing(axis)) return axis;
+  const auto smallest = [&](auto&& enough) -> Axis {
+    // Start where at most ~500 ticks could fit, then widen until labels do not crowd.
+    double step = nice_step_at_least(cells * resolution / 500.0);
+    for (int attempt = 0; attempt < 40; ++attempt, step = next_nice_step(step)) {
+      Axis axis = axis_with_step(origin, cells, resolution, step);
+      if (axis.ticks.empty() && cells * resolution / step >= 1000) continue;
+      if (step / resolution >= enough(axis)) return axis;
+    }
+    return {};
+  };
+  Axis axis = smallest(spacing);
+  if (axis.ticks.size() < 2) {
+    Axis denser = smallest(minimum);
+    if (denser.ticks.size() > axis.ticks.size()) axis = std::move(denser);
   }
-  return {};
+  return axis;
 }
 
 struct LegendItem {
@@ -603,11 +618,14 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
   const double tick_gap = 3 * px;
   Axis axis_x, axis_y;
   if (options.axes) {
-    axis_x = choose_axis(map.origin_x, width, resolution, [&](const Axis& a) {
-      return (a.widest * kCharWidthEm + 0.6) * axis_font;  // a label and 0.6 em between labels
-    });
-    axis_y = choose_axis(map.origin_y, height, resolution,
-                         [&](const Axis&) { return 2.0 * axis_font; });  // text 1.05 em high
+    // A label and 1.5 em between labels, at least 0.6 em on a narrow map.
+    axis_x = choose_axis(
+        map.origin_x, width, resolution,
+        [&](const Axis& a) { return (a.widest * kCharWidthEm + 1.5) * axis_font; },
+        [&](const Axis& a) { return (a.widest * kCharWidthEm + 0.6) * axis_font; });
+    // Labels are 1.05 em high: 2 em apart leave a gap of about one.
+    const auto rows = [&](const Axis&) { return 2.0 * axis_font; };
+    axis_y = choose_axis(map.origin_y, height, resolution, rows, rows);
   }
   double widest_y_label = 0;
   for (const Tick& t : axis_y.ticks)
