@@ -75,6 +75,7 @@
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/node/config.hpp"
+#include "vnsba/node/status_codes.hpp"
 #include "vnsba/records/run_record.hpp"
 #include "vnsba/render/png.hpp"
 #include "vnsba/render/progress.hpp"
@@ -173,36 +174,6 @@ core::Status write_poses(const std::string& path, const std::vector<core::Pose2>
   return core::Status::error(written.code, "--poses: " + written.message);
 }
 
-// PlanStatus.idl's code for a core status (vnsba_plan links no DDS, so not node::to_wire_code):
-// the number a run record carries beside the code's name.
-int wire_code(core::StatusCode code) {
-  switch (code) {
-    case core::StatusCode::kOk:
-      return 0;
-    case core::StatusCode::kInvalidMap:
-      return 2;
-    case core::StatusCode::kInvalidRequest:
-      return 3;
-    case core::StatusCode::kStartOutsideMap:
-      return 5;
-    case core::StatusCode::kGoalOutsideMap:
-      return 6;
-    case core::StatusCode::kStartOccupied:
-      return 7;
-    case core::StatusCode::kGoalOccupied:
-      return 8;
-    case core::StatusCode::kNoValidPath:
-      return 9;
-    case core::StatusCode::kTimeout:
-      return 10;
-    case core::StatusCode::kCanceled:
-      return 11;
-    case core::StatusCode::kInternalError:
-      return 12;
-  }
-  return 12;
-}
-
 // The run as vnsba_recorder records it from the bus (request, status, path, debug, map): the
 // same JSON, so `vnsba_recorder render` and records::run_record_from_json read it. `map_file` is
 // the saved map_server file relative to the record's folder.
@@ -222,7 +193,7 @@ records::RunRecord run_record(const std::string& request_id, const core::GridMap
   request.goal = requested(query.goal, query.goal_point);
   record.request = request;
   records::StatusRecord status;
-  status.code = wire_code(result.status.code);
+  status.code = node::plan_status_code(result.status.code);
   status.code_name = std::string(core::to_string(result.status.code));
   status.message = result.status.message;
   status.planner = std::string(core::to_string(result.planner));
@@ -266,6 +237,7 @@ struct Outputs {
   std::optional<double> path_spacing;  // metres; unset = the map's resolution
   std::optional<double> goal_yaw;      // radians
   std::string frame_id = "map";
+  render::PathOptions options;  // the planner options the picture's caption names
   bool any_picture() const { return !svg.empty() || !png.empty() || !json.empty(); }
 };
 
@@ -304,6 +276,7 @@ bool write_outputs(const Outputs& out, const std::string& map_path, const core::
     auto picture = std::make_shared<const render::MapPicture>(
         render::map_picture(grid, build.occupied_threshold, map.get()));
     render::RunPicture run = render::picture_of(picture, query, result);
+    run.options = out.options;
     run.title = std::filesystem::path(map_path).filename().string();
     const std::string svg = render::render_svg(run);
     if (!out.svg.empty()) {
@@ -636,6 +609,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", valid.message.c_str());  // names the option at fault
     return kBadInput;
   }
+  out.options = render::path_options(options, &build);
 
   // What the run plans: start and goal from the command line, or the lines of a .scen file.
   std::vector<maps::MovingAiScenario> scenarios;

@@ -487,7 +487,8 @@ int main(int argc, char** argv) {
   // Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder");
+  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder", nullptr,
+                                              config.localhost_only);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

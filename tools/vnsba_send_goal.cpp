@@ -19,8 +19,9 @@
 // (stderr names the option); 3 no status came within --wait seconds (no node), or SIGINT or
 // SIGTERM came first; 1 DDS failure.
 //
-// Order matters on the bus: the status reader exists before the request goes out (statuses are
-// transient local, so an answer published before our reader matched still arrives), and the
+// Order matters on the bus: the status reader exists and has matched the node's status writer
+// before the request goes out (the reader is volatile, as ROS 2's default; the node holds our
+// answer until its writer has matched our reader, requests.reply_wait), and the
 // request is written only once the node's request reader has matched our writer (requests are
 // volatile: a request written before that would be lost). --min-readers N also waits for N
 // request readers in all (the node plus, say, a recorder that should hear the request too).
@@ -304,7 +305,7 @@ int main(int argc, char** argv) {
   StatusReaderListener status_events;
   RequestWriterListener request_events;
   auto participant = node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr,
-                                              config.localhost_only);
+                                               config.localhost_only);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;
@@ -333,8 +334,13 @@ int main(int argc, char** argv) {
     spdlog::error("DDS: create_subscriber failed");
     return kDdsFailure;
   }
+  // Volatile, as a ROS 2 client's default reader: no other client's old answers on start-up.
+  // Ours still arrives: we send only once our reader has matched the node's writer, and the
+  // node holds the answer until its writer has matched our reader (requests.reply_wait).
+  node::dds::DataReaderQos status_qos = node::reader_qos(node::TopicQos::kStatus);
+  status_qos.durability().kind = node::dds::VOLATILE_DURABILITY_QOS;
   node::dds::DataReader* status_reader = subscriber->create_datareader(
-      *status_topic, node::reader_qos(node::TopicQos::kStatus), &status_events,
+      *status_topic, status_qos, &status_events,
       node::dds::StatusMask::data_available() << node::dds::StatusMask::subscription_matched());
   if (status_reader == nullptr) {
     spdlog::error("DDS: create_datareader({}) failed", status_topic_name);

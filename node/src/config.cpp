@@ -412,6 +412,12 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   Section requests = top.child("requests");
   requests.boolean("preempt", c.preempt);
   requests.integer("queue_capacity", c.queue_capacity, 1, 100000);
+  std::optional<double> reply_wait_s;
+  if (requests.number("reply_wait", reply_wait_s, "a finite number of seconds in [0, 10]",
+                      [](double v) { return v >= 0.0 && v <= 10.0; }) &&
+      reply_wait_s) {
+    c.reply_wait = std::chrono::milliseconds(std::llround(*reply_wait_s * 1000.0));
+  }
   requests.finish();
 
   Section network = top.child("network");

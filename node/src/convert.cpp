@@ -12,6 +12,7 @@
 
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/node/config.hpp"
+#include "vnsba/node/status_codes.hpp"
 
 namespace vnsba::node {
 
@@ -106,32 +107,21 @@ bool RequestIdentity::same_client(const RequestIdentity& other) const {
   return std::memcmp(writer_guid.data(), other.writer_guid.data(), 12) == 0;
 }
 
+// The one table lives in status_codes.hpp (no DDS); here it is held to the IDL's constants.
+static_assert(plan_status_code(core::StatusCode::kOk) == wire::OK);
+static_assert(plan_status_code(core::StatusCode::kInvalidMap) == wire::INVALID_MAP);
+static_assert(plan_status_code(core::StatusCode::kInvalidRequest) == wire::INVALID_REQUEST);
+static_assert(plan_status_code(core::StatusCode::kStartOutsideMap) == wire::START_OUTSIDE_MAP);
+static_assert(plan_status_code(core::StatusCode::kGoalOutsideMap) == wire::GOAL_OUTSIDE_MAP);
+static_assert(plan_status_code(core::StatusCode::kStartOccupied) == wire::START_OCCUPIED);
+static_assert(plan_status_code(core::StatusCode::kGoalOccupied) == wire::GOAL_OCCUPIED);
+static_assert(plan_status_code(core::StatusCode::kNoValidPath) == wire::NO_VALID_PATH);
+static_assert(plan_status_code(core::StatusCode::kTimeout) == wire::TIMEOUT);
+static_assert(plan_status_code(core::StatusCode::kCanceled) == wire::CANCELED);
+static_assert(plan_status_code(core::StatusCode::kInternalError) == wire::INTERNAL_ERROR);
+
 uint8_t to_wire_code(core::StatusCode code) {
-  switch (code) {
-    case core::StatusCode::kOk:
-      return wire::OK;
-    case core::StatusCode::kInvalidMap:
-      return wire::INVALID_MAP;
-    case core::StatusCode::kInvalidRequest:
-      return wire::INVALID_REQUEST;
-    case core::StatusCode::kStartOutsideMap:
-      return wire::START_OUTSIDE_MAP;
-    case core::StatusCode::kGoalOutsideMap:
-      return wire::GOAL_OUTSIDE_MAP;
-    case core::StatusCode::kStartOccupied:
-      return wire::START_OCCUPIED;
-    case core::StatusCode::kGoalOccupied:
-      return wire::GOAL_OCCUPIED;
-    case core::StatusCode::kNoValidPath:
-      return wire::NO_VALID_PATH;
-    case core::StatusCode::kTimeout:
-      return wire::TIMEOUT;
-    case core::StatusCode::kCanceled:
-      return wire::CANCELED;
-    case core::StatusCode::kInternalError:
-      return wire::INTERNAL_ERROR;
-  }
-  return wire::INTERNAL_ERROR;
+  return plan_status_code(code);
 }
 
 std::string code_name(uint8_t code) {

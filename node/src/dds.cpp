@@ -142,8 +142,11 @@ core::Expected<dds::Topic*> Participant::make_topic(const std::string& topic_nam
 }
 
 core::Expected<dds::DataWriter*> Participant::writer(dds::Topic* topic,
-                                                     const dds::DataWriterQos& qos) {
-  dds::DataWriter* writer = publisher_->create_datawriter(topic, qos);
+                                                     const dds::DataWriterQos& qos,
+                                                     dds::DataWriterListener* listener) {
+  dds::DataWriter* writer = publisher_->create_datawriter(
+      topic, qos, listener,
+      listener ? dds::StatusMask::publication_matched() : dds::StatusMask::none());
   if (writer == nullptr) return dds_error("create_datawriter(" + topic->get_name() + ")");
   return writer;
 }

@@ -16,6 +16,7 @@
 #include "nav_msgs/msg/PathPubSubTypes.h"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
+#include "vnsba/node/reply_gate.hpp"
 #include "vnsba/node/requests.hpp"
 #include "vnsba/node/slice_slot.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
@@ -90,6 +91,22 @@ class PlannerNode::Impl {
   dds::DataWriter* debug_writer_ = nullptr;
   std::vector<std::unique_ptr<dds::DataReaderListener>> listeners_;
 
+  // Statuses held until the requester's status reader is matched (reply_gate.hpp), written by
+  // the replier thread. The status writer's listener feeds the matches in.
+  struct HeldStatus {
+    PlanStatusMsg msg;
+    std::string what;  // for the error log
+  };
+  std::mutex reply_mutex_;
+  std::condition_variable reply_cv_;
+  ReplyGate<HeldStatus> replies_{cfg_.reply_wait};
+  bool replier_stopping_ = false;  // under reply_mutex_
+  std::thread replier_;
+  std::atomic<uint64_t> replies_timed_out_{0};
+  class StatusReaders;  // the status writer's listener
+  std::unique_ptr<dds::DataWriterListener> status_readers_;
+  void replier_loop();
+
   // Maps: the newest unconverted slice and the one being converted, and the active map.
   mutable std::mutex map_mutex_;
   mutable std::condition_variable map_cv_;
@@ -136,7 +153,9 @@ class PlannerNode::Impl {
               const core::GridMap* map = nullptr);
   // A report about a slice (SUBJECT_MAP).
   void report_map(const WireStatus& status, const TimeMsg& map_stamp);
-  void write_status(PlanStatusMsg& msg, const std::string& what);
+  // Hands a status to the replier; `requester` (a plan_request's client) gates it.
+  void write_status(PlanStatusMsg&& msg, const std::string& what,
+                    std::optional<GuidPrefix> requester = std::nullopt);
   bool debug_wanted() const;
   // What makes a remote endpoint on `topic` match the node's, for the incompatible-QoS warning.
   template <class Name>
@@ -165,6 +184,26 @@ std::string PlannerNode::Impl::qos_fix(const std::string& topic, const std::stri
     if (topic == name(*configured)) return "the node's endpoint is " + describe(profile);
   return "";
 }
+
+class PlannerNode::Impl::StatusReaders : public dds::DataWriterListener {
+ public:
+  explicit StatusReaders(Impl& impl) : impl_(impl) {}
+  void on_publication_matched(dds::DataWriter*,
+                              const dds::PublicationMatchedStatus& status) override {
+    if (status.current_count_change == 0) return;
+    // An instance handle of an endpoint is its GUID: the first 12 bytes are the participant's.
+    GuidPrefix prefix;
+    for (size_t i = 0; i < prefix.size(); ++i) prefix[i] = status.last_subscription_handle.value[i];
+    {
+      std::lock_guard<std::mutex> lock(impl_.reply_mutex_);
+      impl_.replies_.reader_matched(prefix, status.current_count_change);
+    }
+    impl_.reply_cv_.notify_all();
+  }
+
+ private:
+  Impl& impl_;
+};
 
 // ---------------------------------------------------------------------------------------------
 // Start and stop.
@@ -200,7 +239,9 @@ core::Status PlannerNode::Impl::start() {
   if (!debug_topic) return debug_topic.error();
   auto plan_writer = participant_->writer(*plan_topic, writer_qos(TopicQos::kLatest, false));
   if (!plan_writer) return plan_writer.error();
-  auto status_writer = participant_->writer(*status_topic, writer_qos(TopicQos::kStatus, false));
+  status_readers_ = std::make_unique<StatusReaders>(*this);
+  auto status_writer = participant_->writer(*status_topic, writer_qos(TopicQos::kStatus, false),
+                                            status_readers_.get());
   if (!status_writer) return status_writer.error();
   auto debug_writer = participant_->writer(*debug_topic, writer_qos(TopicQos::kDebug, true));
   if (!debug_writer) return debug_writer.error();
@@ -208,6 +249,7 @@ core::Status PlannerNode::Impl::start() {
   status_writer_ = *status_writer;
   debug_writer_ = *debug_writer;
 
+  replier_ = std::thread([this] { replier_loop(); });
   map_thread_ = std::thread([this] { map_loop(); });
   worker_ = std::thread([this] { worker_loop(); });
   started_ = true;
@@ -278,6 +320,12 @@ void PlannerNode::Impl::stop() {
   map_cv_.notify_all();
   if (worker_.joinable()) worker_.join();  // answers every queued request first
   if (map_thread_.joinable()) map_thread_.join();
+  {
+    std::lock_guard<std::mutex> lock(reply_mutex_);
+    replier_stopping_ = true;
+  }
+  reply_cv_.notify_all();
+  if (replier_.joinable()) replier_.join();  // writes every status still held
   if (participant_) participant_->shutdown();
   participant_.reset();
   plan_writer_ = status_writer_ = debug_writer_ = nullptr;  // deleted with the participant
@@ -446,9 +494,45 @@ bool PlannerNode::Impl::debug_wanted() const {
   return false;
 }
 
-void PlannerNode::Impl::write_status(PlanStatusMsg& msg, const std::string& what) {
-  if (status_writer_ == nullptr || !status_writer_->write(&msg))
-    spdlog::error("could not publish the status of {}", what);
+void PlannerNode::Impl::write_status(PlanStatusMsg&& msg, const std::string& what,
+                                     std::optional<GuidPrefix> requester) {
+  {
+    std::lock_guard<std::mutex> lock(reply_mutex_);
+    replies_.hold(requester, HeldStatus{std::move(msg), what}, ReplyGate<HeldStatus>::Clock::now());
+  }
+  reply_cv_.notify_all();
+}
+
+void PlannerNode::Impl::replier_loop() {
+  std::unique_lock<std::mutex> lock(reply_mutex_);
+  for (;;) {
+    size_t timed_out = 0;
+    // At shutdown everything still held goes out at once: nothing accepted is lost.
+    std::vector<HeldStatus> ready =
+        replies_.release(replier_stopping_ ? ReplyGate<HeldStatus>::Clock::time_point::max()
+                                           : ReplyGate<HeldStatus>::Clock::now(),
+                         &timed_out);
+    if (!ready.empty()) {
+      lock.unlock();  // write() may block up to the writer's max_blocking_time
+      replies_timed_out_ += timed_out;
+      if (timed_out > 0)
+        spdlog::warn(
+            "{} status(es) written after requests.reply_wait ({} ms) without a matched status "
+            "reader of the requesting participant: a volatile reader that matches later misses it",
+            timed_out, cfg_.reply_wait.count());
+      for (HeldStatus& held : ready) {
+        if (status_writer_ == nullptr || !status_writer_->write(&held.msg))
+          spdlog::error("could not publish the status of {}", held.what);
+      }
+      lock.lock();
+      continue;
+    }
+    if (replier_stopping_) return;
+    if (const auto deadline = replies_.next_deadline())
+      reply_cv_.wait_until(lock, *deadline);
+    else
+      reply_cv_.wait(lock);
+  }
 }
 
 void PlannerNode::Impl::answer(const Job& job, const WireStatus& status, const std::string& planner,
@@ -456,13 +540,18 @@ void PlannerNode::Impl::answer(const Job& job, const WireStatus& status, const s
                                const core::Endpoints* endpoints, const core::GridMap* map) {
   PlanStatusMsg msg = to_status_msg(echoed_id(job.id), &job.identity, status, planner, metrics,
                                     map_stamp, std::move(path), endpoints, map);
-  write_status(msg, "request '" + printable(job.id) + "'");
+  // A plan_request's client is waited for; goal_pose goals (rviz2) have no status reader.
+  std::optional<GuidPrefix> requester;
+  if (job.identity.subject == wire::SUBJECT_REQUEST) {
+    requester.emplace();
+    std::copy_n(job.identity.writer_guid.begin(), requester->size(), requester->begin());
+  }
+  write_status(std::move(msg), "request '" + printable(job.id) + "'", requester);
   ++statuses_published_;
 }
 
 void PlannerNode::Impl::report_map(const WireStatus& status, const TimeMsg& map_stamp) {
-  PlanStatusMsg msg = to_status_msg("", nullptr, status, "", nullptr, map_stamp, PathMsg());
-  write_status(msg, "a slice");
+  write_status(to_status_msg("", nullptr, status, "", nullptr, map_stamp, PathMsg()), "a slice");
 }
 
 void PlannerNode::Impl::worker_loop() {

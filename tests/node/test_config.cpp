@@ -234,6 +234,7 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "requests:",
                           "preempt:",
                           "queue_capacity:",
+                          "reply_wait:",
                           "network:",
                           "localhost_only:",
                           "debug:",

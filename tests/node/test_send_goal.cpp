@@ -68,8 +68,9 @@ std::optional<StatusLine> find_status_line(const std::string& output, const std:
 // A planner node in this process, on topics of its own, with the walled room as its map.
 class SendGoal : public ::testing::Test {
  protected:
-  void start_node(const std::string& tag) {
+  void start_node(const std::string& tag, bool preempt = true) {
     config_ = test_config(tag);
+    config_.preempt = preempt;
     config_path_ = write_temp_file(tag + ".yaml", config_yaml(config_));
     node_ = std::make_unique<node::PlannerNode>(config_);
     ASSERT_TRUE(node_->start().is_ok());
@@ -213,6 +214,36 @@ TEST_F(SendGoal, AReusedIdPrintsItsOwnAnswerNotTheEarlierOne) {
   const auto line = find_status_line(output, "X");
   ASSERT_TRUE(line) << output;
   EXPECT_EQ(line->status, "GOAL_OCCUPIED") << output;
+}
+
+// issue 17, item 2: 100 fresh short-lived clients (vnsba_send_goal processes, 10 at a time) with
+// a volatile status reader, ROS 2's default, each sending as soon as its own endpoints are
+// matched: every one gets its answer, which the node holds until it has matched that client's
+// status reader (requests.reply_wait). Concurrent clients do not preempt each other here.
+TEST_F(SendGoal, FreshClientsWithVolatileStatusReadersLoseNoAnswer) {
+  start_node("sg_fresh", /*preempt=*/false);
+  int ok = 0;
+  std::vector<std::string> failures;
+  for (int round = 0; round < 10; ++round) {
+    std::vector<std::unique_ptr<ChildProcess>> clients;
+    std::vector<std::string> ids;
+    for (int i = 0; i < 10; ++i) {
+      ids.push_back("fresh-" + std::to_string(round) + "-" + std::to_string(i));
+      clients.push_back(
+          std::make_unique<ChildProcess>(kSendGoal, args(ids.back(), 0.55, 0.55, 3.55, 0.55)));
+    }
+    for (int i = 0; i < 10; ++i) {
+      const int code = clients[i]->wait();  // send_goal gives up by itself after --wait
+      const std::string output = clients[i]->output();
+      const auto line = find_status_line(output, ids[i]);
+      if (code == 0 && line && line->status == "OK")
+        ++ok;
+      else
+        failures.push_back(ids[i] + " exited " + std::to_string(code) + ":\n" + output);
+    }
+  }
+  EXPECT_EQ(ok, 100);
+  for (const std::string& f : failures) ADD_FAILURE() << f;
 }
 
 TEST(SendGoalWithoutNode, NoAnswerExitsThreeWithinTheWait) {

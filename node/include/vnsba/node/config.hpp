@@ -117,6 +117,10 @@ struct NodeConfig {
 
   bool preempt = true;      // a newer request cancels the one being planned (Nav2-like)
   int queue_capacity = 64;  // requests waiting to be planned when preempt is false, 1..100000
+  // requests.reply_wait, seconds in [0, 10]: how long a plan_request's status waits for a status
+  // reader of the requesting participant to be matched before it is written anyway (0: never
+  // waits). Fresh clients are matched within one discovery round (0.5 s here).
+  std::chrono::milliseconds reply_wait{2000};
 
   DebugPublishing debug = DebugPublishing::kAuto;
   std::string log_level = "info";  // trace, debug, info, warn, error, critical, off

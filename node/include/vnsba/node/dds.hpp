@@ -13,6 +13,7 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -37,9 +38,11 @@ namespace dds = eprosima::fastdds::dds;
 enum class TopicQos {
   kLatched,  // reliable, transient local, keep last 1: the slice (and the octomap)
   kEvents,   // reliable, volatile, keep all: requests and goals; nothing dropped
-  // Statuses: reliable and transient local; the writer keeps its last kStatusHistory, readers
-  // keep all. A client whose reader is matched by the node a moment after its request went out
-  // (discovery is not symmetric in time) still receives its answer from the history.
+  // Statuses: reliable and transient local; the writer keeps its last kStatusHistory (a burst
+  // is not overwritten before it is acknowledged), readers keep all. A ROS 2 client's default
+  // (volatile) reader matches it and receives no history; its answer is held until the node has
+  // matched that reader (requests.reply_wait). Our own tools read transient local, so an answer
+  // written a moment before their reader matched still arrives from the history.
   kStatus,
   kLatest,  // reliable, volatile, keep last 1: robot pose, path
   kDebug,   // reliable, volatile, keep last 8: debug, so back-to-back runs are not replaced
@@ -117,7 +120,9 @@ class Participant {
     return make_topic(topic_name, type);
   }
 
-  core::Expected<dds::DataWriter*> writer(dds::Topic* topic, const dds::DataWriterQos& qos);
+  // `listener` (may be null) hears of its matched readers (publication_matched only).
+  core::Expected<dds::DataWriter*> writer(dds::Topic* topic, const dds::DataWriterQos& qos,
+                                          dds::DataWriterListener* listener = nullptr);
   core::Expected<dds::DataReader*> reader(dds::Topic* topic, const dds::DataReaderQos& qos,
                                           dds::DataReaderListener* listener);
 
