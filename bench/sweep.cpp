@@ -6,6 +6,7 @@
 
 #include "bench/common.hpp"
 #include "vnsba/render/charts.hpp"
+#include "vnsba/render/progress.hpp"
 #include "vnsba/render/svg.hpp"
 
 namespace vnsba::bench {
@@ -98,6 +99,10 @@ int run_sweep(const SweepOptions& options) {
                                  Grid(kSteps, std::vector<double>(kSteps, 0.0)));
   bool all_ok = true;
 
+  render::Progress progress("vnsba_bench sweep",
+                            static_cast<int64_t>(sweep_map_names().size()) * kSteps * kSteps,
+                            render::progress_wanted(options.progress));
+  int64_t pairs_done = 0;
   for (const auto& name : sweep_map_names()) {
     const std::string path = options.maps_dir + "/" + name + ".map";
     auto loaded = load_map_with_scenarios(path);
@@ -146,6 +151,8 @@ int run_sweep(const SweepOptions& options) {
                       r.metrics.length_cells, r.metrics.turns, r.metrics.turn_angle_deg);
         csv += line;
       }
+      pairs_done += kSteps;  // one row of pairs, repetitions included
+      progress.update(pairs_done);
     }
     std::fprintf(stderr, "%s done\n", name.c_str());
 
@@ -199,6 +206,7 @@ int run_sweep(const SweepOptions& options) {
       "best on every map):\n\n";
   MarkdownTable together(
       {"metric", "best pair (omega / eta)", "its sum", "sum at 0.5 / 0.5", "rank of 0.5 / 0.5"});
+  progress.finish(pairs_done);
   for (size_t m = 0; m < std::size(kSweepMetrics); ++m) {
     const auto best = best_cell(relative_sum[m]);
     together.add_row({kSweepMetrics[m].label, pair_name(best),

@@ -11,7 +11,8 @@ namespace vnsba::bench {
 struct SweepOptions {
   std::string maps_dir;  // holds sweep_simple, sweep_middle, sweep_bars, sweep_random (.map/.scen)
   std::string out_dir;
-  int repetitions = 21;  // timed plans per pair; the time is their median
+  int repetitions = 21;   // timed plans per pair; the time is their median
+  bool progress = false;  // progress lines on stderr also when it is not a terminal
 };
 
 std::vector<std::string> sweep_map_names();

@@ -91,6 +91,13 @@ int main(int argc, char** argv) {
   auto* optimality = app.add_subcommand("optimality", "A* against every Moving AI optimum");
   optimality->add_option("--maps", maps_dir, "folder with .map and .map.scen files");
 
+  // One wording of --progress for every long subcommand: `what` is what it counts.
+  auto add_progress_flag = [](CLI::App* subcommand, bool& flag, const std::string& what) {
+    subcommand->add_flag("--progress", flag,
+                         what +
+                             " done / total, elapsed and ETA on stderr at most once a second, "
+                             "also when stderr is not a terminal (on a terminal: always)");
+  };
   vnsba::bench::PaperOptions paper_options;
   paper_options.maps_dir = VNSBA_PAPER_MAPS_DIR;
   paper_options.out_dir = "vnsba_bench_paper";
@@ -116,6 +123,7 @@ int main(int argc, char** argv) {
       ->add_option("--repetitions", sweep_options.repetitions,
                    "timed plans per pair (the median is reported)")
       ->capture_default_str();
+  add_progress_flag(sweep, sweep_options.progress, "omega/eta pairs");
 
   vnsba::bench::MovingAiOptions movingai_options;
   movingai_options.maps_dir = maps_dir;
@@ -133,9 +141,7 @@ int main(int argc, char** argv) {
       ->add_option("--max-scenarios", movingai_options.max_scenarios,
                    "at most N scenarios per map, spread over the file (0: all)")
       ->capture_default_str();
-  movingai->add_flag("--progress", movingai_options.progress,
-                     "plans done / total, elapsed and ETA on stderr at most once a second, also "
-                     "when stderr is not a terminal (on a terminal: always)");
+  add_progress_flag(movingai, movingai_options.progress, "plans");
 
   vnsba::bench::LargeOptions large_options;
   large_options.maps_dir = maps_dir;
@@ -150,9 +156,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   large->add_option("--queries", large_options.queries, "queries per map and size")
       ->capture_default_str();
-  large->add_flag("--progress", large_options.progress,
-                  "plans done / total, elapsed and ETA on stderr at most once a second, also when "
-                  "stderr is not a terminal (on a terminal: always)");
+  add_progress_flag(large, large_options.progress, "plans");
 
   vnsba::bench::CostsOptions costs_options;
   costs_options.maps_dir = maps_dir;
@@ -172,9 +176,7 @@ int main(int argc, char** argv) {
       ->add_option("--max-scenarios", costs_options.max_scenarios,
                    "at most N scenarios per Moving AI map, spread over the file (0: all)")
       ->capture_default_str();
-  costs->add_flag("--progress", costs_options.progress,
-                  "Moving AI part: queries done / total, elapsed and ETA on stderr at most once a "
-                  "second, also when stderr is not a terminal (on a terminal: always)");
+  add_progress_flag(costs, costs_options.progress, "Moving AI part: queries");
   costs
       ->add_option("--repetitions", costs_options.repetitions,
                    "timed plans per demo-scene query (the median is reported)")
