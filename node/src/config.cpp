@@ -304,7 +304,15 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
       {"plan", &c.topics.plan},
       {"plan_status", &c.topics.plan_status},
       {"planner_debug", &c.topics.planner_debug},
-      {"octomap", &c.topics.octomap}};
+      {"octomap", &c.topics.octomap},
+      {"plan_raw", &c.topics.plan_raw},
+      {"plan_pruned", &c.topics.plan_pruned},
+      {"expansions_forward", &c.topics.expansions_forward},
+      {"expansions_backward", &c.topics.expansions_backward},
+      {"meeting_point", &c.topics.meeting_point},
+      {"tf", &c.topics.tf},
+      {"tf_static", &c.topics.tf_static},
+      {"clock", &c.topics.clock}};
   std::vector<std::pair<const char*, const std::string*>> valid;  // read without error
   for (const auto& [key, name] : topic_fields) {
     if (!topics.text(key, *name, "a topic name", topic_name_problem)) continue;
@@ -315,6 +323,23 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
     valid.emplace_back(key, name);
   }
   topics.finish();
+
+  top.choice<RobotPoseSource>("robot_pose_source", c.robot_pose_source,
+                              {{"topic", RobotPoseSource::kTopic}, {"tf", RobotPoseSource::kTf}});
+  top.choice<RobotPoseType>(
+      "robot_pose_type", c.robot_pose_type,
+      {{"PoseStamped", RobotPoseType::kPoseStamped},
+       {"PoseWithCovarianceStamped", RobotPoseType::kPoseWithCovarianceStamped}});
+  top.text("base_frame", c.base_frame, "a frame name",
+           [](const std::string& s) { return s.empty() ? "a non-empty frame name" : ""; });
+  top.number("transform_tolerance", c.transform_tolerance_s,
+             "a finite number of seconds in [0, 60]",
+             [](double v) { return v >= 0.0 && v <= 60.0; });
+  top.boolean("use_sim_time", c.use_sim_time);
+  if (!c.base_frame.empty() &&
+      without_leading_slash(c.base_frame) == without_leading_slash(c.frame_id))
+    errors.push_back("base_frame: found \"" + c.base_frame +
+                     "\", expected the robot's frame, not frame_id (\"" + c.frame_id + "\")");
 
   Section map = top.child("map");
   map.integer("occupied_threshold", c.map.occupied_threshold, 1, 100);

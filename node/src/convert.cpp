@@ -141,13 +141,52 @@ std::string code_name(uint8_t code) {
   return code < sizeof(kNames) / sizeof(kNames[0]) ? kNames[code] : "UNKNOWN";
 }
 
-TimeMsg to_time_msg(std::chrono::system_clock::time_point t) {
-  const auto ns =
-      std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+TimeMsg to_time_msg(int64_t nanoseconds) {
+  // Floor division: nanosec stays in [0, 1e9) for times before the epoch too.
+  int64_t sec = nanoseconds / 1'000'000'000;
+  int64_t nanosec = nanoseconds % 1'000'000'000;
+  if (nanosec < 0) {
+    nanosec += 1'000'000'000;
+    --sec;
+  }
   TimeMsg msg;
-  msg.sec(static_cast<int32_t>(ns / 1'000'000'000));
-  msg.nanosec(static_cast<uint32_t>(ns % 1'000'000'000));
+  msg.sec(static_cast<int32_t>(sec));
+  msg.nanosec(static_cast<uint32_t>(nanosec));
   return msg;
+}
+
+TimeMsg to_time_msg(std::chrono::system_clock::time_point t) {
+  return to_time_msg(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count());
+}
+
+int64_t to_nanoseconds(const TimeMsg& t) {
+  return int64_t{t.sec()} * 1'000'000'000 + int64_t{t.nanosec()};
+}
+
+double to_seconds(const TimeMsg& t) {
+  return static_cast<double>(to_nanoseconds(t)) * 1e-9;
+}
+
+PoseStampedMsg to_pose_stamped(const PoseWithCovarianceStampedMsg& msg) {
+  PoseStampedMsg out;
+  out.header(msg.header());
+  out.pose(msg.pose().pose());
+  return out;
+}
+
+std::vector<std::string> add_transforms(const TFMessageMsg& msg, bool is_static,
+                                        TransformTree& tree) {
+  std::vector<std::string> problems;
+  for (const auto& t : msg.transforms()) {
+    const auto& v = t.transform().translation();
+    const auto& q = t.transform().rotation();
+    std::string problem = tree.set(
+        t.header().frame_id(), t.child_frame_id(), Eigen::Vector3d(v.x(), v.y(), v.z()),
+        Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()), to_seconds(t.header().stamp()), is_static);
+    if (!problem.empty()) problems.push_back(printable(problem, 256));
+  }
+  return problems;
 }
 
 TimeMsg now_msg() {
@@ -214,18 +253,35 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   return out;
 }
 
+namespace {
+
+// The geometry of an axis-aligned grid as nav_msgs/MapMetaData.
+nav_msgs::msg::dds_::MapMetaData_ map_info(double resolution, int64_t width, int64_t height,
+                                           double origin_x, double origin_y, const TimeMsg& stamp) {
+  nav_msgs::msg::dds_::MapMetaData_ info;
+  info.map_load_time(stamp);
+  info.resolution(static_cast<float>(resolution));
+  info.width(static_cast<uint32_t>(width));
+  info.height(static_cast<uint32_t>(height));
+  info.origin().position().x(origin_x);
+  info.origin().position().y(origin_y);
+  info.origin().orientation().w(1.0);
+  return info;
+}
+
+nav_msgs::msg::dds_::MapMetaData_ map_info(const core::GridMap& map, const TimeMsg& stamp) {
+  return map_info(map.resolution(), map.width(), map.height(), map.origin_x(), map.origin_y(),
+                  stamp);
+}
+
+}  // namespace
+
 OccupancyGridMsg to_slice_msg(const core::OccupancyGrid& grid, const std::string& frame,
                               const TimeMsg& stamp) {
   OccupancyGridMsg msg;
   msg.header().frame_id(frame);
   msg.header().stamp(stamp);
-  msg.info().map_load_time(stamp);
-  msg.info().resolution(static_cast<float>(grid.resolution));
-  msg.info().width(static_cast<uint32_t>(grid.width));
-  msg.info().height(static_cast<uint32_t>(grid.height));
-  msg.info().origin().position().x(grid.origin_x);
-  msg.info().origin().position().y(grid.origin_y);
-  msg.info().origin().orientation().w(1.0);
+  msg.info(map_info(grid.resolution, grid.width, grid.height, grid.origin_x, grid.origin_y, stamp));
   msg.data(grid.data);
   return msg;
 }
@@ -301,15 +357,67 @@ PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& fr
   return msg;
 }
 
-PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp,
-                    double spacing_m, std::optional<double> goal_yaw) {
+PathMsg to_path_msg(const std::vector<Eigen::Vector2d>& points, const std::string& frame,
+                    const TimeMsg& stamp, double spacing_m, std::optional<double> goal_yaw) {
   PathMsg msg;
   msg.header().frame_id(frame);
   msg.header().stamp(stamp);
-  const std::vector<core::Pose2> poses = core::path_poses(result.world_path, spacing_m, goal_yaw);
+  const std::vector<core::Pose2> poses = core::path_poses(points, spacing_m, goal_yaw);
   msg.poses().reserve(poses.size());
   for (const core::Pose2& p : poses)
     msg.poses().push_back(to_pose_msg(p.x, p.y, p.yaw, frame, stamp));
+  return msg;
+}
+
+PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp,
+                    double spacing_m, std::optional<double> goal_yaw) {
+  return to_path_msg(result.world_path, frame, stamp, spacing_m, goal_yaw);
+}
+
+PathMsg to_raw_path_msg(const core::PlanResult& result, const core::GridMap& map,
+                        const std::string& frame, const TimeMsg& stamp) {
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(result.raw_path.size());
+  for (const core::Cell& cell : result.raw_path) points.push_back(map.cell_centre_world(cell));
+  return to_path_msg(points, frame, stamp, /*spacing_m=*/0.0);
+}
+
+PathMsg to_pruned_path_msg(const core::PlanResult& result, const core::GridMap& map,
+                           const std::string& frame, const TimeMsg& stamp) {
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(result.waypoints.size());
+  for (const core::Point2& w : result.waypoints) points.push_back(map.grid_to_world(w));
+  return to_path_msg(points, frame, stamp, /*spacing_m=*/0.0);
+}
+
+OccupancyGridMsg to_expansions_msg(const std::vector<core::Cell>& expanded,
+                                   const core::GridMap& map, const std::string& frame,
+                                   const TimeMsg& stamp) {
+  OccupancyGridMsg msg;
+  msg.header().frame_id(frame);
+  msg.header().stamp(stamp);
+  msg.info(map_info(map, stamp));
+  std::vector<int8_t> data(static_cast<size_t>(map.width()) * static_cast<size_t>(map.height()), 0);
+  const size_t n = expanded.size();
+  for (size_t i = 0; i < n; ++i) {
+    const core::Cell& c = expanded[i];
+    if (!map.in_bounds(c)) continue;  // never: the searches close cells of this map
+    // 1 for the first expansion ... 100 for the last: the order, on rviz2's costmap colours.
+    data[static_cast<size_t>(c.y) * static_cast<size_t>(map.width()) + static_cast<size_t>(c.x)] =
+        static_cast<int8_t>(1 + (99 * i) / std::max<size_t>(n - 1, 1));
+  }
+  msg.data(std::move(data));
+  return msg;
+}
+
+PointStampedMsg to_point_msg(const core::Cell& cell, const core::GridMap& map,
+                             const std::string& frame, const TimeMsg& stamp) {
+  PointStampedMsg msg;
+  msg.header().frame_id(frame);
+  msg.header().stamp(stamp);
+  const Eigen::Vector2d centre = map.cell_centre_world(cell);
+  msg.point().x(centre.x());
+  msg.point().y(centre.y());
   return msg;
 }
 
@@ -403,13 +511,7 @@ PlannerDebugMsg to_debug_msg(const std::string& request_id, const core::PlanResu
   msg.header().stamp(stamp);
   msg.request_id(request_id);
   msg.planner(std::string(core::to_string(result.planner)));
-  msg.info().map_load_time(stamp);
-  msg.info().resolution(static_cast<float>(map.resolution()));
-  msg.info().width(static_cast<uint32_t>(map.width()));
-  msg.info().height(static_cast<uint32_t>(map.height()));
-  msg.info().origin().position().x(map.origin_x());
-  msg.info().origin().position().y(map.origin_y());
-  msg.info().origin().orientation().w(1.0);
+  msg.info(map_info(map, stamp));
   auto cells = [](const std::vector<core::Cell>& in) {
     std::vector<vnsba_msgs::msg::dds_::GridCell_> out(in.size());
     for (size_t i = 0; i < in.size(); ++i) {

@@ -22,8 +22,10 @@ core::Status dds_error(const std::string& what) {
 // What writers and readers share: reliability, durability, history and memory policy.
 template <class Qos>
 void apply_common(Qos& qos, TopicQos profile, bool reader) {
-  qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
-  const bool durable = profile == TopicQos::kLatched || profile == TopicQos::kStatus;
+  qos.reliability().kind = profile == TopicQos::kStream ? dds::BEST_EFFORT_RELIABILITY_QOS
+                                                        : dds::RELIABLE_RELIABILITY_QOS;
+  const bool durable =
+      profile == TopicQos::kLatched || profile == TopicQos::kStatus || profile == TopicQos::kStatic;
   qos.durability().kind =
       durable ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
   // Readers keep every request and status; the status writer keeps its last kStatusHistory.
@@ -36,7 +38,8 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
     qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
     qos.history().depth = profile == TopicQos::kStatus  ? kStatusHistory
                           : profile == TopicQos::kDebug ? 8
-                                                        : 1;
+                          : profile == TopicQos::kStream || profile == TopicQos::kStatic ? 100
+                                                                                         : 1;
     if (profile == TopicQos::kStatus) limit = kStatusHistory;
   }
   if (limit > 0) {
@@ -61,6 +64,10 @@ std::string describe(TopicQos profile) {
       return "reliable, volatile, keep last 1";
     case TopicQos::kDebug:
       return "reliable, volatile, keep last 8";
+    case TopicQos::kStream:
+      return "best effort, volatile, keep last 100";
+    case TopicQos::kStatic:
+      return "reliable, transient local, keep last 100";
   }
   return "";
 }

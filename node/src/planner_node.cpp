@@ -8,17 +8,24 @@
 #include <deque>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <thread>
 #include <utility>
 
+#include "geometry_msgs/msg/PointStampedPubSubTypes.h"
 #include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
+#include "geometry_msgs/msg/PoseWithCovarianceStampedPubSubTypes.h"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "nav_msgs/msg/PathPubSubTypes.h"
+#include "rosgraph_msgs/msg/ClockPubSubTypes.h"
+#include "tf2_msgs/msg/TFMessagePubSubTypes.h"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/reply_gate.hpp"
 #include "vnsba/node/requests.hpp"
 #include "vnsba/node/slice_slot.hpp"
+#include "vnsba/node/time_source.hpp"
+#include "vnsba/node/transforms.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 #include "vnsba_msgs/msg/PlannerDebugPubSubTypes.h"
@@ -60,6 +67,12 @@ std::unique_ptr<dds::DataReaderListener> make_listener(OnSample on_sample) {
   return std::make_unique<TakeListener<Msg, OnSample>>(std::move(on_sample));
 }
 
+// Names a PubSubType in a generic lambda's argument.
+template <class T>
+struct TypeTag {
+  using type = T;
+};
+
 // A map as the worker plans on it. The map thread builds the planner with the grid, so that its
 // search arrays (both directions, tens of bytes per cell) are allocated before the map goes live,
 // not in the first plan on it (about 230 ms at 4096 x 4096, which would also delay that plan's
@@ -89,7 +102,22 @@ class PlannerNode::Impl {
   dds::DataWriter* plan_writer_ = nullptr;
   dds::DataWriter* status_writer_ = nullptr;
   dds::DataWriter* debug_writer_ = nullptr;
+  // The debug layers in stock ROS 2 types, for rviz2 (null until start()).
+  dds::DataWriter* raw_path_writer_ = nullptr;
+  dds::DataWriter* pruned_path_writer_ = nullptr;
+  dds::DataWriter* expansions_forward_writer_ = nullptr;
+  dds::DataWriter* expansions_backward_writer_ = nullptr;
+  dds::DataWriter* meeting_point_writer_ = nullptr;
   std::vector<std::unique_ptr<dds::DataReaderListener>> listeners_;
+
+  // The node's clock (use_sim_time) and, with robot_pose_source tf, the transforms received.
+  TimeSource time_{cfg_.use_sim_time};
+  std::mutex tf_mutex_;
+  TransformTree transforms_;         // under tf_mutex_
+  std::set<std::string> tf_warned_;  // refused transforms already logged, under tf_mutex_
+  void on_transforms(const TFMessageMsg& msg, bool is_static);
+  // The start of a goal_pose goal from robot_pose_source, or what is missing.
+  void robot_start(Job& job);
 
   // Statuses held until the requester's status reader is matched (reply_gate.hpp), written by
   // the replier thread. The status writer's listener feeds the matches in.
@@ -156,7 +184,10 @@ class PlannerNode::Impl {
   // Hands a status to the replier; `requester` (a plan_request's client) gates it.
   void write_status(PlanStatusMsg&& msg, const std::string& what,
                     std::optional<GuidPrefix> requester = std::nullopt);
-  bool debug_wanted() const;
+  // Whether to publish on a debug writer now (debug.publish: auto = while a reader is matched).
+  bool publishing(dds::DataWriter* writer) const;
+  void publish_debug(const std::string& id, const core::PlanResult& result,
+                     const core::GridMap& map, const TimeMsg& stamp);
   // What makes a remote endpoint on `topic` match the node's, for the incompatible-QoS warning.
   template <class Name>
   std::string qos_fix(const std::string& topic, const std::string& policy, Name name) const;
@@ -179,7 +210,15 @@ std::string PlannerNode::Impl::qos_fix(const std::string& topic, const std::stri
       {&cfg_.topics.plan_request, TopicQos::kEvents},
       {&cfg_.topics.plan, TopicQos::kLatest},
       {&cfg_.topics.plan_status, TopicQos::kStatus},
-      {&cfg_.topics.planner_debug, TopicQos::kDebug}};
+      {&cfg_.topics.planner_debug, TopicQos::kDebug},
+      {&cfg_.topics.plan_raw, TopicQos::kLatched},
+      {&cfg_.topics.plan_pruned, TopicQos::kLatched},
+      {&cfg_.topics.expansions_forward, TopicQos::kLatched},
+      {&cfg_.topics.expansions_backward, TopicQos::kLatched},
+      {&cfg_.topics.meeting_point, TopicQos::kLatched},
+      {&cfg_.topics.tf, TopicQos::kStream},
+      {&cfg_.topics.tf_static, TopicQos::kStatic},
+      {&cfg_.topics.clock, TopicQos::kStream}};
   for (const auto& [configured, profile] : fixed)
     if (topic == name(*configured)) return "the node's endpoint is " + describe(profile);
   return "";
@@ -228,77 +267,130 @@ core::Status PlannerNode::Impl::start() {
   participant_ = std::move(participant).value();
 
   // Writers first, so that every request read can be answered.
-  auto plan_topic =
-      participant_->topic<nav_msgs::msg::dds_::Path_PubSubType>(name(cfg_.topics.plan));
-  if (!plan_topic) return plan_topic.error();
-  auto status_topic = participant_->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
-      name(cfg_.topics.plan_status));
-  if (!status_topic) return status_topic.error();
-  auto debug_topic = participant_->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
-      name(cfg_.topics.planner_debug));
-  if (!debug_topic) return debug_topic.error();
-  auto plan_writer = participant_->writer(*plan_topic, writer_qos(TopicQos::kLatest, false));
+  using PathType = nav_msgs::msg::dds_::Path_PubSubType;
+  using GridType = nav_msgs::msg::dds_::OccupancyGrid_PubSubType;
+  using PoseType = geometry_msgs::msg::dds_::PoseStamped_PubSubType;
+  auto plan_writer = participant_->writer_on<PathType>(name(cfg_.topics.plan),
+                                                       writer_qos(TopicQos::kLatest, false));
   if (!plan_writer) return plan_writer.error();
   status_readers_ = std::make_unique<StatusReaders>(*this);
-  auto status_writer = participant_->writer(*status_topic, writer_qos(TopicQos::kStatus, false),
-                                            status_readers_.get());
+  auto status_writer = participant_->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+      name(cfg_.topics.plan_status), writer_qos(TopicQos::kStatus, false), status_readers_.get());
   if (!status_writer) return status_writer.error();
-  auto debug_writer = participant_->writer(*debug_topic, writer_qos(TopicQos::kDebug, true));
+  auto debug_writer = participant_->writer_on<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
+      name(cfg_.topics.planner_debug), writer_qos(TopicQos::kDebug, true));
   if (!debug_writer) return debug_writer.error();
   plan_writer_ = *plan_writer;
   status_writer_ = *status_writer;
   debug_writer_ = *debug_writer;
+  // The debug layers keep their last sample (transient local, keep last 1): an rviz2 display
+  // opened after a run still shows it, whatever durability it asks for.
+  const dds::DataWriterQos layer_qos = writer_qos(TopicQos::kLatched, true);
+  const std::pair<const std::string*, dds::DataWriter**> path_layers[] = {
+      {&cfg_.topics.plan_raw, &raw_path_writer_}, {&cfg_.topics.plan_pruned, &pruned_path_writer_}};
+  for (const auto& [topic, out] : path_layers) {
+    auto writer = participant_->writer_on<PathType>(name(*topic), layer_qos);
+    if (!writer) return writer.error();
+    *out = *writer;
+  }
+  const std::pair<const std::string*, dds::DataWriter**> grid_layers[] = {
+      {&cfg_.topics.expansions_forward, &expansions_forward_writer_},
+      {&cfg_.topics.expansions_backward, &expansions_backward_writer_}};
+  for (const auto& [topic, out] : grid_layers) {
+    auto writer = participant_->writer_on<GridType>(name(*topic), layer_qos);
+    if (!writer) return writer.error();
+    *out = *writer;
+  }
+  auto meeting_writer = participant_->writer_on<geometry_msgs::msg::dds_::PointStamped_PubSubType>(
+      name(cfg_.topics.meeting_point), layer_qos);
+  if (!meeting_writer) return meeting_writer.error();
+  meeting_point_writer_ = *meeting_writer;
 
   replier_ = std::thread([this] { replier_loop(); });
   map_thread_ = std::thread([this] { map_loop(); });
   worker_ = std::thread([this] { worker_loop(); });
   started_ = true;
 
-  // Then the readers.
-  auto slice_topic = participant_->topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
-      name(cfg_.topics.projected_map));
-  if (!slice_topic) return slice_topic.error();
-  auto goal_topic = participant_->topic<geometry_msgs::msg::dds_::PoseStamped_PubSubType>(
-      name(cfg_.topics.goal_pose));
-  if (!goal_topic) return goal_topic.error();
-  auto pose_topic = participant_->topic<geometry_msgs::msg::dds_::PoseStamped_PubSubType>(
-      name(cfg_.topics.robot_pose));
-  if (!pose_topic) return pose_topic.error();
-  auto request_topic = participant_->topic<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(
-      name(cfg_.topics.plan_request));
-  if (!request_topic) return request_topic.error();
-
-  listeners_.push_back(make_listener<OccupancyGridMsg>(
-      [this](OccupancyGridMsg&& m, const dds::SampleInfo&) { on_slice(std::move(m)); }));
-  listeners_.push_back(make_listener<PoseStampedMsg>(
-      [this](PoseStampedMsg&& m, const dds::SampleInfo& info) { on_goal(std::move(m), info); }));
-  listeners_.push_back(
-      make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m, const dds::SampleInfo&) {
-        std::lock_guard<std::mutex> lock(pose_mutex_);
-        robot_pose_ = std::move(m);
-      }));
-  listeners_.push_back(
-      make_listener<PlanRequestMsg>([this](PlanRequestMsg&& m, const dds::SampleInfo& info) {
-        Job job;
-        job.id = std::move(m.id());
-        job.identity = identity_of(info, wire::SUBJECT_REQUEST);
-        job.start = std::move(m.start());
-        job.goal = std::move(m.goal());
-        job.planner = std::move(m.planner());
-        on_request(std::move(job));
-      }));
+  // Then the readers; each listener lives in listeners_ until stop().
+  auto add_reader = [&](auto type, const std::string& topic, const dds::DataReaderQos& qos,
+                        std::unique_ptr<dds::DataReaderListener> listener) -> core::Status {
+    listeners_.push_back(std::move(listener));
+    auto reader = participant_->reader_on<typename decltype(type)::type>(name(topic), qos,
+                                                                         listeners_.back().get());
+    return reader ? core::Status::ok() : reader.error();
+  };
+  // The clock first, so that the first goal already has the simulation's time.
+  if (cfg_.use_sim_time) {
+    if (core::Status s =
+            add_reader(TypeTag<rosgraph_msgs::msg::dds_::Clock_PubSubType>(), cfg_.topics.clock,
+                       reader_qos(TopicQos::kStream),
+                       make_listener<ClockMsg>([this](ClockMsg&& m, const dds::SampleInfo&) {
+                         time_.set_sim_time(m.clock());
+                       }));
+        !s.is_ok())
+      return s;
+  }
   dds::DataReaderQos slice_qos = reader_qos(TopicQos::kLatched);
   if (cfg_.map_durability == MapDurability::kVolatile)
     slice_qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
-  const std::pair<dds::Topic*, dds::DataReaderQos> readers[] = {
-      {*slice_topic, slice_qos},
-      {*goal_topic, reader_qos(TopicQos::kEvents)},
-      {*pose_topic, reader_qos(TopicQos::kLatest)},
-      {*request_topic, reader_qos(TopicQos::kEvents)}};
-  for (size_t i = 0; i < 4; ++i) {
-    auto reader = participant_->reader(readers[i].first, readers[i].second, listeners_[i].get());
-    if (!reader) return reader.error();
+  if (core::Status s = add_reader(
+          TypeTag<GridType>(), cfg_.topics.projected_map, slice_qos,
+          make_listener<OccupancyGridMsg>(
+              [this](OccupancyGridMsg&& m, const dds::SampleInfo&) { on_slice(std::move(m)); }));
+      !s.is_ok())
+    return s;
+  // The robot's pose before the goals, so that a goal never waits for a reader created after it.
+  core::Status pose_status = core::Status::ok();
+  if (cfg_.robot_pose_source == RobotPoseSource::kTf) {
+    for (const bool is_static : {true, false}) {
+      pose_status = add_reader(
+          TypeTag<tf2_msgs::msg::dds_::TFMessage_PubSubType>(),
+          is_static ? cfg_.topics.tf_static : cfg_.topics.tf,
+          reader_qos(is_static ? TopicQos::kStatic : TopicQos::kStream),
+          make_listener<TFMessageMsg>([this, is_static](TFMessageMsg&& m, const dds::SampleInfo&) {
+            on_transforms(m, is_static);
+          }));
+      if (!pose_status.is_ok()) return pose_status;
+    }
+  } else if (cfg_.robot_pose_type == RobotPoseType::kPoseWithCovarianceStamped) {
+    pose_status =
+        add_reader(TypeTag<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>(),
+                   cfg_.topics.robot_pose, reader_qos(TopicQos::kLatest),
+                   make_listener<PoseWithCovarianceStampedMsg>(
+                       [this](PoseWithCovarianceStampedMsg&& m, const dds::SampleInfo&) {
+                         std::lock_guard<std::mutex> lock(pose_mutex_);
+                         robot_pose_ = to_pose_stamped(m);
+                       }));
+  } else {
+    pose_status = add_reader(
+        TypeTag<PoseType>(), cfg_.topics.robot_pose, reader_qos(TopicQos::kLatest),
+        make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m, const dds::SampleInfo&) {
+          std::lock_guard<std::mutex> lock(pose_mutex_);
+          robot_pose_ = std::move(m);
+        }));
   }
+  if (!pose_status.is_ok()) return pose_status;
+  if (core::Status s = add_reader(
+          TypeTag<PoseType>(), cfg_.topics.goal_pose, reader_qos(TopicQos::kEvents),
+          make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m, const dds::SampleInfo& info) {
+            on_goal(std::move(m), info);
+          }));
+      !s.is_ok())
+    return s;
+  if (core::Status s = add_reader(
+          TypeTag<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(), cfg_.topics.plan_request,
+          reader_qos(TopicQos::kEvents),
+          make_listener<PlanRequestMsg>([this](PlanRequestMsg&& m, const dds::SampleInfo& info) {
+            Job job;
+            job.id = std::move(m.id());
+            job.identity = identity_of(info, wire::SUBJECT_REQUEST);
+            job.start = std::move(m.start());
+            job.goal = std::move(m.goal());
+            job.planner = std::move(m.planner());
+            on_request(std::move(job));
+          }));
+      !s.is_ok())
+    return s;
   spdlog::info("vnsba_node up on domain {}: slices on '{}', requests on '{}', goals on '{}'",
                cfg_.domain_id, name(cfg_.topics.projected_map), name(cfg_.topics.plan_request),
                name(cfg_.topics.goal_pose));
@@ -328,7 +420,10 @@ void PlannerNode::Impl::stop() {
   if (replier_.joinable()) replier_.join();  // writes every status still held
   if (participant_) participant_->shutdown();
   participant_.reset();
-  plan_writer_ = status_writer_ = debug_writer_ = nullptr;  // deleted with the participant
+  // Deleted with the participant.
+  plan_writer_ = status_writer_ = debug_writer_ = nullptr;
+  raw_path_writer_ = pruned_path_writer_ = meeting_point_writer_ = nullptr;
+  expansions_forward_writer_ = expansions_backward_writer_ = nullptr;
   listeners_.clear();
 }
 
@@ -354,7 +449,12 @@ void PlannerNode::Impl::on_goal(PoseStampedMsg&& goal, const dds::SampleInfo& in
   }
   job.identity = identity_of(info, wire::SUBJECT_GOAL_POSE);
   job.goal = std::move(goal);
-  {
+  robot_start(job);
+  on_request(std::move(job));
+}
+
+void PlannerNode::Impl::robot_start(Job& job) {
+  if (cfg_.robot_pose_source == RobotPoseSource::kTopic) {
     std::lock_guard<std::mutex> lock(pose_mutex_);
     if (robot_pose_) {
       job.start = *robot_pose_;
@@ -362,8 +462,50 @@ void PlannerNode::Impl::on_goal(PoseStampedMsg&& goal, const dds::SampleInfo& in
       job.missing_start = "start: no robot_pose received yet on '" +
                           dds_topic_name(cfg_, cfg_.topics.robot_pose) + "'";
     }
+    return;
   }
-  on_request(std::move(job));
+  TransformTree::Lookup found;
+  {
+    std::lock_guard<std::mutex> lock(tf_mutex_);
+    found = transforms_.lookup(cfg_.frame_id, cfg_.base_frame, time_.now_seconds(),
+                               cfg_.transform_tolerance_s);
+  }
+  if (!found.ok) {
+    job.missing_start = "start (robot_pose_source tf, '" + dds_topic_name(cfg_, cfg_.topics.tf) +
+                        "' and '" + dds_topic_name(cfg_, cfg_.topics.tf_static) +
+                        "'): " + found.problem;
+    return;
+  }
+  const Eigen::Vector3d t = found.source_in_target.translation();
+  const Eigen::Quaterniond q(found.source_in_target.rotation());
+  job.start.header().frame_id(cfg_.frame_id);
+  job.start.header().stamp(time_.now());
+  job.start.pose().position().x(t.x());
+  job.start.pose().position().y(t.y());
+  job.start.pose().position().z(t.z());
+  job.start.pose().orientation().x(q.x());
+  job.start.pose().orientation().y(q.y());
+  job.start.pose().orientation().z(q.z());
+  job.start.pose().orientation().w(q.w());
+}
+
+void PlannerNode::Impl::on_transforms(const TFMessageMsg& msg, bool is_static) {
+  std::vector<std::string> refused;
+  {
+    std::lock_guard<std::mutex> lock(tf_mutex_);
+    refused = add_transforms(msg, is_static, transforms_);
+    // Each distinct problem once (a broadcaster repeats a bad transform at its rate), and a
+    // bounded number of them.
+    refused.erase(std::remove_if(refused.begin(), refused.end(),
+                                 [&](const std::string& problem) {
+                                   return tf_warned_.size() >= 100 ||
+                                          !tf_warned_.insert(problem).second;
+                                 }),
+                  refused.end());
+  }
+  for (const std::string& problem : refused)
+    spdlog::warn("'{}': refused {}",
+                 dds_topic_name(cfg_, is_static ? cfg_.topics.tf_static : cfg_.topics.tf), problem);
 }
 
 void PlannerNode::Impl::on_request(Job job) {
@@ -482,16 +624,39 @@ WireStatus PlannerNode::Impl::convert_slice(SliceSlot::Taken taken) {
 // ---------------------------------------------------------------------------------------------
 // Worker thread: the only place that plans.
 
-bool PlannerNode::Impl::debug_wanted() const {
+bool PlannerNode::Impl::publishing(dds::DataWriter* writer) const {
   switch (cfg_.debug) {
     case DebugPublishing::kAlways:
       return true;
     case DebugPublishing::kNever:
       return false;
     case DebugPublishing::kAuto:
-      return matched_readers(debug_writer_) > 0;
+      return matched_readers(writer) > 0;
   }
   return false;
+}
+
+void PlannerNode::Impl::publish_debug(const std::string& id, const core::PlanResult& result,
+                                      const core::GridMap& map, const TimeMsg& stamp) {
+  const std::string& frame = cfg_.frame_id;
+  auto write = [&](dds::DataWriter* writer, auto&& msg, const char* what) {
+    if (!writer->write(&msg)) spdlog::warn("could not publish the {} of '{}'", what, printable(id));
+  };
+  if (result.metrics.expanded > 0 && publishing(debug_writer_))
+    write(debug_writer_, to_debug_msg(echoed_id(id), result, map, frame, stamp), "debug");
+  if (!result.raw_path.empty() && publishing(raw_path_writer_))
+    write(raw_path_writer_, to_raw_path_msg(result, map, frame, stamp), "raw path");
+  if (!result.waypoints.empty() && publishing(pruned_path_writer_))
+    write(pruned_path_writer_, to_pruned_path_msg(result, map, frame, stamp), "pruned path");
+  if (result.metrics.expanded > 0 && publishing(expansions_forward_writer_))
+    write(expansions_forward_writer_, to_expansions_msg(result.expanded_forward, map, frame, stamp),
+          "forward expansions");
+  if (result.metrics.expanded > 0 && publishing(expansions_backward_writer_))
+    write(expansions_backward_writer_,
+          to_expansions_msg(result.expanded_backward, map, frame, stamp), "backward expansions");
+  if (result.meeting_cell && publishing(meeting_point_writer_))
+    write(meeting_point_writer_, to_point_msg(*result.meeting_cell, map, frame, stamp),
+          "meeting point");
 }
 
 void PlannerNode::Impl::write_status(PlanStatusMsg&& msg, const std::string& what,
@@ -603,8 +768,9 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
   core::PlannerOptions& options = resolved.options;
 
   if (!map->planner) map->planner = std::make_unique<core::Planner>(map->grid);  // see worker_loop
-  const bool debug = debug_wanted();
-  options.record_expansions = debug;
+  // Recording the expansions costs time and memory: only when something will show them.
+  options.record_expansions = publishing(debug_writer_) || publishing(expansions_forward_writer_) ||
+                              publishing(expansions_backward_writer_);
   core::PlanResult result = map->planner->plan(resolved.query, options, &job.interruption->flag);
 
   WireStatus status{to_wire_code(result.status.code), result.status.message};
@@ -612,7 +778,7 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
     std::lock_guard<std::mutex> lock(queue_mutex_);
     status.message = job.interruption->reason;
   }
-  const TimeMsg stamp = now_msg();
+  const TimeMsg stamp = time_.now();
   PathMsg path;
   if (status.ok()) {
     // Poses at most planner.path_spacing apart (default: this map's resolution), never finer
@@ -643,10 +809,7 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
                                   status.code == wire::TIMEOUT || status.code == wire::CANCELED;
   answer(job, status, planner_name, &result.metrics, map->stamp, std::move(path),
          resolved_endpoints ? &result.endpoints : nullptr, map->grid.get());
-  if (debug && result.metrics.expanded > 0) {
-    PlannerDebugMsg msg = to_debug_msg(echoed_id(job.id), result, *map->grid, cfg_.frame_id, stamp);
-    if (!debug_writer_->write(&msg)) spdlog::warn("could not publish the debug of '{}'", id);
-  }
+  publish_debug(job.id, result, *map->grid, stamp);
   const auto total_us =
       std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - t0).count();
   spdlog::log(

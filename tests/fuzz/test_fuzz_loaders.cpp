@@ -1002,6 +1002,26 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_text("topics", "plan_status", c.topics.plan_status, d.topics.plan_status);
   same_text("topics", "planner_debug", c.topics.planner_debug, d.topics.planner_debug);
   same_text("topics", "octomap", c.topics.octomap, d.topics.octomap);
+  same_text("topics", "plan_raw", c.topics.plan_raw, d.topics.plan_raw);
+  same_text("topics", "plan_pruned", c.topics.plan_pruned, d.topics.plan_pruned);
+  same_text("topics", "expansions_forward", c.topics.expansions_forward,
+            d.topics.expansions_forward);
+  same_text("topics", "expansions_backward", c.topics.expansions_backward,
+            d.topics.expansions_backward);
+  same_text("topics", "meeting_point", c.topics.meeting_point, d.topics.meeting_point);
+  same_text("topics", "tf", c.topics.tf, d.topics.tf);
+  same_text("topics", "tf_static", c.topics.tf_static, d.topics.tf_static);
+  same_text("topics", "clock", c.topics.clock, d.topics.clock);
+  const char* const pose_sources[] = {"topic", "tf"};
+  same_text("", "robot_pose_source",
+            std::string(pose_sources[static_cast<int>(c.robot_pose_source)]),
+            std::string(pose_sources[static_cast<int>(d.robot_pose_source)]));
+  const char* const pose_types[] = {"PoseStamped", "PoseWithCovarianceStamped"};
+  same_text("", "robot_pose_type", std::string(pose_types[static_cast<int>(c.robot_pose_type)]),
+            std::string(pose_types[static_cast<int>(d.robot_pose_type)]));
+  same_text("", "base_frame", c.base_frame, d.base_frame);
+  same_double("", "transform_tolerance", c.transform_tolerance_s, d.transform_tolerance_s);
+  same_bool("", "use_sim_time", c.use_sim_time, d.use_sim_time);
   same_int("map", "occupied_threshold", c.map.occupied_threshold, d.map.occupied_threshold);
   same_bool("map", "allow_unknown", c.map.allow_unknown, d.map.allow_unknown);
   same_double("map", "robot_radius", c.map.robot_radius, d.map.robot_radius);
@@ -1036,6 +1056,19 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       p->push_back("planner.max_planning_time: absent but not the default");
     }
   }
+  const char* const durabilities[] = {"transient_local", "volatile"};
+  same_text("map", "durability", std::string(durabilities[static_cast<int>(c.map_durability)]),
+            std::string(durabilities[static_cast<int>(d.map_durability)]));
+  {
+    const auto v = find("requests", "reply_wait");
+    if (scalar(v, "requests.reply_wait")) {
+      if (c.reply_wait.count() != std::llround(v->as<double>() * 1000.0))
+        p->push_back("requests.reply_wait: field differs from the file's value");
+    } else if (c.reply_wait != d.reply_wait) {
+      p->push_back("requests.reply_wait: absent but not the default");
+    }
+  }
+  same_bool("network", "localhost_only", c.localhost_only, d.localhost_only);
   same_bool("requests", "preempt", c.preempt, d.preempt);
   same_int("requests", "queue_capacity", c.queue_capacity, d.queue_capacity);
   const char* const publish[] = {"auto", "always", "never"};
@@ -1053,9 +1086,13 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       c.map.occupied_threshold <= 100 && std::isfinite(c.map.robot_radius) &&
       c.map.robot_radius >= 0 && c.map.max_cells >= 1 && c.map.max_cells <= (int64_t{1} << 28) &&
       c.queue_capacity >= 1 && c.queue_capacity <= 100000 && !c.frame_id.empty() &&
-      std::isfinite(c.slicer.z_min) && std::isfinite(c.slicer.z_max) &&
-      c.slicer.z_min <= c.slicer.z_max && std::isfinite(c.slicer.resolution) &&
-      c.slicer.resolution >= 0 && std::isfinite(c.map.inflation_radius) &&
+      !c.base_frame.empty() &&
+      node::without_leading_slash(c.base_frame) != node::without_leading_slash(c.frame_id) &&
+      c.transform_tolerance_s >= 0 && c.transform_tolerance_s <= 60 && c.reply_wait.count() >= 0 &&
+      c.reply_wait.count() <= 10000 && std::isfinite(c.slicer.z_min) &&
+      std::isfinite(c.slicer.z_max) && c.slicer.z_min <= c.slicer.z_max &&
+      std::isfinite(c.slicer.resolution) && c.slicer.resolution >= 0 &&
+      std::isfinite(c.map.inflation_radius) &&
       (c.map.inflation_radius == 0 || c.map.inflation_radius >= c.map.robot_radius) &&
       std::isfinite(c.map.cost_scaling_factor) && c.map.cost_scaling_factor >= 0 &&
       core::kCostWeightRange.contains(s.cost_weight.value_or(0)) &&
@@ -1067,8 +1104,8 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   if (!in_range) p->push_back("an accepted value is outside its documented range");
 
   // Every key of the file is known, given once, and has a value.
-  const std::set<std::string> sections = {"topics",   "map",   "planner",
-                                          "requests", "debug", "slicer"};
+  const std::set<std::string> sections = {"topics", "map",    "planner", "requests",
+                                          "debug",  "slicer", "network"};
   auto walk = [&](const YAML::Node& map, const std::string& prefix) {
     std::set<std::string> seen;
     for (const auto& kv : map) {

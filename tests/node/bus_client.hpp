@@ -46,9 +46,11 @@ inline node::NodeConfig test_config(const std::string& tag) {
   cfg.domain_id = test_domain();
   const std::string p = "t" + std::to_string(getpid()) + "_" + tag + "_";
   auto& t = cfg.topics;
-  for (std::string* name : {&t.projected_map, &t.goal_pose, &t.robot_pose, &t.plan_request, &t.plan,
-                            &t.plan_status, &t.planner_debug, &t.octomap}) {
-    *name = p + *name;
+  for (std::string* name :
+       {&t.projected_map, &t.goal_pose, &t.robot_pose, &t.plan_request, &t.plan, &t.plan_status,
+        &t.planner_debug, &t.octomap, &t.plan_raw, &t.plan_pruned, &t.expansions_forward,
+        &t.expansions_backward, &t.meeting_point, &t.tf, &t.tf_static, &t.clock}) {
+    *name = p + std::string(node::without_leading_slash(*name));
   }
   cfg.planner.settings.max_planning_time = std::chrono::seconds(10);
   return cfg;
@@ -171,13 +173,20 @@ class BusClient {
       node::dds::SubscriptionMatchedStatus path_sub;
       path_reader_->get_subscription_matched_status(path_sub);
       if (node::matched_readers(request_) > 0 && node::matched_readers(goal_) > 0 &&
-          node::matched_readers(robot_pose_) > 0 && sub.current_count > 0 &&
-          path_sub.current_count > 0 && (debug_reader_ == nullptr || debug_sub.current_count > 0)) {
+          (node::matched_readers(robot_pose_) > 0 || !node_reads_robot_pose_stamped()) &&
+          sub.current_count > 0 && path_sub.current_count > 0 &&
+          (debug_reader_ == nullptr || debug_sub.current_count > 0)) {
         return true;
       }
       std::this_thread::sleep_for(10ms);
     }
     return false;
+  }
+
+  // Whether the node reads PoseStamped robot poses (our robot_pose writer's type) at all.
+  bool node_reads_robot_pose_stamped() const {
+    return cfg_.robot_pose_source == node::RobotPoseSource::kTopic &&
+           cfg_.robot_pose_type == node::RobotPoseType::kPoseStamped;
   }
 
   void publish_slice(const core::OccupancyGrid& grid, const std::string& frame = "map") {

@@ -84,6 +84,19 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.topics.plan_status, b.topics.plan_status);
   EXPECT_EQ(a.topics.planner_debug, b.topics.planner_debug);
   EXPECT_EQ(a.topics.octomap, b.topics.octomap);
+  EXPECT_EQ(a.topics.plan_raw, b.topics.plan_raw);
+  EXPECT_EQ(a.topics.plan_pruned, b.topics.plan_pruned);
+  EXPECT_EQ(a.topics.expansions_forward, b.topics.expansions_forward);
+  EXPECT_EQ(a.topics.expansions_backward, b.topics.expansions_backward);
+  EXPECT_EQ(a.topics.meeting_point, b.topics.meeting_point);
+  EXPECT_EQ(a.topics.tf, b.topics.tf);
+  EXPECT_EQ(a.topics.tf_static, b.topics.tf_static);
+  EXPECT_EQ(a.topics.clock, b.topics.clock);
+  EXPECT_EQ(a.robot_pose_source, b.robot_pose_source);
+  EXPECT_EQ(a.robot_pose_type, b.robot_pose_type);
+  EXPECT_EQ(a.base_frame, b.base_frame);
+  EXPECT_EQ(a.transform_tolerance_s, b.transform_tolerance_s);
+  EXPECT_EQ(a.use_sim_time, b.use_sim_time);
   EXPECT_EQ(a.map.occupied_threshold, b.map.occupied_threshold);
   EXPECT_EQ(a.map.allow_unknown, b.map.allow_unknown);
   EXPECT_EQ(a.map.robot_radius, b.map.robot_radius);
@@ -899,3 +912,53 @@ TEST(Config, ADocumentStartingWithACommaIsASyntaxError) {
   ASSERT_EQ(two.errors.size(), 1u);
   EXPECT_NE(two.errors[0].find("found 2 YAML documents, expected one"), std::string::npos);
 }
+
+namespace vnsba::node {
+namespace {
+
+// Issue 17 item 4: where a goal's start comes from, and the clock.
+TEST(Config, RobotPoseSourceTypeBaseFrameToleranceAndSimTime) {
+  const NodeConfig defaults = *parse_config("").config;
+  EXPECT_EQ(defaults.robot_pose_source, RobotPoseSource::kTopic);
+  EXPECT_EQ(defaults.robot_pose_type, RobotPoseType::kPoseStamped);
+  EXPECT_EQ(defaults.base_frame, "base_link");
+  EXPECT_FALSE(defaults.use_sim_time);
+  const ConfigResult set = parse_config(
+      "robot_pose_source: tf\nrobot_pose_type: PoseWithCovarianceStamped\nbase_frame: "
+      "base_footprint\ntransform_tolerance: 0.25\nuse_sim_time: true\n");
+  ASSERT_TRUE(set.config) << Joined(set.errors);
+  EXPECT_EQ(set.config->robot_pose_source, RobotPoseSource::kTf);
+  EXPECT_EQ(set.config->robot_pose_type, RobotPoseType::kPoseWithCovarianceStamped);
+  EXPECT_EQ(set.config->base_frame, "base_footprint");
+  EXPECT_DOUBLE_EQ(set.config->transform_tolerance_s, 0.25);
+  EXPECT_TRUE(set.config->use_sim_time);
+
+  const ConfigResult bad = parse_config(
+      "robot_pose_source: amcl\nrobot_pose_type: Pose\nbase_frame: /map\n"
+      "transform_tolerance: -1\nuse_sim_time: sometimes\n");
+  EXPECT_FALSE(bad.config);
+  EXPECT_TRUE(HasError(bad, "robot_pose_source", {"\"amcl\"", "topic, tf"})) << Joined(bad.errors);
+  EXPECT_TRUE(HasError(bad, "robot_pose_type", {"PoseStamped, PoseWithCovarianceStamped"}));
+  EXPECT_TRUE(HasError(bad, "base_frame", {"\"/map\"", "not frame_id"}));
+  EXPECT_TRUE(HasError(bad, "transform_tolerance", {"seconds in [0, 60]"}));
+  EXPECT_TRUE(HasError(bad, "use_sim_time", {"true or false"}));
+  for (const char* tolerance : {"61", ".nan", ".inf", "[1]"})
+    EXPECT_TRUE(HasError(parse_config(std::string("transform_tolerance: ") + tolerance),
+                         "transform_tolerance", {"seconds"}))
+        << tolerance;
+  EXPECT_TRUE(HasError(parse_config("base_frame: \"\"\n"), "base_frame", {"non-empty"}));
+}
+
+TEST(Config, DebugLayerAndTfTopicsAreTopicNamesLikeEveryOther) {
+  const NodeConfig defaults = *parse_config("").config;
+  EXPECT_EQ(dds_topic_name(defaults, defaults.topics.tf), "rt/tf");
+  EXPECT_EQ(dds_topic_name(defaults, defaults.topics.expansions_forward),
+            "rt/planner_expansions_forward");
+  const ConfigResult bad = parse_config("topics: {plan_raw: plan, clock: \"2clock\"}\n");
+  EXPECT_TRUE(HasError(bad, "topics.plan, topics.plan_raw", {"expected different topics"}))
+      << Joined(bad.errors);
+  EXPECT_TRUE(HasError(bad, "topics.clock", {"do not start with a digit"})) << Joined(bad.errors);
+}
+
+}  // namespace
+}  // namespace vnsba::node

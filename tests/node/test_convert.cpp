@@ -176,5 +176,61 @@ TEST(Frames, ALeadingSlashNamesTheSameFrame) {
             wire::FRAME_MISMATCH);
 }
 
+// The debug layers in stock types: the expansions grid has the map's geometry and numbers the
+// cells in expansion order; the paths pass through the cells' centres.
+TEST(DebugLayers, ExpansionsAreOrderedOnTheMapGeometryAndPathsThroughCellCentres) {
+  core::OccupancyGrid g;
+  g.width = 7;
+  g.height = 5;
+  g.resolution = 0.2;
+  g.origin_x = -1.0;
+  g.origin_y = 3.0;
+  g.data.assign(35, 0);
+  const core::GridMap map = std::move(core::GridMap::build(g)).value();
+  const std::vector<core::Cell> expanded = {{0, 0}, {1, 0}, {1, 1}, {6, 4}};
+  const node::OccupancyGridMsg grid =
+      node::to_expansions_msg(expanded, map, "map", node::to_time_msg(int64_t{5'000'000'000}));
+  EXPECT_EQ(grid.info().width(), 7u);
+  EXPECT_EQ(grid.info().height(), 5u);
+  EXPECT_FLOAT_EQ(grid.info().resolution(), 0.2f);
+  EXPECT_DOUBLE_EQ(grid.info().origin().position().x(), -1.0);
+  EXPECT_DOUBLE_EQ(grid.info().origin().position().y(), 3.0);
+  EXPECT_EQ(grid.header().stamp().sec(), 5);
+  ASSERT_EQ(grid.data().size(), 35u);
+  auto at = [&](int x, int y) { return grid.data()[static_cast<size_t>(y) * 7 + x]; };
+  EXPECT_EQ(at(0, 0), 1);  // first
+  EXPECT_EQ(at(1, 0), 34);
+  EXPECT_EQ(at(1, 1), 67);
+  EXPECT_EQ(at(6, 4), 100);  // last
+  int nonzero = 0;
+  for (int8_t v : grid.data()) nonzero += v != 0;
+  EXPECT_EQ(nonzero, 4);
+  // One expansion is both first and last: 1.
+  EXPECT_EQ(node::to_expansions_msg({{3, 2}}, map, "map", node::now_msg()).data()[2 * 7 + 3], 1);
+
+  core::PlanResult result;
+  result.raw_path = {{0, 0}, {1, 1}, {2, 1}};
+  result.waypoints = {{0.5, 0.5}, {2.5, 1.5}};
+  const node::PathMsg raw = node::to_raw_path_msg(result, map, "map", node::now_msg());
+  ASSERT_EQ(raw.poses().size(), 3u);
+  EXPECT_NEAR(raw.poses()[1].pose().position().x(), -1.0 + 1.5 * 0.2, 1e-12);
+  EXPECT_NEAR(raw.poses()[1].pose().position().y(), 3.0 + 1.5 * 0.2, 1e-12);
+  const node::PathMsg pruned = node::to_pruned_path_msg(result, map, "map", node::now_msg());
+  ASSERT_EQ(pruned.poses().size(), 2u);
+  EXPECT_NEAR(pruned.poses()[1].pose().position().x(), -1.0 + 2.5 * 0.2, 1e-12);
+  const node::PointStampedMsg point = node::to_point_msg({6, 4}, map, "map", node::now_msg());
+  EXPECT_NEAR(point.point().x(), -1.0 + 6.5 * 0.2, 1e-12);
+  EXPECT_NEAR(point.point().y(), 3.0 + 4.5 * 0.2, 1e-12);
+}
+
+TEST(Time, NanosecondsRoundTripAndNanosecStaysInRange) {
+  for (const int64_t ns : {int64_t{0}, int64_t{1'500'000'000}, int64_t{-1}, int64_t{-2'250'000'000},
+                           int64_t{1'700'000'000'123'456'789}}) {
+    const node::TimeMsg t = node::to_time_msg(ns);
+    EXPECT_LT(t.nanosec(), 1'000'000'000u) << ns;
+    EXPECT_EQ(node::to_nanoseconds(t), ns);
+  }
+}
+
 }  // namespace
 }  // namespace vnsba::test

@@ -8,6 +8,10 @@
 #include <random>
 
 #include "bus_client.hpp"
+#include "geometry_msgs/msg/PointStampedPubSubTypes.h"
+#include "geometry_msgs/msg/PoseWithCovarianceStampedPubSubTypes.h"
+#include "rosgraph_msgs/msg/ClockPubSubTypes.h"
+#include "tf2_msgs/msg/TFMessagePubSubTypes.h"
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/node/planner_node.hpp"
@@ -360,6 +364,355 @@ TEST(NodeIntegration, GoalPoseUsesTheLatestRobotPose) {
   // The path starts and ends at the cell centres of the poses; resolution is float32 on the wire.
   EXPECT_NEAR(poses.front().pose().position().x(), sx, 1e-6);
   EXPECT_NEAR(poses.back().pose().position().y(), gy, 1e-6);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Issue 17 item 4: the start from tf or amcl's PoseWithCovarianceStamped, and simulated time.
+
+// A participant of its own publishing ROS 2 inputs beside the node (a tf broadcaster, amcl, a
+// simulator's clock): writers made on demand, each waited for until the node has matched it.
+class RosInputs {
+ public:
+  explicit RosInputs(const node::NodeConfig& cfg)
+      : cfg_(cfg), participant_(node::Participant::create(cfg.domain_id, "ros_inputs").value()) {}
+  ~RosInputs() { participant_->shutdown(); }
+
+  template <class PubSubType>
+  node::dds::DataWriter* writer(const std::string& topic, node::TopicQos qos) {
+    node::dds::DataWriter* w =
+        participant_
+            ->writer_on<PubSubType>(node::dds_topic_name(cfg_, topic), node::writer_qos(qos, false))
+            .value();
+    EXPECT_TRUE(wait_until([&] { return node::matched_readers(w) > 0; }, 10s)) << topic;
+    return w;
+  }
+
+  // A TFMessage of one transform: `child` at (x, y) with heading `yaw` in `parent`.
+  static node::TFMessageMsg transform(const std::string& parent, const std::string& child, double x,
+                                      double y, double yaw, const node::TimeMsg& stamp) {
+    geometry_msgs::msg::dds_::TransformStamped_ t;
+    t.header().frame_id(parent);
+    t.header().stamp(stamp);
+    t.child_frame_id(child);
+    t.transform().translation().x(x);
+    t.transform().translation().y(y);
+    t.transform().rotation().z(std::sin(yaw / 2));
+    t.transform().rotation().w(std::cos(yaw / 2));
+    node::TFMessageMsg msg;
+    msg.transforms().push_back(t);
+    return msg;
+  }
+
+  template <class PubSubType>
+  node::dds::DataReader* reader(const std::string& topic, const node::dds::DataReaderQos& qos,
+                                node::dds::DataReaderListener* listener) {
+    return participant_->reader_on<PubSubType>(node::dds_topic_name(cfg_, topic), qos, listener)
+        .value();
+  }
+
+ private:
+  const node::NodeConfig& cfg_;
+  std::unique_ptr<node::Participant> participant_;
+};
+
+// A publisher that repeats its newest message every 20 ms, as tf broadcasters and simulators do
+// (tf and clock are best effort for the node: one sample alone may be lost, a stream is not).
+template <class Msg>
+class Repeating {
+ public:
+  Repeating(node::dds::DataWriter* writer, Msg first)
+      : writer_(writer), msg_(std::move(first)), thread_([this] { loop(); }) {}
+  ~Repeating() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  // Replaces the message, and waits until it has gone out a few times.
+  void set(Msg msg) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      msg_ = std::move(msg);
+    }
+    std::this_thread::sleep_for(300ms);
+  }
+
+ private:
+  void loop() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_) {
+      Msg copy = msg_;
+      lock.unlock();
+      writer_->write(&copy);
+      lock.lock();
+      cv_.wait_for(lock, 20ms, [&] { return stop_; });
+    }
+  }
+  node::dds::DataWriter* writer_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  Msg msg_;
+  bool stop_ = false;
+  std::thread thread_;
+};
+
+// The odom -> base_link transform that puts base_link at (x, y) in the map, given map -> odom at
+// (ox, oy, oyaw): planar trigonometry, the oracle for the node's composition of 3D transforms.
+std::array<double, 2> base_in_odom(double x, double y, double ox, double oy, double oyaw) {
+  const double dx = x - ox, dy = y - oy;
+  return {std::cos(oyaw) * dx + std::sin(oyaw) * dy, -std::sin(oyaw) * dx + std::cos(oyaw) * dy};
+}
+
+TEST(RosInputs, TfGivesTheStartAndAMissingOrStaleTransformIsAStatusNamingTheFrames) {
+  node::NodeConfig cfg = test_config("tf");
+  cfg.robot_pose_source = node::RobotPoseSource::kTf;
+  cfg.base_frame = "base_footprint";
+  cfg.transform_tolerance_s = 0.5;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  const auto [gx, gy] = centre(grid, 18, 8);
+
+  run.client.publish_goal(gx, gy);  // no transform yet
+  const auto none = run.client.wait_status("goal-1");
+  ASSERT_TRUE(none);
+  EXPECT_EQ(none->code(), wire::INVALID_REQUEST);
+  EXPECT_NE(none->message().find("no transform from 'map' to 'base_footprint'"), std::string::npos)
+      << none->message();
+
+  RosInputs inputs(cfg);
+  auto* tf_static = inputs.writer<tf2_msgs::msg::dds_::TFMessage_PubSubType>(
+      cfg.topics.tf_static, node::TopicQos::kLatched);
+  auto* tf = inputs.writer<tf2_msgs::msg::dds_::TFMessage_PubSubType>(cfg.topics.tf,
+                                                                      node::TopicQos::kLatest);
+  const double ox = 0.3, oy = 2.1, oyaw = 0.6;  // map -> odom (a localiser's correction)
+  auto odom = RosInputs::transform("map", "odom", ox, oy, oyaw, node::now_msg());
+  ASSERT_TRUE(tf_static->write(&odom));
+  const auto [sx, sy] = centre(grid, 1, 1);
+  const auto local = base_in_odom(sx, sy, ox, oy, oyaw);
+  // "/odom": a leading slash names the same frame.
+  Repeating<node::TFMessageMsg> base(tf, RosInputs::transform("/odom", "base_footprint", local[0],
+                                                              local[1], 1.0, node::now_msg()));
+  std::this_thread::sleep_for(300ms);
+  run.client.publish_goal(gx, gy);
+  const auto planned = run.client.wait_status("goal-2");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->code(), wire::OK) << planned->message();
+  ASSERT_FALSE(planned->path().poses().empty());
+  EXPECT_NEAR(planned->path().poses().front().pose().position().x(), sx, 1e-6);
+  EXPECT_NEAR(planned->path().poses().front().pose().position().y(), sy, 1e-6);
+
+  // The robot's odometry stopped 3 s ago.
+  base.set(RosInputs::transform("odom", "base_footprint", local[0], local[1], 1.0,
+                                node::to_time_msg(std::chrono::system_clock::now() - 3s)));
+  run.client.publish_goal(gx, gy);
+  const auto stale = run.client.wait_status("goal-3");
+  ASSERT_TRUE(stale);
+  EXPECT_EQ(stale->code(), wire::INVALID_REQUEST);
+  EXPECT_NE(stale->message().find("stale: 'odom' -> 'base_footprint'"), std::string::npos)
+      << stale->message();
+}
+
+TEST(RosInputs, AmclsPoseWithCovarianceStampedIsTheStart) {
+  node::NodeConfig cfg = test_config("amcl");
+  cfg.robot_pose_type = node::RobotPoseType::kPoseWithCovarianceStamped;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  RosInputs inputs(cfg);
+  // amcl publishes amcl_pose reliable and transient local.
+  auto* amcl = inputs.writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>(
+      cfg.topics.robot_pose, node::TopicQos::kLatched);
+  const auto [sx, sy] = centre(grid, 2, 7);
+  node::PoseWithCovarianceStampedMsg pose;
+  pose.header().frame_id("map");
+  pose.header().stamp(node::now_msg());
+  pose.pose().pose(node::to_pose_msg(sx, sy, 0.4, "map", node::now_msg()).pose());
+  pose.pose().covariance()[0] = pose.pose().covariance()[7] = 0.25;
+  ASSERT_TRUE(amcl->write(&pose));
+  std::this_thread::sleep_for(200ms);
+  const auto [gx, gy] = centre(grid, 18, 1);
+  run.client.publish_goal(gx, gy);
+  const auto status = run.client.wait_status("goal-1");
+  ASSERT_TRUE(status);
+  ASSERT_EQ(status->code(), wire::OK) << status->message();
+  EXPECT_NEAR(status->path().poses().front().pose().position().x(), sx, 1e-6);
+  EXPECT_NEAR(status->path().poses().front().pose().position().y(), sy, 1e-6);
+}
+
+// With use_sim_time the node's clock is /clock: it stamps the path and ages the transforms.
+TEST(RosInputs, SimulatedTimeStampsThePathAndAgesTransforms) {
+  node::NodeConfig cfg = test_config("simtime");
+  cfg.use_sim_time = true;
+  cfg.robot_pose_source = node::RobotPoseSource::kTf;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  RosInputs inputs(cfg);
+  auto* clock = inputs.writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>(cfg.topics.clock,
+                                                                          node::TopicQos::kLatest);
+  auto* tf = inputs.writer<tf2_msgs::msg::dds_::TFMessage_PubSubType>(cfg.topics.tf,
+                                                                      node::TopicQos::kLatest);
+  auto clock_at = [](int32_t sec, uint32_t nanosec) {
+    node::ClockMsg msg;
+    msg.clock().sec(sec);
+    msg.clock().nanosec(nanosec);
+    return msg;
+  };
+  // The simulation is paused at 1000.25 s (its clock repeats, as a paused simulator's does).
+  Repeating<node::ClockMsg> sim_clock(clock, clock_at(1000, 250'000'000));
+  const auto [sx, sy] = centre(grid, 1, 1);
+  node::TimeMsg stamp;
+  stamp.sec(1000);  // 0.25 s before the simulation's now: fresh; decades old on the wall clock
+  Repeating<node::TFMessageMsg> base(tf,
+                                     RosInputs::transform("map", "base_link", sx, sy, 0.0, stamp));
+  std::this_thread::sleep_for(300ms);
+  const auto [gx, gy] = centre(grid, 18, 8);
+  run.client.publish_goal(gx, gy);
+  const auto planned = run.client.wait_status("goal-1");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->code(), wire::OK) << planned->message();
+  EXPECT_EQ(planned->path().header().stamp().sec(), 1000);
+  EXPECT_EQ(planned->path().header().stamp().nanosec(), 250'000'000u);
+  ASSERT_TRUE(run.client.paths.wait([](const auto& all) { return !all.empty(); }, 5s));
+  EXPECT_EQ(run.client.paths.snapshot().back().header().stamp().sec(), 1000);
+
+  sim_clock.set(clock_at(1010, 0));  // ten simulated seconds on, no newer transform
+  run.client.publish_goal(gx, gy);
+  const auto stale = run.client.wait_status("goal-2");
+  ASSERT_TRUE(stale);
+  EXPECT_EQ(stale->code(), wire::INVALID_REQUEST);
+  EXPECT_NE(stale->message().find("10.000 s old"), std::string::npos) << stale->message();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Issue 17 item 5: what rviz2 shows with stock displays.
+
+template <class PubSubType, class Msg>
+struct LayerReader {
+  LayerReader(RosInputs& inputs, const std::string& topic) {
+    // ROS 2's default subscription QoS: reliable, volatile, keep last 10.
+    node::dds::DataReaderQos qos = node::dds::DATAREADER_QOS_DEFAULT;
+    qos.reliability().kind = node::dds::RELIABLE_RELIABILITY_QOS;
+    qos.durability().kind = node::dds::VOLATILE_DURABILITY_QOS;
+    qos.history().kind = node::dds::KEEP_LAST_HISTORY_QOS;
+    qos.history().depth = 10;
+    reader = inputs.reader<PubSubType>(topic, qos, &collector);
+  }
+  bool matched() const {
+    node::dds::SubscriptionMatchedStatus status;
+    reader->get_subscription_matched_status(status);
+    return status.current_count > 0;
+  }
+  std::optional<Msg> wait_one() {
+    if (!collector.wait([](const auto& all) { return !all.empty(); }, 10s)) return std::nullopt;
+    return collector.snapshot().back();
+  }
+  Collector<Msg> collector;
+  node::dds::DataReader* reader = nullptr;
+};
+
+TEST(DebugLayers, RvizSeesTheRawAndPrunedPathsTheExpansionsAndTheMeetingPoint) {
+  node::NodeConfig cfg = test_config("layers");
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  run.client.publish_slice(grid);
+  ASSERT_TRUE(run.node.wait_for_map(10s));
+  RosInputs rviz(cfg);
+  using PathType = nav_msgs::msg::dds_::Path_PubSubType;
+  using GridType = nav_msgs::msg::dds_::OccupancyGrid_PubSubType;
+  LayerReader<PathType, PathMsg> raw(rviz, cfg.topics.plan_raw);
+  LayerReader<PathType, PathMsg> pruned(rviz, cfg.topics.plan_pruned);
+  LayerReader<GridType, node::OccupancyGridMsg> forward(rviz, cfg.topics.expansions_forward);
+  LayerReader<GridType, node::OccupancyGridMsg> backward(rviz, cfg.topics.expansions_backward);
+  LayerReader<geometry_msgs::msg::dds_::PointStamped_PubSubType, node::PointStampedMsg> meeting(
+      rviz, cfg.topics.meeting_point);
+  // debug.publish auto: published only to matched readers; wait until the node has matched them.
+  ASSERT_TRUE(wait_until(
+      [&] {
+        return raw.matched() && pruned.matched() && forward.matched() && backward.matched() &&
+               meeting.matched();
+      },
+      10s));
+  std::this_thread::sleep_for(300ms);  // the node's writers match a moment after our readers
+
+  const auto [sx, sy] = centre(grid, 1, 1);
+  const auto [gx, gy] = centre(grid, 18, 8);
+  node::PlanRequestMsg request;
+  request.id("layers");
+  request.planner("vns_bastar");
+  request.start(node::to_pose_msg(sx, sy, 0.0, "map", node::now_msg()));
+  request.goal(node::to_pose_msg(gx, gy, 0.0, "map", node::now_msg()));
+  run.client.publish_request_msg(request);
+  const auto status = run.client.wait_status("layers");
+  ASSERT_TRUE(status);
+  ASSERT_EQ(status->code(), wire::OK) << status->message();
+
+  const double res = grid.resolution;
+  auto cell_of = [&](double x, double y) {
+    return std::array<int, 2>{static_cast<int>(std::floor((x - grid.origin_x) / res)),
+                              static_cast<int>(std::floor((y - grid.origin_y) / res))};
+  };
+  auto value = [&](const std::vector<int8_t>& data, int x, int y) {
+    return data[static_cast<size_t>(y) * grid.width + x];
+  };
+  // The expansions: the map's geometry, only free cells, each search starting at its end.
+  for (auto* layer : {&forward, &backward}) {
+    const auto msg = layer->wait_one();
+    ASSERT_TRUE(msg);
+    EXPECT_EQ(msg->info().width(), static_cast<uint32_t>(grid.width));
+    EXPECT_EQ(msg->info().height(), static_cast<uint32_t>(grid.height));
+    EXPECT_FLOAT_EQ(msg->info().resolution(), static_cast<float>(res));
+    EXPECT_DOUBLE_EQ(msg->info().origin().position().x(), grid.origin_x);
+    EXPECT_DOUBLE_EQ(msg->info().origin().position().y(), grid.origin_y);
+    ASSERT_EQ(msg->data().size(), grid.data.size());
+    int64_t expanded = 0;
+    for (size_t i = 0; i < grid.data.size(); ++i) {
+      if (msg->data()[i] == 0) continue;
+      ++expanded;
+      EXPECT_EQ(grid.data[i], 0) << "an expanded cell " << i << " is not free";
+      EXPECT_GE(msg->data()[i], 1);
+      EXPECT_LE(msg->data()[i], 100);
+    }
+    EXPECT_GT(expanded, 0);
+    const auto end = layer == &forward ? cell_of(sx, sy) : cell_of(gx, gy);
+    EXPECT_EQ(value(msg->data(), end[0], end[1]), 1) << "the first expansion is the search's root";
+  }
+  // The raw path: cell centres of free cells, from the start's to the goal's (its steps are
+  // the planner's moves: VNS-BA* takes longer ones than the 8-neighbourhood).
+  const auto raw_path = raw.wait_one();
+  ASSERT_TRUE(raw_path);
+  const auto& cells = raw_path->poses();
+  ASSERT_GE(cells.size(), 2u);
+  EXPECT_NEAR(cells.front().pose().position().x(), sx, 1e-6);
+  EXPECT_NEAR(cells.back().pose().position().y(), gy, 1e-6);
+  for (const auto& pose : cells) {
+    const auto c = cell_of(pose.pose().position().x(), pose.pose().position().y());
+    EXPECT_EQ(value(grid.data, c[0], c[1]), 0) << "raw path cell (" << c[0] << ", " << c[1] << ")";
+  }
+  const auto pruned_path = pruned.wait_one();
+  ASSERT_TRUE(pruned_path);
+  ASSERT_GE(pruned_path->poses().size(), 2u);
+  EXPECT_LE(pruned_path->poses().size(), cells.size());
+  EXPECT_NEAR(pruned_path->poses().front().pose().position().x(), sx, 1e-6);
+  EXPECT_NEAR(pruned_path->poses().back().pose().position().y(), gy, 1e-6);
+  // The meeting point: a cell centre on the raw path, where the two searches joined.
+  const auto point = meeting.wait_one();
+  ASSERT_TRUE(point);
+  EXPECT_EQ(point->header().frame_id(), "map");
+  EXPECT_TRUE(std::any_of(cells.begin(), cells.end(), [&](const auto& pose) {
+    return std::abs(pose.pose().position().x() - point->point().x()) < 1e-6 &&
+           std::abs(pose.pose().position().y() - point->point().y()) < 1e-6;
+  }));
 }
 
 // A request whose goal carries a quaternion (x, y, z, w), as rviz2's goal tool sends it.

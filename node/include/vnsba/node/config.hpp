@@ -28,6 +28,27 @@ struct TopicNames {
   std::string plan_status = "plan_status";      // out: vnsba_msgs/PlanStatus
   std::string planner_debug = "planner_debug";  // out: vnsba_msgs/PlannerDebug
   std::string octomap = "octomap_binary";       // in (vnsba_slicer): octomap_msgs/Octomap
+  // Debug layers with stock ROS 2 types, for rviz2's Path, Map and PointStamped displays.
+  std::string plan_raw = "plan_raw";        // out: nav_msgs/Path, the search's grid path
+  std::string plan_pruned = "plan_pruned";  // out: nav_msgs/Path, the pruned waypoints
+  std::string expansions_forward = "planner_expansions_forward";    // out: nav_msgs/OccupancyGrid
+  std::string expansions_backward = "planner_expansions_backward";  // out: nav_msgs/OccupancyGrid
+  std::string meeting_point = "planner_meeting_point";  // out: geometry_msgs/PointStamped
+  // ROS 2's absolute tf and clock topics (robot_pose_source: tf; use_sim_time: true).
+  std::string tf = "/tf";                // in: tf2_msgs/TFMessage
+  std::string tf_static = "/tf_static";  // in: tf2_msgs/TFMessage, transient local
+  std::string clock = "/clock";          // in: rosgraph_msgs/Clock
+};
+
+// Where the start of a goal_pose goal comes from.
+enum class RobotPoseSource {
+  kTopic,  // the newest sample on topics.robot_pose (of robot_pose_type)
+  kTf,     // tf: the pose of base_frame in frame_id, composed from /tf and /tf_static
+};
+// The type on topics.robot_pose (robot_pose_source: topic).
+enum class RobotPoseType {
+  kPoseStamped,                // geometry_msgs/PoseStamped
+  kPoseWithCovarianceStamped,  // geometry_msgs/PoseWithCovarianceStamped (amcl's amcl_pose)
 };
 
 enum class DebugPublishing {
@@ -131,6 +152,16 @@ struct NodeConfig {
   // only, and so advertises only loopback locators: what a ROS 2 system with
   // ROS_LOCALHOST_ONLY=1 reaches (that variable set to 1 turns it on too, as in rmw_fastrtps).
   bool localhost_only = false;
+  // The start of goal_pose goals (plan_requests carry their own): robot_pose_source,
+  // robot_pose_type, base_frame (the robot's frame in tf) and transform_tolerance (seconds in
+  // [0, 60]: a dynamic transform older than this is stale and the goal is refused naming it).
+  RobotPoseSource robot_pose_source = RobotPoseSource::kTopic;
+  RobotPoseType robot_pose_type = RobotPoseType::kPoseStamped;
+  std::string base_frame = "base_link";
+  double transform_tolerance_s = 0.5;
+  // use_sim_time: the node's clock (stamps of what it publishes, the age of transforms) is the
+  // newest rosgraph_msgs/Clock on topics.clock, zero until one arrives, as in ROS 2.
+  bool use_sim_time = false;
 };
 
 struct ConfigResult {

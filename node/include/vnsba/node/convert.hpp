@@ -11,14 +11,19 @@
 #include <vector>
 
 #include "builtin_interfaces/msg/Time.h"
+#include "geometry_msgs/msg/PointStamped.h"
 #include "geometry_msgs/msg/PoseStamped.h"
+#include "geometry_msgs/msg/PoseWithCovarianceStamped.h"
 #include "nav_msgs/msg/OccupancyGrid.h"
 #include "nav_msgs/msg/Path.h"
 #include "octomap_msgs/msg/Octomap.h"
+#include "rosgraph_msgs/msg/Clock.h"
+#include "tf2_msgs/msg/TFMessage.h"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/core/search_trace.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/node/transforms.hpp"
 #include "vnsba_msgs/msg/PlanRequest.h"
 #include "vnsba_msgs/msg/PlanStatus.h"
 #include "vnsba_msgs/msg/PlannerDebug.h"
@@ -28,6 +33,10 @@ namespace vnsba::node {
 namespace wire = vnsba_msgs::msg::PlanStatus_Constants;
 using OccupancyGridMsg = nav_msgs::msg::dds_::OccupancyGrid_;
 using PoseStampedMsg = geometry_msgs::msg::dds_::PoseStamped_;
+using PoseWithCovarianceStampedMsg = geometry_msgs::msg::dds_::PoseWithCovarianceStamped_;
+using PointStampedMsg = geometry_msgs::msg::dds_::PointStamped_;
+using TFMessageMsg = tf2_msgs::msg::dds_::TFMessage_;
+using ClockMsg = rosgraph_msgs::msg::dds_::Clock_;
 using PathMsg = nav_msgs::msg::dds_::Path_;
 using PlanRequestMsg = vnsba_msgs::msg::dds_::PlanRequest_;
 using PlanStatusMsg = vnsba_msgs::msg::dds_::PlanStatus_;
@@ -62,6 +71,15 @@ uint8_t to_wire_code(core::StatusCode code);
 std::string code_name(uint8_t code);
 
 TimeMsg to_time_msg(std::chrono::system_clock::time_point t);
+TimeMsg to_time_msg(int64_t nanoseconds);
+int64_t to_nanoseconds(const TimeMsg& t);
+double to_seconds(const TimeMsg& t);
+// robot_pose_type PoseWithCovarianceStamped: the pose and its header (the covariance is unused).
+PoseStampedMsg to_pose_stamped(const PoseWithCovarianceStampedMsg& msg);
+// Puts every transform of a tf2_msgs/TFMessage (from /tf, or /tf_static when `is_static`) into
+// `tree`; returns what was wrong with those it refused (see TransformTree::set), made printable.
+std::vector<std::string> add_transforms(const TFMessageMsg& msg, bool is_static,
+                                        TransformTree& tree);
 TimeMsg now_msg();
 
 // Whether two frame ids name one frame: equal once a leading '/' is dropped from each, as tf2
@@ -114,6 +132,27 @@ PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& fr
 // with goal_yaw (radians) when it is set (ALGORITHM.md section 8, "Path poses").
 PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp,
                     double spacing_m, std::optional<double> goal_yaw = std::nullopt);
+// The same for any polyline in metres (spacing_m <= 0: its vertices only, tangent yaw).
+PathMsg to_path_msg(const std::vector<Eigen::Vector2d>& points, const std::string& frame,
+                    const TimeMsg& stamp, double spacing_m,
+                    std::optional<double> goal_yaw = std::nullopt);
+
+// Debug layers in stock ROS 2 types (topics plan_raw, plan_pruned, planner_expansions_*,
+// planner_meeting_point), for rviz2's own displays:
+// the search's grid path, a pose at each cell centre (tangent yaw);
+PathMsg to_raw_path_msg(const core::PlanResult& result, const core::GridMap& map,
+                        const std::string& frame, const TimeMsg& stamp);
+// the waypoints after pruning (tangent yaw);
+PathMsg to_pruned_path_msg(const core::PlanResult& result, const core::GridMap& map,
+                           const std::string& frame, const TimeMsg& stamp);
+// the cells one search expanded, on the map's geometry: 0 = not expanded, 1..100 = the order of
+// expansion (first 1, last 100), which rviz2's Map display shows with its "costmap" colours;
+OccupancyGridMsg to_expansions_msg(const std::vector<core::Cell>& expanded,
+                                   const core::GridMap& map, const std::string& frame,
+                                   const TimeMsg& stamp);
+// a cell's centre (the meeting cell of a bidirectional search).
+PointStampedMsg to_point_msg(const core::Cell& cell, const core::GridMap& map,
+                             const std::string& frame, const TimeMsg& stamp);
 
 // The smallest pose spacing the node publishes on a map of `resolution` metres per cell:
 // kMinPathSpacingCells cells (as fine as the finest spline sampling, sample_step 0.05 cells), so

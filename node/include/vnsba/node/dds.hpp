@@ -46,6 +46,12 @@ enum class TopicQos {
   kStatus,
   kLatest,  // reliable, volatile, keep last 1: robot pose, path
   kDebug,   // reliable, volatile, keep last 8: debug, so back-to-back runs are not replaced
+  // Readers of tf and clock: best effort (matches reliable and best-effort writers alike),
+  // volatile, keep last 100 (ROS 2's tf listener depth): only the newest value matters.
+  kStream,
+  // The reader of /tf_static: reliable, transient local (static broadcasters publish once,
+  // latched), keep last 100, as tf2_ros's static listener.
+  kStatic,
 };
 
 constexpr int32_t kStatusHistory = 1024;
@@ -118,6 +124,24 @@ class Participant {
     type->auto_fill_type_information(false);
     type->auto_fill_type_object(false);
     return make_topic(topic_name, type);
+  }
+
+  // The topic `topic_name` of PubSubType and a writer (reader) on it, in one checked step.
+  template <class PubSubType>
+  core::Expected<dds::DataWriter*> writer_on(const std::string& topic_name,
+                                             const dds::DataWriterQos& qos,
+                                             dds::DataWriterListener* listener = nullptr) {
+    auto t = topic<PubSubType>(topic_name);
+    if (!t) return t.error();
+    return writer(*t, qos, listener);
+  }
+  template <class PubSubType>
+  core::Expected<dds::DataReader*> reader_on(const std::string& topic_name,
+                                             const dds::DataReaderQos& qos,
+                                             dds::DataReaderListener* listener) {
+    auto t = topic<PubSubType>(topic_name);
+    if (!t) return t.error();
+    return reader(*t, qos, listener);
   }
 
   // `listener` (may be null) hears of its matched readers (publication_matched only).

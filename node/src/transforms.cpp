@@ -1,0 +1,134 @@
+#include "vnsba/node/transforms.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "vnsba/node/config.hpp"
+
+namespace vnsba::node {
+
+namespace {
+
+std::string quoted(std::string_view frame) {
+  return "'" + std::string(frame) + "'";
+}
+
+std::string seconds(double s) {
+  std::ostringstream out;
+  out.precision(3);
+  out << std::fixed << s << " s";
+  return out.str();
+}
+
+}  // namespace
+
+std::string TransformTree::set(std::string_view parent_frame, std::string_view child_frame,
+                               const Eigen::Vector3d& translation_m,
+                               const Eigen::Quaterniond& rotation, double stamp_s, bool is_static) {
+  const std::string_view parent = without_leading_slash(parent_frame);
+  const std::string_view child = without_leading_slash(child_frame);
+  const std::string what = "transform " + quoted(parent) + " -> " + quoted(child) + ": ";
+  if (parent.empty() || child.empty())
+    return what + "header.frame_id and child_frame_id must both be non-empty";
+  if (parent == child) return what + "a frame cannot be its own parent";
+  if (!translation_m.allFinite() || !rotation.coeffs().allFinite() || !std::isfinite(stamp_s))
+    return what + "translation, rotation and stamp must be finite";
+  if (rotation.norm() < 1e-9) return what + "rotation is a zero quaternion";
+  // A loop would make every lookup through it walk forever: refuse the transform that closes it.
+  for (std::string_view frame = parent;;) {
+    const auto it = parent_of_.find(frame);
+    if (it == parent_of_.end()) break;
+    if (it->second.parent == child)
+      return what + "would close a loop (" + quoted(child) + " is already an ancestor of " +
+             quoted(parent) + ")";
+    frame = it->second.parent;
+  }
+  auto it = parent_of_.find(child);
+  if (it == parent_of_.end()) {
+    if (parent_of_.size() >= kMaxFrames)
+      return what + "more than " + std::to_string(kMaxFrames) + " frames";
+    it = parent_of_.emplace(std::string(child), Edge()).first;
+  }
+  Edge& edge = it->second;
+  edge.parent = std::string(parent);
+  edge.child_in_parent = Eigen::Translation3d(translation_m) * rotation.normalized();
+  edge.stamp_s = stamp_s;
+  edge.is_static = is_static;
+  return "";
+}
+
+TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
+                                            std::string_view source_frame, double now_s,
+                                            double tolerance_s) const {
+  const std::string_view target = without_leading_slash(target_frame);
+  const std::string_view source = without_leading_slash(source_frame);
+  Lookup result;
+  const std::string what = "no transform from " + quoted(target) + " to " + quoted(source) + ": ";
+  if (target == source) {
+    result.ok = true;
+    return result;
+  }
+  // The source's ancestors, each with the source's pose in it, and the edges walked to get there.
+  struct Step {
+    std::string_view frame;
+    Eigen::Isometry3d source_in_frame;
+    const std::pair<const std::string, Edge>* edge;  // from the previous step's frame to this one
+  };
+  std::vector<Step> up_from_source{{source, Eigen::Isometry3d::Identity(), nullptr}};
+  for (;;) {
+    const auto it = parent_of_.find(up_from_source.back().frame);
+    if (it == parent_of_.end()) break;
+    up_from_source.push_back({it->second.parent,
+                              it->second.child_in_parent * up_from_source.back().source_in_frame,
+                              &*it});
+  }
+  std::vector<const std::pair<const std::string, Edge>*> used;
+  Eigen::Isometry3d target_in_frame = Eigen::Isometry3d::Identity();
+  std::string_view frame = target;
+  for (;;) {
+    const auto common = std::find_if(up_from_source.begin(), up_from_source.end(),
+                                     [&](const Step& step) { return step.frame == frame; });
+    if (common != up_from_source.end()) {
+      for (auto step = up_from_source.begin() + 1; step <= common; ++step)
+        used.push_back(step->edge);
+      result.source_in_target = target_in_frame.inverse() * common->source_in_frame;
+      break;
+    }
+    const auto it = parent_of_.find(frame);
+    if (it == parent_of_.end()) {
+      const std::string_view source_root = up_from_source.back().frame;
+      if (parent_of_.empty())
+        result.problem = what + "no transform has been received";
+      else if (up_from_source.size() == 1)
+        result.problem =
+            what + "no transform with child frame " + quoted(source) + " has been " + "received";
+      else
+        result.problem = what + "the received transforms join " + quoted(source) + " up to " +
+                         quoted(source_root) + " and " + quoted(target) + " up to " +
+                         quoted(frame) + ", and none joins those two";
+      return result;
+    }
+    used.push_back(&*it);
+    target_in_frame = it->second.child_in_parent * target_in_frame;
+    frame = it->second.parent;
+  }
+  // The oldest dynamic transform on the chain decides, as it would time out a tf2 lookup.
+  const std::pair<const std::string, Edge>* oldest = nullptr;
+  for (const auto* edge : used)
+    if (!edge->second.is_static &&
+        (oldest == nullptr || edge->second.stamp_s < oldest->second.stamp_s))
+      oldest = edge;
+  if (oldest != nullptr && now_s - oldest->second.stamp_s > tolerance_s) {
+    result.problem = "transform from " + quoted(target) + " to " + quoted(source) +
+                     " is stale: " + quoted(oldest->second.parent) + " -> " +
+                     quoted(oldest->first) + " is " + seconds(now_s - oldest->second.stamp_s) +
+                     " old (transform_tolerance " + seconds(tolerance_s) + ")";
+    return result;
+  }
+  result.ok = true;
+  return result;
+}
+
+}  // namespace vnsba::node
