@@ -1,7 +1,7 @@
 // vnsba_recorder: listens to a planner node's topics and turns each planning run into a picture
 // and a run record.
 //
-//   vnsba_recorder --out DIR [--config FILE] [--domain N] [--duration S | --runs N]
+//   vnsba_recorder --out DIR [--config FILE] [--domain N] [--namespace NS] [--duration S | --runs N]
 //                  [--debug-wait S] [--max-open-mb M]
 //   vnsba_recorder render RUN.json [--out RUN.svg]
 //
@@ -433,6 +433,8 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_dir, "folder for <id>.svg and <id>.json (created if missing)");
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
+  std::optional<std::string> ros_namespace;
+  app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
   auto* duration_opt = app.add_option("--duration", duration, "stop after this many seconds");
   app.add_option("--runs", runs_wanted, "stop after this many runs are written")
       ->excludes(duration_opt);
@@ -480,7 +482,7 @@ int main(int argc, char** argv) {
     spdlog::error("--out: cannot create folder {}: {}", out_dir, ec.message());
     return kBadInput;
   }
-  const auto loaded = node::load_config_or_report(config_path, domain);
+  const auto loaded = node::load_config_or_report(config_path, domain, ros_namespace);
   if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
 

@@ -1,6 +1,6 @@
 // vnsba_send_goal: one planning request from the command line, answered by one line.
 //
-//   vnsba_send_goal [--config FILE] [--domain N] --start X Y --goal X Y [--yaw RAD]
+//   vnsba_send_goal [--config FILE] [--domain N] [--namespace NS] --start X Y --goal X Y [--yaw RAD]
 //                   [--planner NAME] [--id ID] [--wait SECONDS] [--min-readers N]
 //
 // Publishes one vnsba_msgs/PlanRequest (start and goal in metres, in the config's frame_id; the
@@ -220,6 +220,8 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)")
       ->check(CLI::Range(0, 232));
+  std::optional<std::string> ros_namespace;
+  app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
   app.add_option("--start", start, "start X Y in metres, in the config's frame_id")
       ->expected(2)
       ->required();
@@ -281,7 +283,7 @@ int main(int argc, char** argv) {
   if (request_id.empty()) request_id = default_request_id();
 
   const std::optional<node::NodeConfig> loaded =
-      node::load_config_or_report(config_path, domain.value_or(-1));
+      node::load_config_or_report(config_path, domain.value_or(-1), ros_namespace);
   if (!loaded) return kOtherStatusOrBadInput;
   const node::NodeConfig& config = *loaded;
   // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one

@@ -295,6 +295,17 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   top.text("frame_id", c.frame_id, "a frame name",
            [](const std::string& s) { return s.empty() ? "a non-empty frame name" : ""; });
 
+  // ROS 2 namespace of the relative topic names (see normalized_namespace).
+  {
+    std::string given;
+    if (top.text("namespace", given, "a namespace", [](const std::string& s) {
+          const auto ns = normalized_namespace(s);
+          return ns ? std::string() : ns.error().message;
+        })) {
+      if (auto ns = normalized_namespace(given)) c.ros_namespace = *ns;
+    }
+  }
+
   Section topics = top.child("topics");
   const std::pair<const char*, std::string*> topic_fields[] = {
       {"projected_map", &c.topics.projected_map},
@@ -316,8 +327,9 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   std::vector<std::pair<const char*, const std::string*>> valid;  // read without error
   for (const auto& [key, name] : topic_fields) {
     if (!topics.text(key, *name, "a topic name", topic_name_problem)) continue;
-    for (const auto& [other_key, other] : valid)  // "/plan" and "plan" are the same topic
-      if (without_leading_slash(*other) == without_leading_slash(*name))
+    // As resolved: "/plan" and "plan" are one topic without a namespace, two with one.
+    for (const auto& [other_key, other] : valid)
+      if (dds_topic_name(c, *other) == dds_topic_name(c, *name))
         errors.push_back(topics.key_path(other_key) + ", " + topics.key_path(key) + ": found \"" +
                          *other + "\" and \"" + *name + "\", expected different topics");
     valid.emplace_back(key, name);
@@ -601,8 +613,23 @@ ConfigResult load_config(const std::string& path) {
 }
 
 std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
-  const std::string bare(without_leading_slash(name));
-  return config.ros2_naming ? "rt/" + bare : bare;
+  const bool absolute = !name.empty() && name.front() == '/';
+  std::string resolved(without_leading_slash(name));
+  if (!absolute && !config.ros_namespace.empty()) resolved = config.ros_namespace + "/" + resolved;
+  return config.ros2_naming ? "rt/" + resolved : resolved;
+}
+
+core::Expected<std::string> normalized_namespace(std::string_view given) {
+  std::string_view bare = without_leading_slash(given);
+  if (!bare.empty() && bare.back() == '/') bare.remove_suffix(1);
+  if (bare.empty()) return std::string();
+  std::string problem;
+  if (bare.find('~') != std::string_view::npos)
+    problem = "a namespace without '~'";
+  else if (std::string p = topic_name_problem(std::string(bare)); !p.empty())
+    problem = "a namespace: " + p;
+  if (!problem.empty()) return core::Status::error(core::StatusCode::kInvalidRequest, problem);
+  return std::string(bare);
 }
 
 std::string_view without_leading_slash(std::string_view name) {

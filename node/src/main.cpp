@@ -1,4 +1,4 @@
-// vnsba_node --config FILE [--domain N]: the DDS planner node.
+// vnsba_node [--config FILE] [--domain N] [--namespace NS]: the DDS planner node.
 //
 // SIGINT and SIGTERM are blocked in every thread and taken by sigwait() in main: no signal
 // handler runs, so nothing unsafe happens in one; the node then drains and exits 0.
@@ -15,11 +15,13 @@ int main(int argc, char** argv) {
   int domain = -1;
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
+  std::optional<std::string> ros_namespace;
+  app.add_option("--namespace", ros_namespace, vnsba::node::kNamespaceOptionHelp);
   CLI11_PARSE(app, argc, argv);
 
   vnsba::node::init_logging("vnsba_node");  // logs go to stderr
   const vnsba::node::StopSignals stop;      // before any thread exists
-  const auto config = vnsba::node::load_config_or_report(config_path, domain);
+  const auto config = vnsba::node::load_config_or_report(config_path, domain, ros_namespace);
   if (!config) return 2;
 
   vnsba::node::PlannerNode node(*config);

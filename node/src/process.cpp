@@ -18,8 +18,9 @@ void init_logging(const std::string& program) {
   spdlog::set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
 }
 
-std::optional<NodeConfig> load_config_or_report(const std::string& given_path,
-                                                int domain_override) {
+std::optional<NodeConfig> load_config_or_report(
+    const std::string& given_path, int domain_override,
+    const std::optional<std::string>& namespace_override) {
   std::string path = given_path;
   if (path.empty()) {
     const core::Expected<std::string> found = find_default_config();
@@ -38,6 +39,15 @@ std::optional<NodeConfig> load_config_or_report(const std::string& given_path,
   }
   NodeConfig config = std::move(*loaded.config);
   if (domain_override >= 0) config.domain_id = domain_override;
+  if (namespace_override) {
+    auto ns = normalized_namespace(*namespace_override);
+    if (!ns) {
+      spdlog::error("--namespace: found \"{}\", expected {}", *namespace_override,
+                    ns.error().message);
+      return std::nullopt;
+    }
+    config.ros_namespace = *ns;
+  }
   if (!config.localhost_only && ros_localhost_only_from_environment()) {
     spdlog::info("ROS_LOCALHOST_ONLY=1: DDS on the loopback interface only");
     config.localhost_only = true;

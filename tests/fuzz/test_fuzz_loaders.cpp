@@ -994,6 +994,17 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_int("", "domain_id", c.domain_id, d.domain_id);
   same_bool("", "ros2_naming", c.ros2_naming, d.ros2_naming);
   same_text("", "frame_id", c.frame_id, d.frame_id);
+  {
+    // Stored without its leading and trailing '/'.
+    const auto v = find("", "namespace");
+    if (scalar(v, "namespace")) {
+      std::string bare(node::without_leading_slash(v->Scalar()));
+      if (!bare.empty() && bare.back() == '/') bare.pop_back();
+      if (c.ros_namespace != bare) p->push_back("namespace: field differs from the file's value");
+    } else if (c.ros_namespace != d.ros_namespace) {
+      p->push_back("namespace: absent but not the default");
+    }
+  }
   same_text("topics", "projected_map", c.topics.projected_map, d.topics.projected_map);
   same_text("topics", "goal_pose", c.topics.goal_pose, d.topics.goal_pose);
   same_text("topics", "robot_pose", c.topics.robot_pose, d.topics.robot_pose);

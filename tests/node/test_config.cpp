@@ -84,6 +84,7 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.topics.plan_status, b.topics.plan_status);
   EXPECT_EQ(a.topics.planner_debug, b.topics.planner_debug);
   EXPECT_EQ(a.topics.octomap, b.topics.octomap);
+  EXPECT_EQ(a.ros_namespace, b.ros_namespace);
   EXPECT_EQ(a.topics.plan_raw, b.topics.plan_raw);
   EXPECT_EQ(a.topics.plan_pruned, b.topics.plan_pruned);
   EXPECT_EQ(a.topics.expansions_forward, b.topics.expansions_forward);
@@ -958,6 +959,32 @@ TEST(Config, DebugLayerAndTfTopicsAreTopicNamesLikeEveryOther) {
   EXPECT_TRUE(HasError(bad, "topics.plan, topics.plan_raw", {"expected different topics"}))
       << Joined(bad.errors);
   EXPECT_TRUE(HasError(bad, "topics.clock", {"do not start with a digit"})) << Joined(bad.errors);
+}
+
+// Issue 18: names resolve as ROS 2 resolves them.
+TEST(Config, ANamespacePrefixesRelativeTopicNamesAndLeavesAbsoluteOnes) {
+  const ConfigResult r = parse_config(
+      "namespace: /robot7/\ntopics: {projected_map: /map, goal_pose: goal_pose, plan: nav/plan}\n");
+  ASSERT_TRUE(r.config) << Joined(r.errors);
+  const NodeConfig& c = *r.config;
+  EXPECT_EQ(c.ros_namespace, "robot7");
+  EXPECT_EQ(dds_topic_name(c, c.topics.projected_map), "rt/map");
+  EXPECT_EQ(dds_topic_name(c, c.topics.goal_pose), "rt/robot7/goal_pose");
+  EXPECT_EQ(dds_topic_name(c, c.topics.plan), "rt/robot7/nav/plan");
+  EXPECT_EQ(dds_topic_name(c, c.topics.tf), "rt/tf");  // tf is absolute: shared by the fleet
+  NodeConfig plain = c;
+  plain.ros2_naming = false;
+  EXPECT_EQ(dds_topic_name(plain, plain.topics.goal_pose), "robot7/goal_pose");
+  // With a namespace "/plan" and "plan" are two topics; without one they are the same.
+  EXPECT_TRUE(parse_config("namespace: r1\ntopics: {plan: /plan, plan_status: plan}\n").config);
+  EXPECT_TRUE(HasError(parse_config("topics: {plan: /plan, plan_status: plan}\n"),
+                       "topics.plan, topics.plan_status", {"expected different topics"}));
+  for (const char* bad : {"\"r 1\"", "\"~r1\"", "\"1robot\"", "\"a//b\"", "[a]"}) {
+    const ConfigResult refused = parse_config(std::string("namespace: ") + bad + "\n");
+    EXPECT_TRUE(HasError(refused, "namespace", {"expected a namespace"})) << bad;
+  }
+  EXPECT_EQ(parse_config("namespace: \"\"\n").config->ros_namespace, "");
+  EXPECT_EQ(parse_config("namespace: /\n").config->ros_namespace, "");
 }
 
 }  // namespace

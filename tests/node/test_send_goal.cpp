@@ -68,9 +68,11 @@ std::optional<StatusLine> find_status_line(const std::string& output, const std:
 // A planner node in this process, on topics of its own, with the walled room as its map.
 class SendGoal : public ::testing::Test {
  protected:
-  void start_node(const std::string& tag, bool preempt = true) {
+  void start_node(const std::string& tag, bool preempt = true,
+                  const std::string& ros_namespace = "") {
     config_ = test_config(tag);
     config_.preempt = preempt;
+    config_.ros_namespace = ros_namespace;  // not in the YAML: the tools get --namespace
     config_path_ = write_temp_file(tag + ".yaml", config_yaml(config_));
     node_ = std::make_unique<node::PlannerNode>(config_);
     ASSERT_TRUE(node_->start().is_ok());
@@ -127,6 +129,29 @@ TEST_F(SendGoal, OkStatusPrintsOneLineAndExitsZero) {
   EXPECT_EQ(line->turns, status->turns());
   EXPECT_EQ(line->time_us, status->planning_time_us());
   EXPECT_TRUE(line->extra.empty()) << "nothing was adjusted";
+}
+
+// Issue 18: robots on one domain, apart by namespace. The node is in robot7's.
+TEST_F(SendGoal, ANamespaceSeparatesRobotsOnOneDomain) {
+  start_node("sg_ns", true, "robot7");
+  auto with = [&](const std::string& id, const std::string& ns, const std::string& wait) {
+    std::vector<std::string> a = args(id, 0.55, 0.55, 3.55, 0.55);
+    *(std::find(a.begin(), a.end(), "--wait") + 1) = wait;
+    a.insert(a.end(), {"--namespace", ns});
+    return a;
+  };
+  const auto [code, output] = run_to_exit(kSendGoal, with("sg-ns", "/robot7/", "20"));
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_status_line(output, "sg-ns");
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "OK");
+  // robot8's request reaches no node: exit 3, as with no node at all.
+  const auto [other_code, other_output] = run_to_exit(kSendGoal, with("sg-ns8", "robot8", "2"));
+  EXPECT_EQ(other_code, 3) << other_output;
+  EXPECT_FALSE(client_->wait_status("sg-ns8", 500ms));
+  const auto [bad_code, bad_output] = run_to_exit(kSendGoal, with("sg-ns-bad", "robot 7", "2"));
+  EXPECT_EQ(bad_code, 2) << bad_output;
+  EXPECT_NE(bad_output.find("--namespace"), std::string::npos) << bad_output;
 }
 
 // --yaw sets the goal's orientation: the last pose of the plan faces it.

@@ -117,6 +117,10 @@ struct NodeConfig {
   int domain_id = 0;             // DDS domain, 0..232 (the --domain flag overrides it)
   bool ros2_naming = true;       // DDS topic = "rt/" + name, as ROS 2 names its topics
   std::string frame_id = "map";  // the frame of slices, requests and paths
+  // `namespace`: the ROS 2 namespace of every relative topic name ("robot7": goal_pose is
+  // rt/robot7/goal_pose); names with a leading '/' stay absolute. Stored without leading or
+  // trailing '/'; empty = none.
+  std::string ros_namespace;
   TopicNames topics;
 
   // How incoming slices become planning grids (occupied_threshold, allow_unknown,
@@ -194,8 +198,13 @@ inline constexpr const char* kConfigOptionHelp =
 // "map", as tf2 strips it).
 std::string_view without_leading_slash(std::string_view name);
 
-// The DDS topic name of a configured topic name: "rt/" + name with ros2_naming, else the name.
-// A leading '/' is dropped first in both cases, as ROS 2 does ("/plan" -> "rt/plan").
+// A ROS 2 namespace as NodeConfig::ros_namespace keeps it: "/robot7/" and "robot7" give
+// "robot7", "" and "/" give "" (none). Refused (kInvalidRequest, the message saying what was
+// expected) unless the rest is a topic name without '~'.
+core::Expected<std::string> normalized_namespace(std::string_view given);
+// The DDS topic name of a configured topic name, resolved as ROS 2 resolves names: a relative
+// name goes under the namespace ("plan" -> "robot7/plan"), an absolute one ("/map") does not and
+// loses its '/'; then "rt/" in front with ros2_naming ("rt/robot7/plan", "rt/map").
 std::string dds_topic_name(const NodeConfig& config, const std::string& name);
 
 }  // namespace vnsba::node

@@ -19,7 +19,15 @@ void init_logging(const std::string& program);
 // returns nullopt. An empty `path` (no --config) means find_default_config(). The first log line
 // names the file read. A non-negative `domain_override` replaces domain_id (the --domain flag).
 // Sets the log level from the config.
-std::optional<NodeConfig> load_config_or_report(const std::string& path, int domain_override);
+// A set `namespace_override` (the --namespace flag) replaces the config's namespace; a bad one
+// is reported as an error naming --namespace.
+std::optional<NodeConfig> load_config_or_report(
+    const std::string& path, int domain_override,
+    const std::optional<std::string>& namespace_override = std::nullopt);
+
+// Every bus tool's --namespace help text.
+inline constexpr const char* kNamespaceOptionHelp =
+    "ROS 2 namespace of the relative topic names (overrides namespace), e.g. robot7";
 
 // Blocks SIGINT and SIGTERM in the calling thread, and so in every thread it starts later (DDS
 // starts its own): create it first thing in main, before any participant.
