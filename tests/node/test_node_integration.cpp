@@ -79,6 +79,12 @@ struct Running {
     EXPECT_TRUE(s.is_ok()) << s.message;
     return s.is_ok() && client.wait_for_node() && wait_for_plan_reader();
   }
+  // start(), then `grid` as the node's map.
+  bool start_with_map(const core::OccupancyGrid& grid) {
+    if (!start()) return false;
+    client.publish_slice(grid);
+    return node.wait_for_map(10s);
+  }
   // Matching is not symmetric: our path reader may have matched the node's writer before that
   // writer has matched our reader, and a path written in between is lost (`plan` is volatile).
   bool wait_for_plan_reader() {
@@ -146,10 +152,8 @@ TEST(NodeIntegration, ALoopbackOnlyNodeServesALoopbackOnlyClient) {
   node::NodeConfig cfg = test_config("localhost_only");
   cfg.localhost_only = true;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(run.start_with_map(grid));
   const auto [sx, sy] = centre(grid, 1, 1);
   const auto [gx, gy] = centre(grid, 18, 8);
   run.client.publish_request("loopback-1", sx, sy, gx, gy, "astar");
@@ -471,10 +475,8 @@ TEST(RosInputs, TfGivesTheStartAndAMissingOrStaleTransformIsAStatusNamingTheFram
   cfg.base_frame = "base_footprint";
   cfg.transform_tolerance_s = 0.5;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(run.start_with_map(grid));
   const auto [gx, gy] = centre(grid, 18, 8);
 
   run.client.publish_goal(gx, gy);  // no transform yet
@@ -521,10 +523,8 @@ TEST(RosInputs, AmclsPoseWithCovarianceStampedIsTheStart) {
   node::NodeConfig cfg = test_config("amcl");
   cfg.robot_pose_type = node::RobotPoseType::kPoseWithCovarianceStamped;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(run.start_with_map(grid));
   RosInputs inputs(cfg);
   // amcl publishes amcl_pose reliable and transient local.
   auto* amcl = inputs.writer<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>(
@@ -552,10 +552,8 @@ TEST(RosInputs, SimulatedTimeStampsThePathAndAgesTransforms) {
   cfg.use_sim_time = true;
   cfg.robot_pose_source = node::RobotPoseSource::kTf;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(run.start_with_map(grid));
   RosInputs inputs(cfg);
   auto* clock = inputs.writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>(cfg.topics.clock,
                                                                           node::TopicQos::kLatest);
@@ -623,10 +621,8 @@ struct LayerReader {
 TEST(DebugLayers, RvizSeesTheRawAndPrunedPathsTheExpansionsAndTheMeetingPoint) {
   node::NodeConfig cfg = test_config("layers");
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(run.start_with_map(grid));
   RosInputs rviz(cfg);
   using PathType = nav_msgs::msg::dds_::Path_PubSubType;
   using GridType = nav_msgs::msg::dds_::OccupancyGrid_PubSubType;
@@ -796,10 +792,8 @@ TEST(NodeIntegration, AGoalInInflationIsMovedByGoalToleranceAndReported) {
   cfg.planner.settings.cost_weight = 2.0;
   cfg.planner.settings.goal_tolerance = 0.3;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(run.start_with_map(grid));
   auto map = map_as_received(grid, run.config);
   // Cell (9, 4) is free in the map, beside the wall at x = 8: inflation blocks it.
   ASSERT_EQ(map->layer({9, 4}), core::CellLayer::kInflated);
@@ -868,10 +862,8 @@ TEST(NodeIntegration, ANonUnitGoalQuaternionIsIgnoredWithAWarning) {
   node::NodeConfig cfg = test_config("quaternion");
   cfg.planner.settings.cost_weight = 1.0;
   Running run(cfg);
-  ASSERT_TRUE(run.start());
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
-  run.client.publish_slice(grid);
-  ASSERT_TRUE(run.node.wait_for_map(10s));
+  ASSERT_TRUE(run.start_with_map(grid));
   const auto [sx, sy] = centre(grid, 1, 1);
   const auto [gx, gy] = centre(grid, 12, 6);
   // Half of the rotation by 1 rad: norm 0.5.
