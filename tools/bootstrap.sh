@@ -10,6 +10,7 @@ packages=(
   libcli11-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev librsvg2-bin
   librsvg2-dev libcairo2-dev
+  openssl libssl-dev
 )
 
 missing=()

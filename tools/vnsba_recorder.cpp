@@ -43,6 +43,7 @@
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/process.hpp"
+#include "vnsba/node/security.hpp"
 #include "vnsba/records/open_runs.hpp"
 #include "vnsba/records/run_record.hpp"
 #include "vnsba/render/svg.hpp"
@@ -489,8 +490,9 @@ int main(int argc, char** argv) {
   // Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(config.domain_id, "vnsba_recorder", nullptr,
-                                              config.localhost_only);
+  auto participant = node::Participant::create(
+      config.domain_id, "vnsba_recorder", nullptr, config.localhost_only,
+      node::with_default_enclave(config.security, node::kRecorderEnclave));
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

@@ -50,6 +50,7 @@
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/process.hpp"
+#include "vnsba/node/security.hpp"
 #include "vnsba/node/requests.hpp"
 #include "vnsba/render/text_format.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
@@ -306,8 +307,9 @@ int main(int argc, char** argv) {
   // The listeners outlive every entity that calls them (the participant is destroyed first).
   StatusReaderListener status_events;
   RequestWriterListener request_events;
-  auto participant = node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr,
-                                               config.localhost_only);
+  auto participant = node::Participant::create(
+      config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
+      node::with_default_enclave(config.security, node::kSendGoalEnclave));
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

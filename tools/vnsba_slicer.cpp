@@ -31,6 +31,7 @@
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/process.hpp"
+#include "vnsba/node/security.hpp"
 
 namespace {
 
@@ -191,8 +192,9 @@ int main(int argc, char** argv) {
   // Bus mode. Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(config.domain_id, "vnsba_slicer", nullptr,
-                                              config.localhost_only);
+  auto participant = node::Participant::create(
+      config.domain_id, "vnsba_slicer", nullptr, config.localhost_only,
+      node::with_default_enclave(config.security, node::kSlicerEnclave));
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

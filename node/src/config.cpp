@@ -21,6 +21,8 @@
 #include <sstream>
 #include <utility>
 
+#include "vnsba/node/security.hpp"
+
 namespace vnsba::node {
 namespace {
 
@@ -460,6 +462,20 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   Section network = top.child("network");
   network.boolean("localhost_only", c.localhost_only);
   network.finish();
+
+  // DDS Security (node/security.hpp); the ROS_SECURITY_* environment is applied after loading.
+  Section security = top.child("security");
+  security.boolean("enable", c.security.enable);
+  security.text("keystore", c.security.keystore, "a directory", [](const std::string&) {
+    return std::string();  // any path; checked when a participant is created
+  });
+  security.text("enclave", c.security.enclave, "an enclave name", [](const std::string& s) {
+    return s.empty() ? std::string() : enclave_name_problem(s);
+  });
+  security.choice<SecurityStrategy>(
+      "strategy", c.security.strategy,
+      {{"Enforce", SecurityStrategy::kEnforce}, {"Permissive", SecurityStrategy::kPermissive}});
+  security.finish();
 
   Section debug = top.child("debug");
   debug.choice<DebugPublishing>("publish", c.debug,

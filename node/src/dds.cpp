@@ -6,8 +6,12 @@
 
 #include <algorithm>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/log/Log.hpp>
+#include <fastdds/dds/log/StdoutErrConsumer.hpp>
 #include <iterator>
 #include <sstream>
+
+#include "vnsba/node/security.hpp"
 
 namespace vnsba::node {
 
@@ -16,6 +20,54 @@ namespace {
 core::Status dds_error(const std::string& what) {
   return core::Status::error(core::StatusCode::kInternalError, "DDS: " + what + " failed");
 }
+
+// Fast DDS reports why its security plugins refuse a participant only in its log (an
+// asynchronous queue); this consumer keeps the errors and warnings logged while a secured
+// participant is being created, so the failure can name the files at fault. Registered once,
+// with the first secured participant, for the life of the process.
+class SecurityLogCapture : public eprosima::fastdds::dds::LogConsumer {
+ public:
+  static SecurityLogCapture& instance() {
+    static SecurityLogCapture* capture = [] {
+      using eprosima::fastdds::dds::Log;
+      // Fast DDS's own console output moves from stdout to stderr: a secured bus logs refused
+      // peers, and stdout is where vnsba_send_goal prints its one line.
+      Log::ClearConsumers();
+      Log::RegisterConsumer(std::make_unique<eprosima::fastdds::dds::StdoutErrConsumer>());
+      auto owned = std::make_unique<SecurityLogCapture>();
+      SecurityLogCapture* raw = owned.get();
+      Log::RegisterConsumer(std::move(owned));
+      return raw;
+    }();
+    return *capture;
+  }
+  void Consume(const eprosima::fastdds::dds::Log::Entry& entry) override {
+    if (entry.kind == eprosima::fastdds::dds::Log::Info ||
+        entry.message.find_first_not_of(" \t\r\n") == std::string::npos)
+      return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (capturing_ && messages_.size() < 32) {
+      std::string category = entry.context.category != nullptr ? entry.context.category : "";
+      messages_.push_back((category.empty() ? "" : category + ": ") + entry.message);
+    }
+  }
+  void start() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    capturing_ = true;
+    messages_.clear();
+  }
+  std::vector<std::string> stop() {
+    eprosima::fastdds::dds::Log::Flush();  // everything logged so far has been consumed
+    std::lock_guard<std::mutex> lock(mutex_);
+    capturing_ = false;
+    return std::move(messages_);
+  }
+
+ private:
+  std::mutex mutex_;
+  bool capturing_ = false;
+  std::vector<std::string> messages_;
+};
 
 }  // namespace
 
@@ -93,15 +145,21 @@ dds::DataReaderQos reader_qos(TopicQos profile) {
 
 core::Expected<std::unique_ptr<Participant>> Participant::create(
     int domain_id, const std::string& name, dds::DomainParticipantListener* listener,
-    bool localhost_only) {
+    bool localhost_only, const SecurityConfig& security) {
   if (domain_id < 0 || domain_id > 232) {
     return core::Status::error(core::StatusCode::kInvalidRequest,
                                "domain id " + std::to_string(domain_id) + " is outside 0..232");
   }
+  // Security first: a missing or unreadable file is named before any DDS entity exists.
+  const core::Expected<SecurityPlan> security_plan = plan_security(security);
+  if (!security_plan) return security_plan.error();
+  for (const std::string& note : security_plan->notes) spdlog::warn("{}", note);
   std::unique_ptr<Participant> self(new Participant());
   self->domain_id_ = domain_id;
   dds::DomainParticipantQos qos = dds::PARTICIPANT_QOS_DEFAULT;
   qos.name(name);
+  for (const auto& [property, value] : security_plan->properties)
+    qos.properties().properties().emplace_back(property, value);
   qos.transport().use_builtin_transports = false;
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   // Room for bursts of map fragments on loopback.
@@ -119,6 +177,13 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
       eprosima::fastrtps::Duration_t(0, 500'000'000);
   qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
   qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
+  // One secured creation at a time, so the log captured is this participant's.
+  static std::mutex secured_creation;
+  std::unique_lock<std::mutex> secured_lock(secured_creation, std::defer_lock);
+  if (security_plan->secured) {
+    secured_lock.lock();
+    SecurityLogCapture::instance().start();
+  }
   self->participant_ = dds::DomainParticipantFactory::get_instance()->create_participant(
       domain_id, qos, listener,
       // Discovery callbacks (always delivered) and, from every reader and writer, incompatible
@@ -126,6 +191,16 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
       listener != nullptr ? dds::StatusMask::requested_incompatible_qos()
                                 << dds::StatusMask::offered_incompatible_qos()
                           : dds::StatusMask::none());
+  if (security_plan->secured) {
+    const std::vector<std::string> logged = SecurityLogCapture::instance().stop();
+    if (self->participant_ == nullptr) {
+      return core::Status::error(
+          core::StatusCode::kInvalidRequest,
+          security_failure_message(*security_plan, diagnose_enclave(*security_plan), logged));
+    }
+    spdlog::info("security: enclave '{}' ({}), DDS Security on", security_plan->enclave,
+                 security_plan->enclave_directory);
+  }
   if (self->participant_ == nullptr)
     return dds_error("create_participant(domain " + std::to_string(domain_id) + ")");
   self->publisher_ = self->participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);

@@ -23,6 +23,7 @@
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/reply_gate.hpp"
 #include "vnsba/node/requests.hpp"
+#include "vnsba/node/security.hpp"
 #include "vnsba/node/slice_slot.hpp"
 #include "vnsba/node/time_source.hpp"
 #include "vnsba/node/transforms.hpp"
@@ -261,8 +262,9 @@ core::Status PlannerNode::Impl::start() {
       [this, name](const std::string& topic, const std::string& policy) {
         return qos_fix(topic, policy, name);
       });
-  auto participant = Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get(),
-                                         cfg_.localhost_only);
+  auto participant =
+      Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get(),
+                          cfg_.localhost_only, with_default_enclave(cfg_.security, kNodeEnclave));
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
 

@@ -7,6 +7,8 @@
 #include <ctime>
 #include <filesystem>
 
+#include "vnsba/node/security.hpp"
+
 namespace vnsba::node {
 
 void init_logging(const std::string& program) {
@@ -52,6 +54,13 @@ std::optional<NodeConfig> load_config_or_report(
     spdlog::info("ROS_LOCALHOST_ONLY=1: DDS on the loopback interface only");
     config.localhost_only = true;
   }
+  // SROS2's ROS_SECURITY_* variables over the security section (node/security.hpp).
+  const auto security_environment = apply_security_environment(config.security);
+  if (!security_environment) {
+    spdlog::error("{}", security_environment.error().message);
+    return std::nullopt;
+  }
+  for (const std::string& line : *security_environment) spdlog::info("{}", line);
   spdlog::set_level(spdlog::level::from_str(config.log_level));
   return config;
 }

@@ -48,6 +48,7 @@
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/node/config.hpp"
+#include "vnsba/node/security.hpp"
 #include "vnsba/records/run_record.hpp"
 
 // A loader that allocates without bound on some input (yaml-cpp 0.7's LoadAll does on a
@@ -1080,6 +1081,14 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
     }
   }
   same_bool("network", "localhost_only", c.localhost_only, d.localhost_only);
+  same_bool("security", "enable", c.security.enable, d.security.enable);
+  same_text("security", "keystore", c.security.keystore, d.security.keystore);
+  same_text("security", "enclave", c.security.enclave, d.security.enclave);
+  const char* const strategies[] = {"Enforce", "Permissive"};
+  same_text("security", "strategy", std::string(strategies[static_cast<int>(c.security.strategy)]),
+            std::string(strategies[static_cast<int>(d.security.strategy)]));
+  if (!c.security.enclave.empty() && !node::enclave_name_problem(c.security.enclave).empty())
+    p->push_back("security.enclave: accepted a value that is not an enclave name");
   same_bool("requests", "preempt", c.preempt, d.preempt);
   same_int("requests", "queue_capacity", c.queue_capacity, d.queue_capacity);
   const char* const publish[] = {"auto", "always", "never"};
@@ -1116,7 +1125,7 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
 
   // Every key of the file is known, given once, and has a value.
   const std::set<std::string> sections = {"topics", "map",    "planner", "requests",
-                                          "debug",  "slicer", "network"};
+                                          "debug",  "slicer", "network", "security"};
   auto walk = [&](const YAML::Node& map, const std::string& prefix) {
     std::set<std::string> seen;
     for (const auto& kv : map) {

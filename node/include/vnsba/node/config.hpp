@@ -59,6 +59,21 @@ enum class DebugPublishing {
 
 enum class MapDurability { kTransientLocal, kVolatile };
 
+// security.*: DDS Security with an SROS2 keystore (node/security.hpp: the ROS_SECURITY_*
+// environment applied on top, the enclave checked, the participant's properties).
+enum class SecurityStrategy {
+  kEnforce,     // a security setup that fails stops the executable; never an open participant
+  kPermissive,  // as SROS2: no keystore, enclave or file there runs unsecured, with a warning
+};
+struct SecurityConfig {
+  bool enable = false;   // security.enable (ROS_SECURITY_ENABLE=true turns it on too)
+  std::string keystore;  // security.keystore: the keystore directory (ROS_SECURITY_KEYSTORE)
+  // security.enclave: "/vnsba/node", the directory <keystore>/enclaves/vnsba/node; empty = the
+  // executable's own (/vnsba/node, /vnsba/slicer, /vnsba/recorder, /vnsba/send_goal).
+  std::string enclave;
+  SecurityStrategy strategy = SecurityStrategy::kEnforce;  // security.strategy
+};
+
 // OctoMap slicing settings (used by vnsba_slicer).
 struct SlicerConfig {
   double z_min = 0.1;       // metres, lower bound of the height band
@@ -166,6 +181,8 @@ struct NodeConfig {
   // use_sim_time: the node's clock (stamps of what it publishes, the age of transforms) is the
   // newest rosgraph_msgs/Clock on topics.clock, zero until one arrives, as in ROS 2.
   bool use_sim_time = false;
+  // DDS Security for every participant of the executable (off by default).
+  SecurityConfig security;
 };
 
 struct ConfigResult {

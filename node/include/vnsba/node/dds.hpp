@@ -28,6 +28,7 @@
 #include <string>
 
 #include "vnsba/core/status.hpp"
+#include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 
 namespace vnsba::node {
@@ -108,9 +109,14 @@ class Participant {
  public:
   // `listener` (may be null) receives discovery events from the start; it must outlive this.
   // `localhost_only`: UDP on 127.0.0.1 only (network.localhost_only, ROS_LOCALHOST_ONLY=1).
+  // `security` (security.hpp; give it the executable's default enclave with
+  // with_default_enclave): when enabled, the enclave's files are checked first and the
+  // participant is created with Fast DDS's builtin security plugins. Enforce: any failure is an
+  // error naming the files at fault, never an open participant. Permissive without an enclave:
+  // an open participant and a warning (as SROS2).
   static core::Expected<std::unique_ptr<Participant>> create(
       int domain_id, const std::string& name, dds::DomainParticipantListener* listener = nullptr,
-      bool localhost_only = false);
+      bool localhost_only = false, const SecurityConfig& security = {});
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
