@@ -22,6 +22,8 @@
 #include <string_view>
 #include <system_error>
 
+#include "vnsba/yaml/document.hpp"
+
 namespace vnsba::maps {
 // The core types this file reads and writes.
 using namespace core;  // NOLINT(google-build-using-namespace)
@@ -260,36 +262,81 @@ Status read_pgm(const MapServerParams& params, OccupancyGrid* grid) {
   return Status::ok();
 }
 
+// The map_server YAML: a map of keys, read through yaml-cpp (vnsba/yaml/document.hpp). Each key
+// with its value and its 1-based line. Keys map_server does not know are ignored.
 struct YamlEntry {
-  std::string_view value;  // unquoted, comment removed
-  int line = 0;            // 1-based
+  YAML::Node value;
+  int line = 0;
 };
-using FlatYaml = std::map<std::string_view, YamlEntry, std::less<>>;
+using YamlEntries = std::map<std::string, YamlEntry, std::less<>>;
 
-// The flat "key: value" subset of YAML that map_server writes: no nesting, no multi-line values.
-// '#' starts a comment at the line start or after whitespace (so "a#b.pgm" stays a file name).
-Status parse_flat_yaml(const std::string& path, std::string_view text, FlatYaml* entries) {
-  const std::vector<std::string_view> lines = split_lines(text);
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const int line = static_cast<int>(i + 1);
-    std::string_view content = lines[i];
-    for (size_t p = 0; p < content.size(); ++p) {
-      if (content[p] == '#' && (p == 0 || is_space(content[p - 1]))) content = content.substr(0, p);
+Status read_yaml_entries(const std::string& path, const std::string& text, YamlEntries* entries) {
+  const yaml::Document doc = yaml::load_document(text);
+  if (doc.problem) {
+    const yaml::Problem& p = *doc.problem;
+    const std::string column = p.column > 0 ? " at column " + std::to_string(p.column) : "";
+    switch (p.kind) {
+      case yaml::Problem::Kind::kSyntax:
+        return invalid(path, p.line, "YAML syntax error", column, ": ", p.message);
+      case yaml::Problem::Kind::kNesting:
+        return invalid(path, p.line, column.empty() ? "" : column.substr(1) + ", ", p.message);
+      case yaml::Problem::Kind::kDocuments:
+        return invalid(path, p.line, p.message);
+      default:
+        return invalid(path, p.line, "cannot read the YAML: ", p.message);
     }
-    content = trim(content);
-    if (content.empty() || content == "---") continue;  // "---" opens the document
-    const size_t colon = content.find(':');
-    if (colon == std::string_view::npos) return invalid(path, line, "expected 'key: value'");
-    std::string_view value = trim(content.substr(colon + 1));
-    if (value.size() >= 2 && (value[0] == '"' || value[0] == '\'') && value.back() == value[0]) {
-      value = value.substr(1, value.size() - 2);
+  }
+  if (doc.root.IsNull()) return Status::ok();  // an empty file: the required keys are missing
+  if (!doc.root.IsMap()) {
+    return invalid(path, yaml::line_of(doc.root), "found ", yaml::kind_of(doc.root),
+                   " at the top level, expected a map of keys (image, resolution, origin, ...)");
+  }
+  for (const auto& item : doc.root) {
+    const YAML::Node& key = item.first;
+    const int line = yaml::line_of(key);
+    if (!key.IsScalar()) {
+      return invalid(path, line, "found ", yaml::kind_of(key), " as a key, expected a key name");
     }
-    const std::string_view key = trim(content.substr(0, colon));
-    if (!entries->emplace(key, YamlEntry{value, line}).second) {
-      return invalid(path, line, "duplicate key ", quote(key));
+    // yaml-cpp reads a line without ':' in a block map as a key without a value, placed at the
+    // key itself (after "key:" or in "{key}" the null value is placed after the key).
+    if (item.second.IsNull() && item.second.Mark().pos == key.Mark().pos) {
+      return invalid(path, line, "expected 'key: value', found ", quote(key.Scalar()));
+    }
+    if (!entries->emplace(key.Scalar(), YamlEntry{item.second, line}).second) {
+      return invalid(path, line, "duplicate key ", quote(key.Scalar()));
     }
   }
   return Status::ok();
+}
+
+// The text of a scalar value; an error naming the key when the value is a list, a map or absent
+// (`key:` with nothing after it, or YAML's null). `expected` says what the key takes.
+Status yaml_text(const std::string& path, std::string_view key, const YamlEntry& entry,
+                 std::string_view expected, std::string* out) {
+  if (entry.value.IsNull()) {
+    return invalid(path, entry.line, key, " has no value, expected ", expected);
+  }
+  if (!entry.value.IsScalar()) {
+    return invalid(path, entry.line, key, " is ", yaml::kind_of(entry.value), ", expected ",
+                   expected);
+  }
+  *out = entry.value.Scalar();
+  return Status::ok();
+}
+
+// How a value is shown in a message: a text quoted, a list with its first items ("[1, 2]").
+std::string shown(const YAML::Node& node) {
+  if (node.IsScalar()) return quote(node.Scalar());
+  if (!node.IsSequence()) return "(" + std::string(yaml::kind_of(node)) + ")";
+  constexpr size_t kMaxShown = 4;
+  std::string out = "[";
+  size_t i = 0;
+  for (const YAML::Node& item : node) {
+    if (i > 0) out += ", ";
+    if (i++ == kMaxShown) return out + "...]";
+    out += item.IsScalar() ? quote(item.Scalar()) : yaml::kind_of(item);
+  }
+  return out + "]";
 }
 
 }  // namespace
@@ -419,12 +466,14 @@ Expected<std::vector<MovingAiScenario>> load_movingai_scenarios(const std::strin
   return scenarios;
 }
 
-Expected<OccupancyGrid> load_map_server(const std::string& yaml_path) {
+namespace {
+
+Expected<OccupancyGrid> read_map_server(const std::string& yaml_path) {
   const std::optional<std::string> text = read_file(yaml_path);
   if (!text) return invalid(yaml_path, 0, "cannot open file");
 
-  FlatYaml entries;
-  if (Status s = parse_flat_yaml(yaml_path, *text, &entries); !s.is_ok()) return s;
+  YamlEntries entries;
+  if (Status s = read_yaml_entries(yaml_path, *text, &entries); !s.is_ok()) return s;
   for (const char* key : {"image", "resolution", "origin"}) {
     if (entries.count(key) == 0) return invalid(yaml_path, 0, "missing required key '", key, "'");
   }
@@ -432,13 +481,18 @@ Expected<OccupancyGrid> load_map_server(const std::string& yaml_path) {
     const auto it = entries.find(key);
     return it == entries.end() ? 0 : it->second.line;
   };
-  const auto value_of = [&](const char* key, std::string_view fallback) {
+  // The text of an optional key (`out` keeps its default when absent); a list or a map is an
+  // error.
+  const auto text_of = [&](const char* key, std::string_view expected, std::string* out) {
     const auto it = entries.find(key);
-    return it == entries.end() ? fallback : it->second.value;
+    return it == entries.end() ? Status::ok()
+                               : yaml_text(yaml_path, key, it->second, expected, out);
   };
 
   MapServerParams params;
-  const std::filesystem::path image_path(value_of("image", ""));
+  std::string image;
+  if (Status s = text_of("image", "a file name", &image); !s.is_ok()) return s;
+  const std::filesystem::path image_path(image);
   if (image_path.empty()) return invalid(yaml_path, line_of("image"), "image is empty");
   params.image_path = image_path.is_absolute()
                           ? image_path.string()
@@ -449,9 +503,13 @@ Expected<OccupancyGrid> load_map_server(const std::string& yaml_path) {
                                  {"occupied_thresh", &params.occupied_thresh},
                                  {"free_thresh", &params.free_thresh}}) {
     const auto it = entries.find(key);
-    if (it != entries.end() && (!parse_number(it->second.value, out) || !std::isfinite(*out))) {
-      return invalid(yaml_path, it->second.line, key, " ", quote(it->second.value),
-                     " is not a finite number");
+    if (it == entries.end()) continue;
+    std::string value;
+    if (Status s = yaml_text(yaml_path, key, it->second, "a finite number", &value); !s.is_ok()) {
+      return s;
+    }
+    if (!parse_number(value, out) || !std::isfinite(*out)) {
+      return invalid(yaml_path, it->second.line, key, " ", quote(value), " is not a finite number");
     }
   }
   if (params.resolution <= 0.0) {
@@ -467,13 +525,15 @@ Expected<OccupancyGrid> load_map_server(const std::string& yaml_path) {
                    format_double(params.free_thresh), " is outside [0, occupied_thresh)");
   }
 
-  const std::string_view negate = value_of("negate", "0");
+  std::string negate = "0";
+  if (Status s = text_of("negate", "0, 1, true or false", &negate); !s.is_ok()) return s;
   params.negate = negate == "1" || negate == "true" || negate == "True";
   if (!params.negate && negate != "0" && negate != "false" && negate != "False") {
     return invalid(yaml_path, line_of("negate"), "negate ", quote(negate),
                    " is not 0, 1, true or false");
   }
-  const std::string_view mode = value_of("mode", "trinary");
+  std::string mode = "trinary";
+  if (Status s = text_of("mode", "trinary, scale or raw", &mode); !s.is_ok()) return s;
   params.mode = mode == "scale" ? PgmMode::kScale
                 : mode == "raw" ? PgmMode::kRaw
                                 : PgmMode::kTrinary;
@@ -482,23 +542,17 @@ Expected<OccupancyGrid> load_map_server(const std::string& yaml_path) {
                    " is not trinary, scale or raw");
   }
 
-  // origin: [x, y, yaw] in metres and radians.
-  const std::string_view origin = value_of("origin", "");
-  std::vector<std::string_view> items;
-  if (origin.size() >= 2 && origin.front() == '[' && origin.back() == ']') {
-    const std::string_view list = origin.substr(1, origin.size() - 2);
-    for (size_t begin = 0; begin <= list.size();) {
-      const size_t comma = std::min(list.find(',', begin), list.size());
-      items.push_back(trim(list.substr(begin, comma - begin)));
-      begin = comma + 1;
-    }
-  }
+  // origin: [x, y, yaw] in metres and radians, a flow ([x, y, yaw]) or block ("- x" lines) list.
+  const YAML::Node& origin = entries.at("origin").value;
   double xyz[3] = {};
-  for (size_t i = 0; i < 3; ++i) {
-    if (items.size() != 3 || !parse_number(items[i], &xyz[i]) || !std::isfinite(xyz[i])) {
-      return invalid(yaml_path, line_of("origin"), "origin ", quote(origin),
-                     " is not [x, y, yaw] with finite numbers");
-    }
+  bool numbers = origin.IsSequence() && origin.size() == 3;
+  for (size_t i = 0; numbers && i < 3; ++i) {
+    const YAML::Node item = origin[i];
+    numbers = item.IsScalar() && parse_number(item.Scalar(), &xyz[i]) && std::isfinite(xyz[i]);
+  }
+  if (!numbers) {
+    return invalid(yaml_path, line_of("origin"), "origin ", shown(origin),
+                   " is not [x, y, yaw] with finite numbers");
   }
   if (xyz[2] != 0.0) {
     return invalid(yaml_path, line_of("origin"), "origin yaw ", format_double(xyz[2]),
@@ -516,6 +570,16 @@ Expected<OccupancyGrid> load_map_server(const std::string& yaml_path) {
   grid.origin_x = params.origin_x;
   grid.origin_y = params.origin_y;
   return grid;
+}
+
+}  // namespace
+
+Expected<OccupancyGrid> load_map_server(const std::string& yaml_path) {
+  try {
+    return read_map_server(yaml_path);
+  } catch (const YAML::Exception& e) {  // not expected past load_document: a safety net
+    return invalid(yaml_path, yaml::line_of(e.mark), "cannot read the YAML: ", e.msg);
+  }
 }
 
 Expected<std::string> save_map_server(const OccupancyGrid& grid, const std::string& stem,
@@ -551,8 +615,7 @@ Expected<std::string> save_map_server(const OccupancyGrid& grid, const std::stri
   for (int32_t row = 0; row < grid.height; ++row) {  // PGM rows run top to bottom
     for (int32_t x = 0; x < grid.width; ++x) {
       const int value = grid.at(x, grid.height - 1 - row);
-      const bool occupied =
-          classify_value(value, occupied_threshold, true) == CellLayer::kOccupied;
+      const bool occupied = classify_value(value, occupied_threshold, true) == CellLayer::kOccupied;
       pgm.push_back(static_cast<char>(occupied                            ? 0
                                       : (value >= 0 && value <= kFreeMax) ? 254
                                                                           : 205));

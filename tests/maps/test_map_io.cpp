@@ -440,6 +440,178 @@ TEST(MapServer, EveryTruncationOfAP5ImageFailsCleanly) {
   EXPECT_TRUE(load_map_server(yaml).has_value());
 }
 
+// --- map_server YAML through yaml-cpp ---
+
+// A folder holding p5_8bit.pgm (4 x 3, see P5MapSaverOutputWithCrlfYaml) and `name` with `yaml`.
+std::string YamlBesideImage(const std::string& folder, const std::string& name,
+                            const std::string& yaml) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("vnsba_map_io_" + folder);
+  fs::create_directories(dir);
+  if (!fs::exists(dir / "p5_8bit.pgm")) {
+    fs::copy_file(Fixture("map_server/p5_8bit.pgm"), dir / "p5_8bit.pgm");
+  }
+  WriteBytes(dir / name, yaml);
+  return (dir / name).string();
+}
+
+// Everything yaml-cpp reads that the flat "key: value" subset did not: quoted values, comments
+// after values, block and flow lists for origin, a flow map as the whole document, anchors and
+// aliases, document markers, tags. Every spelling loads the same map.
+TEST(MapServerYaml, QuotesCommentsListsAnchorsAndFlowStyleLoadTheSameMap) {
+  const fs::path dir = FreshTempDir("yaml_spellings");
+  const auto plain = load_map_server(YamlBesideImage(
+      "yaml_spellings", "plain.yaml",
+      "image: p5_8bit.pgm\nresolution: 0.05\norigin: [-10.0, -5.5, 0.0]\nnegate: 0\n"));
+  ASSERT_TRUE(plain.has_value()) << plain.error().message;
+  EXPECT_EQ(plain->origin_x, -10.0);
+  EXPECT_EQ(plain->origin_y, -5.5);
+  EXPECT_EQ(plain->resolution, 0.05);
+  const std::pair<const char*, const char*> spellings[] = {
+      {"double quotes", "image: \"p5_8bit.pgm\"\nresolution: \"0.05\"\norigin: [-10, -5.5, 0]\n"},
+      {"single quotes", "image: 'p5_8bit.pgm'\nresolution: 0.05\norigin: ['-10', '-5.5', '0']\n"},
+      {"comments",
+       "# a map\nimage: p5_8bit.pgm # the image\nresolution: 0.05   # m\n"
+       "origin: [-10.0, -5.5, 0.0]  # x, y, yaw\n# the end\n"},
+      {"block list",
+       "image: p5_8bit.pgm\nresolution: 0.05\norigin:\n  - -10.0\n  - -5.5\n  - 0.0\n"},
+      {"block list, no indent",
+       "image: p5_8bit.pgm\norigin:\n- -10.0\n- -5.5\n- 0\nresolution: 0.05\n"},
+      {"flow list over lines",
+       "image: p5_8bit.pgm\nresolution: 0.05\norigin: [\n  -10.0,\n  -5.5,\n  0.0\n]\n"},
+      {"flow map document", "{image: p5_8bit.pgm, resolution: 0.05, origin: [-10.0, -5.5, 0.0]}\n"},
+      {"anchors and aliases",
+       "x: &x -10.0\nimage: p5_8bit.pgm\nresolution: 0.05\norigin: [*x, -5.5, 0.0]\n"},
+      {"document markers",
+       "%YAML 1.2\n---\nimage: p5_8bit.pgm\nresolution: 0.05\n"
+       "origin: [-10.0, -5.5, 0.0]\n...\n"},
+      {"tags",
+       "image: !!str p5_8bit.pgm\nresolution: !!float 0.05\norigin: !!seq [-10.0, -5.5, 0.0]\n"},
+      {"crlf and indented keys",
+       " image: p5_8bit.pgm\r\n resolution: 0.05\r\n origin: [-10.0, -5.5, 0.0]\r\n"},
+      {"negate spelled false",
+       "image: p5_8bit.pgm\nresolution: 0.05\norigin: [-10.0, -5.5, 0.0]\nnegate: false\n"},
+  };
+  for (const auto& [name, yaml] : spellings) {
+    SCOPED_TRACE(name);
+    const auto grid = load_map_server(YamlBesideImage("yaml_spellings", "spelling.yaml", yaml));
+    ASSERT_TRUE(grid.has_value()) << grid.error().message;
+    EXPECT_EQ(grid->resolution, plain->resolution);
+    EXPECT_EQ(grid->origin_x, plain->origin_x);
+    EXPECT_EQ(grid->origin_y, plain->origin_y);
+    EXPECT_EQ(grid->width, plain->width);
+    EXPECT_EQ(grid->data, plain->data);
+  }
+  // A quoted name keeps what YAML quotes for: a '#' after a space, a leading space.
+  fs::copy_file(Fixture("map_server/p5_8bit.pgm"), dir / "a #1.pgm");
+  const auto hashed = load_map_server(
+      YamlBesideImage("yaml_spellings", "hashed.yaml",
+                      "image: \"a #1.pgm\"\nresolution: 0.05\norigin: [-10.0, -5.5, 0.0]\n"));
+  ASSERT_TRUE(hashed.has_value()) << hashed.error().message;
+  EXPECT_EQ(hashed->data, plain->data);
+}
+
+TEST(MapServerYaml, MalformedYamlNamesFileLineAndKey) {
+  const std::string head = "image: p5_8bit.pgm\nresolution: 0.05\n";
+  const std::string origin = "origin: [0.0, 0.0, 0.0]\n";
+  const auto resolution = [&](const std::string& value) {  // line 2
+    return "image: p5_8bit.pgm\nresolution: " + value + "\n" + origin;
+  };
+  auto repeat = [](const std::string& unit, int times) {
+    std::string out;
+    for (int i = 0; i < times; ++i) out += unit;
+    return out;
+  };
+  std::string billion_laughs = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
+  for (char c = 'b'; c <= 'j'; ++c) {
+    billion_laughs += std::string(1, c) + ": &" + c + " [" +
+                      repeat(std::string("*") + static_cast<char>(c - 1) + ", ", 9) + "*" +
+                      static_cast<char>(c - 1) + "]\n";
+  }
+  struct Case {
+    const char* name;
+    std::string yaml;
+    int line;  // 0: the message names no line
+    std::string problem;
+  };
+  const Case cases[] = {
+      // yaml-cpp reports an unclosed flow list where the text ends.
+      {"syntax error", head + "origin: [0.0, 0.0, 0.0\n", 4, "YAML syntax error"},
+      {"syntax error, bad indent", head + origin + "  mode: raw\n", 4, "YAML syntax error"},
+      // yaml-cpp 0.7 ends an unclosed quote at the end of the text: the keys it took in are
+      // missing.
+      {"unclosed quote", "image: \"p5_8bit.pgm\nresolution: 0.05\n" + origin, 0,
+       "missing required key 'resolution'"},
+      {"resolution is a map", resolution("{m: 0.05}"), 2,
+       "resolution is a map, expected a finite number"},
+      {"resolution is a list", resolution("[0.05]"), 2,
+       "resolution is a list, expected a finite number"},
+      {"resolution without a value", resolution(""), 2,
+       "resolution has no value, expected a finite number"},
+      {"resolution text", resolution("\"five cm\""), 2,
+       "resolution 'five cm' is not a finite number"},
+      {"resolution .nan", resolution(".nan"), 2, "resolution '.nan' is not a finite number"},
+      {"resolution nan", resolution("nan"), 2, "resolution 'nan' is not a finite number"},
+      {"resolution .inf", resolution(".inf"), 2, "resolution '.inf' is not a finite number"},
+      {"resolution inf", resolution("inf"), 2, "resolution 'inf' is not a finite number"},
+      {"resolution overflows", resolution("1e999"), 2, "resolution '1e999' is not a finite number"},
+      {"free_thresh -.inf", head + origin + "free_thresh: -.inf\n", 4,
+       "free_thresh '-.inf' is not a finite number"},
+      {"image is a map", "image: {file: p5_8bit.pgm}\nresolution: 0.05\n" + origin, 1,
+       "image is a map, expected a file name"},
+      {"image is null", "image: ~\nresolution: 0.05\n" + origin, 1, "image has no value"},
+      {"image is empty", "image: ''\nresolution: 0.05\n" + origin, 1, "image is empty"},
+      {"mode is a list", head + origin + "mode: [trinary]\n", 4,
+       "mode is a list, expected trinary, scale or raw"},
+      {"negate is a map", head + origin + "negate: {a: 1}\n", 4, "negate is a map"},
+      {"origin is a map", head + "origin: {x: 0, y: 0, yaw: 0}\n", 3,
+       "origin (a map) is not [x, y, yaw]"},
+      {"origin quoted", head + "origin: \"[0, 0, 0]\"\n", 3,
+       "origin '[0, 0, 0]' is not [x, y, yaw]"},
+      {"origin of four", head + "origin: [0, 0, 0, 0]\n", 3, "origin ['0', '0', '0', '0'] is not"},
+      {"origin nested", head + "origin: [[0], 0, 0]\n", 3, "origin [a list, '0', '0'] is not"},
+      {"origin .nan", head + "origin: [.nan, 0, 0]\n", 3, "origin ['.nan', '0', '0'] is not"},
+      {"origin block list of two", head + "origin:\n  - 1\n  - 2\n", 3, "origin ['1', '2'] is not"},
+      {"origin yaw in a block list", head + "origin:\n  - 1\n  - 2\n  - 0.5\n", 3,
+       "origin yaw 0.5 rad is not 0"},
+      {"duplicate key", head + origin + "resolution: 0.1\n", 4, "duplicate key 'resolution'"},
+      {"duplicate key, flow map", "{image: a.pgm, image: b.pgm}\n", 1, "duplicate key 'image'"},
+      {"map as a key", head + origin + "? {a: 1}\n: 2\n", 4, "found a map as a key"},
+      {"list as a key", head + origin + "[a, b]: 2\n", 4, "found a list as a key"},
+      {"line without a colon", head + origin + "just words\n", 4,
+       "expected 'key: value', found 'just words'"},
+      {"line without a colon, keys after it", head + "just words\n" + origin, 4,
+       "YAML syntax error at column 7: illegal map value"},
+      {"top level list", "- image: p5_8bit.pgm\n", 1, "found a list at the top level"},
+      {"top level text", "p5_8bit.pgm\n", 1, "found a text at the top level"},
+      {"two documents", head + origin + "---\nmode: raw\n", 4,
+       "found 2 YAML documents, expected one"},
+      {"a document starting with ','", head + origin + "---\n,\n", 5, "YAML syntax error"},
+      {"nested 600 deep", head + origin + "extra: " + repeat("[", 600) + repeat("]", 600) + "\n", 4,
+       "nested deeper than"},
+      {"nested 100,000 deep", repeat("{a: ", 100000) + "1" + repeat("}", 100000) + "\n", 1,
+       "nested deeper than"},
+      {"block nesting 100,000 deep", repeat("- ", 100000) + "x\n", 1, "nested deeper than"},
+      {"NUL byte", head + origin + "# a comment\n" + std::string(1, '\0') + "mode: raw\n", 5,
+       "a NUL byte"},
+      {"NUL byte in a value", "image: p5_8bit" + std::string(1, '\0') + "x.pgm\n", 1, "a NUL byte"},
+      {"control character", head + origin + "mode: ra\x7fw\n", 4, "control character 0x7f"},
+      {"lone carriage return", head + origin + "# note\rmode: raw\n", 4, "carriage return"},
+      {"alias bomb without image", billion_laughs + "resolution: 0.05\n" + origin, 0,
+       "missing required key 'image'"},
+      {"undefined alias", head + "origin: [*x, 0, 0]\n", 3, "YAML syntax error"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string path = YamlBesideImage("yaml_malformed", "bad.yaml", c.yaml);
+    EXPECT_TRUE(FailsNaming(load_map_server(path), path, c.line, c.problem));
+  }
+  // An alias bomb that is otherwise a good map loads: yaml-cpp shares aliased nodes (10^9 "x"
+  // would otherwise be read), and the reader walks only the keys it knows.
+  const auto bomb = load_map_server(
+      YamlBesideImage("yaml_malformed", "bomb.yaml", billion_laughs + head + origin));
+  EXPECT_TRUE(bomb.has_value()) << bomb.error().message;
+}
+
 // --- save_map_server ---
 
 TEST(MapServerSave, RoundTripIsExact) {

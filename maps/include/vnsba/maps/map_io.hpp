@@ -35,11 +35,12 @@ struct MovingAiScenario {
 // Moving AI `.scen` ("version 1" tab-separated or "version 1.0" space-separated).
 core::Expected<std::vector<MovingAiScenario>> load_movingai_scenarios(const std::string& path);
 
-// ROS map_server map: the YAML file names the image (PGM, P2 or P5, 8 or 16 bit) and gives
-// resolution, origin [x, y, yaw], negate, occupied_thresh, free_thresh and mode (trinary,
-// scale or raw). Only yaw = 0 is supported (the grid must be axis-aligned); a non-zero yaw is
-// an error. The YAML is the flat subset map_server writes, read without a YAML library because
-// core has no such dependency.
+// ROS map_server map: the YAML file names the image (PGM, P2 or P5, 8 or 16 bit; a relative
+// name is relative to the YAML's folder) and gives resolution, origin [x, y, yaw], negate,
+// occupied_thresh, free_thresh and mode (trinary, scale or raw). Only yaw = 0 is supported (the
+// grid must be axis-aligned); a non-zero yaw is an error. The YAML is read with yaml-cpp (quoted
+// values, comments, flow or block lists, anchors); it must be one document holding a map, without
+// repeated keys; keys map_server does not know are ignored.
 core::Expected<core::OccupancyGrid> load_map_server(const std::string& yaml_path);
 
 // Writes `<stem>.pgm` (P5) and `<stem>.yaml` in trinary mode as map_saver does: occupied
