@@ -10,7 +10,11 @@
 // relative keys [c * m, c * m + m), so the output grid anchored at 0 stays aligned with voxels.
 #include "vnsba/maps/octomap_slice.hpp"
 
+#include <octomap/AbstractOcTree.h>
+#include <octomap/AbstractOccupancyOcTree.h>
+#include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
+#include <octomap/OcTreeStamped.h>
 
 #include <algorithm>
 #include <bitset>
@@ -20,6 +24,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string_view>
 #include <utility>
@@ -90,15 +95,54 @@ void extreme_key(const octomap::OcTree& tree, const octomap::OcTreeNode* node, i
   }
 }
 
+// The occupancy trees liboctomap 1.9 reads, by the id their files and messages carry, and the
+// bytes of one node's data in a .ot file (the node type's writeData, checked against liboctomap
+// 1.9.7's headers and the files it writes): OcTree a float log-odds; ColorOcTree the float and
+// three colour bytes (r, g, b); OcTreeStamped only the float, as OcTreeNodeStamped does not write
+// its timestamp. In .bt files and message data every type writes the same occupancy bit stream
+// (writeBinaryData). Any other id (CountingOcTree, a user's tree type) is refused: its layout is
+// not known here, so its bytes could not be checked before liboctomap reads them.
+struct TreeType {
+  const char* id;
+  size_t full_value_bytes;
+};
+constexpr TreeType kTreeTypes[] = {{"OcTree", 4}, {"ColorOcTree", 4 + 3}, {"OcTreeStamped", 4}};
+
+const TreeType* find_tree_type(const std::string& id) {
+  for (const TreeType& t : kTreeTypes) {
+    if (id == t.id) return &t;
+  }
+  return nullptr;
+}
+
+std::string known_tree_types() {
+  std::string out;
+  for (const TreeType& t : kTreeTypes) out += (out.empty() ? "" : ", ") + std::string(t.id);
+  return out;
+}
+
+// An id from a file or a message for an error message: quoted, cut short, control and non-ASCII
+// bytes as '?'.
+std::string shown_id(const std::string& id) {
+  std::string out = id.substr(0, 40);
+  for (char& c : out) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  return "'" + out + (id.size() > 40 ? "...'" : "'");
+}
+
 // Checks the layout of a serialised tree before OctoMap reads it: OctoMap's readers trust their
 // input (a truncated stream makes them use bytes they never read, a corrupt one makes them
-// recurse below the tree depth). `full` is the .ot layout of OcTree (per node: float log-odds,
-// then one byte with a bit per existing child, followed by each child); otherwise the layout of
-// writeBinaryData (per inner node: two bytes holding a 2-bit code per child, (byte >> 2i) & 3 for
-// child i of that byte: 0 none, 1 free leaf, 2 occupied leaf, 3 inner node whose bytes follow).
-// Returns the problem, or "" with `nodes` (all nodes, as OcTree::size counts them) set.
-std::string check_layout(std::string_view data, bool full, unsigned depth_limit, uint64_t& nodes) {
-  const size_t node_bytes = full ? 5 : 2;
+// recurse below the tree depth). `full_value_bytes` > 0 is the .ot layout (per node: the node's
+// data, starting with its float log-odds, `full_value_bytes` in all, then one byte with a bit per
+// existing child, followed by each child); 0 the layout of writeBinaryData (per inner node: two
+// bytes holding a 2-bit code per child, (byte >> 2i) & 3 for child i of that byte: 0 none, 1 free
+// leaf, 2 occupied leaf, 3 inner node whose bytes follow). Returns the problem, or "" with
+// `nodes` (all nodes, as OcTree::size counts them) set.
+std::string check_layout(std::string_view data, size_t full_value_bytes, unsigned depth_limit,
+                         uint64_t& nodes) {
+  const bool full = full_value_bytes > 0;
+  const size_t node_bytes = full ? full_value_bytes + 1 : 2;
   std::vector<std::pair<unsigned, unsigned>> pending{{0, 1}};  // (depth, nodes left to read)
   size_t pos = 0;
   nodes = 1;
@@ -120,7 +164,7 @@ std::string check_layout(std::string_view data, bool full, unsigned depth_limit,
       float value;
       std::memcpy(&value, p, sizeof value);
       if (!std::isfinite(value)) return "corrupt: a node's log-odds is not finite";
-      created = followed = static_cast<unsigned>(std::bitset<8>(p[4]).count());
+      created = followed = static_cast<unsigned>(std::bitset<8>(p[full_value_bytes]).count());
     } else {
       for (unsigned i = 0; i < 8; ++i) {
         const unsigned code = (p[i / 4] >> (2 * (i % 4))) & 3u;
@@ -140,14 +184,54 @@ std::string check_layout(std::string_view data, bool full, unsigned depth_limit,
   return "";
 }
 
-// Builds an OcTree from checked bytes. `what` starts every error message.
+// OcTree's .ot node stream (OcTreeBaseImpl::writeData's layout: per node its float log-odds, a
+// byte with a bit per existing child, then the children in order) of any occupancy tree.
+template <class Tree>
+void append_occupancy_nodes(const Tree& tree, const typename Tree::NodeType* node,
+                            std::string& out) {
+  const float value = node->getLogOdds();
+  out.append(reinterpret_cast<const char*>(&value), sizeof value);
+  unsigned children = 0;
+  for (unsigned i = 0; i < 8; ++i) children |= (tree.nodeChildExists(node, i) ? 1u : 0u) << i;
+  out.push_back(static_cast<char>(children));
+  for (unsigned i = 0; i < 8; ++i) {  // at most 16 levels deep: check_layout saw to that
+    if (tree.nodeChildExists(node, i))
+      append_occupancy_nodes(tree, tree.getNodeChild(node, i), out);
+  }
+}
+
+// A ColorOcTree or OcTreeStamped as the OcTree of its occupancy: the same nodes with the same
+// log-odds; colours and timestamps are dropped. Why a conversion and not a slice templated on the
+// tree type: the slice reads only occupancy, and every caller (the node, vnsba_slicer's
+// publishing, vnsba_plan, the benchmarks) holds, re-publishes and slices an OcTree, so one type
+// serves them all and the slice stays one compiled function. It costs one pass and, for a
+// moment, a second tree. It goes through OcTree's own .ot reader rather than
+// writeBinaryData/readBinaryData, which would keep only max-likelihood occupancy and print a
+// debug line to stderr on each call (Debian's liboctomap).
+template <class Tree>
+std::shared_ptr<octomap::OcTree> occupancy_octree(const Tree& tree) {
+  auto out = std::make_shared<octomap::OcTree>(tree.getResolution());
+  if (tree.getRoot() == nullptr) return out;
+  std::string nodes;
+  nodes.reserve(tree.size() * 5);
+  append_occupancy_nodes(tree, tree.getRoot(), nodes);
+  std::istringstream stream(std::move(nodes));
+  out->readData(stream);
+  return out;
+}
+
+// Builds a tree of `type` from checked bytes through liboctomap's factory
+// (AbstractOcTree::createTree, then readData for .ot or readBinaryData for .bt and messages),
+// as an OcTree. `what` starts every error message.
 Expected<std::shared_ptr<octomap::OcTree>> read_tree(std::string_view data, double resolution,
-                                                     bool full, const std::string& what,
+                                                     const TreeType& type, bool full,
+                                                     const std::string& what,
                                                      std::optional<uint64_t> expected_nodes) {
-  auto tree = std::make_shared<octomap::OcTree>(resolution);
-  if (data.empty() && !full && !expected_nodes) return tree;  // an empty tree writes no bytes
+  if (data.empty() && !full && !expected_nodes) {  // an empty tree writes no bytes
+    return std::make_shared<octomap::OcTree>(resolution);
+  }
   uint64_t nodes = 0;
-  if (std::string problem = check_layout(data, full, tree->getTreeDepth(), nodes);
+  if (std::string problem = check_layout(data, full ? type.full_value_bytes : 0, kTreeDepth, nodes);
       !problem.empty()) {
     return invalid_map(what + problem);
   }
@@ -155,12 +239,29 @@ Expected<std::shared_ptr<octomap::OcTree>> read_tree(std::string_view data, doub
     return invalid_map(what + "corrupt: the header says " + std::to_string(*expected_nodes) +
                        " nodes, the data holds " + std::to_string(nodes));
   }
+  std::unique_ptr<octomap::AbstractOcTree> created(
+      octomap::AbstractOcTree::createTree(type.id, resolution));
+  auto* tree = dynamic_cast<octomap::AbstractOccupancyOcTree*>(created.get());
+  if (tree == nullptr) {
+    return invalid_map(what + "liboctomap cannot create a " + type.id + " (not registered)");
+  }
   std::istringstream stream{std::string(data)};
   full ? tree->readData(stream) : tree->readBinaryData(stream);
   if (!stream || tree->size() != nodes) {
     return invalid_map(what + "OctoMap could not read the tree data");
   }
-  return tree;
+  std::shared_ptr<octomap::OcTree> octree;
+  if (auto* t = dynamic_cast<octomap::OcTree*>(tree)) {
+    octree = std::shared_ptr<octomap::OcTree>(std::shared_ptr(std::move(created)), t);
+  } else if (const auto* color = dynamic_cast<const octomap::ColorOcTree*>(tree)) {
+    octree = occupancy_octree(*color);
+  } else if (const auto* stamped = dynamic_cast<const octomap::OcTreeStamped*>(tree)) {
+    octree = occupancy_octree(*stamped);
+  }
+  if (!octree || octree->size() != nodes) {
+    return invalid_map(what + "OctoMap could not read the tree data as an OcTree");
+  }
+  return octree;
 }
 
 // Occupied cells with no occupied 8-neighbour become free (decided on the unmodified grid).
@@ -371,14 +472,18 @@ Expected<std::shared_ptr<octomap::OcTree>> load(const std::string& path) {
   if (const std::string problem = leaf_size_problem(res, kTreeDepth); !problem.empty()) {
     return bad("header res (the leaf size) " + problem);
   }
-  if (id != "OcTree") return bad("holds a " + id + ", not an OcTree");
+  const TreeType* type = find_tree_type(id);
+  if (type == nullptr) {
+    return bad("holds a tree of type " + shown_id(id) + ", not one of the occupancy trees read (" +
+               known_tree_types() + ")");
+  }
   // A "data" line with no newline after it leaves the stream at its end: no position to read
   // the tree from (tellg() would be -1).
   const std::streamoff data_start = in.eof() ? -1 : static_cast<std::streamoff>(in.tellg());
   if (data_start < 0) return bad("truncated header: nothing follows the \"data\" line");
   const auto data = std::string_view(bytes).substr(static_cast<size_t>(data_start));
   if (*size == 0 && data.empty()) return std::make_shared<octomap::OcTree>(res);
-  return read_tree(data, res, !binary, what, size);
+  return read_tree(data, res, *type, !binary, what, size);
 }
 
 }  // namespace
@@ -403,13 +508,17 @@ Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(const std::ve
                                                                    double resolution,
                                                                    const std::string& id) {
   const std::string what = "OctoMap message data: ";
-  if (id != "OcTree") return invalid_map(what + "id '" + id + "' is not supported (only OcTree)");
+  const TreeType* type = find_tree_type(id);
+  if (type == nullptr) {
+    return invalid_map(what + "id " + shown_id(id) + " is not supported (only " +
+                       known_tree_types() + ")");
+  }
   if (const std::string problem = leaf_size_problem(resolution, kTreeDepth); !problem.empty()) {
     return invalid_map(what + "resolution (the leaf size) " + problem);
   }
   try {
     const std::string_view bytes(reinterpret_cast<const char*>(data.data()), data.size());
-    return read_tree(bytes, resolution, false, what, std::nullopt);
+    return read_tree(bytes, resolution, *type, false, what, std::nullopt);
   } catch (const std::exception& e) {
     return invalid_map(what + e.what());
   }

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
+#include <octomap/OcTreeStamped.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +19,9 @@
 #include <memory>
 #include <queue>
 #include <random>
+#include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "vnsba/core/grid_map.hpp"
@@ -65,7 +68,9 @@ void WriteBytes(const fs::path& path, const std::string& bytes) {
 }
 
 // Sets the voxels [x0, x1) x [y0, y1) x [z0, z1), in leaf units counted from 0, without pruning.
-void Fill(OcTree& tree, int x0, int x1, int y0, int y1, int z0, int z1, bool occupied) {
+// Any occupancy tree type (OcTree, ColorOcTree, OcTreeStamped).
+template <class Tree>
+void Fill(Tree& tree, int x0, int x1, int y0, int y1, int z0, int z1, bool occupied) {
   const double r = tree.getResolution();
   for (int x = x0; x < x1; ++x) {
     for (int y = y0; y < y1; ++y) {
@@ -86,9 +91,10 @@ constexpr int kSceneZ1 = 18;
 // A room: occupied floor with a hole, free space, a box, two pillars, a hanging box, an aligned
 // 8x8x8 occupied cube (prunes to one leaf), a partial ceiling, one isolated speckle, a pair of
 // voxels touching diagonally and an unknown corner.
-std::unique_ptr<OcTree> Scene(double resolution, bool prune) {
-  auto tree = std::make_unique<OcTree>(resolution);
-  OcTree& t = *tree;
+template <class Tree = OcTree>
+std::unique_ptr<Tree> Scene(double resolution, bool prune) {
+  auto tree = std::make_unique<Tree>(resolution);
+  Tree& t = *tree;
   Fill(t, kSceneX0, 22, kSceneY0, kSceneY1, 1, 16, false);      // free space ...
   Fill(t, 22, kSceneX1, kSceneY0, 15, 1, 16, false);            // ... minus an unknown corner
   Fill(t, kSceneX0, kSceneX1, kSceneY0, kSceneY1, 0, 1, true);  // floor
@@ -128,7 +134,8 @@ Geometry ExpectedGeometry(double x0, double x1, double y0, double y1, int m) {
 
 // Brute force: samples at a quarter and three quarters of every leaf across the cell, and in z at
 // the midpoints of pieces of at most leaf/4 along the band (its height when it is a plane).
-std::vector<int8_t> BruteForce(const OcTree& tree, const Geometry& g, double z_min, double z_max) {
+template <class Tree>
+std::vector<int8_t> BruteForce(const Tree& tree, const Geometry& g, double z_min, double z_max) {
   const double leaf = tree.getResolution();
   std::vector<double> zs;
   if (z_max > z_min) {
@@ -146,7 +153,7 @@ std::vector<int8_t> BruteForce(const OcTree& tree, const Geometry& g, double z_m
           const double x = ((g.cx0 + cx) * g.m + 0.25 + 0.5 * i) * leaf;
           const double y = ((g.cy0 + cy) * g.m + 0.25 + 0.5 * j) * leaf;
           for (const double z : zs) {
-            const octomap::OcTreeNode* node = tree.search(x, y, z);
+            const auto* node = tree.search(x, y, z);
             if (node == nullptr) continue;
             found = true;
             if (tree.isNodeOccupied(node)) {
@@ -522,7 +529,10 @@ TEST(OctomapBinaryData, BadIdResolutionOrBytesAreErrorsNotCrashes) {
     EXPECT_EQ(r.error().code, StatusCode::kInvalidMap);
     EXPECT_NE(r.error().message.find(text), std::string::npos) << r.error().message;
   };
-  expect_invalid(vnsba::maps::octree_from_binary_data(data, 0.1, "ColorOcTree"), "OcTree");
+  // Ids of trees that are not occupancy trees, or not spelled as liboctomap spells them.
+  for (const std::string id : {"CountingOcTree", "ocTree", "", "OcTree ", "1"}) {
+    expect_invalid(vnsba::maps::octree_from_binary_data(data, 0.1, id), "is not supported");
+  }
   expect_invalid(vnsba::maps::octree_from_binary_data(data, 0.0, "OcTree"), "resolution");
   expect_invalid(vnsba::maps::octree_from_binary_data(data, kNaN, "OcTree"), "resolution");
   expect_invalid(vnsba::maps::octree_from_binary_data(data, -0.1, "OcTree"), "resolution");
@@ -578,11 +588,18 @@ TEST(OctomapLoad, MissingOrForeignFilesAreInvalidMaps) {
              "# Octomap OcTree binary file\nid OcTree\nsize 9\nres 0.1\ndata\n");
   expect_invalid((dir / "no_data.bt").string(), "truncated");
 
-  // A full (.ot) file of another tree type.
-  octomap::ColorOcTree color(0.1);
-  color.updateNode(octomap::point3d(0.05f, 0.05f, 0.05f), true);
-  ASSERT_TRUE(color.write((dir / "color.ot").string()));
-  expect_invalid((dir / "color.ot").string(), "ColorOcTree");
+  // A tree type that is not an occupancy tree liboctomap reads (a CountingOcTree's data, or a
+  // type the reader does not know), in both formats.
+  for (const std::string name : {"counting.ot", "counting.bt"}) {
+    WriteBytes(dir / name, std::string(name == "counting.ot" ? "# Octomap OcTree file\n"
+                                                             : "# Octomap OcTree binary file\n") +
+                               "id CountingOcTree\nsize 1\nres 0.1\ndata\n" +
+                               std::string(name == "counting.ot" ? 5 : 2, '\0'));
+    expect_invalid((dir / name).string(), "'CountingOcTree', not one of the occupancy trees");
+  }
+  WriteBytes(dir / "odd_id.bt",
+             "# Octomap OcTree binary file\nid \x1b[2JMyTree\nsize 1\nres 0.1\ndata\n");
+  expect_invalid((dir / "odd_id.bt").string(), "'?[2JMyTree'");  // control bytes not echoed
 }
 
 TEST(OctomapLoad, FullAndBinaryFilesOfTheSameTreeSliceAlike) {
@@ -608,6 +625,216 @@ TEST(OctomapLoad, FullAndBinaryFilesOfTheSameTreeSliceAlike) {
       const auto r = vnsba::maps::load_octree((dir / ("cut_" + name)).string());
       ASSERT_FALSE(r) << name << " cut to " << keep;
       EXPECT_NE(r.error().message.find("truncated"), std::string::npos) << r.error().message;
+    }
+  }
+}
+
+// --- Colour and stamped trees -------------------------------------------------------------------
+
+// The scene as a tree of type Tree with the same voxels as Scene<OcTree>; a ColorOcTree also gets
+// colours (they must not matter).
+template <class Tree>
+std::unique_ptr<Tree> SceneAs(double resolution, bool prune) {
+  auto tree = Scene<Tree>(resolution, false);
+  if constexpr (std::is_same_v<Tree, octomap::ColorOcTree>) {
+    uint8_t shade = 0;
+    for (auto it = tree->begin_leafs(), end = tree->end_leafs(); it != end; ++it, shade += 37) {
+      it->setColor(shade, static_cast<uint8_t>(255 - shade), 7);
+    }
+    tree->updateInnerOccupancy();
+  }
+  if (prune) tree->prune();
+  return tree;
+}
+
+template <class Tree>
+std::string FileBytes(const Tree& tree, bool binary) {
+  std::ostringstream out;
+  binary ? tree.writeBinaryConst(out) : tree.write(out);
+  return out.str();
+}
+
+// The log-odds of every node of a tree, depth first: two trees with the same nodes and values have
+// the same list.
+template <class Tree>
+std::vector<float> NodeValues(const Tree& tree) {
+  std::vector<float> out;
+  for (auto it = tree.begin_tree(), end = tree.end_tree(); it != end; ++it) {
+    out.push_back(it->getLogOdds());
+  }
+  return out;
+}
+
+// A ColorOcTree and an OcTreeStamped holding the OcTree's voxels, written as .bt and .ot, load
+// and slice exactly as the OcTree does (the OcTree is the oracle), at every band and cell size.
+TEST(OctomapLoad, ColourAndStampedTreesSliceAsTheOcTreeWithTheSameVoxels) {
+  const fs::path dir = FreshTempDir("types");
+  for (const bool prune : {false, true}) {
+    const auto oracle = Scene(0.1, prune);
+    const auto color = SceneAs<octomap::ColorOcTree>(0.1, prune);
+    const auto stamped = SceneAs<octomap::OcTreeStamped>(0.1, prune);
+    ASSERT_GT(oracle->size(), 1000u);
+    struct File {
+      std::string name;
+      std::string bytes;
+      std::vector<float> values;  // the nodes' log-odds, for the full (.ot) files
+    };
+    const File files[] = {
+        {"color.ot", FileBytes(*color, false), NodeValues(*color)},
+        {"color.bt", FileBytes(*color, true), {}},
+        {"stamped.ot", FileBytes(*stamped, false), NodeValues(*stamped)},
+        {"stamped.bt", FileBytes(*stamped, true), {}},
+    };
+    for (const File& f : files) {
+      SCOPED_TRACE(f.name + (prune ? " pruned" : ""));
+      // The file says what it holds: the reader must not be reading OcTree files here.
+      EXPECT_NE(f.bytes.find(f.name[0] == 'c' ? "id ColorOcTree\n" : "id OcTreeStamped\n"),
+                std::string::npos);
+      WriteBytes(dir / f.name, f.bytes);
+      const auto loaded = vnsba::maps::load_octree((dir / f.name).string());
+      ASSERT_TRUE(loaded) << loaded.error().message;
+      EXPECT_EQ((*loaded)->getResolution(), 0.1);
+      // .ot keeps every node and its log-odds; .bt keeps the nodes (at max likelihood).
+      EXPECT_EQ((*loaded)->size(), f.name[0] == 'c' ? color->size() : stamped->size());
+      if (!f.values.empty()) {
+        EXPECT_EQ(NodeValues(**loaded), f.values);
+      }
+      for (const auto& [lo, hi] : {std::pair{0.05, 0.3}, std::pair{0.1, 0.6}, std::pair{0.0, 2.0},
+                                   std::pair{0.35, 0.35}, std::pair{1.0, 1.6}}) {
+        for (const double cell : {0.0, 0.3}) {
+          const auto got = slice_octree(**loaded, Band(lo, hi, cell));
+          const auto want = slice_octree(*oracle, Band(lo, hi, cell));
+          ASSERT_TRUE(got && want) << lo << " " << hi << " " << cell;
+          EXPECT_EQ(got->width, want->width);
+          EXPECT_EQ(got->height, want->height);
+          EXPECT_EQ(got->origin_x, want->origin_x);
+          EXPECT_EQ(got->origin_y, want->origin_y);
+          EXPECT_EQ(got->resolution, want->resolution);
+          EXPECT_EQ(got->data, want->data) << "band [" << lo << ", " << hi << "], cell " << cell;
+        }
+      }
+    }
+  }
+}
+
+// Message data of every occupancy tree type is the same bit stream: the ids name the type, and
+// each slices as the OcTree.
+TEST(OctomapBinaryData, ColourAndStampedIdsAreRead) {
+  const auto oracle = Scene(0.1, true);
+  const auto color = SceneAs<octomap::ColorOcTree>(0.1, true);
+  std::ostringstream stream;
+  color->writeBinaryData(stream);
+  const std::string bytes = stream.str();
+  const std::vector<int8_t> data(bytes.begin(), bytes.end());
+  for (const std::string id : {"OcTree", "ColorOcTree", "OcTreeStamped"}) {
+    SCOPED_TRACE(id);
+    const auto tree = vnsba::maps::octree_from_binary_data(data, 0.1, id);
+    ASSERT_TRUE(tree) << tree.error().message;
+    EXPECT_EQ((*tree)->size(), color->size());
+    const auto got = slice_octree(**tree, Band(0.1, 0.6));
+    const auto want = slice_octree(*oracle, Band(0.1, 0.6));
+    ASSERT_TRUE(got && want);
+    EXPECT_EQ(got->data, want->data);
+    // Truncated and trailing bytes are refused for every id, before liboctomap reads them.
+    const std::vector<int8_t> head(data.begin(),
+                                   data.begin() + static_cast<ptrdiff_t>(data.size() / 2));
+    const auto cut = vnsba::maps::octree_from_binary_data(head, 0.1, id);
+    ASSERT_FALSE(cut);
+    EXPECT_NE(cut.error().message.find("truncated"), std::string::npos) << cut.error().message;
+    std::vector<int8_t> longer = data;
+    longer.push_back(0);
+    EXPECT_FALSE(vnsba::maps::octree_from_binary_data(longer, 0.1, id));
+  }
+}
+
+// Truncated and corrupt colour and stamped files are refused with a message naming the file;
+// nothing crashes, and whatever loads slices.
+TEST(OctomapLoad, TruncatedOrCorruptColourAndStampedFilesAreRefused) {
+  const fs::path dir = FreshTempDir("types_bad");
+  // A small tree, so that every truncation can be tried.
+  auto small = [](auto tree) {
+    for (int i = 0; i < 12; ++i) {
+      tree->updateNode(octomap::point3d(0.05f + 0.1f * i, 0.35f, 0.25f), i % 3 != 0);
+    }
+    return tree;
+  };
+  const auto color = small(std::make_unique<octomap::ColorOcTree>(0.1));
+  const auto stamped = small(std::make_unique<octomap::OcTreeStamped>(0.1));
+  const std::pair<std::string, std::string> files[] = {
+      {"color.ot", FileBytes(*color, false)},
+      {"color.bt", FileBytes(*color, true)},
+      {"stamped.ot", FileBytes(*stamped, false)},
+      {"stamped.bt", FileBytes(*stamped, true)},
+  };
+  auto expect_refused = [](const fs::path& path, const std::vector<std::string>& any_of) {
+    const auto r = vnsba::maps::load_octree(path.string());
+    ASSERT_FALSE(r) << path;
+    EXPECT_EQ(r.error().code, StatusCode::kInvalidMap);
+    EXPECT_NE(r.error().message.find(path.string()), std::string::npos) << r.error().message;
+    bool named = any_of.empty();
+    for (const std::string& text : any_of)
+      named |= r.error().message.find(text) != std::string::npos;
+    EXPECT_TRUE(named) << r.error().message;
+  };
+  for (const auto& [name, bytes] : files) {
+    SCOPED_TRACE(name);
+    const size_t data_start = bytes.find("\ndata\n") + 6;
+    ASSERT_LT(data_start, bytes.size());
+    const fs::path cut = dir / ("cut_" + name);
+    for (size_t keep = 0; keep < bytes.size(); ++keep) {
+      WriteBytes(cut, bytes.substr(0, keep));
+      SCOPED_TRACE(keep);
+      expect_refused(cut, {});
+      if (keep > data_start) expect_refused(cut, {"truncated"});
+    }
+    // One byte more, a node count that disagrees, a log-odds that is not a number.
+    const fs::path bad = dir / ("bad_" + name);
+    WriteBytes(bad, bytes + std::string(1, '\0'));
+    expect_refused(bad, {"after the end of the tree"});
+    std::string size_off = bytes;
+    const size_t size_at = size_off.find("\nsize ") + 6;
+    size_off.insert(size_at, "1");  // "size 1<n>"
+    WriteBytes(bad, size_off);
+    expect_refused(bad, {"the header says"});
+    if (name.find(".ot") != std::string::npos) {
+      std::string nan_value = bytes;
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      nan_value.replace(data_start, sizeof nan, reinterpret_cast<const char*>(&nan), sizeof nan);
+      WriteBytes(bad, nan_value);
+      expect_refused(bad, {"not finite"});
+    }
+  }
+  // The .ot data of one type labelled as another: the per-node layouts differ (8 bytes a colour
+  // node, 5 an OcTree or stamped one), so the walk does not end where the data does.
+  const std::string color_ot = FileBytes(*color, false);
+  std::string as_octree = color_ot;
+  as_octree.replace(as_octree.find("id ColorOcTree"), 14, "id OcTree");
+  WriteBytes(dir / "relabelled.ot", as_octree);
+  expect_refused(dir / "relabelled.ot", {"corrupt", "truncated"});
+  std::string as_color = FileBytes(*stamped, false);
+  as_color.replace(as_color.find("id OcTreeStamped"), 16, "id ColorOcTree");
+  WriteBytes(dir / "relabelled2.ot", as_color);
+  expect_refused(dir / "relabelled2.ot", {"corrupt", "truncated"});
+
+  // Random corruption of every byte position's neighbourhood: any outcome but a crash.
+  std::mt19937 rng(16);
+  for (const auto& [name, bytes] : files) {
+    for (int i = 0; i < 400; ++i) {
+      std::string corrupt = bytes;
+      for (int k = 0; k < 1 + i % 3; ++k)
+        corrupt[rng() % corrupt.size()] = static_cast<char>(rng());
+      const fs::path path = dir / ("random_" + name);
+      WriteBytes(path, corrupt);
+      const auto r = vnsba::maps::load_octree(path.string());
+      if (!r) {
+        EXPECT_EQ(r.error().code, StatusCode::kInvalidMap);
+        EXPECT_NE(r.error().message.find(path.string()), std::string::npos);
+        continue;
+      }
+      const auto s = slice_octree(**r, Band(0.0, 1.0));
+      if (!s) {
+        EXPECT_NE(s.error().code, StatusCode::kInternalError) << s.error().message;
+      }
     }
   }
 }
@@ -763,6 +990,61 @@ TEST_F(RealOctomap, HugePrunedLeavesAreBoundedByMaxCells) {
   ASSERT_TRUE(window) << window.error().message;
   const Geometry g = ExpectedGeometry(-10, 10, -10, 10, 1);
   ExpectSliceEquals(*window, g, 1.0, BruteForce(**loaded, g, -1.0, 1.0), "simple.bt");
+}
+
+// A real colour OctoMap (e.g. freiburg1_360.bt from the OctoMap RGB-D datasets), when
+// VNSBA_DATA_DIR/octomap holds one: loaded, sliced, and a window checked against the brute force
+// over the ColorOcTree as liboctomap itself reads it.
+TEST_F(RealOctomap, ColourTreeLoadsAndSlices) {
+  std::vector<fs::path> color_files;
+  for (const auto& entry : fs::directory_iterator(OctomapDir())) {
+    std::ifstream in(entry.path(), std::ios::binary);
+    std::string head(400, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<size_t>(in.gcount()));
+    if (head.rfind("# Octomap OcTree", 0) == 0 &&
+        head.find("\nid ColorOcTree") != std::string::npos) {
+      color_files.push_back(entry.path());
+    }
+  }
+  if (color_files.empty()) {
+    GTEST_SKIP() << "no ColorOcTree file (such as freiburg1_360.bt) in " << OctomapDir()
+                 << ": the real colour tree is not tested";
+  }
+  std::sort(color_files.begin(), color_files.end());
+  for (const fs::path& file : color_files) {
+    SCOPED_TRACE(file.string());
+    const auto loaded = vnsba::maps::load_octree(file.string());
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    const OcTree& tree = **loaded;
+    double x0, y0, z0, x1, y1, z1;
+    tree.getMetricMin(x0, y0, z0);
+    tree.getMetricMax(x1, y1, z1);
+    const auto grid = slice_octree(tree, Band(z0, z1));
+    ASSERT_TRUE(grid) << grid.error().message;
+    EXPECT_GT(Count(*grid, 100), 0);
+    EXPECT_GT(Count(*grid, 0), 0);
+
+    // liboctomap's own reading of the file, as the colour tree it is.
+    std::unique_ptr<octomap::ColorOcTree> direct;
+    if (ReadBytes(file.string()).rfind("# Octomap OcTree binary file", 0) == 0) {
+      direct = std::make_unique<octomap::ColorOcTree>(0.1);
+      ASSERT_TRUE(direct->readBinary(file.string()));
+    } else {
+      direct.reset(
+          dynamic_cast<octomap::ColorOcTree*>(octomap::AbstractOcTree::read(file.string())));
+      ASSERT_NE(direct, nullptr);
+    }
+    EXPECT_EQ(direct->size(), tree.size());
+    const double leaf = tree.getResolution();
+    const double cx = std::floor((x0 + x1) / 2 / leaf), cy = std::floor((y0 + y1) / 2 / leaf);
+    SliceOptions o = Band(z0, z1);
+    o.bounds = SliceBounds{(cx - 20) * leaf, (cy - 20) * leaf, (cx + 20) * leaf, (cy + 20) * leaf};
+    const auto window = slice_octree(tree, o);
+    ASSERT_TRUE(window) << window.error().message;
+    const Geometry g = ExpectedGeometry(cx - 20, cx + 20, cy - 20, cy + 20, 1);
+    ExpectSliceEquals(*window, g, leaf, BruteForce(*direct, g, z0, z1), file.filename().string());
+  }
 }
 
 }  // namespace

@@ -75,19 +75,25 @@ struct SliceOptions {
 core::Expected<core::OccupancyGrid> slice_octree(const octomap::OcTree& tree,
                                                  const SliceOptions& options);
 
-// Reads a .bt (binary) or .ot (full, OcTree only) file. Errors (kInvalidMap) name the file and
-// the problem: missing, unreadable, truncated, not an OctoMap file, not an OcTree.
-// The first line picks the format, not the extension. The header id must be OcTree (or its
-// deprecated "1"); pre-2011 legacy .bt files without a text header are refused. The data layout
-// is walked and its node count compared with the header before OctoMap reads it (OctoMap's
-// readers use unread bytes on truncated input and recurse without a depth limit on corrupt
-// input), so truncated or corrupt files are errors, never crashes.
+// Reads a .bt (binary) or .ot (full) file of any occupancy tree liboctomap 1.9 reads: OcTree (or
+// its deprecated id "1"), ColorOcTree, OcTreeStamped, through liboctomap's factory
+// (AbstractOcTree::createTree). A ColorOcTree or OcTreeStamped comes back as the OcTree of its
+// occupancy (the same nodes and log-odds; colours and timestamps are dropped), so every caller
+// slices and publishes one type. Errors (kInvalidMap) name the file and the problem: missing,
+// unreadable, truncated, corrupt, not an OctoMap file, another tree type (CountingOcTree...).
+// The first line picks the format, not the extension; pre-2011 legacy .bt files without a text
+// header are refused. The data layout (per tree type in .ot files) is walked and its node count
+// compared with the header before OctoMap reads it (OctoMap's readers use unread bytes on
+// truncated input and recurse without a depth limit on corrupt input), so truncated or corrupt
+// files are errors, never crashes.
 core::Expected<std::shared_ptr<octomap::OcTree>> load_octree(const std::string& path);
 
 // A tree from the data of an octomap_msgs/Octomap message with binary = true (the bytes of
-// OcTree::writeBinaryData), as octomap_msgs' binaryMsgToMap reads it. Only id "OcTree" is
-// accepted; resolution must be finite and > 0; empty data is an empty tree (as binaryMapToMsg
-// writes one). Truncated, trailing or corrupt bytes are kInvalidMap (checked before OctoMap).
+// writeBinaryData), as octomap_msgs' binaryMsgToMap reads it. The id may be "OcTree",
+// "ColorOcTree" or "OcTreeStamped" (their binary data is the same occupancy bit stream); the
+// tree comes back as an OcTree. Resolution must be finite and > 0; empty data is an empty tree
+// (as binaryMapToMsg writes one). Truncated, trailing or corrupt bytes are kInvalidMap (checked
+// before OctoMap).
 core::Expected<std::shared_ptr<octomap::OcTree>> octree_from_binary_data(
     const std::vector<int8_t>& data, double resolution, const std::string& id);
 
