@@ -16,7 +16,9 @@
 // tests/fixtures/fuzz/<folder>/ to keep it as a regression input: FuzzRegression replays every
 // folder there with the same checks.
 #include <gtest/gtest.h>
+#include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
+#include <octomap/OcTreeStamped.h>
 #include <sys/resource.h>
 #include <tinyxml2.h>
 #include <unistd.h>
@@ -40,6 +42,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "fuzz/mutator.hpp"
@@ -365,25 +368,51 @@ struct MapYaml {
   double occupied = 0.65, free = 0.196;
 };
 
+// The checks of map_io.hpp on what a file gives: required keys, ranges.
+std::optional<MapYaml> checked_map_yaml(const MapYaml& y, const std::set<std::string>& seen,
+                                        std::string* why) {
+  for (const char* key : {"image", "resolution", "origin"}) {
+    if (seen.count(key) == 0) {
+      *why = std::string("no ") + key;
+      return std::nullopt;
+    }
+  }
+  if (y.image.empty()) *why = "image is empty";
+  if (!(y.resolution > 0.0)) *why = "resolution <= 0";
+  if (!(y.occupied > 0.0 && y.occupied <= 1.0)) *why = "occupied_thresh";
+  if (!(y.free >= 0.0 && y.free < y.occupied)) *why = "free_thresh";
+  if (y.mode != "trinary" && y.mode != "scale" && y.mode != "raw") *why = "mode";
+  if (!why->empty()) return std::nullopt;
+  return y;
+}
+
 std::optional<MapYaml> read_map_yaml(const std::string& text, std::string* why) {
   MapYaml y;
   std::set<std::string> seen;
+  // Any line beyond the plain form makes the verdict yaml-cpp's, even after a line found invalid
+  // here (a flow list may go on on the next, indented line).
+  const auto abstain = [why] {
+    why->clear();
+    return std::nullopt;
+  };
   for (const std::string& raw : text_lines(text)) {
     const auto first = raw.find_first_not_of(" \t");
     if (first == std::string::npos || raw[first] == '#') continue;
     const size_t colon = raw.find(": ");
-    if (first != 0 || colon == std::string::npos) return std::nullopt;  // abstain
+    if (first != 0 || colon == std::string::npos) return abstain();
     const std::string key = raw.substr(0, colon), value = raw.substr(colon + 2);
+    // Plain YAML scalars only: no quotes, comments, anchors, aliases, tags, block scalars or
+    // other indicators yaml-cpp would read as more than text (the yaml-cpp oracle takes those).
     if (key.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") != std::string::npos ||
         value.empty() || value.find_first_of("#\"'\t\r\v\f") != std::string::npos ||
         value.find_first_of('\0') != std::string::npos || is_space(value.back()) ||
-        is_space(value.front())) {
-      return std::nullopt;
+        is_space(value.front()) || std::string("&*!|>%@`{").find(value[0]) != std::string::npos ||
+        (std::string("-?:").find(value[0]) != std::string::npos &&
+         (value.size() == 1 || value[1] == ' ')) ||
+        (value[0] == '[' && key != "origin")) {
+      return abstain();
     }
-    if (!seen.insert(key).second) {
-      *why = "duplicate key " + key;
-      return std::nullopt;
-    }
+    if (!seen.insert(key).second) *why = "duplicate key " + key;
     auto number = [&](double* out) {
       const auto v = strict_double(value);
       if (!v || !std::isfinite(*v)) *why = key + " is not a finite number";
@@ -404,6 +433,11 @@ std::optional<MapYaml> read_map_yaml(const std::string& text, std::string* why) 
             continue;
           }
           const auto ws = words(item);
+          // An empty item ("[1, 2, 0,]" is three in YAML), or one with YAML indicators or
+          // nesting: the yaml-cpp oracle reads it.
+          if (ws.empty() || item.find_first_of("&*!|>%@`{}[]?:") != std::string::npos) {
+            return abstain();
+          }
           items.push_back(ws.size() == 1 ? strict_double(ws[0]) : std::nullopt);
           item.clear();
         }
@@ -423,20 +457,54 @@ std::optional<MapYaml> read_map_yaml(const std::string& text, std::string* why) 
         *why = "negate";
       }
     }
-    if (!why->empty()) return std::nullopt;
   }
-  for (const char* key : {"image", "resolution", "origin"}) {
-    if (seen.count(key) == 0) {
-      *why = std::string("no ") + key;
+  if (!why->empty()) return std::nullopt;
+  return checked_map_yaml(y, seen, why);
+}
+
+// The same reading of a YAML beyond plain lines (quotes, block lists, flow maps, anchors, tags),
+// through yaml-cpp's own API and conversions (as<double>, not the loader's parsing): nullopt with
+// `why` set when the file is invalid as map_server reads it or yaml-cpp cannot read it.
+std::optional<MapYaml> read_map_yaml_cpp(const std::string& text, std::string* why) {
+  MapYaml y;
+  std::set<std::string> seen;
+  try {
+    const YAML::Node root = YAML::Load(text);  // one document: Load does not loop as LoadAll
+    if (!root.IsMap()) {
+      *why = "yaml-cpp reads no map of keys";
       return std::nullopt;
     }
+    for (const auto& entry : root) {
+      const std::string key = entry.first.as<std::string>();
+      const YAML::Node& value = entry.second;
+      if (!seen.insert(key).second) {
+        *why = "duplicate key " + key;
+        return std::nullopt;
+      }
+      if (key == "image") y.image = value.as<std::string>();
+      if (key == "resolution") y.resolution = value.as<double>();
+      if (key == "occupied_thresh") y.occupied = value.as<double>();
+      if (key == "free_thresh") y.free = value.as<double>();
+      if (key == "mode") y.mode = value.as<std::string>();
+      if (key == "negate") {
+        const std::string v = value.as<std::string>();
+        y.negate = v == "1" || v == "true" || v == "True";
+        if (!y.negate && v != "0" && v != "false" && v != "False") *why = "negate";
+      }
+      if (key == "origin") {
+        const auto xyz = value.as<std::vector<double>>();
+        if (xyz.size() != 3 || xyz[2] != 0.0) *why = "origin is not [x, y, 0]";
+        if (xyz.size() == 3) y.origin_x = xyz[0], y.origin_y = xyz[1];
+      }
+    }
+    for (const double v : {y.resolution, y.occupied, y.free, y.origin_x, y.origin_y}) {
+      if (!std::isfinite(v)) *why = "a number is not finite";
+    }
+  } catch (const YAML::Exception& e) {
+    *why = std::string("yaml-cpp cannot read or convert it: ") + e.what();
   }
-  if (!(y.resolution > 0.0)) *why = "resolution <= 0";
-  if (!(y.occupied > 0.0 && y.occupied <= 1.0)) *why = "occupied_thresh";
-  if (!(y.free >= 0.0 && y.free < y.occupied)) *why = "free_thresh";
-  if (y.mode != "trinary" && y.mode != "scale" && y.mode != "raw") *why = "mode";
   if (!why->empty()) return std::nullopt;
-  return y;
+  return checked_map_yaml(y, seen, why);
 }
 
 // A P5 or P2 image as Netpbm defines it (libnetpbm's reading: comments anywhere in the header,
@@ -516,6 +584,11 @@ std::optional<OccupancyGrid> read_pgm(const std::string& text, const MapYaml& y,
     }
   }
   return grid;
+}
+
+// The occupancy trees liboctomap 1.9 reads, which the OctoMap loaders promise to read.
+bool is_occupancy_tree_id(const std::string& id) {
+  return id == "OcTree" || id == "ColorOcTree" || id == "OcTreeStamped";
 }
 
 // The header of an OctoMap file: id, size and res as the keyword lines give them; nullopt when
@@ -714,10 +787,13 @@ Outcome check_map_server(const fs::path& yaml) {
   out.loaded = true;
   check_grid(*grid, "map", &out.problems);
   std::string why;
-  const auto params = read_map_yaml(read_bytes(yaml), &why);
+  const std::string text = read_bytes(yaml);
+  auto params = read_map_yaml(text, &why);
+  // Beyond plain "key: value" lines the plain oracle abstains and yaml-cpp's reading decides.
+  if (!params && why.empty()) params = read_map_yaml_cpp(text, &why);
   if (!params) {
-    if (!why.empty()) out.problems.push_back("loaded an invalid YAML (" + why + ")");
-    return out;  // the oracle abstains on YAML beyond plain "key: value" lines
+    out.problems.push_back("loaded an invalid YAML (" + why + ")");
+    return out;
   }
   if (grid->resolution != params->resolution || grid->origin_x != params->origin_x ||
       grid->origin_y != params->origin_y) {
@@ -790,7 +866,7 @@ Outcome check_octree_file(const fs::path& file) {
       out.problems.push_back(std::to_string((*tree)->size()) + " nodes, the header says " +
                              std::to_string(h->size));
     }
-    if (h->id != "OcTree" && h->id != "1") out.problems.push_back("loaded a " + h->id);
+    if (!is_occupancy_tree_id(h->id) && h->id != "1") out.problems.push_back("loaded a " + h->id);
   }
   check_tree(**tree, &out.problems);
   return out;
@@ -825,7 +901,7 @@ Outcome check_octree_data(const fs::path& dir) {
     out.problems.push_back(std::to_string((*tree)->size()) + " nodes, the data holds " +
                            std::to_string(*nodes));
   }
-  if (id != "OcTree") out.problems.push_back("accepted id '" + id + "'");
+  if (!is_occupancy_tree_id(id)) out.problems.push_back("accepted id '" + id + "'");
   check_tree(**tree, &out.problems);
   return out;
 }
@@ -1237,35 +1313,64 @@ std::string first_lines(const std::string& text, size_t n) {
   return pos == std::string::npos ? text : text.substr(0, pos);
 }
 
-// A box of a real tree as its own tree: every leaf under [lo, hi] copied voxel by voxel, then
-// pruned, so the crop keeps the scene's structure (pruned free space, walls) at a size that
-// loads in a fraction of a millisecond.
-std::shared_ptr<octomap::OcTree> crop_tree(const octomap::OcTree& tree, const octomap::point3d& lo,
-                                           const octomap::point3d& hi) {
-  auto crop = std::make_shared<octomap::OcTree>(tree.getResolution());
+// Calls f(key, leaf) for every voxel (leaf-size cell) in the key box [lo, hi] under a leaf of
+// `tree`: a pruned leaf stands for all the voxels it covers.
+template <class F>
+void for_each_voxel(const octomap::OcTree& tree, const octomap::OcTreeKey& lo,
+                    const octomap::OcTreeKey& hi, F f) {
   const unsigned depth = tree.getTreeDepth();
-  octomap::OcTreeKey klo, khi;
-  if (!tree.coordToKeyChecked(lo, klo) || !tree.coordToKeyChecked(hi, khi)) return crop;
-  for (auto it = tree.begin_leafs_bbx(klo, khi), end = tree.end_leafs_bbx(); it != end; ++it) {
+  for (auto it = tree.begin_leafs_bbx(lo, hi), end = tree.end_leafs_bbx(); it != end; ++it) {
     const octomap::OcTreeKey base = it.getIndexKey();
     const unsigned span = 1u << (depth - it.getDepth());
     for (unsigned dx = 0; dx < span; ++dx)
       for (unsigned dy = 0; dy < span; ++dy)
         for (unsigned dz = 0; dz < span; ++dz) {
           const octomap::OcTreeKey k(base[0] + dx, base[1] + dy, base[2] + dz);
-          if (k[0] < klo[0] || k[0] > khi[0] || k[1] < klo[1] || k[1] > khi[1] || k[2] < klo[2] ||
-              k[2] > khi[2]) {
+          if (k[0] < lo[0] || k[0] > hi[0] || k[1] < lo[1] || k[1] > hi[1] || k[2] < lo[2] ||
+              k[2] > hi[2]) {
             continue;
           }
-          crop->setNodeValue(k, it->getLogOdds(), true);
+          f(k, *it);
         }
   }
+}
+
+// A box of a real tree as its own tree: every leaf under [lo, hi] copied voxel by voxel, then
+// pruned, so the crop keeps the scene's structure (pruned free space, walls) at a size that
+// loads in a fraction of a millisecond.
+std::shared_ptr<octomap::OcTree> crop_tree(const octomap::OcTree& tree, const octomap::point3d& lo,
+                                           const octomap::point3d& hi) {
+  auto crop = std::make_shared<octomap::OcTree>(tree.getResolution());
+  octomap::OcTreeKey klo, khi;
+  if (!tree.coordToKeyChecked(lo, klo) || !tree.coordToKeyChecked(hi, khi)) return crop;
+  for_each_voxel(tree, klo, khi, [&](const octomap::OcTreeKey& k, const octomap::OcTreeNode& leaf) {
+    crop->setNodeValue(k, leaf.getLogOdds(), true);
+  });
   crop->updateInnerOccupancy();
   crop->prune();
   return crop;
 }
 
-std::string tree_file(const octomap::OcTree& tree, bool binary) {
+// The same voxels in a tree of another occupancy type (ColorOcTree, OcTreeStamped), then pruned;
+// a colour tree gets a colour a voxel.
+template <class Tree>
+std::shared_ptr<Tree> same_voxels_as(const octomap::OcTree& tree) {
+  auto out = std::make_shared<Tree>(tree.getResolution());
+  const octomap::OcTreeKey all_lo(0, 0, 0), all_hi(0xffff, 0xffff, 0xffff);
+  for_each_voxel(
+      tree, all_lo, all_hi, [&](const octomap::OcTreeKey& k, const octomap::OcTreeNode& leaf) {
+        auto* node = out->setNodeValue(k, leaf.getLogOdds(), true);
+        if constexpr (std::is_same_v<Tree, octomap::ColorOcTree>) {
+          node->setColor(static_cast<uint8_t>(k[0] * 37), static_cast<uint8_t>(k[1] * 11),
+                         static_cast<uint8_t>(k[2] * 5));
+        }
+      });
+  out->updateInnerOccupancy();
+  out->prune();
+  return out;
+}
+
+std::string tree_file(const octomap::AbstractOccupancyOcTree& tree, bool binary) {
   std::ostringstream out;
   binary ? tree.writeBinaryConst(out) : tree.write(out);
   return out.str();
@@ -1284,9 +1389,20 @@ std::shared_ptr<octomap::OcTree> middle_crop(const octomap::OcTree& tree) {
   return crop->size() > 0 ? crop : nullptr;
 }
 
-// A tree as both file formats.
+// A tree as both file formats, and the same voxels as a ColorOcTree and an OcTreeStamped (whose
+// .ot nodes differ: 8 bytes a colour node, 5 an OcTree or stamped one).
 std::vector<Seed> tree_files(const std::string& name, const octomap::OcTree& tree) {
-  return {{name + " (.bt)", tree_file(tree, true)}, {name + " (.ot)", tree_file(tree, false)}};
+  std::vector<Seed> out;
+  const std::pair<std::string, std::shared_ptr<const octomap::AbstractOccupancyOcTree>> types[] = {
+      {"", nullptr},
+      {" as ColorOcTree", same_voxels_as<octomap::ColorOcTree>(tree)},
+      {" as OcTreeStamped", same_voxels_as<octomap::OcTreeStamped>(tree)}};
+  for (const auto& [type, copy] : types) {
+    const octomap::AbstractOccupancyOcTree& t = copy ? *copy : tree;
+    out.push_back({name + type + " (.bt)", tree_file(t, true)});
+    out.push_back({name + type + " (.ot)", tree_file(t, false)});
+  }
+  return out;
 }
 
 std::shared_ptr<octomap::OcTree> load_tree_or_null(const fs::path& file) {
@@ -1559,6 +1675,42 @@ std::vector<MapServerSeed> map_server_seeds(const fs::path& scratch) {
                    read_bytes(own_image ? ms / "bad" / (stem + ".pgm") : ms / "p5_8bit.pgm"),
                    false});
   }
+  // The p5_8bit map in YAML that only a YAML library reads, so that mutations exercise yaml-cpp's
+  // side of the reader (and the yaml-cpp oracle): quotes, comments after values, block and flow
+  // lists, a flow map document, anchors and aliases, tags, document markers; and YAML that
+  // yaml-cpp must refuse or the reader must (two documents, a map value, deep nesting).
+  const std::string p5 = read_bytes(ms / "p5_8bit.pgm");
+  const std::pair<const char*, const char*> yaml_features[] = {
+      {"quoted",
+       "image: \"p5_8bit.pgm\"\nmode: 'trinary'\nresolution: \"0.05\"\n"
+       "origin: ['-10.0', \"-5.5\", 0.0]\nnegate: '0'\n"},
+      {"comments and block list",
+       "# map_server map\nimage: p5_8bit.pgm  # beside this file\n"
+       "resolution: 0.05 # metres\norigin:\n  - -10.0  # x\n  - -5.5\n"
+       "  - 0.0\nfree_thresh: 0.196\n# end\n"},
+      {"flow map",
+       "{image: p5_8bit.pgm, resolution: 0.05, origin: [-10.0, -5.5, 0.0], "
+       "mode: scale, negate: 1}\n"},
+      {"anchors",
+       "base: &res 0.05\nimage: p5_8bit.pgm\nresolution: *res\n"
+       "origin: &o [-10.0, -5.5, 0.0]\nnegate: false\nmode: raw\n"},
+      {"tags and markers",
+       "%YAML 1.2\n---\nimage: !!str p5_8bit.pgm\nresolution: !!float 0.05\n"
+       "origin: !!seq [-10.0, -5.5, 0.0]\noccupied_thresh: 0.7\n...\n"},
+  };
+  for (const auto& [name, yaml] : yaml_features) {
+    out.push_back({std::string("yaml ") + name, yaml, "p5_8bit.pgm", p5, true});
+  }
+  const std::pair<const char*, const char*> bad_yaml[] = {
+      {"two documents", "image: p5_8bit.pgm\nresolution: 0.05\n---\norigin: [0, 0, 0]\n"},
+      {"map value", "image: p5_8bit.pgm\nresolution: {m: 0.05}\norigin: [0, 0, 0]\n"},
+      {"deep",
+       "image: p5_8bit.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nx: [[[[[[[[]]]]]]]]\n"
+       "y: [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[\n"},
+  };
+  for (const auto& [name, yaml] : bad_yaml) {
+    out.push_back({std::string("yaml ") + name, yaml, "p5_8bit.pgm", p5, false});
+  }
   // map_saver's output (save_map_server) of the rooms fixture and of a slice of the embedded
   // scene, and the latter's image under the other modes.
   std::vector<std::pair<std::string, OccupancyGrid>> grids;
@@ -1608,7 +1760,9 @@ TEST_F(FuzzLoaders, MapServer) {
   const std::vector<std::string> words = {
       "image",       "resolution", "origin", "negate", "mode", "occupied_thresh",
       "free_thresh", "trinary",    "scale",  "raw",    "P5",   "P2",
-      "#",           "[0, 0, 0]",  "true",   "255"};
+      "#",           "[0, 0, 0]",  "true",   "255",    "\"",   "'",
+      "&a ",         "*a",         "!!str ", "---",    "...",  "{",
+      "}",           "- ",         "\n  - ", "~",      "? ",   "|"};
   run(
       "map_server", Syntax::kYaml, words,
       [seeds, yamls, pgms](Mutator& m) {
@@ -1640,6 +1794,8 @@ const std::vector<std::string> kOctreeWords = {"# Octomap OcTree binary file",
                                                "id",
                                                "OcTree",
                                                "ColorOcTree",
+                                               "OcTreeStamped",
+                                               "CountingOcTree",
                                                "1",
                                                "size",
                                                "res",
@@ -1660,7 +1816,8 @@ MakeInput tree_inputs(const std::vector<Seed>& seeds, const std::string& file_na
 
 TEST_F(FuzzLoaders, OctoMapFile) {
   const auto good = project_tree_seeds();
-  ASSERT_EQ(good.size(), 5u) << "the embedded scene config/scenes/geb079.bt did not load";
+  // Two trees as OcTree, ColorOcTree and OcTreeStamped in both formats, and the scene file.
+  ASSERT_EQ(good.size(), 13u) << "the embedded scene config/scenes/geb079.bt did not load";
   expect_seeds(good, {}, dir_, "input.bt", check_octree_file);
   run("octomap_file", Syntax::kPlain, kOctreeWords, tree_inputs(good, "input.bt"),
       on_first_file(check_octree_file));
@@ -1705,7 +1862,10 @@ TEST_F(FuzzLoaders, OctoMapMessageData) {
         Input in;
         in.log.push_back("seed " + seed.name);
         std::string data = seed.bytes.substr(0, cut);
-        std::string res = seed.bytes.substr(cut + 1), id = "OcTree";
+        // Every occupancy tree sends the same bit stream; the id names the type.
+        std::string res = seed.bytes.substr(cut + 1);
+        std::string id =
+            std::vector<std::string>{"OcTree", "ColorOcTree", "OcTreeStamped"}[m.below(3)];
         const uint64_t which = m.below(10);
         if (which < 8) data = m.mutate(data, *all, &in.log);
         if (which >= 7) {  // resolution and id: boundary values and near misses
@@ -1713,8 +1873,9 @@ TEST_F(FuzzLoaders, OctoMapMessageData) {
           in.log.push_back("resolution := " + res);
         }
         if (which == 9) {
-          id = std::vector<std::string>{"OcTree", "ColorOcTree", "ocTree", "",
-                                        "OcTree "}[m.below(5)];
+          id = std::vector<std::string>{
+              "OcTree", "ColorOcTree", "OcTreeStamped", "CountingOcTree", "ocTree", "", "OcTree ",
+              "1"}[m.below(8)];
           in.log.push_back("id := '" + id + "'");
         }
         in.files = {{"data.bin", data}, {"params.txt", res + "\n" + id + "\n"}};
