@@ -23,6 +23,7 @@
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/planner_node.hpp"
+#include "vnsba/node/security.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 
@@ -103,6 +104,9 @@ void isolate(node::NodeConfig& cfg, const std::string& prefix) {
 
 struct Setup {
   node::NodeConfig cfg;
+  // With security, the slice comes from a participant with the slicer's enclave and requests
+  // from one with send_goal's, as on a secured bus (each enclave's permissions allow only that).
+  std::unique_ptr<node::Participant> map_client;
   std::unique_ptr<node::Participant> client;
   node::dds::DataWriter* slice = nullptr;
   node::dds::DataWriter* request = nullptr;
@@ -112,10 +116,27 @@ struct Setup {
 
 bool connect(Setup& s) {
   auto name = [&](const std::string& n) { return node::dds_topic_name(s.cfg, n); };
-  auto participant = node::Participant::create(s.cfg.domain_id, "vnsba_latency_bench");
-  if (!participant) return false;
+  auto participant = node::Participant::create(
+      s.cfg.domain_id, "vnsba_latency_bench", nullptr, false,
+      node::with_default_enclave(s.cfg.security, node::kSendGoalEnclave));
+  if (!participant) {
+    std::printf("%s\n", participant.error().message.c_str());
+    return false;
+  }
   s.client = std::move(participant).value();
-  auto slice_topic = s.client->topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+  node::Participant* map_client = s.client.get();
+  if (s.cfg.security.enable) {
+    auto map_participant = node::Participant::create(
+        s.cfg.domain_id, "vnsba_latency_bench_map", nullptr, false,
+        node::with_default_enclave(s.cfg.security, node::kSlicerEnclave));
+    if (!map_participant) {
+      std::printf("%s\n", map_participant.error().message.c_str());
+      return false;
+    }
+    s.map_client = std::move(map_participant).value();
+    map_client = s.map_client.get();
+  }
+  auto slice_topic = map_client->topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
       name(s.cfg.topics.projected_map));
   auto request_topic = s.client->topic<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(
       name(s.cfg.topics.plan_request));
@@ -123,7 +144,7 @@ bool connect(Setup& s) {
       s.client->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(name(s.cfg.topics.plan_status));
   if (!slice_topic || !request_topic || !status_topic) return false;
   s.slice =
-      s.client->writer(*slice_topic, node::writer_qos(node::TopicQos::kLatched, true)).value();
+      map_client->writer(*slice_topic, node::writer_qos(node::TopicQos::kLatched, true)).value();
   s.request =
       s.client->writer(*request_topic, node::writer_qos(node::TopicQos::kEvents, false)).value();
   s.status =
@@ -137,11 +158,19 @@ bool connect(Setup& s) {
   return false;
 }
 
-// `planner`: the node's configured planner for this run (planner.name).
-void run_map(const char* label, int size, int queries, core::PlannerKind planner) {
+// `planner`: the node's configured planner for this run (planner.name). `security` enabled:
+// node and clients secured with its keystore's enclaves, whose permissions name the default
+// topics, so the topics keep their names (the domain alone keeps the run apart).
+void run_map(const char* label, int size, int queries, core::PlannerKind planner,
+             const node::SecurityConfig* security = nullptr) {
   Setup s;
-  isolate(s.cfg, "bench" + std::to_string(getpid()) + "_" + std::to_string(size) + "_" +
-                     std::string(core::to_string(planner)) + "_");
+  if (security != nullptr) {
+    s.cfg.domain_id = 1 + static_cast<int>(getpid() % 200);
+    s.cfg.security = *security;
+  } else {
+    isolate(s.cfg, "bench" + std::to_string(getpid()) + "_" + std::to_string(size) + "_" +
+                       std::string(core::to_string(planner)) + "_");
+  }
   s.cfg.debug = node::DebugPublishing::kNever;
   s.cfg.planner.kind = planner;
   s.cfg.map.max_cells = std::max<int64_t>(s.cfg.map.max_cells, int64_t{size} * size);
@@ -223,11 +252,27 @@ void run_large_slice() {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   std::printf("vnsba_node end-to-end latency over loopback DDS (indoor maps, 5 cm cells)\n");
   std::printf("%-10s %-10s %8s %10s %10s %10s %10s %12s %9s\n", "map", "planner", "queries",
               "e2e_p50_us", "e2e_p99_us", "core_p50_us", "core_p99_us", "overhead_us", "failures");
   const core::PlannerKind configured = node::NodeConfig().planner.kind;
+  // --security KEYSTORE (made by tools/make_keystore.sh): the 100 x 100 map without and with DDS
+  // Security, on the same topics and domain, three times alternating; nothing else.
+  if (argc == 3 && std::string(argv[1]) == "--security") {
+    node::SecurityConfig open, secured;
+    secured.enable = true;
+    secured.keystore = argv[2];
+    for (int round = 0; round < 3; ++round) {
+      run_map("100x100", 100, 300, configured, &open);
+      run_map("100x100sec", 100, 300, configured, &secured);
+    }
+    return 0;
+  }
+  if (argc != 1) {
+    std::fprintf(stderr, "usage: vnsba_node_latency_bench [--security KEYSTORE]\n");
+    return 2;
+  }
   run_map("100x100", 100, 300, configured);
   run_map("1000x1000", 1000, 60, configured);
   // An exact plan across a 200 m office floor: what jps is for.
