@@ -116,9 +116,9 @@ struct Setup {
 
 bool connect(Setup& s) {
   auto name = [&](const std::string& n) { return node::dds_topic_name(s.cfg, n); };
-  auto participant = node::Participant::create(
-      s.cfg.domain_id, "vnsba_latency_bench", nullptr, false,
-      node::with_default_enclave(s.cfg.security, node::kSendGoalEnclave));
+  auto participant =
+      node::Participant::create(s.cfg.domain_id, "vnsba_latency_bench", nullptr, false,
+                                node::with_default_enclave(s.cfg.security, node::kSendGoalEnclave));
   if (!participant) {
     std::printf("%s\n", participant.error().message.c_str());
     return false;
@@ -126,9 +126,9 @@ bool connect(Setup& s) {
   s.client = std::move(participant).value();
   node::Participant* map_client = s.client.get();
   if (s.cfg.security.enable) {
-    auto map_participant = node::Participant::create(
-        s.cfg.domain_id, "vnsba_latency_bench_map", nullptr, false,
-        node::with_default_enclave(s.cfg.security, node::kSlicerEnclave));
+    auto map_participant =
+        node::Participant::create(s.cfg.domain_id, "vnsba_latency_bench_map", nullptr, false,
+                                  node::with_default_enclave(s.cfg.security, node::kSlicerEnclave));
     if (!map_participant) {
       std::printf("%s\n", map_participant.error().message.c_str());
       return false;
