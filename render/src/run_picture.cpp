@@ -334,8 +334,12 @@ Axis axis_with_step(double origin, int32_t cells, double resolution, double step
   const double last = std::floor(end / step + 1e-9);
   constexpr double kMaxTicks = 1000;  // a step too small for the map is refused by the caller
   if (!(last - first < kMaxTicks)) return axis;
-  for (double k = first; k <= last; ++k) {
-    double value = k * step;
+  // Far from 0 (a record with x = 9e18 m) consecutive multiples of the step are one double:
+  // there is no tick to tell apart, and counting with `++k` would never end.
+  if (!(first + 1.0 > first)) return axis;
+  const int64_t count = static_cast<int64_t>(last - first) + 1;
+  for (int64_t i = 0; i < count; ++i) {
+    double value = (first + static_cast<double>(i)) * step;
     if (std::abs(value) < 1e-9 * step) value = 0.0;  // no "-0"
     Tick tick{value, (value - origin) / resolution, {}};
     char buf[64];

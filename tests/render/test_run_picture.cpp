@@ -749,6 +749,27 @@ TEST(RunPicture, AxisTicksAreRoundWorldCoordinates) {
   }
 }
 
+// A map so far from 0 that its cells are below the precision of its coordinates (a fuzzed
+// record's 9.2e18 m): no tick can be told apart, so there are none, and rendering ends.
+TEST(RunPicture, AMapFarFromTheOriginGetsNoTicksInsteadOfEndlessOnes) {
+  for (const double origin : {9.2e18, -9.2e18, 1e300}) {
+    auto map = std::make_shared<render::MapPicture>();
+    map->width = map->height = 20;
+    map->resolution = 0.05;
+    map->origin_x = origin;
+    map->origin_y = 0.0;
+    map->cells.assign(400, render::CellState::kFree);
+    render::RunPicture run;
+    run.map = map;
+    Rendered r;
+    r.svg = render::render_svg(run);
+    ASSERT_TRUE(r.parse()) << origin;
+    const auto* axis = find_id(r.root, "axis-x");
+    EXPECT_TRUE(axis == nullptr || axis->FirstChildElement("line") == nullptr) << origin;
+    EXPECT_NE(find_id(r.root, "axis-y"), nullptr) << "the other axis is unaffected";
+  }
+}
+
 // The caption names the options that shape the path where they are known, and nothing about
 // those that are not.
 TEST(RunPicture, CaptionNamesThePlannerOptionsThatShapeThePath) {
