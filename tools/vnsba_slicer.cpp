@@ -1,15 +1,20 @@
-// vnsba_slicer: OctoMap 3D maps -> 2D slices, to a map_server file or onto the bus.
+// vnsba_slicer: any map file vnsba_plan reads -> the 2D map the node plans on, to a map_server
+// file or onto the bus. OctoMaps are sliced; 2D maps are published as they are.
 //
 //   vnsba_slicer FILE.bt|FILE.ot [--z-min A] [--z-max B] [--resolution R]
-//                [--bounds XMIN,YMIN,XMAX,YMAX] [--out map.pgm]
-//   vnsba_slicer FILE.bt --publish [--watch] [--config FILE] [--domain N]
+//                [--bounds XMIN,YMIN,XMAX,YMAX] [--remove-speckles] [--out map.pgm]
+//   vnsba_slicer FILE.map|FILE.yaml|FILE.pgm [--out map.pgm]
+//   vnsba_slicer FILE --publish [--watch] [--config FILE] [--domain N]
 //   vnsba_slicer --subscribe [--config FILE] [--domain N]
 //
-// Band, resolution and speckle removal default to the config's `slicer` section; the flags
-// override them, and errors name the flag or the config key a value came from. With --publish
-// the slice goes out on the slice topic (transient local, so a node started later still gets it)
-// and the slicer stays up to serve it until SIGINT/SIGTERM; --watch republishes when the file
-// changes. --subscribe slices every binary octomap_msgs/Octomap
+// Files are read by maps::load_map_file, as vnsba_plan reads them: a Moving AI map has 1 m
+// cells and origin (0, 0), a map_server map its YAML's resolution and origin and map_server's
+// values (trinary 100 / 0 / -1, scale mode's graded 1..99 too). Band, resolution and speckle
+// removal (OctoMaps only: given with a 2D map they are refused by name) default to the config's
+// `slicer` section; the flags override them, and errors name the flag or the config key a value
+// came from. With --publish the map goes out on the slice topic (transient local, so a node
+// started later still gets it) and the slicer stays up to serve it until SIGINT/SIGTERM; --watch
+// republishes when the file changes. --subscribe slices every binary octomap_msgs/Octomap
 // it receives on the `octomap` topic and publishes the result.
 //
 // Exit codes: 0 done (or stopped by a signal), 2 bad arguments, config, file or slice options,
@@ -25,6 +30,7 @@
 
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "octomap_msgs/msg/OctomapPubSubTypes.h"
+#include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/node/config.hpp"
@@ -70,14 +76,33 @@ class TreeSlot : public node::dds::DataReaderListener {
   std::optional<node::OctomapMsg> pending_;
 };
 
-// The file's modification time; file_time_type::min() when it cannot be read (e.g. mid-rename).
-std::filesystem::file_time_type modified(const std::string& path) {
-  std::error_code ec;
-  const auto t = std::filesystem::last_write_time(path, ec);
-  return ec ? std::filesystem::file_time_type::min() : t;
+// The files a map is read from, whose changes --watch follows: the file given and, for a map_server
+// map, the .yaml and .pgm of the same name beside it (map_saver's pair).
+std::vector<std::string> watched_files(const std::string& path) {
+  std::vector<std::string> files = {path};
+  if (maps::map_file_kind(path) == maps::MapFileKind::kMapServer) {
+    for (const char* extension : {".yaml", ".pgm"}) {
+      std::string sibling = std::filesystem::path(path).replace_extension(extension).string();
+      if (sibling != path) files.push_back(std::move(sibling));
+    }
+  }
+  return files;
 }
 
-// Slicing errors start with what was sliced (the file, or "the received octomap").
+// The files' modification times; file_time_type::min() for one that cannot be read (e.g.
+// mid-rename).
+std::vector<std::filesystem::file_time_type> modified(const std::vector<std::string>& paths) {
+  std::vector<std::filesystem::file_time_type> times;
+  for (const std::string& path : paths) {
+    std::error_code ec;
+    const auto t = std::filesystem::last_write_time(path, ec);
+    times.push_back(ec ? std::filesystem::file_time_type::min() : t);
+  }
+  return times;
+}
+
+// Slicing errors start with what was sliced (here "the received octomap"; files are named by
+// maps::load_map_file).
 core::Expected<core::OccupancyGrid> slice_tree(const octomap::OcTree& tree,
                                                const maps::SliceOptions& options,
                                                const std::string& source) {
@@ -87,48 +112,104 @@ core::Expected<core::OccupancyGrid> slice_tree(const octomap::OcTree& tree,
   return sliced;
 }
 
-core::Expected<core::OccupancyGrid> slice_file(const std::string& path,
-                                               const maps::SliceOptions& options) {
-  auto tree = maps::load_octree(path);
-  if (!tree) return tree.error();
-  return slice_tree(**tree, options, path);
+// A map file as the node would plan on it: an OctoMap sliced, a 2D map as it is. A 2D map larger
+// than the node's map.max_cells is refused here, as the node would refuse it (a slice is held to
+// the limit by the slicing itself).
+core::Expected<core::OccupancyGrid> load_file(const std::string& path,
+                                              const maps::SliceOptions& options) {
+  auto grid = maps::load_map_file(path, options);
+  if (!grid) return grid;
+  const int64_t cells = int64_t{grid->width} * grid->height;
+  if (maps::map_file_kind(path) != maps::MapFileKind::kOctoMap && cells > options.max_cells) {
+    return core::Status::error(core::StatusCode::kInvalidMap,
+                               path + ": " + std::to_string(grid->width) + " x " +
+                                   std::to_string(grid->height) + " = " + std::to_string(cells) +
+                                   " cells, over " + options.names.max_cells + " (" +
+                                   std::to_string(options.max_cells) + " cells)");
+  }
+  return grid;
 }
 
-void log_slice(const core::OccupancyGrid& g, const std::string& source) {
-  size_t occupied = 0, free_cells = 0;
+// `what` is "slice" (of an OctoMap) or "map" (a 2D map as it is).
+void log_grid(const core::OccupancyGrid& g, const char* what, const std::string& source) {
+  size_t occupied = 0, free_cells = 0, unknown = 0;
   for (int8_t v : g.data) {
     occupied += v == core::kOccupancyOccupied;
     free_cells += v == core::kOccupancyFree;
+    unknown += v < 0;
   }
+  const size_t graded = g.data.size() - occupied - free_cells - unknown;
   spdlog::info(
-      "slice of {}: {} x {} cells at {} m, origin ({:.3f}, {:.3f}) m; {} occupied, {} free, {} "
-      "unknown",
-      source, g.width, g.height, g.resolution, g.origin_x, g.origin_y, occupied, free_cells,
-      g.data.size() - occupied - free_cells);
+      "{} of {}: {} x {} cells at {} m, origin ({:.3f}, {:.3f}) m; {} occupied, {} free, {} "
+      "unknown{}",
+      what, source, g.width, g.height, g.resolution, g.origin_x, g.origin_y, occupied, free_cells,
+      unknown, graded == 0 ? "" : fmt::format(", {} graded (1..99)", graded));
+}
+
+// --out: the map as map_saver saves what is published (trinary). Refuses to overwrite the files
+// the map is read from; warns about graded cells that the trinary file turns unknown.
+bool write_out(const core::OccupancyGrid& grid, const std::string& out,
+               const std::vector<std::string>& inputs, int occupied_threshold) {
+  const std::string stem = std::filesystem::path(out).replace_extension().string();
+  for (const std::string& written : {stem + ".pgm", stem + ".yaml"}) {
+    for (const std::string& input : inputs) {
+      std::error_code ec;
+      if (std::filesystem::equivalent(written, input, ec) && !ec) {
+        spdlog::error("--out {}: would overwrite {}, which the map is read from", out, written);
+        return false;
+      }
+    }
+  }
+  auto saved = maps::save_map_server(grid, stem, occupied_threshold);
+  if (!saved) {
+    spdlog::error("--out {}: {}", out, saved.error().message);
+    return false;
+  }
+  // Graded values (map_server's scale mode) between map_saver's free and occupied ranges become
+  // unknown in a trinary file: read it back and say how many.
+  if (auto back = maps::load_map_server(*saved); back && back->data.size() == grid.data.size()) {
+    size_t turned_unknown = 0;
+    for (size_t i = 0; i < grid.data.size(); ++i)
+      turned_unknown += grid.data[i] >= 0 && back->data[i] < 0;
+    if (turned_unknown > 0)
+      spdlog::warn(
+          "{}.pgm: {} cells with graded values are written as unknown, as map_saver's trinary "
+          "file does (the published map keeps their values)",
+          stem, turned_unknown);
+  }
+  spdlog::info("wrote {}.pgm and {}", stem, *saved);
+  return true;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   node::init_logging("vnsba_slicer");
-  CLI::App app{"vnsba_slicer: OctoMap 3D maps to 2D occupancy slices"};
+  CLI::App app{
+      "vnsba_slicer: map files (OctoMaps sliced, 2D maps as they are) to the 2D occupancy map "
+      "the node plans on"};
   std::string input, out, config_path = "";
   std::optional<double> z_min, z_max, resolution;
   int domain = -1;
   bool publish = false, watch = false, subscribe = false, speckles = false;
   std::vector<double> bounds;
-  app.add_option("file", input, "OctoMap file (.bt binary tree or .ot full tree)");
-  app.add_option("--z-min", z_min, "lower bound of the height band, metres");
-  app.add_option("--z-max", z_max, "upper bound of the height band, metres");
-  app.add_option("--resolution", resolution,
-                 "metres per cell: the leaf size or a whole multiple (0 = leaf size)");
-  app.add_option("--bounds", bounds,
-                 "x_min,y_min,x_max,y_max in metres (default: the tree's bounds)")
-      ->expected(4)
-      ->delimiter(',');
-  app.add_flag("--remove-speckles", speckles, "turn isolated occupied cells free");
-  app.add_option("--out", out, "write a ROS map_server map: OUT (.pgm) and its .yaml");
-  app.add_flag("--publish", publish, "publish the slice on the slice topic and keep serving it");
+  app.add_option("file", input,
+                 "map file: .bt/.ot (OctoMap, sliced), .map (Moving AI), .yaml/.pgm (map_server)");
+  // The slicing options: for OctoMaps (files and --subscribe) only.
+  const std::vector<CLI::Option*> slice_only = {
+      app.add_option("--z-min", z_min, "OctoMap: lower bound of the height band, metres"),
+      app.add_option("--z-max", z_max, "OctoMap: upper bound of the height band, metres"),
+      app.add_option("--resolution", resolution,
+                     "OctoMap: metres per cell, the leaf size or a whole multiple (0 = leaf size)"),
+      app.add_option("--bounds", bounds,
+                     "OctoMap: x_min,y_min,x_max,y_max in metres (default: the tree's bounds)")
+          ->expected(4)
+          ->delimiter(','),
+      app.add_flag("--remove-speckles", speckles, "OctoMap: turn isolated occupied cells free")};
+  app.add_option("--out", out,
+                 "write what is published as a ROS map_server map (trinary, as map_saver does): "
+                 "OUT (.pgm) and its .yaml");
+  app.add_flag("--publish", publish, "publish the map on the slice topic and keep serving it");
   app.add_flag("--watch", watch, "with --publish: republish when the file changes");
   app.add_flag("--subscribe", subscribe, "slice the binary octomaps received on the octomap topic");
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
@@ -136,7 +217,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (subscribe == !input.empty()) {
-    spdlog::error("give either an OctoMap file or --subscribe (not both, not neither)");
+    spdlog::error("give either a map file or --subscribe (not both, not neither)");
     return kBadInput;
   }
   if (!publish && !subscribe && out.empty()) {
@@ -147,6 +228,15 @@ int main(int argc, char** argv) {
     spdlog::error("--watch needs --publish");
     return kBadInput;
   }
+  // A 2D map is published as it is: a slicing option given with one is a mistake, not a no-op.
+  const maps::MapFileKind kind = maps::map_file_kind(input);
+  if (kind == maps::MapFileKind::kMovingAi || kind == maps::MapFileKind::kMapServer)
+    for (const CLI::Option* option : slice_only)
+      if (option->count() > 0) {
+        spdlog::error("{}: only for OctoMap files (.bt, .ot), not {}, a 2D map published as it is",
+                      option->get_name(), input);
+        return kBadInput;
+      }
   const auto loaded = node::load_config_or_report(config_path, domain);
   if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
@@ -158,7 +248,10 @@ int main(int argc, char** argv) {
   options.remove_speckles = speckles || config.slicer.remove_speckles;
   options.max_cells = config.map.max_cells;
   // Errors name where each value came from: the flag, or the config key (and its file).
-  const std::string in_config = " in " + config_path;
+  std::string config_name = config_path;
+  if (config_name.empty())
+    if (auto found = node::find_default_config()) config_name = *found;
+  const std::string in_config = " in " + config_name;
   options.names.z_min = z_min ? "--z-min" : "slicer.z_min" + in_config;
   options.names.z_max = z_max ? "--z-max" : "slicer.z_max" + in_config;
   options.names.resolution = resolution ? "--resolution" : "slicer.resolution" + in_config;
@@ -166,35 +259,32 @@ int main(int argc, char** argv) {
   options.names.max_cells = "map.max_cells" + in_config;
   if (!bounds.empty())
     options.bounds = maps::SliceBounds{bounds[0], bounds[1], bounds[2], bounds[3]};
+  const bool two_d = kind == maps::MapFileKind::kMovingAi || kind == maps::MapFileKind::kMapServer;
+  const char* what = two_d ? "map" : "slice";
+  const std::vector<std::string> inputs =
+      input.empty() ? std::vector<std::string>{} : watched_files(input);
 
-  // File mode: slice once (errors are final), write it if asked.
+  // File mode: read once (errors are final), write it if asked.
   std::optional<core::OccupancyGrid> slice;
   if (!input.empty()) {
-    auto sliced = slice_file(input, options);
-    if (!sliced) {
-      spdlog::error("{}", sliced.error().message);
+    auto grid = load_file(input, options);
+    if (!grid) {
+      spdlog::error("{}", grid.error().message);
       return kBadInput;
     }
-    slice = std::move(sliced).value();
-    log_slice(*slice, input);
-    if (!out.empty()) {
-      const std::string stem = std::filesystem::path(out).replace_extension().string();
-      auto written = maps::save_map_server(*slice, stem, config.map.occupied_threshold);
-      if (!written) {
-        spdlog::error("{}", written.error().message);
-        return kBadInput;
-      }
-      spdlog::info("wrote {}.pgm and {}", stem, *written);
-    }
+    slice = std::move(grid).value();
+    log_grid(*slice, what, input);
+    if (!out.empty() && !write_out(*slice, out, inputs, config.map.occupied_threshold))
+      return kBadInput;
     if (!publish) return 0;
   }
 
   // Bus mode. Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(
-      config.domain_id, "vnsba_slicer", nullptr, config.localhost_only,
-      node::with_default_enclave(config.security, node::kSlicerEnclave));
+  auto participant =
+      node::Participant::create(config.domain_id, "vnsba_slicer", nullptr, config.localhost_only,
+                                node::with_default_enclave(config.security, node::kSlicerEnclave));
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;
@@ -214,10 +304,10 @@ int main(int argc, char** argv) {
   auto publish_slice = [&](const core::OccupancyGrid& grid) {
     node::OccupancyGridMsg msg = node::to_slice_msg(grid, config.frame_id, node::now_msg());
     if (!(*writer)->write(&msg)) {
-      spdlog::error("could not publish the slice on '{}'", slice_topic_name);
+      spdlog::error("could not publish the {} on '{}'", what, slice_topic_name);
       return;
     }
-    spdlog::info("published the slice on '{}' (domain {})", slice_topic_name, config.domain_id);
+    spdlog::info("published the {} on '{}' (domain {})", what, slice_topic_name, config.domain_id);
   };
 
   TreeSlot trees;
@@ -237,25 +327,25 @@ int main(int argc, char** argv) {
   }
   if (slice) publish_slice(*slice);
 
-  auto last_change = input.empty() ? std::filesystem::file_time_type::min() : modified(input);
+  auto last_change = modified(inputs);
   for (;;) {
     if (const auto received = stop.wait_for(std::chrono::milliseconds(200))) {
       spdlog::info("{} received: stopping", node::StopSignals::name(*received));
       break;
     }
     if (watch) {
-      const auto now = modified(input);
-      if (now != std::filesystem::file_time_type::min() && now != last_change) {
+      const auto now = modified(inputs);
+      if (now.front() != std::filesystem::file_time_type::min() && now != last_change) {
         last_change = now;
-        auto sliced = slice_file(input, options);
-        if (sliced) {
-          log_slice(*sliced, input);
-          publish_slice(*sliced);
+        auto grid = load_file(input, options);
+        if (grid) {
+          log_grid(*grid, what, input);
+          publish_slice(*grid);
         } else {
-          // A file caught mid-write, or broken: keep serving the last good slice.
+          // A file caught mid-write, or broken: keep serving the last good map.
           // The message names the file.
-          spdlog::warn("changed but cannot be sliced: {}; the last slice stays published",
-                       sliced.error().message);
+          spdlog::warn("changed but cannot be read: {}; the last {} stays published",
+                       grid.error().message, what);
         }
       }
     }
@@ -270,7 +360,7 @@ int main(int argc, char** argv) {
         spdlog::error("{}", sliced.error().message);
         continue;
       }
-      log_slice(*sliced, "the received octomap");
+      log_grid(*sliced, "slice", "the received octomap");
       publish_slice(*sliced);
     }
   }
