@@ -116,24 +116,20 @@ struct Setup {
 
 bool connect(Setup& s) {
   auto name = [&](const std::string& n) { return node::dds_topic_name(s.cfg, n); };
-  auto participant =
-      node::Participant::create(s.cfg.domain_id, "vnsba_latency_bench", nullptr, false,
-                                node::with_default_enclave(s.cfg.security, node::kSendGoalEnclave));
-  if (!participant) {
-    std::printf("%s\n", participant.error().message.c_str());
-    return false;
-  }
-  s.client = std::move(participant).value();
+  // A participant with `enclave` (used only with security on) into `out`; false on failure.
+  auto join = [&](const char* participant_name, const char* enclave,
+                  std::unique_ptr<node::Participant>& out) {
+    auto participant =
+        node::Participant::create(s.cfg.domain_id, participant_name, nullptr, false,
+                                  node::with_default_enclave(s.cfg.security, enclave));
+    if (!participant) std::printf("%s\n", participant.error().message.c_str());
+    if (participant) out = std::move(participant).value();
+    return out != nullptr;
+  };
+  if (!join("vnsba_latency_bench", node::kSendGoalEnclave, s.client)) return false;
   node::Participant* map_client = s.client.get();
   if (s.cfg.security.enable) {
-    auto map_participant =
-        node::Participant::create(s.cfg.domain_id, "vnsba_latency_bench_map", nullptr, false,
-                                  node::with_default_enclave(s.cfg.security, node::kSlicerEnclave));
-    if (!map_participant) {
-      std::printf("%s\n", map_participant.error().message.c_str());
-      return false;
-    }
-    s.map_client = std::move(map_participant).value();
+    if (!join("vnsba_latency_bench_map", node::kSlicerEnclave, s.map_client)) return false;
     map_client = s.map_client.get();
   }
   auto slice_topic = map_client->topic<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
