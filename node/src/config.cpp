@@ -6,7 +6,6 @@
 // reported in one pass, and the schema is the sequence of getter calls in read_config().
 #include "vnsba/node/config.hpp"
 
-#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
@@ -22,6 +21,7 @@
 #include <utility>
 
 #include "vnsba/node/security.hpp"
+#include "vnsba/yaml/document.hpp"
 
 namespace vnsba::node {
 namespace {
@@ -515,90 +515,39 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   }
 }
 
-// Where each document of a stream starts; the content is not built.
-class DocumentStarts : public YAML::EventHandler {
- public:
-  void OnDocumentStart(const YAML::Mark& mark) override { start = mark; }
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
-  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t,
-                const std::string&) override {}
-  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
-                       YAML::EmitterStyle::value) override {}
-  void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t,
-                  YAML::EmitterStyle::value) override {}
-  void OnMapEnd() override {}
-  YAML::Mark start = YAML::Mark::null_mark();
-};
-
-// The number of documents in `text`. YAML::LoadAll of yaml-cpp 0.7 never returns on a document
-// that starts with ',' (it appends empty documents at the same place until memory runs out:
-// jbeder/yaml-cpp#1040, fixed after 0.7); a document that starts where the previous one did is
-// that case, and a syntax error here.
-size_t count_documents(const std::string& text) {
-  std::istringstream in(text);
-  YAML::Parser parser(in);
-  DocumentStarts starts;
-  size_t count = 0;
-  YAML::Mark previous = YAML::Mark::null_mark();
-  while (parser.HandleNextDocument(starts)) {
-    if (count > 0 && starts.start.pos == previous.pos)
-      throw YAML::ParserException(starts.start, "unexpected ',' where a document starts");
-    previous = starts.start;
-    ++count;
-  }
-  return count;
-}
-
 }  // namespace
 
 ConfigResult parse_config(const std::string& yaml_text, const std::string& source) {
   ConfigResult result;
+  // The project's guards (vnsba/yaml/document.hpp): nesting, documents, bytes yaml-cpp misreads.
+  const yaml::Document doc = yaml::load_document(yaml_text);
+  if (doc.problem) {
+    const yaml::Problem& p = *doc.problem;
+    std::string where = source;
+    if (p.line > 0) {
+      where += ": " +
+               std::string(p.kind == yaml::Problem::Kind::kSyntax ? "YAML syntax error at " : "") +
+               "line " + std::to_string(p.line);
+      if (p.column > 0) where += ", column " + std::to_string(p.column);
+    } else if (p.kind == yaml::Problem::Kind::kSyntax) {
+      where += ": YAML syntax error";
+    }
+    std::string message = p.message;
+    if (p.kind == yaml::Problem::Kind::kNesting) message += " (a config nests 3 levels)";
+    if (p.kind == yaml::Problem::Kind::kOther) message = "cannot read the config: " + message;
+    result.errors.push_back(where + ": " + message);
+    return result;
+  }
   try {
-    const size_t documents = count_documents(yaml_text);
-    const YAML::Node root = documents == 1 ? YAML::Load(yaml_text) : YAML::Node();
+    const YAML::Node& root = doc.root;
     NodeConfig config;
-    if (documents > 1) {
-      result.errors.push_back(source + ": found " + std::to_string(documents) +
-                              " YAML documents, expected one");
-    } else if (!root.IsMap() && !root.IsNull()) {
+    if (!root.IsMap() && !root.IsNull()) {
       result.errors.push_back(source + ": found " + describe(root) +
                               " at the top level, expected a map of settings");
     } else {
       read_config(root, config, result.errors);
     }
     if (result.errors.empty()) result.config = std::move(config);
-  } catch (const YAML::DeepRecursion& e) {
-    // yaml-cpp's parser recurses once a level and stops at a fixed depth (500 in 0.7) rather
-    // than overflow the stack; its message ("bad file") does not say so. A config nests 3 deep.
-    // The mark is where its scanner was: at most the end of the nested collection. Having read
-    // through a newline, that is the end of the line before.
-    std::string where = source;
-    if (!e.mark.is_null()) {
-      int line = e.mark.line, column = e.mark.column;
-      const auto pos = static_cast<size_t>(std::max(e.mark.pos, 0));
-      if (column == 0 && line > 0 && pos > 0 && pos <= yaml_text.size() &&
-          yaml_text[pos - 1] == '\n') {
-        const size_t previous = pos >= 2 ? yaml_text.rfind('\n', pos - 2) : std::string::npos;
-        const size_t begin = previous == std::string::npos ? 0 : previous + 1;
-        --line;
-        column = static_cast<int>(pos - 1 - begin);
-      }
-      where += ": line " + std::to_string(line + 1) + ", column " + std::to_string(column + 1);
-    }
-    result = {std::nullopt,
-              {where + ": the YAML is nested deeper than " + std::to_string(e.depth() - 1) +
-               " levels, the most yaml-cpp reads (a config nests 3 levels)"}};
-  } catch (const YAML::ParserException& e) {
-    std::string where = source;
-    if (!e.mark.is_null())
-      where += ": YAML syntax error at line " + std::to_string(e.mark.line + 1) + ", column " +
-               std::to_string(e.mark.column + 1);
-    else
-      where += ": YAML syntax error";
-    result = {std::nullopt, {where + ": " + e.msg}};
   } catch (const std::exception& e) {
     result = {std::nullopt, {source + ": cannot read the config: " + e.what()}};
   } catch (...) {
