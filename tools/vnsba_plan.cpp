@@ -237,7 +237,8 @@ struct Outputs {
   std::optional<double> path_spacing;  // metres; unset = the map's resolution
   std::optional<double> goal_yaw;      // radians
   std::string frame_id = "map";
-  render::PathOptions options;  // the planner options the picture's caption names
+  render::PathOptions options;            // the planner options the picture's caption names
+  records::OptionsRecord record_options;  // the same, as the run record keeps them
   bool any_picture() const { return !svg.empty() || !png.empty() || !json.empty(); }
 };
 
@@ -307,9 +308,9 @@ bool write_outputs(const Outputs& out, const std::string& map_path, const core::
       return false;
     }
     const std::string request_id = "vnsba_plan-" + std::filesystem::path(map_path).stem().string();
-    const records::RunRecord record =
-        run_record(request_id, *map, query, result, build, out.frame_id,
-                   std::filesystem::path(*saved).filename().string());
+    records::RunRecord record = run_record(request_id, *map, query, result, build, out.frame_id,
+                                           std::filesystem::path(*saved).filename().string());
+    record.options = out.record_options;
     const core::Status written =
         render::write_text_file(out.json, records::to_json(record).dump(1));
     if (!written.is_ok()) {
@@ -610,6 +611,7 @@ int main(int argc, char** argv) {
     return kBadInput;
   }
   out.options = render::path_options(options, &build);
+  out.record_options = records::options_record(options);
 
   // What the run plans: start and goal from the command line, or the lines of a .scen file.
   std::vector<maps::MovingAiScenario> scenarios;

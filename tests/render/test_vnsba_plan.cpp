@@ -781,6 +781,12 @@ TEST(VnsbaPlan, JsonIsARunRecordThatRendersAsTheRun) {
   ASSERT_GE(record->path.size(), 2u);
   EXPECT_NEAR(record->path.front().x(), 2.5, 1e-6);
   EXPECT_NEAR(record->path.back().y(), 13.5, 1e-6);
+  // The options that shaped the path, as vnsba_plan ran them (vns_bastar's paper configuration:
+  // pruned and smoothed, no costs), so the record's picture names them too.
+  ASSERT_TRUE(record->options);
+  EXPECT_EQ(record->options->prune, std::optional<bool>(true));
+  EXPECT_EQ(record->options->smooth, std::optional<bool>(true));
+  EXPECT_EQ(record->options->cost_weight, std::optional<double>(0.0));
 
   const auto rendered = records::render_record_file(json);
   ASSERT_TRUE(rendered) << rendered.error().message;
