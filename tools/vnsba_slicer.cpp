@@ -4,8 +4,8 @@
 //   vnsba_slicer FILE.bt|FILE.ot [--z-min A] [--z-max B] [--resolution R]
 //                [--bounds XMIN,YMIN,XMAX,YMAX] [--remove-speckles] [--out map.pgm]
 //   vnsba_slicer FILE.map|FILE.yaml|FILE.pgm [--out map.pgm]
-//   vnsba_slicer FILE --publish [--watch] [--config FILE] [--domain N]
-//   vnsba_slicer --subscribe [--config FILE] [--domain N]
+//   vnsba_slicer FILE --publish [--watch] [--config FILE] [--domain N] [--namespace NS]
+//   vnsba_slicer --subscribe [--config FILE] [--domain N] [--namespace NS]
 //
 // Files are read by maps::load_map_file, as vnsba_plan reads them: a Moving AI map has 1 m
 // cells and origin (0, 0), a map_server map its YAML's resolution and origin and map_server's
@@ -214,6 +214,8 @@ int main(int argc, char** argv) {
   app.add_flag("--subscribe", subscribe, "slice the binary octomaps received on the octomap topic");
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
+  std::optional<std::string> ros_namespace;
+  app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
   CLI11_PARSE(app, argc, argv);
 
   if (subscribe == !input.empty()) {
@@ -237,7 +239,7 @@ int main(int argc, char** argv) {
                       option->get_name(), input);
         return kBadInput;
       }
-  const auto loaded = node::load_config_or_report(config_path, domain);
+  const auto loaded = node::load_config_or_report(config_path, domain, ros_namespace);
   if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
 

@@ -406,6 +406,27 @@ TEST(SlicerFormats, FullOctoMapIsSlicedAndPublished) {
 
 // A Moving AI map has no resolution of its own: 1 m cells, origin (0, 0), as vnsba_plan reads it.
 // '.', 'G', 'S' are passable (0), '@', 'O', 'T', 'W' not (100); the file's top line is the top row.
+// Issue 18: --namespace puts the slice where a node in that namespace reads it.
+TEST(SlicerBus, NamespaceReachesTheNodeOfThatNamespaceOnly) {
+  node::NodeConfig cfg = test_config("slicer_ns");
+  const std::string config = write_temp_file("slicer_ns.yaml", config_yaml(cfg));
+  cfg.ros_namespace = "robot3";  // the node's; the slicer gets it from --namespace
+  node::PlannerNode planner_node(cfg);
+  ASSERT_TRUE(planner_node.start().is_ok());
+  const std::string map =
+      write_temp_file("slicer_ns.map", "type octile\nheight 2\nwidth 3\nmap\n...\n.@.\n");
+  {
+    ChildProcess other(kSlicer, {map, "--publish", "--config", config, "--namespace", "robot4"});
+    EXPECT_FALSE(planner_node.wait_for_map(2s)) << "robot4's map reached robot3's node";
+    other.signal(SIGTERM);
+    EXPECT_EQ(other.wait(), 0) << other.output();
+  }
+  ChildProcess slicer(kSlicer, {map, "--publish", "--config", config, "--namespace", "/robot3"});
+  EXPECT_TRUE(planner_node.wait_for_map(15s)) << slicer.output();
+  slicer.signal(SIGTERM);
+  EXPECT_EQ(slicer.wait(), 0) << slicer.output();
+}
+
 TEST(SlicerFormats, MovingAiMapIsPublishedAsItIs) {
   const std::vector<std::string> rows = {
       "@@@@@@@",
