@@ -65,18 +65,9 @@ std::string join(const std::vector<std::string>& words) {
 
 // How a value found in the file is quoted in messages.
 std::string describe(const YAML::Node& node) {
-  switch (node.Type()) {
-    case YAML::NodeType::Scalar: {
-      const std::string& s = node.Scalar();
-      return '"' + (s.size() > 60 ? s.substr(0, 57) + "..." : s) + '"';
-    }
-    case YAML::NodeType::Sequence:
-      return "a list";
-    case YAML::NodeType::Map:
-      return "a map";
-    default:
-      return "no value";
-  }
+  if (!node.IsScalar()) return yaml::kind_of(node);  // "a list", "a map", "no value"
+  const std::string& s = node.Scalar();
+  return '"' + (s.size() > 60 ? s.substr(0, 57) + "..." : s) + '"';
 }
 
 // Strict base-10 integer ("65", "+65", "-3"); rejects "6.5", "0x41", "1e3", overflow.
