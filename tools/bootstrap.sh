@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libtinyxml2-dev librsvg2-bin
   librsvg2-dev libcairo2-dev
   openssl libssl-dev
-  cyclonedds-dev cyclonedds-tools
+  cyclonedds-dev cyclonedds-tools fastdds-tools
 )
 
 missing=()

@@ -1,7 +1,8 @@
 // vnsba_recorder: listens to a planner node's topics and turns each planning run into a picture
 // and a run record.
 //
-//   vnsba_recorder --out DIR [--config FILE] [--domain N] [--namespace NS] [--duration S | --runs N]
+//   vnsba_recorder --out DIR [--config FILE] [--domain N] [--namespace NS] [--duration S | --runs
+//   N]
 //                  [--debug-wait S] [--max-open-mb M]
 //   vnsba_recorder render RUN.json [--out RUN.svg]
 //
@@ -490,9 +491,10 @@ int main(int argc, char** argv) {
   // Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(
-      config.domain_id, "vnsba_recorder", nullptr, config.localhost_only,
-      node::with_default_enclave(config.security, node::kRecorderEnclave));
+  auto participant =
+      node::Participant::create(config.domain_id, "vnsba_recorder", nullptr, config.localhost_only,
+                                node::with_default_enclave(config.security, node::kRecorderEnclave),
+                                config.discovery_servers);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

@@ -1,6 +1,7 @@
 // vnsba_send_goal: one planning request from the command line, answered by one line.
 //
-//   vnsba_send_goal [--config FILE] [--domain N] [--namespace NS] --start X Y --goal X Y [--yaw RAD]
+//   vnsba_send_goal [--config FILE] [--domain N] [--namespace NS] --start X Y --goal X Y [--yaw
+//   RAD]
 //                   [--planner NAME] [--id ID] [--wait SECONDS] [--min-readers N]
 //
 // Publishes one vnsba_msgs/PlanRequest (start and goal in metres, in the config's frame_id; the
@@ -50,8 +51,8 @@
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/process.hpp"
-#include "vnsba/node/security.hpp"
 #include "vnsba/node/requests.hpp"
+#include "vnsba/node/security.hpp"
 #include "vnsba/render/text_format.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
@@ -307,9 +308,10 @@ int main(int argc, char** argv) {
   // The listeners outlive every entity that calls them (the participant is destroyed first).
   StatusReaderListener status_events;
   RequestWriterListener request_events;
-  auto participant = node::Participant::create(
-      config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
-      node::with_default_enclave(config.security, node::kSendGoalEnclave));
+  auto participant =
+      node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
+                                node::with_default_enclave(config.security, node::kSendGoalEnclave),
+                                config.discovery_servers);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

@@ -454,6 +454,26 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   network.boolean("localhost_only", c.localhost_only);
   network.finish();
 
+  Section discovery = top.child("discovery");
+  discovery.get(
+      "servers", c.discovery_servers, [](const YAML::Node& node, std::vector<std::string>& value) {
+        const std::string expected =
+            "a list of Discovery Server locators \"IPv4:port\" (port 1..65535), e.g. "
+            "[\"127.0.0.1:11811\"]";
+        if (!node.IsSequence() && !node.IsNull()) return expected;
+        std::vector<std::string> servers;
+        for (const YAML::Node& item : node) {
+          if (!item.IsScalar() || !discovery_server_problem(item.Scalar()).empty())
+            return expected + (item.IsScalar() ? ": \"" + item.Scalar() + "\" " +
+                                                     discovery_server_problem(item.Scalar())
+                                               : std::string());
+          servers.push_back(item.Scalar());
+        }
+        value = std::move(servers);
+        return std::string();
+      });
+  discovery.finish();
+
   // DDS Security (node/security.hpp); the ROS_SECURITY_* environment is applied after loading.
   Section security = top.child("security");
   security.boolean("enable", c.security.enable);
@@ -586,6 +606,28 @@ core::Expected<std::string> normalized_namespace(std::string_view given) {
     problem = "a namespace: " + p;
   if (!problem.empty()) return core::Status::error(core::StatusCode::kInvalidRequest, problem);
   return std::string(bare);
+}
+
+std::string discovery_server_problem(const std::string& locator) {
+  const size_t colon = locator.rfind(':');
+  if (colon == std::string::npos) return "has no ':port'";
+  const std::string host = locator.substr(0, colon), port = locator.substr(colon + 1);
+  int parts = 0;
+  for (size_t begin = 0; begin <= host.size(); ++parts) {
+    const size_t end = std::min(host.find('.', begin), host.size());
+    const std::string part = host.substr(begin, end - begin);
+    int v = -1;
+    const auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
+    if (part.empty() || ec != std::errc{} || p != part.data() + part.size() || v > 255)
+      return "is not an IPv4 address and port";
+    begin = end + 1;
+  }
+  if (parts != 4) return "is not an IPv4 address and port";
+  int p = 0;
+  const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), p);
+  if (port.empty() || ec != std::errc{} || end != port.data() + port.size() || p < 1 || p > 65535)
+    return "has a port outside 1..65535";
+  return "";
 }
 
 std::string_view without_leading_slash(std::string_view name) {

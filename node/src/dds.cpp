@@ -1,5 +1,6 @@
 #include "vnsba/node/dds.hpp"
 
+#include <fastdds/rtps/attributes/ServerAttributes.h>
 #include <fastdds/rtps/common/WriteParams.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <spdlog/spdlog.h>
@@ -145,7 +146,8 @@ dds::DataReaderQos reader_qos(TopicQos profile) {
 
 core::Expected<std::unique_ptr<Participant>> Participant::create(
     int domain_id, const std::string& name, dds::DomainParticipantListener* listener,
-    bool localhost_only, const SecurityConfig& security) {
+    bool localhost_only, const SecurityConfig& security,
+    const std::vector<std::string>& discovery_servers) {
   if (domain_id < 0 || domain_id > 232) {
     return core::Status::error(core::StatusCode::kInvalidRequest,
                                "domain id " + std::to_string(domain_id) + " is outside 0..232");
@@ -175,6 +177,17 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
   // 0.5 s bounds that wait for a few dozen bytes per participant and second on the wire.
   qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod =
       eprosima::fastrtps::Duration_t(0, 500'000'000);
+  // discovery.servers: a Discovery Server client, the servers parsed by Fast DDS's own reader of
+  // ROS_DISCOVERY_SERVER lists (position = server id), so both spell servers the same way.
+  if (!discovery_servers.empty()) {
+    std::string list;
+    for (const std::string& server : discovery_servers) list += (list.empty() ? "" : ";") + server;
+    auto& discovery = qos.wire_protocol().builtin.discovery_config;
+    if (!eprosima::fastdds::rtps::load_environment_server_info(list, discovery.m_DiscoveryServers))
+      return core::Status::error(core::StatusCode::kInvalidRequest,
+                                 "discovery.servers: Fast DDS cannot read \"" + list + "\"");
+    discovery.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::CLIENT;
+  }
   qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
   qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
   // One secured creation at a time, so the log captured is this participant's.

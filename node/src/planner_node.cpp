@@ -262,9 +262,9 @@ core::Status PlannerNode::Impl::start() {
       [this, name](const std::string& topic, const std::string& policy) {
         return qos_fix(topic, policy, name);
       });
-  auto participant =
-      Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get(),
-                          cfg_.localhost_only, with_default_enclave(cfg_.security, kNodeEnclave));
+  auto participant = Participant::create(
+      cfg_.domain_id, "vnsba_node", participant_watch_.get(), cfg_.localhost_only,
+      with_default_enclave(cfg_.security, kNodeEnclave), cfg_.discovery_servers);
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
 

@@ -1157,6 +1157,18 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
     }
   }
   same_bool("network", "localhost_only", c.localhost_only, d.localhost_only);
+  {
+    const auto v = find("discovery", "servers");
+    std::vector<std::string> listed;
+    if (v && v->IsSequence())
+      for (const YAML::Node& item : *v) listed.push_back(item.IsScalar() ? item.Scalar() : "");
+    if (v && v->IsSequence() ? c.discovery_servers != listed
+                             : c.discovery_servers != d.discovery_servers)
+      p->push_back("discovery.servers: field differs from the file's value");
+    for (const std::string& server : c.discovery_servers)
+      if (!node::discovery_server_problem(server).empty())
+        p->push_back("discovery.servers: accepted \"" + server + "\"");
+  }
   same_bool("security", "enable", c.security.enable, d.security.enable);
   same_text("security", "keystore", c.security.keystore, d.security.keystore);
   same_text("security", "enclave", c.security.enclave, d.security.enclave);
@@ -1200,8 +1212,8 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   if (!in_range) p->push_back("an accepted value is outside its documented range");
 
   // Every key of the file is known, given once, and has a value.
-  const std::set<std::string> sections = {"topics", "map",    "planner", "requests",
-                                          "debug",  "slicer", "network", "security"};
+  const std::set<std::string> sections = {"topics", "map",     "planner",  "requests", "debug",
+                                          "slicer", "network", "security", "discovery"};
   auto walk = [&](const YAML::Node& map, const std::string& prefix) {
     std::set<std::string> seen;
     for (const auto& kv : map) {

@@ -100,9 +100,9 @@ class Collector : public node::dds::DataReaderListener {
 class BusClient {
  public:
   explicit BusClient(const node::NodeConfig& cfg) : cfg_(cfg) {
-    participant_ =
-        node::Participant::create(cfg.domain_id, "vnsba_test_client", nullptr, cfg.localhost_only)
-            .value();
+    participant_ = node::Participant::create(cfg.domain_id, "vnsba_test_client", nullptr,
+                                             cfg.localhost_only, {}, cfg.discovery_servers)
+                       .value();
     auto name = [&](const std::string& n) { return node::dds_topic_name(cfg_, n); };
     using node::TopicQos;
     slice_ = participant_

@@ -85,6 +85,7 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.topics.planner_debug, b.topics.planner_debug);
   EXPECT_EQ(a.topics.octomap, b.topics.octomap);
   EXPECT_EQ(a.ros_namespace, b.ros_namespace);
+  EXPECT_EQ(a.discovery_servers, b.discovery_servers);
   EXPECT_EQ(a.topics.plan_raw, b.topics.plan_raw);
   EXPECT_EQ(a.topics.plan_pruned, b.topics.plan_pruned);
   EXPECT_EQ(a.topics.expansions_forward, b.topics.expansions_forward);
@@ -990,6 +991,21 @@ TEST(Config, ANamespacePrefixesRelativeTopicNamesAndLeavesAbsoluteOnes) {
   }
   EXPECT_EQ(parse_config("namespace: \"\"\n").config->ros_namespace, "");
   EXPECT_EQ(parse_config("namespace: /\n").config->ros_namespace, "");
+}
+
+TEST(Config, DiscoveryServersAreIPv4AndPortEach) {
+  const ConfigResult ok =
+      parse_config("discovery:\n  servers: [\"127.0.0.1:11811\", \"10.0.0.2:1\"]\n");
+  ASSERT_TRUE(ok.config) << Joined(ok.errors);
+  EXPECT_EQ(ok.config->discovery_servers,
+            (std::vector<std::string>{"127.0.0.1:11811", "10.0.0.2:1"}));
+  EXPECT_TRUE(parse_config("").config->discovery_servers.empty());
+  for (const char* bad :
+       {"[\"localhost:11811\"]", "[\"127.0.0.1\"]", "[\"127.0.0.1:0\"]", "[\"127.0.0.1:70000\"]",
+        "[\"1.2.3:5\"]", "[\"1.2.3.256:5\"]", "\"127.0.0.1:11811\"", "[[1]]"}) {
+    const ConfigResult r = parse_config(std::string("discovery: {servers: ") + bad + "}\n");
+    EXPECT_TRUE(HasError(r, "discovery.servers", {"IPv4:port"})) << bad << Joined(r.errors);
+  }
 }
 
 }  // namespace

@@ -427,6 +427,44 @@ TEST(SlicerBus, NamespaceReachesTheNodeOfThatNamespaceOnly) {
   EXPECT_EQ(slicer.wait(), 0) << slicer.output();
 }
 
+// Issue 18: with discovery.servers every executable is a Discovery Server client: the node, the
+// slicer (a process) and a client find each other through fastdds-tools' server, and not
+// without it.
+TEST(DiscoveryServer, NodeSlicerAndClientFindEachOtherThroughTheServerOnly) {
+  const std::string server_binary = VNSBA_DISCOVERY_SERVER;
+  if (server_binary.empty())
+    GTEST_SKIP()
+        << "fast-discovery-server not found (fastdds-tools; tools/bootstrap.sh installs it)";
+  const std::string port = std::to_string(20000 + getpid() % 20000);
+  node::NodeConfig cfg = test_config("discovery_server");
+  cfg.discovery_servers = {"127.0.0.1:" + port};
+  const std::string config =
+      write_temp_file("discovery_server.yaml",
+                      config_yaml(cfg) + "discovery:\n  servers: [\"127.0.0.1:" + port + "\"]\n");
+  node::PlannerNode planner_node(cfg);
+  ASSERT_TRUE(planner_node.start().is_ok());
+  BusClient client(cfg);
+  EXPECT_FALSE(client.wait_for_node(2s)) << "matched with no server running";
+  node::NodeConfig simple = cfg;
+  simple.discovery_servers.clear();
+  BusClient outsider(simple);
+
+  ChildProcess server(server_binary, {"-i", "0", "-l", "127.0.0.1", "-p", port});
+  ASSERT_TRUE(client.wait_for_node(15s)) << server.output();
+  const std::string map =
+      write_temp_file("discovery_server.map", "type octile\nheight 2\nwidth 3\nmap\n...\n...\n");
+  ChildProcess slicer(kSlicer, {map, "--publish", "--config", config});
+  ASSERT_TRUE(planner_node.wait_for_map(15s)) << slicer.output();
+  client.publish_request("through-server", 0.5, 0.5, 2.5, 1.5);
+  const auto status = client.wait_status("through-server");
+  ASSERT_TRUE(status);
+  EXPECT_EQ(node::code_name(status->code()), "OK") << status->message();
+  // A participant with simple discovery (multicast) never meets the servers' clients.
+  EXPECT_FALSE(outsider.wait_for_node(1s));
+  slicer.signal(SIGTERM);
+  EXPECT_EQ(slicer.wait(), 0) << slicer.output();
+}
+
 TEST(SlicerFormats, MovingAiMapIsPublishedAsItIs) {
   const std::vector<std::string> rows = {
       "@@@@@@@",

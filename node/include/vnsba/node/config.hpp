@@ -171,6 +171,12 @@ struct NodeConfig {
   // only, and so advertises only loopback locators: what a ROS 2 system with
   // ROS_LOCALHOST_ONLY=1 reaches (that variable set to 1 turns it on too, as in rmw_fastrtps).
   bool localhost_only = false;
+  // discovery.servers: Fast DDS Discovery Servers as "IPv4:port", the list position being the
+  // server id (its GUID prefix 44.53.<id>.5f.45.50.52.4f.53.49.4d.41, as `fast-discovery-server
+  // -i <id>` makes it), exactly as ROS_DISCOVERY_SERVER lists them. Non-empty: every participant
+  // is a Discovery Server client and discovers others only through these servers. Empty: simple
+  // discovery, unless ROS_DISCOVERY_SERVER is set, which Fast DDS applies itself.
+  std::vector<std::string> discovery_servers;
   // The start of goal_pose goals (plan_requests carry their own): robot_pose_source,
   // robot_pose_type, base_frame (the robot's frame in tf) and transform_tolerance (seconds in
   // [0, 60]: a dynamic transform older than this is stale and the goal is refused naming it).
@@ -215,6 +221,8 @@ inline constexpr const char* kConfigOptionHelp =
 // "map", as tf2 strips it).
 std::string_view without_leading_slash(std::string_view name);
 
+// What is wrong with a discovery.servers entry ("" when it is "a.b.c.d:port").
+std::string discovery_server_problem(const std::string& locator);
 // A ROS 2 namespace as NodeConfig::ros_namespace keeps it: "/robot7/" and "robot7" give
 // "robot7", "" and "/" give "" (none). Refused (kInvalidRequest, the message saying what was
 // expected) unless the rest is a topic name without '~'.

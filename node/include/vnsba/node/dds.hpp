@@ -116,7 +116,8 @@ class Participant {
   // an open participant and a warning (as SROS2).
   static core::Expected<std::unique_ptr<Participant>> create(
       int domain_id, const std::string& name, dds::DomainParticipantListener* listener = nullptr,
-      bool localhost_only = false, const SecurityConfig& security = {});
+      bool localhost_only = false, const SecurityConfig& security = {},
+      const std::vector<std::string>& discovery_servers = {});
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
