@@ -6,6 +6,7 @@
 // reported in one pass, and the schema is the sequence of getter calls in read_config().
 #include "vnsba/node/config.hpp"
 
+#include <arpa/inet.h>
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
@@ -463,10 +464,9 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
         if (!node.IsSequence() && !node.IsNull()) return expected;
         std::vector<std::string> servers;
         for (const YAML::Node& item : node) {
-          if (!item.IsScalar() || !discovery_server_problem(item.Scalar()).empty())
-            return expected + (item.IsScalar() ? ": \"" + item.Scalar() + "\" " +
-                                                     discovery_server_problem(item.Scalar())
-                                               : std::string());
+          if (!item.IsScalar()) return expected;
+          if (const std::string problem = discovery_server_problem(item.Scalar()); !problem.empty())
+            return expected + ": \"" + item.Scalar() + "\" " + problem;
           servers.push_back(item.Scalar());
         }
         value = std::move(servers);
@@ -611,18 +611,10 @@ core::Expected<std::string> normalized_namespace(std::string_view given) {
 std::string discovery_server_problem(const std::string& locator) {
   const size_t colon = locator.rfind(':');
   if (colon == std::string::npos) return "has no ':port'";
-  const std::string host = locator.substr(0, colon), port = locator.substr(colon + 1);
-  int parts = 0;
-  for (size_t begin = 0; begin <= host.size(); ++parts) {
-    const size_t end = std::min(host.find('.', begin), host.size());
-    const std::string part = host.substr(begin, end - begin);
-    int v = -1;
-    const auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), v);
-    if (part.empty() || ec != std::errc{} || p != part.data() + part.size() || v > 255)
-      return "is not an IPv4 address and port";
-    begin = end + 1;
-  }
-  if (parts != 4) return "is not an IPv4 address and port";
+  in_addr address{};
+  if (inet_pton(AF_INET, locator.substr(0, colon).c_str(), &address) != 1)
+    return "is not an IPv4 address and port";
+  const std::string port = locator.substr(colon + 1);
   int p = 0;
   const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), p);
   if (port.empty() || ec != std::errc{} || end != port.data() + port.size() || p < 1 || p > 65535)

@@ -288,25 +288,25 @@ core::Status PlannerNode::Impl::start() {
   // The debug layers keep their last sample (transient local, keep last 1): an rviz2 display
   // opened after a run still shows it, whatever durability it asks for.
   const dds::DataWriterQos layer_qos = writer_qos(TopicQos::kLatched, true);
-  const std::pair<const std::string*, dds::DataWriter**> path_layers[] = {
-      {&cfg_.topics.plan_raw, &raw_path_writer_}, {&cfg_.topics.plan_pruned, &pruned_path_writer_}};
-  for (const auto& [topic, out] : path_layers) {
-    auto writer = participant_->writer_on<PathType>(name(*topic), layer_qos);
-    if (!writer) return writer.error();
-    *out = *writer;
-  }
-  const std::pair<const std::string*, dds::DataWriter**> grid_layers[] = {
-      {&cfg_.topics.expansions_forward, &expansions_forward_writer_},
-      {&cfg_.topics.expansions_backward, &expansions_backward_writer_}};
-  for (const auto& [topic, out] : grid_layers) {
-    auto writer = participant_->writer_on<GridType>(name(*topic), layer_qos);
-    if (!writer) return writer.error();
-    *out = *writer;
-  }
-  auto meeting_writer = participant_->writer_on<geometry_msgs::msg::dds_::PointStamped_PubSubType>(
-      name(cfg_.topics.meeting_point), layer_qos);
-  if (!meeting_writer) return meeting_writer.error();
-  meeting_point_writer_ = *meeting_writer;
+  auto add_layer = [&](auto type, const std::string& topic, dds::DataWriter*& out) {
+    auto writer = participant_->writer_on<typename decltype(type)::type>(name(topic), layer_qos);
+    if (writer) out = *writer;
+    return writer ? core::Status::ok() : writer.error();
+  };
+  // In order, stopping at the first failure.
+  core::Status layers = add_layer(TypeTag<PathType>(), cfg_.topics.plan_raw, raw_path_writer_);
+  if (layers.is_ok())
+    layers = add_layer(TypeTag<PathType>(), cfg_.topics.plan_pruned, pruned_path_writer_);
+  if (layers.is_ok())
+    layers =
+        add_layer(TypeTag<GridType>(), cfg_.topics.expansions_forward, expansions_forward_writer_);
+  if (layers.is_ok())
+    layers = add_layer(TypeTag<GridType>(), cfg_.topics.expansions_backward,
+                       expansions_backward_writer_);
+  if (layers.is_ok())
+    layers = add_layer(TypeTag<geometry_msgs::msg::dds_::PointStamped_PubSubType>(),
+                       cfg_.topics.meeting_point, meeting_point_writer_);
+  if (!layers.is_ok()) return layers;
 
   replier_ = std::thread([this] { replier_loop(); });
   map_thread_ = std::thread([this] { map_loop(); });
