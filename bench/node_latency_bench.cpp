@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/indoor_map.hpp"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
@@ -63,34 +64,8 @@ class StatusWaiter : public node::dds::DataReaderListener {
   Clock::time_point received_at_;
 };
 
-double percentile(std::vector<double> v, double p) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
-
-// A room-and-corridor map: walls every 20 cells with doorways, as indoor slices look.
-core::OccupancyGrid indoor_map(int size, double resolution) {
-  core::OccupancyGrid g;
-  g.width = g.height = size;
-  g.resolution = resolution;
-  g.data.assign(static_cast<size_t>(size) * size, 0);
-  std::mt19937 rng(size);
-  std::uniform_int_distribution<int> door(2, 16);
-  for (int wall = 20; wall < size; wall += 20) {
-    for (int i = 0; i < size; ++i) {
-      g.data[static_cast<size_t>(wall) * size + i] = 100;  // horizontal wall
-      g.data[static_cast<size_t>(i) * size + wall] = 100;  // vertical wall
-    }
-    for (int room = 0; room + 20 <= size; room += 20) {
-      const int d = room + door(rng);
-      for (int k = 0; k < 2; ++k) {
-        g.data[static_cast<size_t>(wall) * size + d + k] = 0;
-        g.data[static_cast<size_t>(d + k) * size + wall] = 0;
-      }
-    }
-  }
-  return g;
-}
+using bench::indoor_map;
+using bench::percentile;
 
 // A private domain and topics for this process, so concurrent runs never meet.
 void isolate(node::NodeConfig& cfg, const std::string& prefix) {

@@ -19,6 +19,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <thread>
 #include <utility>
 
 #include "vnsba/node/security.hpp"
@@ -299,6 +300,27 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
       if (auto ns = normalized_namespace(given)) c.ros_namespace = *ns;
     }
   }
+  // robots: one node serving several robots, each a namespace under `namespace`.
+  top.get("robots", c.robots, [](const YAML::Node& node, std::vector<std::string>& value) {
+    const std::string expected =
+        "a list of distinct robot names, each a namespace under `namespace` (e.g. [robot1, "
+        "robot2]), at most " +
+        std::to_string(kMaxRobots);
+    if (!node.IsSequence() && !node.IsNull()) return expected;
+    std::vector<std::string> robots;
+    for (const YAML::Node& item : node) {
+      if (!item.IsScalar()) return expected;
+      const auto name = normalized_namespace(item.Scalar());
+      if (!name) return expected + ": \"" + item.Scalar() + "\" is not " + name.error().message;
+      if (name->empty()) return expected + ": \"" + item.Scalar() + "\" is empty";
+      if (std::find(robots.begin(), robots.end(), *name) != robots.end())
+        return expected + ": \"" + *name + "\" is listed twice";
+      robots.push_back(*name);
+    }
+    if (robots.size() > kMaxRobots) return expected + ": found " + std::to_string(robots.size());
+    value = std::move(robots);
+    return std::string();
+  });
 
   Section topics = top.child("topics");
   const std::pair<const char*, std::string*> topic_fields[] = {
@@ -443,6 +465,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   Section requests = top.child("requests");
   requests.boolean("preempt", c.preempt);
   requests.integer("queue_capacity", c.queue_capacity, 1, 100000);
+  requests.integer("workers", c.workers, 0, kMaxWorkers);
   std::optional<double> reply_wait_s;
   if (requests.number("reply_wait", reply_wait_s, "a finite number of seconds in [0, 10]",
                       [](double v) { return v >= 0.0 && v <= 10.0; }) &&
@@ -593,6 +616,20 @@ std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
   std::string resolved(without_leading_slash(name));
   if (!absolute && !config.ros_namespace.empty()) resolved = config.ros_namespace + "/" + resolved;
   return config.ros2_naming ? "rt/" + resolved : resolved;
+}
+
+NodeConfig robot_view(const NodeConfig& config, const std::string& robot) {
+  NodeConfig view = config;
+  if (!robot.empty())
+    view.ros_namespace = config.ros_namespace.empty() ? robot : config.ros_namespace + "/" + robot;
+  return view;
+}
+
+int planning_workers(const NodeConfig& config) {
+  int workers = config.workers;
+  if (workers <= 0) workers = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
+  const size_t robots = std::max<size_t>(1, config.robots.size());
+  return static_cast<int>(std::min<size_t>(static_cast<size_t>(workers), robots));
 }
 
 core::Expected<std::string> normalized_namespace(std::string_view given) {

@@ -305,7 +305,7 @@ void ParticipantWatch::on_publisher_discovery(
     dds::DomainParticipant* participant, eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) {
   using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
   if (info.status != Status::DISCOVERED_WRITER) return;
-  if (info.info.topicName().to_string() != topic_name_) return;
+  if (topic_names_.count(info.info.topicName().to_string()) == 0) return;
   const auto& prefix = info.info.guid().guidPrefix;
   if (participant != nullptr && prefix == participant->guid().guidPrefix) return;  // ours
   const std::string key = prefix_text(prefix);

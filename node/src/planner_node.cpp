@@ -82,9 +82,9 @@ struct TypeTag {
 struct ActiveMap {
   std::shared_ptr<const core::GridMap> grid;
   TimeMsg stamp;
-  // Used by the worker thread only (a Planner is not thread-safe). Null only after an internal
-  // error dropped it (see worker_loop); the worker then builds a fresh one.
-  mutable std::unique_ptr<core::Planner> planner;
+  // One per planning worker, each used by its worker only (a Planner is not thread-safe). Null
+  // only after an internal error dropped it (see worker_loop); the worker then builds a fresh one.
+  mutable std::vector<std::unique_ptr<core::Planner>> planners;
 };
 
 }  // namespace
@@ -97,18 +97,10 @@ class PlannerNode::Impl {
   void stop();
 
   NodeConfig cfg_;
+  const int workers_ = planning_workers(cfg_);
   // Declared before the participant, which calls it, so that it is destroyed after it.
   std::unique_ptr<ParticipantWatch> participant_watch_;
   std::unique_ptr<Participant> participant_;
-  dds::DataWriter* plan_writer_ = nullptr;
-  dds::DataWriter* status_writer_ = nullptr;
-  dds::DataWriter* debug_writer_ = nullptr;
-  // The debug layers in stock ROS 2 types, for rviz2 (null until start()).
-  dds::DataWriter* raw_path_writer_ = nullptr;
-  dds::DataWriter* pruned_path_writer_ = nullptr;
-  dds::DataWriter* expansions_forward_writer_ = nullptr;
-  dds::DataWriter* expansions_backward_writer_ = nullptr;
-  dds::DataWriter* meeting_point_writer_ = nullptr;
   std::vector<std::unique_ptr<dds::DataReaderListener>> listeners_;
 
   // The node's clock (use_sim_time) and, with robot_pose_source tf, the transforms received.
@@ -117,23 +109,57 @@ class PlannerNode::Impl {
   TransformTree transforms_;         // under tf_mutex_
   std::set<std::string> tf_warned_;  // refused transforms already logged, under tf_mutex_
   void on_transforms(const TFMessageMsg& msg, bool is_static);
-  // The start of a goal_pose goal from robot_pose_source, or what is missing.
-  void robot_start(Job& job);
 
-  // Statuses held until the requester's status reader is matched (reply_gate.hpp), written by
-  // the replier thread. The status writer's listener feeds the matches in.
+  // A status held until the requester's status reader is matched (reply_gate.hpp), written by
+  // the replier thread.
   struct HeldStatus {
     PlanStatusMsg msg;
     std::string what;  // for the error log
   };
+
+  // One robot the node serves: its topics (robot_view), writers, request queue, pose and held
+  // statuses. Without `robots` there is one, under the node's own namespace.
+  struct Robot {
+    Robot(const NodeConfig& node, std::string robot_name)
+        : name(std::move(robot_name)),
+          cfg(robot_view(node, name)),
+          // With several robots on one tf tree each has its own frames: "<robot>/base_link".
+          base_frame(name.empty() ? node.base_frame : name + "/" + node.base_frame),
+          replies(node.reply_wait),
+          queue(static_cast<size_t>(node.queue_capacity), node.preempt) {}
+    const std::string name;  // "" without `robots`
+    const NodeConfig cfg;    // the node's, with the robot's namespace
+    const std::string base_frame;
+    dds::DataWriter* plan_writer = nullptr;
+    dds::DataWriter* status_writer = nullptr;
+    dds::DataWriter* debug_writer = nullptr;  // null with debug.publish: never (as every layer)
+    // The debug layers in stock ROS 2 types, for rviz2.
+    dds::DataWriter* raw_path_writer = nullptr;
+    dds::DataWriter* pruned_path_writer = nullptr;
+    dds::DataWriter* expansions_forward_writer = nullptr;
+    dds::DataWriter* expansions_backward_writer = nullptr;
+    dds::DataWriter* meeting_point_writer = nullptr;
+    std::unique_ptr<dds::DataWriterListener> status_readers;  // feeds `replies` its matches
+    ReplyGate<HeldStatus> replies;                            // under reply_mutex_
+    RequestQueue queue;                                       // under queue_mutex_
+    uint64_t goal_counter = 0;                                // under queue_mutex_
+    std::mutex pose_mutex;
+    std::optional<PoseStampedMsg> robot_pose;  // under pose_mutex
+    std::string topic(const std::string& configured) const {
+      return dds_topic_name(cfg, configured);
+    }
+    // In log lines: "" or " (robot robot7)".
+    std::string label() const { return name.empty() ? "" : " (robot " + name + ")"; }
+  };
+  std::vector<std::unique_ptr<Robot>> robots_;
+  core::Status add_robot_endpoints(Robot& robot);
+
   std::mutex reply_mutex_;
   std::condition_variable reply_cv_;
-  ReplyGate<HeldStatus> replies_{cfg_.reply_wait};
   bool replier_stopping_ = false;  // under reply_mutex_
   std::thread replier_;
   std::atomic<uint64_t> replies_timed_out_{0};
-  class StatusReaders;  // the status writer's listener
-  std::unique_ptr<dds::DataWriterListener> status_readers_;
+  class StatusReaders;  // a status writer's listener
   void replier_loop();
 
   // Maps: the newest unconverted slice and the one being converted, and the active map.
@@ -142,18 +168,16 @@ class PlannerNode::Impl {
   SliceSlot slices_;
   std::shared_ptr<const ActiveMap> active_map_;
 
-  // Requests.
+  // Requests: each robot's queue under one lock; workers take the robots in turn.
   std::mutex queue_mutex_;
   std::condition_variable queue_cv_;
-  RequestQueue queue_{static_cast<size_t>(cfg_.queue_capacity), cfg_.preempt};
-  uint64_t goal_counter_ = 0;
-
-  std::mutex pose_mutex_;
-  std::optional<PoseStampedMsg> robot_pose_;
+  size_t next_robot_ = 0;  // where the next search for work starts, under queue_mutex_
+  // A robot with a waiting request and none being planned (round robin), or null.
+  Robot* robot_with_work();
 
   std::atomic<bool> stopping_{false};
   bool started_ = false;
-  std::thread worker_;
+  std::vector<std::thread> worker_threads_;
   std::thread map_thread_;
 
   std::atomic<uint64_t> requests_received_{0}, statuses_published_{0}, maps_accepted_{0},
@@ -164,40 +188,39 @@ class PlannerNode::Impl {
     std::lock_guard<std::mutex> lock(map_mutex_);
     return active_map_;
   }
-  void on_request(Job job);
+  void on_request(Robot& robot, Job job);
   void on_slice(OccupancyGridMsg&& msg);
-  void on_goal(PoseStampedMsg&& goal, const dds::SampleInfo& info);
+  void on_goal(Robot& robot, PoseStampedMsg&& goal, const dds::SampleInfo& info);
+  // The start of a goal_pose goal from robot_pose_source, or what is missing.
+  void robot_start(Robot& robot, Job& job);
   void map_loop();
   // Converts one slice; returns what to report (OK when it went live).
   WireStatus convert_slice(SliceSlot::Taken taken);
-  void worker_loop();
-  // Plans one job; `map` is set to the map it plans on (the worker drops its planner when the
-  // plan throws).
-  void handle(Job& job, std::shared_ptr<const ActiveMap>& map);
-  // A request's one status.
+  void worker_loop(size_t worker);
+  // Plans one job with the worker's planner; `map` is set to the map it plans on (the worker
+  // drops its planner when the plan throws).
+  void handle(Robot& robot, Job& job, std::shared_ptr<const ActiveMap>& map, size_t worker);
+  // A request's one status, on its robot's topic.
   // `endpoints` and `map`, when given, are the start and goal the plan used (see to_status_msg).
-  void answer(const Job& job, const WireStatus& status, const std::string& planner = "",
-              const core::Metrics* metrics = nullptr, const TimeMsg& map_stamp = TimeMsg(),
-              PathMsg path = PathMsg(), const core::Endpoints* endpoints = nullptr,
-              const core::GridMap* map = nullptr);
-  // A report about a slice (SUBJECT_MAP).
+  void answer(Robot& robot, const Job& job, const WireStatus& status,
+              const std::string& planner = "", const core::Metrics* metrics = nullptr,
+              const TimeMsg& map_stamp = TimeMsg(), PathMsg path = PathMsg(),
+              const core::Endpoints* endpoints = nullptr, const core::GridMap* map = nullptr);
+  // A report about a slice (SUBJECT_MAP), on every robot's status topic.
   void report_map(const WireStatus& status, const TimeMsg& map_stamp);
   // Hands a status to the replier; `requester` (a plan_request's client) gates it.
-  void write_status(PlanStatusMsg&& msg, const std::string& what,
+  void write_status(Robot& robot, PlanStatusMsg&& msg, const std::string& what,
                     std::optional<GuidPrefix> requester = std::nullopt);
   // Whether to publish on a debug writer now (debug.publish: auto = while a reader is matched).
   bool publishing(dds::DataWriter* writer) const;
-  void publish_debug(const std::string& id, const core::PlanResult& result,
+  void publish_debug(Robot& robot, const std::string& id, const core::PlanResult& result,
                      const core::GridMap& map, const TimeMsg& stamp);
   // What makes a remote endpoint on `topic` match the node's, for the incompatible-QoS warning.
-  template <class Name>
-  std::string qos_fix(const std::string& topic, const std::string& policy, Name name) const;
+  std::string qos_fix(const std::string& topic, const std::string& policy) const;
 };
 
-template <class Name>
-std::string PlannerNode::Impl::qos_fix(const std::string& topic, const std::string& policy,
-                                       Name name) const {
-  if (topic == name(cfg_.topics.projected_map)) {
+std::string PlannerNode::Impl::qos_fix(const std::string& topic, const std::string& policy) const {
+  if (topic == dds_topic_name(cfg_, cfg_.topics.projected_map)) {
     if (policy == "DURABILITY" && cfg_.map_durability == MapDurability::kTransientLocal)
       return "the map publisher is volatile: set map.durability: volatile in the node's config";
     return "the node reads maps reliable, " +
@@ -220,14 +243,15 @@ std::string PlannerNode::Impl::qos_fix(const std::string& topic, const std::stri
       {&cfg_.topics.tf, TopicQos::kStream},
       {&cfg_.topics.tf_static, TopicQos::kStatic},
       {&cfg_.topics.clock, TopicQos::kStream}};
-  for (const auto& [configured, profile] : fixed)
-    if (topic == name(*configured)) return "the node's endpoint is " + describe(profile);
+  for (const auto& robot : robots_)
+    for (const auto& [configured, profile] : fixed)
+      if (topic == robot->topic(*configured)) return "the node's endpoint is " + describe(profile);
   return "";
 }
 
 class PlannerNode::Impl::StatusReaders : public dds::DataWriterListener {
  public:
-  explicit StatusReaders(Impl& impl) : impl_(impl) {}
+  StatusReaders(Impl& impl, Robot& robot) : impl_(impl), robot_(robot) {}
   void on_publication_matched(dds::DataWriter*,
                               const dds::PublicationMatchedStatus& status) override {
     if (status.current_count_change == 0) return;
@@ -236,31 +260,91 @@ class PlannerNode::Impl::StatusReaders : public dds::DataWriterListener {
     for (size_t i = 0; i < prefix.size(); ++i) prefix[i] = status.last_subscription_handle.value[i];
     {
       std::lock_guard<std::mutex> lock(impl_.reply_mutex_);
-      impl_.replies_.reader_matched(prefix, status.current_count_change);
+      robot_.replies.reader_matched(prefix, status.current_count_change);
     }
     impl_.reply_cv_.notify_all();
   }
 
  private:
   Impl& impl_;
+  Robot& robot_;
 };
 
 // ---------------------------------------------------------------------------------------------
 // Start and stop.
 
+core::Status PlannerNode::Impl::add_robot_endpoints(Robot& robot) {
+  // Writers first, so that every request read can be answered.
+  using PathType = nav_msgs::msg::dds_::Path_PubSubType;
+  using GridType = nav_msgs::msg::dds_::OccupancyGrid_PubSubType;
+  using PoseType = geometry_msgs::msg::dds_::PoseStamped_PubSubType;
+  auto plan_writer = participant_->writer_on<PathType>(robot.topic(cfg_.topics.plan),
+                                                       writer_qos(TopicQos::kLatest, false));
+  if (!plan_writer) return plan_writer.error();
+  robot.plan_writer = *plan_writer;
+  robot.status_readers = std::make_unique<StatusReaders>(*this, robot);
+  auto status_writer = participant_->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+      robot.topic(cfg_.topics.plan_status), writer_qos(TopicQos::kStatus, false),
+      robot.status_readers.get());
+  if (!status_writer) return status_writer.error();
+  robot.status_writer = *status_writer;
+  // debug.publish: never creates no debug endpoint at all (a fleet's discovery traffic).
+  if (cfg_.debug != DebugPublishing::kNever) {
+    auto debug_writer = participant_->writer_on<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
+        robot.topic(cfg_.topics.planner_debug), writer_qos(TopicQos::kDebug, true));
+    if (!debug_writer) return debug_writer.error();
+    robot.debug_writer = *debug_writer;
+    // The debug layers keep their last sample (transient local, keep last 1): an rviz2 display
+    // opened after a run still shows it, whatever durability it asks for.
+    const dds::DataWriterQos layer_qos = writer_qos(TopicQos::kLatched, true);
+    auto add_layer = [&](auto type, const std::string& topic, dds::DataWriter*& out) {
+      auto writer =
+          participant_->writer_on<typename decltype(type)::type>(robot.topic(topic), layer_qos);
+      if (writer) out = *writer;
+      return writer ? core::Status::ok() : writer.error();
+    };
+    // In order, stopping at the first failure.
+    core::Status layers =
+        add_layer(TypeTag<PathType>(), cfg_.topics.plan_raw, robot.raw_path_writer);
+    if (layers.is_ok())
+      layers = add_layer(TypeTag<PathType>(), cfg_.topics.plan_pruned, robot.pruned_path_writer);
+    if (layers.is_ok())
+      layers = add_layer(TypeTag<GridType>(), cfg_.topics.expansions_forward,
+                         robot.expansions_forward_writer);
+    if (layers.is_ok())
+      layers = add_layer(TypeTag<GridType>(), cfg_.topics.expansions_backward,
+                         robot.expansions_backward_writer);
+    if (layers.is_ok())
+      layers = add_layer(TypeTag<geometry_msgs::msg::dds_::PointStamped_PubSubType>(),
+                         cfg_.topics.meeting_point, robot.meeting_point_writer);
+    if (!layers.is_ok()) return layers;
+  }
+  (void)sizeof(PoseType);
+  return core::Status::ok();
+}
+
 core::Status PlannerNode::Impl::start() {
-  auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
+  if (cfg_.robots.empty()) {
+    robots_.push_back(std::make_unique<Robot>(cfg_, ""));
+  } else {
+    for (const std::string& robot : cfg_.robots)
+      robots_.push_back(std::make_unique<Robot>(cfg_, robot));
+  }
+  std::set<std::string> status_topics;
+  for (const auto& robot : robots_) status_topics.insert(robot->topic(cfg_.topics.plan_status));
   // Two nodes on one domain and topics answer every request twice: say so (issue 13).
   participant_watch_ = std::make_unique<ParticipantWatch>(
-      name(cfg_.topics.plan_status),
-      [this, name](const std::string& who, const std::string& guid) {
+      status_topics,
+      [this](const std::string& who, const std::string& guid) {
         spdlog::warn(
-            "another participant ('{}', GUID prefix {}) also writes '{}': every request on this "
-            "domain gets one answer from each; give each node its own domain_id or topics",
-            printable(who), guid, name(cfg_.topics.plan_status));
+            "another participant ('{}', GUID prefix {}) also writes a plan_status topic of this "
+            "node ('{}'{}): every request there gets one answer from each; give each node its own "
+            "domain_id, topics or robots",
+            printable(who), guid, robots_.front()->topic(cfg_.topics.plan_status),
+            robots_.size() > 1 ? " or another robot's" : "");
       },
-      [this, name](const std::string& topic, const std::string& policy) {
-        return qos_fix(topic, policy, name);
+      [this](const std::string& topic, const std::string& policy) {
+        return qos_fix(topic, policy);
       });
   auto participant = Participant::create(
       cfg_.domain_id, "vnsba_node", participant_watch_.get(), cfg_.localhost_only,
@@ -269,133 +353,122 @@ core::Status PlannerNode::Impl::start() {
   participant_ = std::move(participant).value();
 
   // Writers first, so that every request read can be answered.
-  using PathType = nav_msgs::msg::dds_::Path_PubSubType;
-  using GridType = nav_msgs::msg::dds_::OccupancyGrid_PubSubType;
-  using PoseType = geometry_msgs::msg::dds_::PoseStamped_PubSubType;
-  auto plan_writer = participant_->writer_on<PathType>(name(cfg_.topics.plan),
-                                                       writer_qos(TopicQos::kLatest, false));
-  if (!plan_writer) return plan_writer.error();
-  status_readers_ = std::make_unique<StatusReaders>(*this);
-  auto status_writer = participant_->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
-      name(cfg_.topics.plan_status), writer_qos(TopicQos::kStatus, false), status_readers_.get());
-  if (!status_writer) return status_writer.error();
-  auto debug_writer = participant_->writer_on<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
-      name(cfg_.topics.planner_debug), writer_qos(TopicQos::kDebug, true));
-  if (!debug_writer) return debug_writer.error();
-  plan_writer_ = *plan_writer;
-  status_writer_ = *status_writer;
-  debug_writer_ = *debug_writer;
-  // The debug layers keep their last sample (transient local, keep last 1): an rviz2 display
-  // opened after a run still shows it, whatever durability it asks for.
-  const dds::DataWriterQos layer_qos = writer_qos(TopicQos::kLatched, true);
-  auto add_layer = [&](auto type, const std::string& topic, dds::DataWriter*& out) {
-    auto writer = participant_->writer_on<typename decltype(type)::type>(name(topic), layer_qos);
-    if (writer) out = *writer;
-    return writer ? core::Status::ok() : writer.error();
-  };
-  // In order, stopping at the first failure.
-  core::Status layers = add_layer(TypeTag<PathType>(), cfg_.topics.plan_raw, raw_path_writer_);
-  if (layers.is_ok())
-    layers = add_layer(TypeTag<PathType>(), cfg_.topics.plan_pruned, pruned_path_writer_);
-  if (layers.is_ok())
-    layers =
-        add_layer(TypeTag<GridType>(), cfg_.topics.expansions_forward, expansions_forward_writer_);
-  if (layers.is_ok())
-    layers = add_layer(TypeTag<GridType>(), cfg_.topics.expansions_backward,
-                       expansions_backward_writer_);
-  if (layers.is_ok())
-    layers = add_layer(TypeTag<geometry_msgs::msg::dds_::PointStamped_PubSubType>(),
-                       cfg_.topics.meeting_point, meeting_point_writer_);
-  if (!layers.is_ok()) return layers;
+  for (const auto& robot : robots_)
+    if (core::Status s = add_robot_endpoints(*robot); !s.is_ok()) return s;
 
   replier_ = std::thread([this] { replier_loop(); });
   map_thread_ = std::thread([this] { map_loop(); });
-  worker_ = std::thread([this] { worker_loop(); });
+  for (int w = 0; w < workers_; ++w)
+    worker_threads_.emplace_back([this, w] { worker_loop(static_cast<size_t>(w)); });
   started_ = true;
 
-  // Then the readers; each listener lives in listeners_ until stop().
+  // Then the readers; each listener lives in listeners_ until stop(). `topic` is the DDS name.
   auto add_reader = [&](auto type, const std::string& topic, const dds::DataReaderQos& qos,
                         std::unique_ptr<dds::DataReaderListener> listener) -> core::Status {
     listeners_.push_back(std::move(listener));
-    auto reader = participant_->reader_on<typename decltype(type)::type>(name(topic), qos,
-                                                                         listeners_.back().get());
+    auto reader =
+        participant_->reader_on<typename decltype(type)::type>(topic, qos, listeners_.back().get());
     return reader ? core::Status::ok() : reader.error();
   };
+  auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
   // The clock first, so that the first goal already has the simulation's time.
   if (cfg_.use_sim_time) {
     if (core::Status s =
-            add_reader(TypeTag<rosgraph_msgs::msg::dds_::Clock_PubSubType>(), cfg_.topics.clock,
-                       reader_qos(TopicQos::kStream),
+            add_reader(TypeTag<rosgraph_msgs::msg::dds_::Clock_PubSubType>(),
+                       name(cfg_.topics.clock), reader_qos(TopicQos::kStream),
                        make_listener<ClockMsg>([this](ClockMsg&& m, const dds::SampleInfo&) {
                          time_.set_sim_time(m.clock());
                        }));
         !s.is_ok())
       return s;
   }
+  // One map for every robot, under the node's namespace.
   dds::DataReaderQos slice_qos = reader_qos(TopicQos::kLatched);
   if (cfg_.map_durability == MapDurability::kVolatile)
     slice_qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
   if (core::Status s = add_reader(
-          TypeTag<GridType>(), cfg_.topics.projected_map, slice_qos,
+          TypeTag<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(), name(cfg_.topics.projected_map),
+          slice_qos,
           make_listener<OccupancyGridMsg>(
               [this](OccupancyGridMsg&& m, const dds::SampleInfo&) { on_slice(std::move(m)); }));
       !s.is_ok())
     return s;
-  // The robot's pose before the goals, so that a goal never waits for a reader created after it.
-  core::Status pose_status = core::Status::ok();
+  // The robots' poses before the goals, so that a goal never waits for a reader created after it.
   if (cfg_.robot_pose_source == RobotPoseSource::kTf) {
     for (const bool is_static : {true, false}) {
-      pose_status = add_reader(
-          TypeTag<tf2_msgs::msg::dds_::TFMessage_PubSubType>(),
-          is_static ? cfg_.topics.tf_static : cfg_.topics.tf,
-          reader_qos(is_static ? TopicQos::kStatic : TopicQos::kStream),
-          make_listener<TFMessageMsg>([this, is_static](TFMessageMsg&& m, const dds::SampleInfo&) {
-            on_transforms(m, is_static);
-          }));
-      if (!pose_status.is_ok()) return pose_status;
+      if (core::Status s =
+              add_reader(TypeTag<tf2_msgs::msg::dds_::TFMessage_PubSubType>(),
+                         name(is_static ? cfg_.topics.tf_static : cfg_.topics.tf),
+                         reader_qos(is_static ? TopicQos::kStatic : TopicQos::kStream),
+                         make_listener<TFMessageMsg>(
+                             [this, is_static](TFMessageMsg&& m, const dds::SampleInfo&) {
+                               on_transforms(m, is_static);
+                             }));
+          !s.is_ok())
+        return s;
     }
-  } else if (cfg_.robot_pose_type == RobotPoseType::kPoseWithCovarianceStamped) {
-    pose_status =
-        add_reader(TypeTag<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>(),
-                   cfg_.topics.robot_pose, reader_qos(TopicQos::kLatest),
-                   make_listener<PoseWithCovarianceStampedMsg>(
-                       [this](PoseWithCovarianceStampedMsg&& m, const dds::SampleInfo&) {
-                         std::lock_guard<std::mutex> lock(pose_mutex_);
-                         robot_pose_ = to_pose_stamped(m);
-                       }));
-  } else {
-    pose_status = add_reader(
-        TypeTag<PoseType>(), cfg_.topics.robot_pose, reader_qos(TopicQos::kLatest),
-        make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m, const dds::SampleInfo&) {
-          std::lock_guard<std::mutex> lock(pose_mutex_);
-          robot_pose_ = std::move(m);
-        }));
   }
-  if (!pose_status.is_ok()) return pose_status;
-  if (core::Status s = add_reader(
-          TypeTag<PoseType>(), cfg_.topics.goal_pose, reader_qos(TopicQos::kEvents),
-          make_listener<PoseStampedMsg>([this](PoseStampedMsg&& m, const dds::SampleInfo& info) {
-            on_goal(std::move(m), info);
+  using PoseType = geometry_msgs::msg::dds_::PoseStamped_PubSubType;
+  for (const auto& robot_ptr : robots_) {
+    Robot& robot = *robot_ptr;
+    core::Status pose_status = core::Status::ok();
+    if (cfg_.robot_pose_source == RobotPoseSource::kTf) {
+      // Read above, once for every robot.
+    } else if (cfg_.robot_pose_type == RobotPoseType::kPoseWithCovarianceStamped) {
+      pose_status =
+          add_reader(TypeTag<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>(),
+                     robot.topic(cfg_.topics.robot_pose), reader_qos(TopicQos::kLatest),
+                     make_listener<PoseWithCovarianceStampedMsg>(
+                         [&robot](PoseWithCovarianceStampedMsg&& m, const dds::SampleInfo&) {
+                           std::lock_guard<std::mutex> lock(robot.pose_mutex);
+                           robot.robot_pose = to_pose_stamped(m);
+                         }));
+    } else {
+      pose_status = add_reader(
+          TypeTag<PoseType>(), robot.topic(cfg_.topics.robot_pose), reader_qos(TopicQos::kLatest),
+          make_listener<PoseStampedMsg>([&robot](PoseStampedMsg&& m, const dds::SampleInfo&) {
+            std::lock_guard<std::mutex> lock(robot.pose_mutex);
+            robot.robot_pose = std::move(m);
           }));
-      !s.is_ok())
-    return s;
-  if (core::Status s = add_reader(
-          TypeTag<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(), cfg_.topics.plan_request,
-          reader_qos(TopicQos::kEvents),
-          make_listener<PlanRequestMsg>([this](PlanRequestMsg&& m, const dds::SampleInfo& info) {
-            Job job;
-            job.id = std::move(m.id());
-            job.identity = identity_of(info, wire::SUBJECT_REQUEST);
-            job.start = std::move(m.start());
-            job.goal = std::move(m.goal());
-            job.planner = std::move(m.planner());
-            on_request(std::move(job));
-          }));
-      !s.is_ok())
-    return s;
-  spdlog::info("vnsba_node up on domain {}: slices on '{}', requests on '{}', goals on '{}'",
-               cfg_.domain_id, name(cfg_.topics.projected_map), name(cfg_.topics.plan_request),
-               name(cfg_.topics.goal_pose));
+    }
+    if (!pose_status.is_ok()) return pose_status;
+    if (core::Status s = add_reader(
+            TypeTag<PoseType>(), robot.topic(cfg_.topics.goal_pose), reader_qos(TopicQos::kEvents),
+            make_listener<PoseStampedMsg>(
+                [this, &robot](PoseStampedMsg&& m, const dds::SampleInfo& info) {
+                  on_goal(robot, std::move(m), info);
+                }));
+        !s.is_ok())
+      return s;
+    if (core::Status s =
+            add_reader(TypeTag<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(),
+                       robot.topic(cfg_.topics.plan_request), reader_qos(TopicQos::kEvents),
+                       make_listener<PlanRequestMsg>(
+                           [this, &robot](PlanRequestMsg&& m, const dds::SampleInfo& info) {
+                             Job job;
+                             job.id = std::move(m.id());
+                             job.identity = identity_of(info, wire::SUBJECT_REQUEST);
+                             job.start = std::move(m.start());
+                             job.goal = std::move(m.goal());
+                             job.planner = std::move(m.planner());
+                             on_request(robot, std::move(job));
+                           }));
+        !s.is_ok())
+      return s;
+  }
+  const Robot& first = *robots_.front();
+  if (robots_.size() == 1) {
+    spdlog::info("vnsba_node up on domain {}: slices on '{}', requests on '{}', goals on '{}'",
+                 cfg_.domain_id, name(cfg_.topics.projected_map),
+                 first.topic(cfg_.topics.plan_request), first.topic(cfg_.topics.goal_pose));
+  } else {
+    spdlog::info(
+        "vnsba_node up on domain {}: slices on '{}', {} robots ('{}' ... '{}'), {} planning "
+        "workers",
+        cfg_.domain_id, name(cfg_.topics.projected_map), robots_.size(),
+        first.topic(cfg_.topics.plan_request), robots_.back()->topic(cfg_.topics.plan_request),
+        workers_);
+  }
   return core::Status::ok();
 }
 
@@ -404,7 +477,7 @@ void PlannerNode::Impl::stop() {
   stopping_ = true;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    queue_.interrupt_current("node is shutting down");
+    for (const auto& robot : robots_) robot->queue.interrupt_current("node is shutting down");
   }
   queue_cv_.notify_all();
   {
@@ -412,7 +485,9 @@ void PlannerNode::Impl::stop() {
     std::lock_guard<std::mutex> lock(map_mutex_);
   }
   map_cv_.notify_all();
-  if (worker_.joinable()) worker_.join();  // answers every queued request first
+  for (std::thread& worker : worker_threads_)
+    if (worker.joinable()) worker.join();  // answers every queued request first
+  worker_threads_.clear();
   if (map_thread_.joinable()) map_thread_.join();
   {
     std::lock_guard<std::mutex> lock(reply_mutex_);
@@ -422,10 +497,8 @@ void PlannerNode::Impl::stop() {
   if (replier_.joinable()) replier_.join();  // writes every status still held
   if (participant_) participant_->shutdown();
   participant_.reset();
-  // Deleted with the participant.
-  plan_writer_ = status_writer_ = debug_writer_ = nullptr;
-  raw_path_writer_ = pruned_path_writer_ = meeting_point_writer_ = nullptr;
-  expansions_forward_writer_ = expansions_backward_writer_ = nullptr;
+  // The writers were deleted with the participant; the listeners go after it.
+  robots_.clear();
   listeners_.clear();
 }
 
@@ -443,33 +516,33 @@ void PlannerNode::Impl::on_slice(OccupancyGridMsg&& msg) {
   map_cv_.notify_all();
 }
 
-void PlannerNode::Impl::on_goal(PoseStampedMsg&& goal, const dds::SampleInfo& info) {
+void PlannerNode::Impl::on_goal(Robot& robot, PoseStampedMsg&& goal, const dds::SampleInfo& info) {
   Job job;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    job.id = "goal-" + std::to_string(++goal_counter_);
+    job.id = "goal-" + std::to_string(++robot.goal_counter);
   }
   job.identity = identity_of(info, wire::SUBJECT_GOAL_POSE);
   job.goal = std::move(goal);
-  robot_start(job);
-  on_request(std::move(job));
+  robot_start(robot, job);
+  on_request(robot, std::move(job));
 }
 
-void PlannerNode::Impl::robot_start(Job& job) {
+void PlannerNode::Impl::robot_start(Robot& robot, Job& job) {
   if (cfg_.robot_pose_source == RobotPoseSource::kTopic) {
-    std::lock_guard<std::mutex> lock(pose_mutex_);
-    if (robot_pose_) {
-      job.start = *robot_pose_;
+    std::lock_guard<std::mutex> lock(robot.pose_mutex);
+    if (robot.robot_pose) {
+      job.start = *robot.robot_pose;
     } else {
-      job.missing_start = "start: no robot_pose received yet on '" +
-                          dds_topic_name(cfg_, cfg_.topics.robot_pose) + "'";
+      job.missing_start =
+          "start: no robot_pose received yet on '" + robot.topic(cfg_.topics.robot_pose) + "'";
     }
     return;
   }
   TransformTree::Lookup found;
   {
     std::lock_guard<std::mutex> lock(tf_mutex_);
-    found = transforms_.lookup(cfg_.frame_id, cfg_.base_frame, time_.now_seconds(),
+    found = transforms_.lookup(cfg_.frame_id, robot.base_frame, time_.now_seconds(),
                                cfg_.transform_tolerance_s);
   }
   if (!found.ok) {
@@ -510,30 +583,32 @@ void PlannerNode::Impl::on_transforms(const TFMessageMsg& msg, bool is_static) {
                  dds_topic_name(cfg_, is_static ? cfg_.topics.tf_static : cfg_.topics.tf), problem);
 }
 
-void PlannerNode::Impl::on_request(Job job) {
+void PlannerNode::Impl::on_request(Robot& robot, Job job) {
   ++requests_received_;
   // Checked before it may touch anything: only a request that would be planned preempts,
   // replaces or queues (see requests.hpp). The worker checks again against its map.
   const std::shared_ptr<const ActiveMap> map = current_map();
-  const ResolvedRequest resolved = resolve_request(job, cfg_, map ? map->grid.get() : nullptr);
+  const ResolvedRequest resolved = resolve_request(job, robot.cfg, map ? map->grid.get() : nullptr);
   if (!resolved.status.ok()) {
-    spdlog::warn("request '{}': {} ({})", printable(job.id), code_name(resolved.status.code),
-                 resolved.status.message);
-    answer(job, resolved.status, resolved.planner_name, nullptr, map ? map->stamp : TimeMsg());
+    spdlog::warn("request '{}'{}: {} ({})", printable(job.id), robot.label(),
+                 code_name(resolved.status.code), resolved.status.message);
+    answer(robot, job, resolved.status, resolved.planner_name, nullptr,
+           map ? map->stamp : TimeMsg());
     return;
   }
   std::vector<Job> canceled;
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    canceled = queue_.admit(std::move(job));
-    queue_peak_ = std::max(queue_peak_.load(), queue_.waiting());
+    canceled = robot.queue.admit(std::move(job));
+    queue_peak_ = std::max(queue_peak_.load(), robot.queue.waiting());
   }
   queue_cv_.notify_one();
   // Writers are thread-safe; these answers do not wait for the worker.
   // Out of the queue, nobody else reads or writes these any more: no lock for their reasons.
   for (const Job& old : canceled) {
-    spdlog::info("request '{}': CANCELED ({})", printable(old.id), old.interruption->reason);
-    answer(old, {wire::CANCELED, old.interruption->reason});
+    spdlog::info("request '{}'{}: CANCELED ({})", printable(old.id), robot.label(),
+                 old.interruption->reason);
+    answer(robot, old, {wire::CANCELED, old.interruption->reason});
   }
 }
 
@@ -597,19 +672,24 @@ WireStatus PlannerNode::Impl::convert_slice(SliceSlot::Taken taken) {
   active->stamp = stamp;
   if (superseded->load())
     return {wire::CANCELED, "superseded by a newer slice while being converted"};
+  size_t search_state_bytes = 0;
   try {
-    active->planner = std::make_unique<core::Planner>(active->grid);  // see ActiveMap
+    for (int w = 0; w < workers_; ++w) {  // see ActiveMap
+      active->planners.push_back(std::make_unique<core::Planner>(active->grid));
+      search_state_bytes += active->planners.back()->search_state_bytes();
+    }
   } catch (const std::exception& e) {
     return {wire::INTERNAL_ERROR,
             "cannot allocate the search state of " + std::to_string(active->grid->width()) + " x " +
-                std::to_string(active->grid->height()) + " cells: " + e.what()};
+                std::to_string(active->grid->height()) + " cells for " + std::to_string(workers_) +
+                " planning worker(s) (requests.workers): " + e.what()};
   }
   const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   spdlog::info(
-      "map accepted: {} x {} cells at {} m, {} blocked, {:.1f} MB of search state, ready in "
-      "{:.1f} ms",
+      "map accepted: {} x {} cells at {} m, {} blocked, {:.1f} MB of search state ({} "
+      "worker(s)), ready in {:.1f} ms",
       active->grid->width(), active->grid->height(), active->grid->resolution(),
-      active->grid->blocked_count(), active->planner->search_state_bytes() / 1e6, ms);
+      active->grid->blocked_count(), search_state_bytes / 1e6, workers_, ms);
   std::shared_ptr<const ActiveMap> previous;
   {
     std::lock_guard<std::mutex> lock(map_mutex_);
@@ -627,6 +707,7 @@ WireStatus PlannerNode::Impl::convert_slice(SliceSlot::Taken taken) {
 // Worker thread: the only place that plans.
 
 bool PlannerNode::Impl::publishing(dds::DataWriter* writer) const {
+  if (writer == nullptr) return false;  // not created (debug.publish: never)
   switch (cfg_.debug) {
     case DebugPublishing::kAlways:
       return true;
@@ -638,47 +719,54 @@ bool PlannerNode::Impl::publishing(dds::DataWriter* writer) const {
   return false;
 }
 
-void PlannerNode::Impl::publish_debug(const std::string& id, const core::PlanResult& result,
-                                      const core::GridMap& map, const TimeMsg& stamp) {
+void PlannerNode::Impl::publish_debug(Robot& robot, const std::string& id,
+                                      const core::PlanResult& result, const core::GridMap& map,
+                                      const TimeMsg& stamp) {
   const std::string& frame = cfg_.frame_id;
   auto write = [&](dds::DataWriter* writer, auto&& msg, const char* what) {
-    if (!writer->write(&msg)) spdlog::warn("could not publish the {} of '{}'", what, printable(id));
+    if (!writer->write(&msg))
+      spdlog::warn("could not publish the {} of '{}'{}", what, printable(id), robot.label());
   };
-  if (result.metrics.expanded > 0 && publishing(debug_writer_))
-    write(debug_writer_, to_debug_msg(echoed_id(id), result, map, frame, stamp), "debug");
-  if (!result.raw_path.empty() && publishing(raw_path_writer_))
-    write(raw_path_writer_, to_raw_path_msg(result, map, frame, stamp), "raw path");
-  if (!result.waypoints.empty() && publishing(pruned_path_writer_))
-    write(pruned_path_writer_, to_pruned_path_msg(result, map, frame, stamp), "pruned path");
-  if (result.metrics.expanded > 0 && publishing(expansions_forward_writer_))
-    write(expansions_forward_writer_, to_expansions_msg(result.expanded_forward, map, frame, stamp),
-          "forward expansions");
-  if (result.metrics.expanded > 0 && publishing(expansions_backward_writer_))
-    write(expansions_backward_writer_,
+  if (result.metrics.expanded > 0 && publishing(robot.debug_writer))
+    write(robot.debug_writer, to_debug_msg(echoed_id(id), result, map, frame, stamp), "debug");
+  if (!result.raw_path.empty() && publishing(robot.raw_path_writer))
+    write(robot.raw_path_writer, to_raw_path_msg(result, map, frame, stamp), "raw path");
+  if (!result.waypoints.empty() && publishing(robot.pruned_path_writer))
+    write(robot.pruned_path_writer, to_pruned_path_msg(result, map, frame, stamp), "pruned path");
+  if (result.metrics.expanded > 0 && publishing(robot.expansions_forward_writer))
+    write(robot.expansions_forward_writer,
+          to_expansions_msg(result.expanded_forward, map, frame, stamp), "forward expansions");
+  if (result.metrics.expanded > 0 && publishing(robot.expansions_backward_writer))
+    write(robot.expansions_backward_writer,
           to_expansions_msg(result.expanded_backward, map, frame, stamp), "backward expansions");
-  if (result.meeting_cell && publishing(meeting_point_writer_))
-    write(meeting_point_writer_, to_point_msg(*result.meeting_cell, map, frame, stamp),
+  if (result.meeting_cell && publishing(robot.meeting_point_writer))
+    write(robot.meeting_point_writer, to_point_msg(*result.meeting_cell, map, frame, stamp),
           "meeting point");
 }
 
-void PlannerNode::Impl::write_status(PlanStatusMsg&& msg, const std::string& what,
+void PlannerNode::Impl::write_status(Robot& robot, PlanStatusMsg&& msg, const std::string& what,
                                      std::optional<GuidPrefix> requester) {
   {
     std::lock_guard<std::mutex> lock(reply_mutex_);
-    replies_.hold(requester, HeldStatus{std::move(msg), what}, ReplyGate<HeldStatus>::Clock::now());
+    robot.replies.hold(requester, HeldStatus{std::move(msg), what},
+                       ReplyGate<HeldStatus>::Clock::now());
   }
   reply_cv_.notify_all();
 }
 
 void PlannerNode::Impl::replier_loop() {
+  using ReplyClock = ReplyGate<HeldStatus>::Clock;
   std::unique_lock<std::mutex> lock(reply_mutex_);
   for (;;) {
     size_t timed_out = 0;
     // At shutdown everything still held goes out at once: nothing accepted is lost.
-    std::vector<HeldStatus> ready =
-        replies_.release(replier_stopping_ ? ReplyGate<HeldStatus>::Clock::time_point::max()
-                                           : ReplyGate<HeldStatus>::Clock::now(),
-                         &timed_out);
+    const ReplyClock::time_point now =
+        replier_stopping_ ? ReplyClock::time_point::max() : ReplyClock::now();
+    std::vector<std::pair<dds::DataWriter*, std::vector<HeldStatus>>> ready;
+    for (const auto& robot : robots_) {
+      std::vector<HeldStatus> released = robot->replies.release(now, &timed_out);
+      if (!released.empty()) ready.emplace_back(robot->status_writer, std::move(released));
+    }
     if (!ready.empty()) {
       lock.unlock();  // write() may block up to the writer's max_blocking_time
       replies_timed_out_ += timed_out;
@@ -687,23 +775,31 @@ void PlannerNode::Impl::replier_loop() {
             "{} status(es) written after requests.reply_wait ({} ms) without a matched status "
             "reader of the requesting participant: a volatile reader that matches later misses it",
             timed_out, cfg_.reply_wait.count());
-      for (HeldStatus& held : ready) {
-        if (status_writer_ == nullptr || !status_writer_->write(&held.msg))
-          spdlog::error("could not publish the status of {}", held.what);
+      for (auto& [writer, statuses] : ready) {
+        for (HeldStatus& held : statuses) {
+          if (writer == nullptr || !writer->write(&held.msg))
+            spdlog::error("could not publish the status of {}", held.what);
+        }
       }
       lock.lock();
       continue;
     }
     if (replier_stopping_) return;
-    if (const auto deadline = replies_.next_deadline())
+    std::optional<ReplyClock::time_point> deadline;
+    for (const auto& robot : robots_) {
+      const auto next = robot->replies.next_deadline();
+      if (next && (!deadline || *next < *deadline)) deadline = next;
+    }
+    if (deadline)
       reply_cv_.wait_until(lock, *deadline);
     else
       reply_cv_.wait(lock);
   }
 }
 
-void PlannerNode::Impl::answer(const Job& job, const WireStatus& status, const std::string& planner,
-                               const core::Metrics* metrics, const TimeMsg& map_stamp, PathMsg path,
+void PlannerNode::Impl::answer(Robot& robot, const Job& job, const WireStatus& status,
+                               const std::string& planner, const core::Metrics* metrics,
+                               const TimeMsg& map_stamp, PathMsg path,
                                const core::Endpoints* endpoints, const core::GridMap* map) {
   PlanStatusMsg msg = to_status_msg(echoed_id(job.id), &job.identity, status, planner, metrics,
                                     map_stamp, std::move(path), endpoints, map);
@@ -713,47 +809,74 @@ void PlannerNode::Impl::answer(const Job& job, const WireStatus& status, const s
     requester.emplace();
     std::copy_n(job.identity.writer_guid.begin(), requester->size(), requester->begin());
   }
-  write_status(std::move(msg), "request '" + printable(job.id) + "'", requester);
+  write_status(robot, std::move(msg), "request '" + printable(job.id) + "'" + robot.label(),
+               requester);
   ++statuses_published_;
 }
 
 void PlannerNode::Impl::report_map(const WireStatus& status, const TimeMsg& map_stamp) {
-  write_status(to_status_msg("", nullptr, status, "", nullptr, map_stamp, PathMsg()), "a slice");
+  // The map is every robot's: each robot's tools see the report.
+  for (const auto& robot : robots_)
+    write_status(*robot, to_status_msg("", nullptr, status, "", nullptr, map_stamp, PathMsg()),
+                 "a slice" + robot->label());
 }
 
-void PlannerNode::Impl::worker_loop() {
+PlannerNode::Impl::Robot* PlannerNode::Impl::robot_with_work() {
+  for (size_t i = 0; i < robots_.size(); ++i) {
+    const size_t r = (next_robot_ + i) % robots_.size();
+    Robot& robot = *robots_[r];
+    if (robot.queue.waiting() > 0 && !robot.queue.planning()) {
+      next_robot_ = r + 1;  // the next search starts after it: no robot starves the others
+      return &robot;
+    }
+  }
+  return nullptr;
+}
+
+void PlannerNode::Impl::worker_loop(size_t worker) {
   for (;;) {
     Job job;
+    Robot* robot = nullptr;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_cv_.wait(lock, [&] { return stopping_ || queue_.waiting() > 0; });
-      std::optional<Job> next = queue_.next();
-      if (!next) return;  // stopping, and everything is answered
-      job = std::move(*next);
-      if (stopping_) queue_.interrupt_current("node is shutting down");
+      queue_cv_.wait(lock, [&] {
+        robot = robot_with_work();
+        return robot != nullptr || stopping_;
+      });
+      // Stopping, and nothing this worker can take: a robot being planned that still has
+      // requests waiting is drained by its own worker, which comes back here for them.
+      if (robot == nullptr) return;
+      job = std::move(*robot->queue.next());
+      if (stopping_) robot->queue.interrupt_current("node is shutting down");
     }
     std::shared_ptr<const ActiveMap> map;
     try {
-      handle(job, map);
+      handle(*robot, job, map, worker);
     } catch (const std::exception& e) {
       // A bug or resource exhaustion, never bad input: the request still gets its one status,
       // the planner is rebuilt (at the next plan on this map), and the node keeps serving.
-      spdlog::critical("request '{}': internal error: {}", printable(job.id), e.what());
-      if (map) map->planner.reset();
-      answer(job, {wire::INTERNAL_ERROR, std::string("internal error: ") + e.what()});
+      spdlog::critical("request '{}'{}: internal error: {}", printable(job.id), robot->label(),
+                       e.what());
+      if (map && worker < map->planners.size()) map->planners[worker].reset();
+      answer(*robot, job, {wire::INTERNAL_ERROR, std::string("internal error: ") + e.what()});
     }
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    queue_.finish_current();
+    {
+      std::lock_guard<std::mutex> lock(queue_mutex_);
+      robot->queue.finish_current();
+    }
+    queue_cv_.notify_all();  // this robot's next request may wait for a worker
   }
 }
 
-void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) {
+void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const ActiveMap>& map,
+                               size_t worker) {
   const auto t0 = Clock::now();
   const std::string id = printable(job.id);
   auto reject = [&](const WireStatus& status, const std::string& planner_name = "",
                     const TimeMsg& stamp = TimeMsg()) {
-    answer(job, status, planner_name, nullptr, stamp);
-    spdlog::warn("request '{}': {} ({})", id, code_name(status.code), status.message);
+    answer(robot, job, status, planner_name, nullptr, stamp);
+    spdlog::warn("request '{}'{}: {} ({})", id, robot.label(), code_name(status.code),
+                 status.message);
   };
   std::string interrupted;
   {
@@ -763,17 +886,21 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
   if (!interrupted.empty()) return reject({wire::CANCELED, interrupted});
   map = current_map();
   // Checked again: the map may have changed since the request arrived.
-  ResolvedRequest resolved = resolve_request(job, cfg_, map ? map->grid.get() : nullptr);
+  ResolvedRequest resolved = resolve_request(job, robot.cfg, map ? map->grid.get() : nullptr);
   if (!resolved.status.ok())
     return reject(resolved.status, resolved.planner_name, map ? map->stamp : TimeMsg());
   const std::string& planner_name = resolved.planner_name;
   core::PlannerOptions& options = resolved.options;
 
-  if (!map->planner) map->planner = std::make_unique<core::Planner>(map->grid);  // see worker_loop
+  // The planners of a map are as many as the workers (convert_slice); one is null only after an
+  // internal error dropped it (worker_loop).
+  std::unique_ptr<core::Planner>& planner = map->planners.at(worker);
+  if (!planner) planner = std::make_unique<core::Planner>(map->grid);
   // Recording the expansions costs time and memory: only when something will show them.
-  options.record_expansions = publishing(debug_writer_) || publishing(expansions_forward_writer_) ||
-                              publishing(expansions_backward_writer_);
-  core::PlanResult result = map->planner->plan(resolved.query, options, &job.interruption->flag);
+  options.record_expansions = publishing(robot.debug_writer) ||
+                              publishing(robot.expansions_forward_writer) ||
+                              publishing(robot.expansions_backward_writer);
+  core::PlanResult result = planner->plan(resolved.query, options, &job.interruption->flag);
 
   WireStatus status{to_wire_code(result.status.code), result.status.message};
   if (result.status.code == core::StatusCode::kCanceled) {
@@ -802,26 +929,26 @@ void PlannerNode::Impl::handle(Job& job, std::shared_ptr<const ActiveMap>& map) 
     for (const std::string& remark : remarks)
       status.message += (status.message.empty() ? "" : "; ") + remark;
     path = to_path_msg(result, cfg_.frame_id, stamp, spacing, resolved.goal_yaw);
-    if (!plan_writer_->write(&path)) spdlog::error("could not publish the path of '{}'", id);
+    if (!robot.plan_writer->write(&path))
+      spdlog::error("could not publish the path of '{}'{}", id, robot.label());
     ++plans_ok_;
   }
   // The endpoints are the plan's once core resolved them: every outcome but a refusal of the
   // query itself (which resolve_request normally catches first).
   const bool resolved_endpoints = status.ok() || status.code == wire::NO_VALID_PATH ||
                                   status.code == wire::TIMEOUT || status.code == wire::CANCELED;
-  answer(job, status, planner_name, &result.metrics, map->stamp, std::move(path),
+  answer(robot, job, status, planner_name, &result.metrics, map->stamp, std::move(path),
          resolved_endpoints ? &result.endpoints : nullptr, map->grid.get());
-  publish_debug(job.id, result, *map->grid, stamp);
+  publish_debug(robot, job.id, result, *map->grid, stamp);
   const auto total_us =
       std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - t0).count();
-  spdlog::log(
-      status.ok() ? spdlog::level::info : spdlog::level::warn,
-      "plan '{}' {} {}: length {:.2f} m, clearance {:.3f} m, {} turns, {:.1f} deg, {} expanded, "
-      "{} us planning, {} us total{}{}",
-      id, planner_name, code_name(status.code), result.metrics.length_m, result.metrics.clearance_m,
-      result.metrics.turns, result.metrics.turn_angle_deg, result.metrics.expanded,
-      result.metrics.planning_time_us, total_us, status.message.empty() ? "" : ": ",
-      status.message);
+  spdlog::log(status.ok() ? spdlog::level::info : spdlog::level::warn,
+              "plan '{}'{} {} {}: length {:.2f} m, clearance {:.3f} m, {} turns, {:.1f} deg, {} "
+              "expanded, {} us planning, {} us total{}{}",
+              id, robot.label(), planner_name, code_name(status.code), result.metrics.length_m,
+              result.metrics.clearance_m, result.metrics.turns, result.metrics.turn_angle_deg,
+              result.metrics.expanded, result.metrics.planning_time_us, total_us,
+              status.message.empty() ? "" : ": ", status.message);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -853,9 +980,9 @@ PlannerNode::Stats PlannerNode::stats() const {
   s.other_status_writers = impl_->participant_watch_ ? impl_->participant_watch_->count() : 0;
   s.incompatible_qos =
       impl_->participant_watch_ ? impl_->participant_watch_->incompatible_qos() : 0;
-  s.plan_readers = impl_->plan_writer_ != nullptr
-                       ? static_cast<size_t>(matched_readers(impl_->plan_writer_))
-                       : 0;
+  for (const auto& robot : impl_->robots_)
+    if (robot->plan_writer != nullptr)
+      s.plan_readers += static_cast<size_t>(matched_readers(robot->plan_writer));
   return s;
 }
 

@@ -1179,6 +1179,24 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
     p->push_back("security.enclave: accepted a value that is not an enclave name");
   same_bool("requests", "preempt", c.preempt, d.preempt);
   same_int("requests", "queue_capacity", c.queue_capacity, d.queue_capacity);
+  same_int("requests", "workers", c.workers, d.workers);
+  {
+    // robots: each entry a namespace as normalized_namespace keeps it, none twice.
+    const auto v = find("", "robots");
+    std::vector<std::string> listed;
+    if (v && v->IsSequence())
+      for (const YAML::Node& item : *v)
+        if (item.IsScalar()) {
+          const auto name = node::normalized_namespace(item.Scalar());
+          listed.push_back(name ? *name : "");
+        }
+    if (v && v->IsSequence() ? c.robots != listed : c.robots != d.robots)
+      p->push_back("robots: field differs from the file's value");
+    std::set<std::string> distinct(c.robots.begin(), c.robots.end());
+    if (distinct.size() != c.robots.size() || distinct.count("") > 0 ||
+        c.robots.size() > node::kMaxRobots)
+      p->push_back("robots: accepted an empty, repeated or excess robot name");
+  }
   const char* const publish[] = {"auto", "always", "never"};
   same_text("debug", "publish", std::string(publish[static_cast<int>(c.debug)]),
             std::string(publish[static_cast<int>(d.debug)]));
@@ -1193,8 +1211,8 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       c.domain_id >= 0 && c.domain_id <= 232 && c.map.occupied_threshold >= 1 &&
       c.map.occupied_threshold <= 100 && std::isfinite(c.map.robot_radius) &&
       c.map.robot_radius >= 0 && c.map.max_cells >= 1 && c.map.max_cells <= (int64_t{1} << 28) &&
-      c.queue_capacity >= 1 && c.queue_capacity <= 100000 && !c.frame_id.empty() &&
-      !c.base_frame.empty() &&
+      c.queue_capacity >= 1 && c.queue_capacity <= 100000 && c.workers >= 0 &&
+      c.workers <= node::kMaxWorkers && !c.frame_id.empty() && !c.base_frame.empty() &&
       node::without_leading_slash(c.base_frame) != node::without_leading_slash(c.frame_id) &&
       c.transform_tolerance_s >= 0 && c.transform_tolerance_s <= 60 && c.reply_wait.count() >= 0 &&
       c.reply_wait.count() <= 10000 && std::isfinite(c.slicer.z_min) &&

@@ -1008,5 +1008,32 @@ TEST(Config, DiscoveryServersAreIPv4AndPortEach) {
   }
 }
 
+// Issue 18: one node for many robots; each name is a namespace, and workers are bounded.
+TEST(Config, RobotsAreDistinctNamespacesAndWorkersAreBounded) {
+  const ConfigResult ok = parse_config(
+      "namespace: site\nrobots: [robot1, /robot2/, fleet/robot3]\nrequests: {workers: 3}\n");
+  ASSERT_TRUE(ok.config) << Joined(ok.errors);
+  EXPECT_EQ(ok.config->robots, (std::vector<std::string>{"robot1", "robot2", "fleet/robot3"}));
+  EXPECT_EQ(ok.config->workers, 3);
+  EXPECT_EQ(dds_topic_name(robot_view(*ok.config, "robot2"), "goal_pose"),
+            "rt/site/robot2/goal_pose");
+  const NodeConfig defaults = *parse_config("").config;
+  EXPECT_TRUE(defaults.robots.empty());
+  EXPECT_EQ(defaults.workers, 0);  // one per core
+  for (const char* bad : {"[robot1, robot1]", "[robot1, /robot1]", "[\"\"]", "[\"r 1\"]",
+                          "[\"~r\"]", "robot1", "[[robot1]]", "{a: b}"}) {
+    const ConfigResult r = parse_config(std::string("robots: ") + bad + "\n");
+    EXPECT_TRUE(HasError(r, "robots", {"expected a list of distinct robot names"}))
+        << bad << Joined(r.errors);
+  }
+  std::string many = "robots: [";
+  for (size_t i = 0; i <= kMaxRobots; ++i) many += (i ? ", r" : "r") + std::to_string(i);
+  EXPECT_TRUE(HasError(parse_config(many + "]\n"), "robots", {"at most"}));
+  for (const char* bad : {"-1", "257", "1.5", "many"}) {
+    const ConfigResult r = parse_config(std::string("requests: {workers: ") + bad + "}\n");
+    EXPECT_TRUE(HasError(r, "requests.workers")) << bad << Joined(r.errors);
+  }
+}
+
 }  // namespace
 }  // namespace vnsba::node

@@ -1322,5 +1322,165 @@ TEST(NodeAttacks, TwoNodesOnOneDomainNoticeEachOther) {
 
 }  // namespace attacks
 
+// ---------------------------------------------------------------------------------------------
+// Issue 18: one node serving several robots (`robots`), a shared map, a pool of workers.
+
+// A fleet node and a client per robot on that robot's topics (robot_view), the map published
+// once on the node's own map topic.
+struct Fleet {
+  Fleet(node::NodeConfig cfg, int workers)
+      : config(with_workers(std::move(cfg), workers)), node(config) {
+    for (const std::string& robot : config.robots)
+      clients.push_back(std::make_unique<BusClient>(node::robot_view(config, robot)));
+  }
+  static node::NodeConfig with_workers(node::NodeConfig cfg, int workers) {
+    cfg.workers = workers;
+    return cfg;
+  }
+  node::NodeConfig config;
+  node::PlannerNode node;
+  std::vector<std::unique_ptr<BusClient>> clients;
+  bool start_with_map(const core::OccupancyGrid& grid) {
+    const core::Status s = node.start();
+    EXPECT_TRUE(s.is_ok()) << s.message;
+    if (!s.is_ok()) return false;
+    for (auto& client : clients)
+      if (!client->wait_for_node()) return false;
+    BusClient map_client(config);  // the node's namespace: the shared map
+    map_client.publish_slice(grid);
+    return node.wait_for_map(10s);
+  }
+};
+
+node::NodeConfig fleet_config(const std::string& tag, int robots) {
+  node::NodeConfig cfg = test_config(tag);
+  for (int r = 1; r <= robots; ++r) cfg.robots.push_back("robot" + std::to_string(r));
+  return cfg;
+}
+
+TEST(Fleet, RobotTopicsAreNamespacedAndTheMapIsShared) {
+  node::NodeConfig cfg = fleet_config("fleet_names", 2);
+  cfg.ros_namespace = "site";
+  const node::NodeConfig robot2 = node::robot_view(cfg, "robot2");
+  EXPECT_EQ(node::dds_topic_name(robot2, "plan_status"), "rt/site/robot2/plan_status");
+  EXPECT_EQ(node::dds_topic_name(robot2, "/map"), "rt/map");
+  EXPECT_EQ(node::dds_topic_name(cfg, "projected_map"), "rt/site/projected_map");
+  EXPECT_EQ(node::dds_topic_name(node::robot_view(cfg, ""), "plan"), "rt/site/plan");
+  // Workers: at most one per robot, at least one.
+  cfg.workers = 8;
+  EXPECT_EQ(node::planning_workers(cfg), 2);
+  cfg.workers = 1;
+  EXPECT_EQ(node::planning_workers(cfg), 1);
+  cfg.robots.clear();
+  cfg.workers = 0;
+  EXPECT_EQ(node::planning_workers(cfg), 1);
+}
+
+// Every robot's requests are answered on its own plan_status, exactly once each, with the path
+// core computes on the shared map; no robot's client sees another robot's answers.
+TEST(Fleet, EachRobotGetsExactlyItsOwnAnswersOnItsOwnTopics) {
+  constexpr int kRobots = 4;
+  node::NodeConfig cfg = fleet_config("fleet_answers", kRobots);
+  cfg.preempt = false;  // every request is planned
+  cfg.planner.kind = core::PlannerKind::kAStar;
+  Fleet fleet(cfg, 2);
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  ASSERT_TRUE(fleet.start_with_map(grid));
+  auto map = map_as_received(grid, fleet.config);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> rx(0, 19), ry(0, 9);
+  constexpr int kPerRobot = 40;
+  // The expected cost of each request: optimal A* on the same map.
+  std::vector<std::map<std::string, std::optional<double>>> expected(kRobots);
+  core::PlannerOptions options = core::default_options(core::PlannerKind::kAStar);
+  options.corner_policy = fleet.config.planner.options().corner_policy;
+  for (int i = 0; i < kPerRobot; ++i) {
+    for (int r = 0; r < kRobots; ++r) {
+      const core::Cell s{rx(rng), ry(rng)}, g{rx(rng), ry(rng)};
+      const std::string id = "r" + std::to_string(r) + "-" + std::to_string(i);
+      const core::PlanResult oracle = core::plan_once(map, {s, g}, options);
+      expected[r][id] =
+          oracle.status.is_ok() ? std::optional<double>(oracle.metrics.length_m) : std::nullopt;
+      const auto [sx, sy] = centre(grid, s.x, s.y);
+      const auto [gx, gy] = centre(grid, g.x, g.y);
+      fleet.clients[r]->publish_request(id, sx, sy, gx, gy);
+    }
+  }
+  for (int r = 0; r < kRobots; ++r) {
+    SCOPED_TRACE("robot" + std::to_string(r + 1));
+    BusClient& client = *fleet.clients[r];
+    ASSERT_TRUE(client.statuses.wait([](const auto& all) { return all.size() >= kPerRobot; }, 60s))
+        << client.statuses.snapshot().size() << " statuses";
+  }
+  std::this_thread::sleep_for(300ms);  // anything extra would arrive now
+  for (int r = 0; r < kRobots; ++r) {
+    SCOPED_TRACE("robot" + std::to_string(r + 1));
+    std::map<std::string, int> seen;
+    for (const auto& status : fleet.clients[r]->statuses.snapshot()) {
+      ASSERT_EQ(expected[r].count(status.request_id()), 1u)
+          << "another robot's answer: " << status.request_id();
+      ++seen[status.request_id()];
+      const std::optional<double>& length = expected[r][status.request_id()];
+      if (length) {
+        ASSERT_EQ(status.code(), wire::OK) << status.message();
+        EXPECT_NEAR(status.length_m(), *length, 1e-9) << status.request_id();
+      } else {
+        EXPECT_NE(status.code(), wire::OK) << status.request_id();
+      }
+    }
+    EXPECT_EQ(seen.size(), static_cast<size_t>(kPerRobot));
+    for (const auto& [id, count] : seen) EXPECT_EQ(count, 1) << id;
+  }
+  EXPECT_EQ(fleet.node.stats().statuses_published, static_cast<uint64_t>(kRobots * kPerRobot));
+}
+
+// A robot's new request preempts only that robot's plan: another robot's long plan, running
+// on the other worker, finishes.
+TEST(Fleet, ARobotsNewRequestPreemptsOnlyItsOwnPlan) {
+  node::NodeConfig cfg = fleet_config("fleet_preempt", 2);
+  cfg.planner.kind = core::PlannerKind::kAStar;
+  cfg.planner.settings.max_planning_time = std::chrono::seconds(60);
+  Fleet fleet(cfg, 2);
+  ASSERT_TRUE(fleet.start_with_map(detour_grid(1500)));
+  BusClient& robot1 = *fleet.clients[0];
+  BusClient& robot2 = *fleet.clients[1];
+  robot1.publish_request("slow1", 0.01, 0.01, 74.9, 0.01);  // long A* detours
+  robot2.publish_request("slow2", 0.01, 0.01, 74.9, 0.01);
+  std::this_thread::sleep_for(30ms);
+  robot1.publish_request("fast1", 0.01, 0.01, 0.5, 0.5);
+  const auto slow1 = robot1.wait_status("slow1", 60s);
+  const auto fast1 = robot1.wait_status("fast1", 60s);
+  const auto slow2 = robot2.wait_status("slow2", 60s);
+  ASSERT_TRUE(slow1 && fast1 && slow2);
+  EXPECT_EQ(code_name(slow1->code()), "CANCELED") << slow1->message();
+  EXPECT_NE(slow1->message().find("fast1"), std::string::npos) << slow1->message();
+  EXPECT_EQ(code_name(fast1->code()), "OK") << fast1->message();
+  EXPECT_EQ(code_name(slow2->code()), "OK") << slow2->message();
+}
+
+// goal_pose goals take the start from their own robot's robot_pose.
+TEST(Fleet, AGoalStartsFromItsOwnRobotsPose) {
+  node::NodeConfig cfg = fleet_config("fleet_goal", 2);
+  Fleet fleet(cfg, 1);
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  ASSERT_TRUE(fleet.start_with_map(grid));
+  const auto [s1x, s1y] = centre(grid, 1, 1);
+  const auto [s2x, s2y] = centre(grid, 2, 8);
+  const auto [gx, gy] = centre(grid, 18, 8);
+  fleet.clients[0]->publish_robot_pose(s1x, s1y);
+  fleet.clients[1]->publish_robot_pose(s2x, s2y);
+  std::this_thread::sleep_for(300ms);
+  fleet.clients[0]->publish_goal(gx, gy);
+  fleet.clients[1]->publish_goal(gx, gy);
+  for (int r = 0; r < 2; ++r) {
+    // Each robot numbers its own goals.
+    const auto status = fleet.clients[r]->wait_status("goal-1");
+    ASSERT_TRUE(status) << r;
+    ASSERT_EQ(status->code(), wire::OK) << status->message();
+    const auto& first = status->path().poses().front().pose().position();
+    EXPECT_NEAR(first.x(), r == 0 ? s1x : s2x, 1e-6);
+    EXPECT_NEAR(first.y(), r == 0 ? s1y : s2y, 1e-6);
+  }
+}
 }  // namespace
 }  // namespace vnsba::test

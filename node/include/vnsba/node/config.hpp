@@ -136,6 +136,12 @@ struct NodeConfig {
   // rt/robot7/goal_pose); names with a leading '/' stay absolute. Stored without leading or
   // trailing '/'; empty = none.
   std::string ros_namespace;
+  // `robots`: one node serving several robots (a fleet on one shared map). Each name is a
+  // namespace under ros_namespace ("robot1": goal_pose is rt/<namespace>/robot1/goal_pose) for
+  // the robot's topics (goal_pose, robot_pose, plan_request, plan, plan_status and the debug
+  // topics); the map topic and tf/clock resolve under ros_namespace alone and are read once.
+  // Stored normalized as ros_namespace; empty = one robot, the node's own namespace.
+  std::vector<std::string> robots;
   TopicNames topics;
 
   // How incoming slices become planning grids (occupied_threshold, allow_unknown,
@@ -161,6 +167,10 @@ struct NodeConfig {
   // reader of the requesting participant to be matched before it is written anyway (0: never
   // waits). Fresh clients are matched within one discovery round (0.5 s here).
   std::chrono::milliseconds reply_wait{2000};
+  // requests.workers: planning threads, 0 = one per core (std::thread::hardware_concurrency).
+  // A robot's requests are planned one at a time, in order (preemption is per robot), so more
+  // workers than robots are never used. Each worker keeps its own search state per map.
+  int workers = 0;
 
   DebugPublishing debug = DebugPublishing::kAuto;
   std::string log_level = "info";  // trace, debug, info, warn, error, critical, off
@@ -190,6 +200,19 @@ struct NodeConfig {
   // DDS Security for every participant of the executable (off by default).
   SecurityConfig security;
 };
+
+// Bounds of `robots` and requests.workers (each robot has about ten DDS endpoints; each worker
+// keeps tens of bytes of search state per cell).
+inline constexpr size_t kMaxRobots = 1000;
+inline constexpr int kMaxWorkers = 256;
+
+// The planning threads a node runs for `config`: requests.workers (0: the cores), at most one per
+// robot, at least one.
+int planning_workers(const NodeConfig& config);
+
+// The configuration as robot `robot` (an entry of `robots`, or "" for the node's own) sees it:
+// ros_namespace is the robot's namespace, so dds_topic_name gives the robot's topics.
+NodeConfig robot_view(const NodeConfig& config, const std::string& robot);
 
 struct ConfigResult {
   std::optional<NodeConfig> config;  // set when there are no errors

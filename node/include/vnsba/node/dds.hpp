@@ -75,8 +75,11 @@ class ParticipantWatch : public dds::DomainParticipantListener {
  public:
   using OnOther = std::function<void(const std::string& name, const std::string& guid_prefix)>;
   using FixHint = std::function<std::string(const std::string& topic, const std::string& policy)>;
-  ParticipantWatch(std::string topic_name, OnOther on_other, FixHint fix = nullptr)
-      : topic_name_(std::move(topic_name)), on_other_(std::move(on_other)), fix_(std::move(fix)) {}
+  // `topic_names`: the status topics (one per robot) another participant must not write.
+  ParticipantWatch(std::set<std::string> topic_names, OnOther on_other, FixHint fix = nullptr)
+      : topic_names_(std::move(topic_names)),
+        on_other_(std::move(on_other)),
+        fix_(std::move(fix)) {}
 
   void on_participant_discovery(dds::DomainParticipant* participant,
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
@@ -92,7 +95,7 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   size_t count() const;
 
  private:
-  const std::string topic_name_;
+  const std::set<std::string> topic_names_;
   OnOther on_other_;
   mutable std::mutex mutex_;
   std::map<std::string, std::string> names_;  // guid prefix -> participant name

@@ -101,6 +101,8 @@ class RequestQueue {
   void interrupt_current(const std::string& reason);
 
   size_t waiting() const { return queue_.size(); }
+  // Whether a request is being planned (between next() and finish_current()).
+  bool planning() const { return current_.has_value(); }
 
  private:
   struct Current {
