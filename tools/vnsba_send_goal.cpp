@@ -343,8 +343,7 @@ int main(int argc, char** argv) {
   // Volatile, as a ROS 2 client's default reader: no other client's old answers on start-up.
   // Ours still arrives: we send only once our reader has matched the node's writer, and the
   // node holds the answer until its writer has matched our reader (requests.reply_wait).
-  node::dds::DataReaderQos status_qos = node::reader_qos(node::TopicQos::kStatus);
-  status_qos.durability().kind = node::dds::VOLATILE_DURABILITY_QOS;
+  const node::dds::DataReaderQos status_qos = node::reader_qos(node::TopicQos::kStatus);
   node::dds::DataReader* status_reader = subscriber->create_datareader(
       *status_topic, status_qos, &status_events,
       node::dds::StatusMask::data_available() << node::dds::StatusMask::subscription_matched());

@@ -77,8 +77,7 @@ template <class Qos>
 void apply_common(Qos& qos, TopicQos profile, bool reader) {
   qos.reliability().kind = profile == TopicQos::kStream ? dds::BEST_EFFORT_RELIABILITY_QOS
                                                         : dds::RELIABLE_RELIABILITY_QOS;
-  const bool durable =
-      profile == TopicQos::kLatched || profile == TopicQos::kStatus || profile == TopicQos::kStatic;
+  const bool durable = profile == TopicQos::kLatched || profile == TopicQos::kStatic;
   qos.durability().kind =
       durable ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
   // Readers keep every request and status; the status writer keeps its last kStatusHistory.
@@ -112,7 +111,7 @@ std::string describe(TopicQos profile) {
     case TopicQos::kEvents:
       return "reliable, volatile, keep all";
     case TopicQos::kStatus:
-      return "reliable, transient local, keep last " + std::to_string(kStatusHistory);
+      return "reliable, volatile, keep last " + std::to_string(kStatusHistory);
     case TopicQos::kLatest:
       return "reliable, volatile, keep last 1";
     case TopicQos::kDebug:
