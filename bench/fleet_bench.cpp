@@ -376,6 +376,7 @@ void run(const Options& o, const std::string& mode, const std::string& discovery
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each line as it comes, also into a file
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];

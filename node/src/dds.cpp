@@ -99,6 +99,11 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
     qos.resource_limits().max_instances = 1;
     qos.resource_limits().max_samples_per_instance = limit;
   }
+  // Preallocated: the history's first samples, each at the type's bound. For a status or a
+  // path that bound assumes 100 poses per sequence, tens of kB, and Fast DDS's default of 100
+  // such samples per endpoint cost about 4 MB for each robot of a `robots` node (a 50-robot node
+  // idled at 213 MB). One sample up front; the history grows as samples come, up to its limit.
+  qos.resource_limits().allocated_samples = 1;
   qos.endpoint().history_memory_policy =
       eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   qos.data_sharing().off();
