@@ -138,6 +138,10 @@ dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
   qos.reliability().max_blocking_time = {profile == TopicQos::kEvents ? 10 : 1, 0};
   // Late joiners of a latched map should not wait for the default 3 s heartbeat.
   qos.reliable_writer_qos().times.heartbeatPeriod = {0, 150'000'000};
+  // Manual liveliness (lease infinite: never lost; it matches every requested kind) only so that
+  // DataWriter::assert_liveliness() heartbeats the status writer's readers at once: the replier
+  // does that before each status it writes (planner_node.cpp, replier_loop).
+  if (profile == TopicQos::kStatus) qos.liveliness().kind = dds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
   if (large_samples) qos.publish_mode().kind = dds::ASYNCHRONOUS_PUBLISH_MODE;
   return qos;
 }

@@ -776,6 +776,13 @@ void PlannerNode::Impl::replier_loop() {
             "reader of the requesting participant: a volatile reader that matches later misses it",
             timed_out, cfg_.reply_wait.count());
       for (auto& [writer, statuses] : ready) {
+        // A heartbeat first, one that does not count these statuses (writer_qos: manual
+        // liveliness for that). To a volatile reader that has acknowledged nothing yet, Fast DDS
+        // sends a status right behind a heartbeat that counts it, and Cyclone DDS's volatile
+        // reader skips everything up to the last sequence number of the first heartbeat it gets
+        // from a writer. A client that matched this writer after the node matched its reader
+        // (discovery is not symmetric) missed the earlier heartbeats: it would lose its status.
+        if (writer != nullptr) writer->assert_liveliness();
         for (HeldStatus& held : statuses) {
           if (writer == nullptr || !writer->write(&held.msg))
             spdlog::error("could not publish the status of {}", held.what);

@@ -93,12 +93,13 @@ static const double kAtTolerance = 1e-4;
 
 /* Cyclone DDS 0.10 with a writer of another vendor: a volatile reader starts after the highest
  * sequence number of the first heartbeat it receives from a newly matched writer
- * (ros2/rmw_cyclonedds#367). The node's writers heartbeat every 150 ms, and a status written to a
- * reader that has not acknowledged anything yet goes out behind a heartbeat that counts it: a
- * status written less than one heartbeat period after the client matched the node's status writer
- * is never delivered. Typical of a fresh client that discovers the node after the node discovered
- * it (loopback-only: the node answers a new participant at its next announcement). Measured by
- * --bench --fresh K [--fresh-delay MS]; the test interop_cyclone_fresh_clients waits for a fix. */
+ * (ros2/rmw_cyclonedds#367). A client that matches the node's status writer after the node matched
+ * its reader has missed the node's first heartbeats, and Fast DDS sends a status to a reader that
+ * has acknowledged nothing yet right behind a heartbeat that counts it: that status would never be
+ * delivered. Typical of a fresh client that discovers the node after the node discovered it
+ * (loopback-only: the node answers a new participant at its next announcement). The node sends a
+ * heartbeat of its own before each status it writes; interop_cyclone_fresh_clients checks no
+ * fresh client loses its first status (--bench --fresh K [--fresh-delay MS] measures it). */
 static const char* const kLostFirstStatus =
     "the first heartbeat the client's volatile status reader got from the node already counted it";
 
@@ -592,8 +593,9 @@ static Answer plan_request(Bus* bus, const Options* o, double sx, double sy, dou
     free_answer(&a);
     a = wait_status(bus->status, &w, 3.0);
     if (!a.found && lost == 0) {
-      /* The one known way to lose an answer (kLostFirstStatus): not the feature under test
-       * here, so said and requested again; a second loss fails the run. */
+      /* The one known way to lose an answer (kLostFirstStatus), which the node prevents and
+       * interop_cyclone_fresh_clients tests: not the feature under test here, so said and
+       * requested again; a second loss fails the run. */
       ++lost;
       printf("NOTE: the status of %s never arrived (%s); requesting again\n", id, kLostFirstStatus);
       continue;
