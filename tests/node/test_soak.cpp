@@ -131,7 +131,13 @@ void soak(ChildProcess& node_process, BusClient& map_client, const std::vector<B
       "soak: %d requests from %zu robot(s), %d slices; RSS start %.1f, middle-third peak %.1f, "
       "last-third peak %.1f MB\n",
       requests, robots.size(), slices, series.front(), middle_peak, last_peak);
+#if defined(__SANITIZE_ADDRESS__)
+  // AddressSanitizer keeps freed memory in quarantine, so resident size means nothing here;
+  // LeakSanitizer checks for leaks at the node's exit instead (its findings fail the run below).
+  std::printf("soak: resident memory not judged under AddressSanitizer\n");
+#else
   EXPECT_LE(last_peak - middle_peak, 4.0) << "resident memory still grows";
+#endif
   node_process.signal(SIGTERM);
   EXPECT_EQ(node_process.wait(), 0) << node_process.output();
   // In the sanitizer build the node reports any finding on its output (and exits non-zero).
