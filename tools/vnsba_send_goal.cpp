@@ -311,7 +311,7 @@ int main(int argc, char** argv) {
   auto participant =
       node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
                                 node::with_default_enclave(config.security, node::kSendGoalEnclave),
-                                config.discovery_servers);
+                                config.discovery_servers, config.participant_profile);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

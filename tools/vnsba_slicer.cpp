@@ -284,9 +284,10 @@ int main(int argc, char** argv) {
   // Bus mode. Signals are blocked before DDS starts its threads and taken in the loop below.
   const node::StopSignals stop;
 
-  auto participant = node::Participant::create(
-      config.domain_id, "vnsba_slicer", nullptr, config.localhost_only,
-      node::with_default_enclave(config.security, node::kSlicerEnclave), config.discovery_servers);
+  auto participant =
+      node::Participant::create(config.domain_id, "vnsba_slicer", nullptr, config.localhost_only,
+                                node::with_default_enclave(config.security, node::kSlicerEnclave),
+                                config.discovery_servers, config.participant_profile);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

@@ -511,6 +511,12 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
       {{"Enforce", SecurityStrategy::kEnforce}, {"Permissive", SecurityStrategy::kPermissive}});
   security.finish();
 
+  Section dds = top.child("dds");
+  dds.text("participant_profile", c.participant_profile, "a profile name", [](const std::string&) {
+    return std::string();  // any name; looked up in the XML profiles when a participant is made
+  });
+  dds.finish();
+
   Section debug = top.child("debug");
   debug.choice<DebugPublishing>("publish", c.debug,
                                 {{"auto", DebugPublishing::kAuto},

@@ -6,9 +6,11 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/dds/log/StdoutErrConsumer.hpp>
+#include <filesystem>
 #include <iterator>
 #include <sstream>
 
@@ -152,10 +154,88 @@ dds::DataReaderQos reader_qos(TopicQos profile) {
   return qos;
 }
 
+namespace {
+
+// The Fast DDS XML profiles files of this process: FASTRTPS_DEFAULT_PROFILES_FILE and
+// DEFAULT_FASTRTPS_PROFILES.xml in the working directory, the two Fast DDS reads itself.
+std::vector<std::string> profiles_files() {
+  std::vector<std::string> files;
+  if (const char* env = std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"); env != nullptr && *env)
+    files.emplace_back(env);
+  std::error_code ignored;
+  if (std::filesystem::exists("DEFAULT_FASTRTPS_PROFILES.xml", ignored))
+    files.emplace_back("DEFAULT_FASTRTPS_PROFILES.xml");
+  return files;
+}
+
+}  // namespace
+
+core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::string& profile) {
+  auto* factory = dds::DomainParticipantFactory::get_instance();
+  // Each file checked here, so that a missing or malformed one stops the executable naming it
+  // (Fast DDS alone would log it and go on with its defaults). A file already loaded is not
+  // parsed again.
+  const std::vector<std::string> files = profiles_files();
+  for (const std::string& file : files) {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(file, error))
+      return core::Status::error(core::StatusCode::kInvalidRequest,
+                                 "FASTRTPS_DEFAULT_PROFILES_FILE: " + file + ": no such file");
+    if (factory->load_XML_profiles_file(file) != ReturnCode_t::RETCODE_OK)
+      return core::Status::error(core::StatusCode::kInvalidRequest,
+                                 file +
+                                     ": not a valid Fast DDS XML profiles file (Fast DDS's "
+                                     "XMLPARSER log says what it could not read)");
+  }
+  factory->load_profiles();  // the default profiles become the factory's defaults
+  dds::DomainParticipantQos qos = factory->get_default_participant_qos();
+  if (!profile.empty() &&
+      factory->get_participant_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK) {
+    std::string where;
+    for (const std::string& file : files) where += (where.empty() ? "" : ", ") + file;
+    return core::Status::error(
+        core::StatusCode::kInvalidRequest,
+        "dds.participant_profile: found \"" + profile +
+            "\", expected the profile_name of a "
+            "<participant> in the XML profiles (" +
+            (where.empty() ? "none loaded: set FASTRTPS_DEFAULT_PROFILES_FILE" : where) + ")");
+  }
+  return qos;
+}
+
+std::vector<std::string> topic_profile_names(const std::string& dds_topic) {
+  std::vector<std::string> names{dds_topic};
+  // rt/robot7/plan -> /robot7/plan, the ROS 2 name rmw_fastrtps looks profiles up by.
+  if (dds_topic.rfind("rt/", 0) == 0) names.push_back(dds_topic.substr(2));
+  return names;
+}
+
+template <class Qos>
+void overlay_common(const Qos& rules, Qos& out) {
+  out.reliability() = rules.reliability();
+  out.durability() = rules.durability();
+  out.history() = rules.history();
+  out.resource_limits() = rules.resource_limits();
+  out.endpoint().history_memory_policy = rules.endpoint().history_memory_policy;
+  out.data_sharing() = rules.data_sharing();
+}
+
+void overlay_topic_rules(const dds::DataWriterQos& rules, dds::DataWriterQos& out) {
+  overlay_common(rules, out);
+  out.liveliness() = rules.liveliness();
+  out.publish_mode() = rules.publish_mode();
+  out.reliable_writer_qos().times.heartbeatPeriod =
+      rules.reliable_writer_qos().times.heartbeatPeriod;
+}
+
+void overlay_topic_rules(const dds::DataReaderQos& rules, dds::DataReaderQos& out) {
+  overlay_common(rules, out);
+}
+
 core::Expected<std::unique_ptr<Participant>> Participant::create(
     int domain_id, const std::string& name, dds::DomainParticipantListener* listener,
     bool localhost_only, const SecurityConfig& security,
-    const std::vector<std::string>& discovery_servers) {
+    const std::vector<std::string>& discovery_servers, const std::string& participant_profile) {
   if (domain_id < 0 || domain_id > 232) {
     return core::Status::error(core::StatusCode::kInvalidRequest,
                                "domain id " + std::to_string(domain_id) + " is outside 0..232");
@@ -166,25 +246,43 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
   for (const std::string& note : security_plan->notes) spdlog::warn("{}", note);
   std::unique_ptr<Participant> self(new Participant());
   self->domain_id_ = domain_id;
-  dds::DomainParticipantQos qos = dds::PARTICIPANT_QOS_DEFAULT;
+  // The XML profiles first, as rmw_fastrtps does: the named participant profile, else the
+  // default one (Fast DDS's defaults without a file); the rules below go on top.
+  core::Expected<dds::DomainParticipantQos> profiled = profile_participant_qos(participant_profile);
+  if (!profiled) return profiled.error();
+  dds::DomainParticipantQos qos = std::move(profiled).value();
+  const dds::DomainParticipantQos fast_dds_defaults;  // what "left at the default" means below
   qos.name(name);
   for (const auto& [property, value] : security_plan->properties)
     qos.properties().properties().emplace_back(property, value);
-  qos.transport().use_builtin_transports = false;
-  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-  // Room for bursts of map fragments on loopback.
-  udp->sendBufferSize = 4 * 1024 * 1024;
-  udp->receiveBufferSize = 4 * 1024 * 1024;
-  // As rmw_fastrtps does for ROS_LOCALHOST_ONLY: the whitelist limits both the interfaces used
-  // and the locators announced, so loopback-only peers can reach this participant.
-  if (localhost_only) udp->interfaceWhiteList.emplace_back("127.0.0.1");
-  qos.transport().user_transports.push_back(udp);
+  // Transports a profile gives are kept, unless localhost_only asks for loopback.
+  const bool profile_transports =
+      !qos.transport().user_transports.empty() || !qos.transport().use_builtin_transports;
+  if (!profile_transports || localhost_only) {
+    if (profile_transports)
+      spdlog::warn(
+          "network.localhost_only: the XML profile's transports are replaced by UDP on "
+          "127.0.0.1");
+    qos.transport().user_transports.clear();
+    qos.transport().use_builtin_transports = false;
+    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+    // Room for bursts of map fragments on loopback.
+    udp->sendBufferSize = 4 * 1024 * 1024;
+    udp->receiveBufferSize = 4 * 1024 * 1024;
+    // As rmw_fastrtps does for ROS_LOCALHOST_ONLY: the whitelist limits both the interfaces used
+    // and the locators announced, so loopback-only peers can reach this participant.
+    if (localhost_only) udp->interfaceWhiteList.emplace_back("127.0.0.1");
+    qos.transport().user_transports.push_back(udp);
+  }
   // A participant that starts after another (a send_goal after the node) is matched only once
   // the older one announces itself again: Fast DDS does not answer a new participant's initial
   // announcements at once. With the default 3 s period a short-lived client waits up to 3 s;
   // 0.5 s bounds that wait for a few dozen bytes per participant and second on the wire.
-  qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod =
-      eprosima::fastrtps::Duration_t(0, 500'000'000);
+  auto& announcement_period =
+      qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod;
+  if (announcement_period ==
+      fast_dds_defaults.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod)
+    announcement_period = eprosima::fastrtps::Duration_t(0, 500'000'000);
   // discovery.servers: a Discovery Server client, the servers parsed by Fast DDS's own reader of
   // ROS_DISCOVERY_SERVER lists (position = server id), so both spell servers the same way.
   if (!discovery_servers.empty()) {
@@ -196,8 +294,10 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
                                  "discovery.servers: Fast DDS cannot read \"" + list + "\"");
     discovery.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::CLIENT;
   }
-  qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
-  qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
+  if (qos.transport().send_socket_buffer_size == 0)
+    qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
+  if (qos.transport().listen_socket_buffer_size == 0)
+    qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
   // One secured creation at a time, so the log captured is this participant's.
   static std::mutex secured_creation;
   std::unique_lock<std::mutex> secured_lock(secured_creation, std::defer_lock);
@@ -247,8 +347,13 @@ core::Expected<dds::Topic*> Participant::make_topic(const std::string& topic_nam
 core::Expected<dds::DataWriter*> Participant::writer(dds::Topic* topic,
                                                      const dds::DataWriterQos& qos,
                                                      dds::DataWriterListener* listener) {
+  dds::DataWriterQos effective = publisher_->get_default_datawriter_qos();
+  for (const std::string& profile : topic_profile_names(topic->get_name()))
+    if (publisher_->get_datawriter_qos_from_profile(profile, effective) == ReturnCode_t::RETCODE_OK)
+      break;
+  overlay_topic_rules(qos, effective);
   dds::DataWriter* writer = publisher_->create_datawriter(
-      topic, qos, listener,
+      topic, effective, listener,
       listener ? dds::StatusMask::publication_matched() : dds::StatusMask::none());
   if (writer == nullptr) return dds_error("create_datawriter(" + topic->get_name() + ")");
   return writer;
@@ -257,8 +362,14 @@ core::Expected<dds::DataWriter*> Participant::writer(dds::Topic* topic,
 core::Expected<dds::DataReader*> Participant::reader(dds::Topic* topic,
                                                      const dds::DataReaderQos& qos,
                                                      dds::DataReaderListener* listener) {
+  dds::DataReaderQos effective = subscriber_->get_default_datareader_qos();
+  for (const std::string& profile : topic_profile_names(topic->get_name()))
+    if (subscriber_->get_datareader_qos_from_profile(profile, effective) ==
+        ReturnCode_t::RETCODE_OK)
+      break;
+  overlay_topic_rules(qos, effective);
   dds::DataReader* reader = subscriber_->create_datareader(
-      topic, qos, listener,
+      topic, effective, listener,
       listener ? dds::StatusMask::data_available() << dds::StatusMask::subscription_matched()
                : dds::StatusMask::none());
   if (reader == nullptr) return dds_error("create_datareader(" + topic->get_name() + ")");

@@ -346,9 +346,10 @@ core::Status PlannerNode::Impl::start() {
       [this](const std::string& topic, const std::string& policy) {
         return qos_fix(topic, policy);
       });
-  auto participant = Participant::create(
-      cfg_.domain_id, "vnsba_node", participant_watch_.get(), cfg_.localhost_only,
-      with_default_enclave(cfg_.security, kNodeEnclave), cfg_.discovery_servers);
+  auto participant =
+      Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get(),
+                          cfg_.localhost_only, with_default_enclave(cfg_.security, kNodeEnclave),
+                          cfg_.discovery_servers, cfg_.participant_profile);
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
 

@@ -1169,6 +1169,7 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       if (!node::discovery_server_problem(server).empty())
         p->push_back("discovery.servers: accepted \"" + server + "\"");
   }
+  same_text("dds", "participant_profile", c.participant_profile, d.participant_profile);
   same_bool("security", "enable", c.security.enable, d.security.enable);
   same_text("security", "keystore", c.security.keystore, d.security.keystore);
   same_text("security", "enclave", c.security.enclave, d.security.enclave);
@@ -1230,8 +1231,8 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   if (!in_range) p->push_back("an accepted value is outside its documented range");
 
   // Every key of the file is known, given once, and has a value.
-  const std::set<std::string> sections = {"topics", "map",     "planner",  "requests", "debug",
-                                          "slicer", "network", "security", "discovery"};
+  const std::set<std::string> sections = {"topics", "map",     "planner",  "requests",  "debug",
+                                          "slicer", "network", "security", "discovery", "dds"};
   auto walk = [&](const YAML::Node& map, const std::string& prefix) {
     std::set<std::string> seen;
     for (const auto& kv : map) {

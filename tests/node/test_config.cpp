@@ -1035,5 +1035,16 @@ TEST(Config, RobotsAreDistinctNamespacesAndWorkersAreBounded) {
   }
 }
 
+// Issue 18, item 3: the XML participant profile's name (looked up when a participant is made).
+TEST(Config, DdsParticipantProfileIsAName) {
+  const ConfigResult ok = parse_config("dds: {participant_profile: robot_profile}\n");
+  ASSERT_TRUE(ok.config) << Joined(ok.errors);
+  EXPECT_EQ(ok.config->participant_profile, "robot_profile");
+  EXPECT_EQ(parse_config("").config->participant_profile, "");
+  EXPECT_TRUE(HasError(parse_config("dds: {participant_profile: [a]}\n"), "dds.participant_profile",
+                       {"a profile name"}));
+  EXPECT_TRUE(HasError(parse_config("dds: {profile: a}\n"), "dds.profile"));
+}
+
 }  // namespace
 }  // namespace vnsba::node

@@ -199,6 +199,10 @@ struct NodeConfig {
   bool use_sim_time = false;
   // DDS Security for every participant of the executable (off by default).
   SecurityConfig security;
+  // dds.participant_profile: the profile_name of a <participant> in the Fast DDS XML profiles
+  // (FASTRTPS_DEFAULT_PROFILES_FILE, DEFAULT_FASTRTPS_PROFILES.xml) every participant of the
+  // executable starts from; empty = the default profile. The node's rules go on top (dds.hpp).
+  std::string participant_profile;
 };
 
 // Bounds of `robots` and requests.workers (each robot has about ten DDS endpoints; each worker

@@ -118,10 +118,13 @@ class Participant {
   // participant is created with Fast DDS's builtin security plugins. Enforce: any failure is an
   // error naming the files at fault, never an open participant. Permissive without an enclave:
   // an open participant and a warning (as SROS2).
+  // `participant_profile` (dds.participant_profile): the Fast DDS XML participant profile to
+  // start from (profile_participant_qos); the node's rules go on top.
   static core::Expected<std::unique_ptr<Participant>> create(
       int domain_id, const std::string& name, dds::DomainParticipantListener* listener = nullptr,
       bool localhost_only = false, const SecurityConfig& security = {},
-      const std::vector<std::string>& discovery_servers = {});
+      const std::vector<std::string>& discovery_servers = {},
+      const std::string& participant_profile = "");
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
@@ -155,7 +158,10 @@ class Participant {
     return reader(*t, qos, listener);
   }
 
-  // `listener` (may be null) hears of its matched readers (publication_matched only).
+  // `listener` (may be null) hears of its matched readers (publication_matched only). The QoS
+  // starts from the XML profile named after the topic (its DDS name, else its ROS 2 name, as
+  // rmw_fastrtps looks it up) or the default profile; `qos`'s topic rules go on top
+  // (overlay_topic_rules). The same for readers.
   core::Expected<dds::DataWriter*> writer(dds::Topic* topic, const dds::DataWriterQos& qos,
                                           dds::DataWriterListener* listener = nullptr);
   core::Expected<dds::DataReader*> reader(dds::Topic* topic, const dds::DataReaderQos& qos,
@@ -179,6 +185,20 @@ class Participant {
   std::map<std::string, dds::Topic*> topics_;
   int domain_id_ = 0;
 };
+
+// Fast DDS XML profiles, as rmw_fastrtps honours them. The participant QoS of `profile` (empty:
+// the default participant profile, or Fast DDS's defaults without one), after loading the
+// profiles files Fast DDS reads (FASTRTPS_DEFAULT_PROFILES_FILE, DEFAULT_FASTRTPS_PROFILES.xml in
+// the working directory). A missing or malformed file, or a profile no file has, is an error
+// naming it (dds.participant_profile for the latter).
+core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::string& profile);
+// The profile names an endpoint on `dds_topic` is looked up by: the DDS name, then the ROS 2 one.
+std::vector<std::string> topic_profile_names(const std::string& dds_topic);
+// The node's topic rules (writer_qos, reader_qos: reliability, durability, history, resource
+// limits, memory policy, data sharing; for writers also liveliness, publish mode and heartbeat
+// period) copied from `rules` onto `out`; every other policy stays as the profile set it.
+void overlay_topic_rules(const dds::DataWriterQos& rules, dds::DataWriterQos& out);
+void overlay_topic_rules(const dds::DataReaderQos& rules, dds::DataReaderQos& out);
 
 // Matched readers of a writer right now (0 when the call fails).
 int matched_readers(dds::DataWriter* writer);
