@@ -21,7 +21,7 @@ trap cleanup EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 cmake --install "$build" --prefix "$prefix" >/dev/null
-for tool in vnsba_plan vnsba_node vnsba_slicer vnsba_recorder vnsba_send_goal; do
+for tool in vnsba_plan vnsba_node vnsba_slicer vnsba_recorder vnsba_send_goal vnsba_make_keystore; do
   [[ -x "$prefix/bin/$tool" ]] || fail "$tool not installed in bin/"
 done
 for file in default.yaml paper.yaml scenes/geb079.bt scenes/ATTRIBUTION.md; do
@@ -49,6 +49,14 @@ first_line=$(head -n 1 "$work/node.log")
 kill -INT "$node_pid"
 wait "$node_pid" || fail "vnsba_node exited $? on SIGINT: $(cat "$work/node.log")"
 node_pid=""
+
+echo "[install] vnsba_make_keystore from $work"
+"$prefix/bin/vnsba_make_keystore" "$work/keystore" --domain "$domain" >"$work/keystore.log" 2>&1 ||
+  fail "vnsba_make_keystore failed: $(cat "$work/keystore.log")"
+for file in identity_ca.cert.pem cert.pem key.pem permissions_ca.cert.pem governance.p7s \
+  permissions.p7s; do
+  [[ -s "$work/keystore/enclaves/vnsba/node/$file" ]] || fail "the node enclave has no $file"
+done
 
 echo "[install] the README's C++ block against the installed package"
 mkdir snippet
