@@ -437,6 +437,8 @@ int main(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
+  std::optional<std::string> participant_profile;
+  app.add_option("--participant-profile", participant_profile, node::kParticipantProfileOptionHelp);
   auto* duration_opt = app.add_option("--duration", duration, "stop after this many seconds");
   app.add_option("--runs", runs_wanted, "stop after this many runs are written")
       ->excludes(duration_opt);
@@ -484,7 +486,8 @@ int main(int argc, char** argv) {
     spdlog::error("--out: cannot create folder {}: {}", out_dir, ec.message());
     return kBadInput;
   }
-  const auto loaded = node::load_config_or_report(config_path, domain, ros_namespace);
+  const auto loaded =
+      node::load_config_or_report(config_path, domain, ros_namespace, participant_profile);
   if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
 

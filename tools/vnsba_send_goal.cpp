@@ -224,6 +224,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 232));
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
+  std::optional<std::string> participant_profile;
+  app.add_option("--participant-profile", participant_profile, node::kParticipantProfileOptionHelp);
   app.add_option("--start", start, "start X Y in metres, in the config's frame_id")
       ->expected(2)
       ->required();
@@ -284,8 +286,8 @@ int main(int argc, char** argv) {
   }
   if (request_id.empty()) request_id = default_request_id();
 
-  const std::optional<node::NodeConfig> loaded =
-      node::load_config_or_report(config_path, domain.value_or(-1), ros_namespace);
+  const std::optional<node::NodeConfig> loaded = node::load_config_or_report(
+      config_path, domain.value_or(-1), ros_namespace, participant_profile);
   if (!loaded) return kOtherStatusOrBadInput;
   const node::NodeConfig& config = *loaded;
   // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one
@@ -343,7 +345,9 @@ int main(int argc, char** argv) {
   // Volatile, as a ROS 2 client's default reader: no other client's old answers on start-up.
   // Ours still arrives: we send only once our reader has matched the node's writer, and the
   // node holds the answer until its writer has matched our reader (requests.reply_wait).
-  const node::dds::DataReaderQos status_qos = node::reader_qos(node::TopicQos::kStatus);
+  // From the topic's XML profile, if any, under the node's rules (dds.hpp), as bus.reader() does.
+  const node::dds::DataReaderQos status_qos = node::profiled_reader_qos(
+      *subscriber, status_topic_name, node::reader_qos(node::TopicQos::kStatus));
   node::dds::DataReader* status_reader = subscriber->create_datareader(
       *status_topic, status_qos, &status_events,
       node::dds::StatusMask::data_available() << node::dds::StatusMask::subscription_matched());
@@ -356,9 +360,11 @@ int main(int argc, char** argv) {
     spdlog::error("DDS: create_publisher failed");
     return kDdsFailure;
   }
-  node::dds::DataWriter* request_writer =
-      publisher->create_datawriter(*request_topic, node::writer_qos(node::TopicQos::kEvents, false),
-                                   &request_events, node::dds::StatusMask::publication_matched());
+  node::dds::DataWriter* request_writer = publisher->create_datawriter(
+      *request_topic,
+      node::profiled_writer_qos(*publisher, request_topic_name,
+                                node::writer_qos(node::TopicQos::kEvents, false)),
+      &request_events, node::dds::StatusMask::publication_matched());
   if (request_writer == nullptr) {
     spdlog::error("DDS: create_datawriter({}) failed", request_topic_name);
     return kDdsFailure;

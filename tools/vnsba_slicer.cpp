@@ -216,6 +216,8 @@ int main(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
+  std::optional<std::string> participant_profile;
+  app.add_option("--participant-profile", participant_profile, node::kParticipantProfileOptionHelp);
   CLI11_PARSE(app, argc, argv);
 
   if (subscribe == !input.empty()) {
@@ -239,7 +241,8 @@ int main(int argc, char** argv) {
                       option->get_name(), input);
         return kBadInput;
       }
-  const auto loaded = node::load_config_or_report(config_path, domain, ros_namespace);
+  const auto loaded =
+      node::load_config_or_report(config_path, domain, ros_namespace, participant_profile);
   if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
 

@@ -3,7 +3,9 @@
 #include <fastdds/rtps/attributes/ServerAttributes.h>
 #include <fastdds/rtps/common/WriteParams.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <spdlog/spdlog.h>
+#include <tinyxml2.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -156,38 +158,84 @@ dds::DataReaderQos reader_qos(TopicQos profile) {
 
 namespace {
 
-// The Fast DDS XML profiles files of this process: FASTRTPS_DEFAULT_PROFILES_FILE and
-// DEFAULT_FASTRTPS_PROFILES.xml in the working directory, the two Fast DDS reads itself.
+// The Fast DDS XML profiles files of this process, as Fast DDS finds them itself (and spelled as
+// it spells them, so that a file it loads is the same entry of its table of parsed files):
+// FASTRTPS_DEFAULT_PROFILES_FILE, then DEFAULT_FASTRTPS_PROFILES.xml in the working directory
+// unless SKIP_DEFAULT_XML_FILE=1.
 std::vector<std::string> profiles_files() {
   std::vector<std::string> files;
-  if (const char* env = std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE"); env != nullptr && *env)
-    files.emplace_back(env);
-  std::error_code ignored;
-  if (std::filesystem::exists("DEFAULT_FASTRTPS_PROFILES.xml", ignored))
+  const char* env = std::getenv("FASTRTPS_DEFAULT_PROFILES_FILE");
+  if (env != nullptr && *env) files.emplace_back(env);
+  const char* skip = std::getenv("SKIP_DEFAULT_XML_FILE");
+  if (skip != nullptr && skip[0] == '1') return files;
+  std::error_code error;
+  if (std::filesystem::exists("DEFAULT_FASTRTPS_PROFILES.xml", error))
     files.emplace_back("DEFAULT_FASTRTPS_PROFILES.xml");
   return files;
 }
 
 }  // namespace
 
-core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::string& profile) {
+core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::string& profile,
+                                                                  const std::string& key) {
+  using eprosima::fastrtps::xmlparser::XMLP_ret;
+  using eprosima::fastrtps::xmlparser::XMLProfileManager;
+  // Fast DDS's profile tables are process-wide and unguarded: one caller at a time.
+  static std::mutex loading;
+  const std::lock_guard<std::mutex> lock(loading);
+  // The files read in full so far, by canonical path: Fast DDS knows a file by the name it was
+  // given, and reading one file again under another name (the variable naming
+  // ./DEFAULT_FASTRTPS_PROFILES.xml) would refuse each of its profiles as already defined.
+  static std::set<std::string> loaded_files;
+  // The file each name was read as: a relative name (./DEFAULT_FASTRTPS_PROFILES.xml) that
+  // stands for another file now (the working directory changed) is read by its canonical path,
+  // as Fast DDS would take the name for one it has read already.
+  static std::map<std::string, std::string> read_as;
   auto* factory = dds::DomainParticipantFactory::get_instance();
   // Each file checked here, so that a missing or malformed one stops the executable naming it
-  // (Fast DDS alone would log it and go on with its defaults). A file already loaded is not
-  // parsed again.
+  // (Fast DDS alone would log it and go on with its defaults). A file Fast DDS read in full
+  // before is not parsed again; one it read in part (XML_NOK: a profile it could not take) is,
+  // and is refused every time.
   const std::vector<std::string> files = profiles_files();
   for (const std::string& file : files) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(file, error))
+      return core::Status::error(
+          core::StatusCode::kInvalidRequest,
+          std::filesystem::exists(file, error)
+              ? file + ": not a regular file"
+              : "FASTRTPS_DEFAULT_PROFILES_FILE: " + file + ": no such file");
+    const std::string canonical = std::filesystem::weakly_canonical(file, error).string();
+    if (loaded_files.count(canonical) > 0) continue;
+    const auto known = read_as.find(file);
+    const std::string name =
+        known != read_as.end() && known->second != canonical ? canonical : file;
+    const XMLP_ret loaded = XMLProfileManager::loadXMLFile(name);
+    if (loaded == XMLP_ret::XML_NOK)
+      return core::Status::error(
+          core::StatusCode::kInvalidRequest,
+          file +
+              ": a profile in this Fast DDS XML profiles file was refused (no profile_name, or "
+              "a profile_name already taken; Fast DDS's XMLPARSER log names it)");
+    if (loaded != XMLP_ret::XML_OK) {
+      // Fast DDS says which element it could not read in its log (flushed now, before the
+      // executable stops); XML that does not parse at all gets tinyxml2's line here.
+      eprosima::fastdds::dds::Log::Flush();
+      tinyxml2::XMLDocument document;
+      const std::string why =
+          document.LoadFile(file.c_str()) != tinyxml2::XML_SUCCESS
+              ? std::string("not well-formed XML: ") + document.ErrorStr()
+              : "well-formed XML, but not Fast DDS profiles Fast DDS could read (its XMLPARSER "
+                "log names the element)";
       return core::Status::error(core::StatusCode::kInvalidRequest,
-                                 "FASTRTPS_DEFAULT_PROFILES_FILE: " + file + ": no such file");
-    if (factory->load_XML_profiles_file(file) != ReturnCode_t::RETCODE_OK)
-      return core::Status::error(core::StatusCode::kInvalidRequest,
-                                 file +
-                                     ": not a valid Fast DDS XML profiles file (Fast DDS's "
-                                     "XMLPARSER log says what it could not read)");
+                                 file + ": not a valid Fast DDS XML profiles file: " + why);
+    }
+    loaded_files.insert(canonical);
+    read_as.emplace(name, canonical);
   }
-  factory->load_profiles();  // the default profiles become the factory's defaults
+  factory->load_profiles();  // once per process: Fast DDS's own loading, which finds them loaded
+  // The default participant profile as loaded now (load_profiles took it only the first time).
+  factory->set_default_participant_qos(dds::PARTICIPANT_QOS_DEFAULT);
   dds::DomainParticipantQos qos = factory->get_default_participant_qos();
   if (!profile.empty() &&
       factory->get_participant_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK) {
@@ -195,7 +243,7 @@ core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::str
     for (const std::string& file : files) where += (where.empty() ? "" : ", ") + file;
     return core::Status::error(
         core::StatusCode::kInvalidRequest,
-        "dds.participant_profile: found \"" + profile +
+        key + ": found \"" + profile +
             "\", expected the profile_name of a "
             "<participant> in the XML profiles (" +
             (where.empty() ? "none loaded: set FASTRTPS_DEFAULT_PROFILES_FILE" : where) + ")");
@@ -253,8 +301,15 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
   dds::DomainParticipantQos qos = std::move(profiled).value();
   const dds::DomainParticipantQos fast_dds_defaults;  // what "left at the default" means below
   qos.name(name);
-  for (const auto& [property, value] : security_plan->properties)
-    qos.properties().properties().emplace_back(property, value);
+  // The security section's properties replace a profile's of the same name (Fast DDS reads the
+  // first of a name); the profile's others stay (a profile may enable security by itself).
+  for (const auto& [property, value] : security_plan->properties) {
+    auto& properties = qos.properties().properties();
+    properties.erase(std::remove_if(properties.begin(), properties.end(),
+                                    [&](const auto& p) { return p.name() == property; }),
+                     properties.end());
+    properties.emplace_back(property, value);
+  }
   // Transports a profile gives are kept, unless localhost_only asks for loopback.
   const bool profile_transports =
       !qos.transport().user_transports.empty() || !qos.transport().use_builtin_transports;
@@ -344,14 +399,30 @@ core::Expected<dds::Topic*> Participant::make_topic(const std::string& topic_nam
   return topic;
 }
 
+dds::DataWriterQos profiled_writer_qos(const dds::Publisher& publisher,
+                                       const std::string& topic_name,
+                                       const dds::DataWriterQos& rules) {
+  dds::DataWriterQos qos = publisher.get_default_datawriter_qos();
+  for (const std::string& profile : topic_profile_names(topic_name))
+    if (publisher.get_datawriter_qos_from_profile(profile, qos) == ReturnCode_t::RETCODE_OK) break;
+  overlay_topic_rules(rules, qos);
+  return qos;
+}
+
+dds::DataReaderQos profiled_reader_qos(const dds::Subscriber& subscriber,
+                                       const std::string& topic_name,
+                                       const dds::DataReaderQos& rules) {
+  dds::DataReaderQos qos = subscriber.get_default_datareader_qos();
+  for (const std::string& profile : topic_profile_names(topic_name))
+    if (subscriber.get_datareader_qos_from_profile(profile, qos) == ReturnCode_t::RETCODE_OK) break;
+  overlay_topic_rules(rules, qos);
+  return qos;
+}
+
 core::Expected<dds::DataWriter*> Participant::writer(dds::Topic* topic,
                                                      const dds::DataWriterQos& qos,
                                                      dds::DataWriterListener* listener) {
-  dds::DataWriterQos effective = publisher_->get_default_datawriter_qos();
-  for (const std::string& profile : topic_profile_names(topic->get_name()))
-    if (publisher_->get_datawriter_qos_from_profile(profile, effective) == ReturnCode_t::RETCODE_OK)
-      break;
-  overlay_topic_rules(qos, effective);
+  const dds::DataWriterQos effective = profiled_writer_qos(*publisher_, topic->get_name(), qos);
   dds::DataWriter* writer = publisher_->create_datawriter(
       topic, effective, listener,
       listener ? dds::StatusMask::publication_matched() : dds::StatusMask::none());
@@ -362,12 +433,7 @@ core::Expected<dds::DataWriter*> Participant::writer(dds::Topic* topic,
 core::Expected<dds::DataReader*> Participant::reader(dds::Topic* topic,
                                                      const dds::DataReaderQos& qos,
                                                      dds::DataReaderListener* listener) {
-  dds::DataReaderQos effective = subscriber_->get_default_datareader_qos();
-  for (const std::string& profile : topic_profile_names(topic->get_name()))
-    if (subscriber_->get_datareader_qos_from_profile(profile, effective) ==
-        ReturnCode_t::RETCODE_OK)
-      break;
-  overlay_topic_rules(qos, effective);
+  const dds::DataReaderQos effective = profiled_reader_qos(*subscriber_, topic->get_name(), qos);
   dds::DataReader* reader = subscriber_->create_datareader(
       topic, effective, listener,
       listener ? dds::StatusMask::data_available() << dds::StatusMask::subscription_matched()

@@ -1,4 +1,5 @@
-// vnsba_node [--config FILE] [--domain N] [--namespace NS]: the DDS planner node.
+// vnsba_node [--config FILE] [--domain N] [--namespace NS] [--participant-profile NAME]: the DDS
+// planner node.
 //
 // SIGINT and SIGTERM are blocked in every thread and taken by sigwait() in main: no signal
 // handler runs, so nothing unsafe happens in one; the node then drains and exits 0.
@@ -17,11 +18,15 @@ int main(int argc, char** argv) {
   app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, vnsba::node::kNamespaceOptionHelp);
+  std::optional<std::string> participant_profile;
+  app.add_option("--participant-profile", participant_profile,
+                 vnsba::node::kParticipantProfileOptionHelp);
   CLI11_PARSE(app, argc, argv);
 
   vnsba::node::init_logging("vnsba_node");  // logs go to stderr
   const vnsba::node::StopSignals stop;      // before any thread exists
-  const auto config = vnsba::node::load_config_or_report(config_path, domain, ros_namespace);
+  const auto config =
+      vnsba::node::load_config_or_report(config_path, domain, ros_namespace, participant_profile);
   if (!config) return 2;
 
   vnsba::node::PlannerNode node(*config);

@@ -7,6 +7,7 @@
 #include <ctime>
 #include <filesystem>
 
+#include "vnsba/node/dds.hpp"
 #include "vnsba/node/security.hpp"
 
 namespace vnsba::node {
@@ -22,7 +23,8 @@ void init_logging(const std::string& program) {
 
 std::optional<NodeConfig> load_config_or_report(
     const std::string& given_path, int domain_override,
-    const std::optional<std::string>& namespace_override) {
+    const std::optional<std::string>& namespace_override,
+    const std::optional<std::string>& profile_override) {
   std::string path = given_path;
   if (path.empty()) {
     const core::Expected<std::string> found = find_default_config();
@@ -49,6 +51,25 @@ std::optional<NodeConfig> load_config_or_report(
       return std::nullopt;
     }
     config.ros_namespace = *ns;
+  }
+  if (profile_override) config.participant_profile = *profile_override;
+  if (!config.participant_profile.empty()) {
+    // Checked now, as a config error; the participant made later reads the same files. Fast DDS
+    // may start its log thread while loading them: SIGINT and SIGTERM stay blocked in it (the
+    // executables take them with sigwait, StopSignals), whether or not this thread blocks them.
+    sigset_t stop_signals, previous;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop_signals, &previous);
+    const auto profiled = profile_participant_qos(
+        config.participant_profile,
+        profile_override ? "--participant-profile" : "dds.participant_profile");
+    pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+    if (!profiled) {
+      spdlog::error("{}", profiled.error().message);
+      return std::nullopt;
+    }
   }
   if (!config.localhost_only && ros_localhost_only_from_environment()) {
     spdlog::info("ROS_LOCALHOST_ONLY=1: DDS on the loopback interface only");

@@ -253,6 +253,87 @@ TEST(SecureBus, ClientWithoutPublishPermissionCannotRequest) {
             "stopped: 0 requests, 0 statuses, 0 maps accepted, 0 rejected");
 }
 
+// Issue 18, item 3: security enabled by a Fast DDS XML participant profile alone, as
+// rmw_fastrtps users enable it (the properties of the send_goal enclave in a <participant>
+// profile, no security section): the client authenticates with the secured node and plans;
+// without the profile the same client is open and gets no answer.
+TEST(SecureBus, AnXmlProfileEnablingSecurityIsHonoured) {
+  ChildProcess node_process(kNode, {"--config", secured_config("secure_node_xml.yaml")});
+  ASSERT_TRUE(node_process.wait_for_output("up on domain", 10s)) << node_process.output();
+  ChildProcess slicer(kSlicer,
+                      {kScene, "--publish", "--config", secured_config("slicer_xml.yaml")});
+  ASSERT_TRUE(node_process.wait_for_output("map accepted", 15s))
+      << node_process.output() << slicer.output();
+
+  node::SecurityConfig security;
+  security.enable = true;
+  security.keystore = keystore();
+  security.enclave = "/vnsba/send_goal";
+  const auto plan = node::plan_security(security);
+  ASSERT_TRUE(plan && plan->secured) << (plan ? "open" : plan.error().message);
+  std::string properties;
+  for (const auto& [name, value] : plan->properties)
+    properties += "<property><name>" + name + "</name><value>" + value + "</value></property>\n";
+  const std::string profiles = write_temp_file(
+      "secured_profiles.xml",
+      "<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<profiles "
+      "xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\">\n<participant "
+      "profile_name=\"secured_by_xml\"><rtps><propertiesPolicy><properties>\n" +
+          properties + "</properties></propertiesPolicy></rtps></participant>\n</profiles>\n");
+  const std::string open_config = write_temp_file(
+      "open_send_goal.yaml", "domain_id: " + std::to_string(security_domain()) + "\n");
+  setenv("FASTRTPS_DEFAULT_PROFILES_FILE", profiles.c_str(), 1);
+  const auto [code, output] =
+      run_to_exit(kSendGoal, {"--config", open_config, "--participant-profile", "secured_by_xml",
+                              "--start", "2", "-6", "--goal", "16", "-6.5", "--wait", "15"});
+  const auto [open_code, open_output] = run_to_exit(
+      kSendGoal,
+      {"--config", open_config, "--start", "2", "-6", "--goal", "16", "-6.5", "--wait", "3"});
+  unsetenv("FASTRTPS_DEFAULT_PROFILES_FILE");
+  EXPECT_EQ(code, 0) << output;
+  EXPECT_NE(output.find(" OK "), std::string::npos) << output;
+  EXPECT_EQ(open_code, 3) << open_output;
+  slicer.signal(SIGINT);
+  EXPECT_EQ(slicer.wait(), 0) << slicer.output();
+  EXPECT_EQ(stop_and_summary(node_process),
+            "stopped: 1 requests, 1 statuses, 1 maps accepted, 0 rejected");
+}
+
+// The security section's files replace a profile's properties of the same name: a profile
+// naming a governance file that does not exist does not break the enclave's participant.
+TEST(SecureBus, TheSecuritySectionWinsOverAProfilesProperties) {
+  const std::string profiles = write_temp_file("stale_security_profiles.xml",
+                                               R"(<?xml version="1.0" encoding="UTF-8" ?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <participant profile_name="stale_security"><rtps><propertiesPolicy><properties>
+    <property><name>dds.sec.access.builtin.Access-Permissions.governance</name>
+      <value>file:///no/such/governance.p7s</value></property>
+    <property><name>vnsba.test.kept</name><value>yes</value></property>
+  </properties></propertiesPolicy></rtps></participant>
+</profiles>
+)");
+  setenv("FASTRTPS_DEFAULT_PROFILES_FILE", profiles.c_str(), 1);
+  node::SecurityConfig security;
+  security.enable = true;
+  security.keystore = keystore();
+  security.enclave = "/vnsba/node";
+  auto participant = node::Participant::create(security_domain(), "stale", nullptr, false, security,
+                                               {}, "stale_security");
+  unsetenv("FASTRTPS_DEFAULT_PROFILES_FILE");
+  ASSERT_TRUE(participant) << participant.error().message;
+  int governance = 0;
+  bool kept = false;
+  for (const auto& p : (*participant)->get()->get_qos().properties().properties()) {
+    if (p.name() == "dds.sec.access.builtin.Access-Permissions.governance") {
+      ++governance;
+      EXPECT_NE(p.value().find(keystore()), std::string::npos) << p.value();
+    }
+    kept = kept || (p.name() == "vnsba.test.kept" && p.value() == "yes");
+  }
+  EXPECT_EQ(governance, 1);
+  EXPECT_TRUE(kept);
+}
+
 // Broken enclaves stop the node before it is up, naming the file; Enforce never runs open.
 TEST(SecureBus, TamperedGovernanceIsRefusedNamingIt) {
   const fs::path dir = copy_enclave("/vnsba/node", "tampered");

@@ -2,8 +2,10 @@
 // participants over loopback; the profiles file is handed over through
 // FASTRTPS_DEFAULT_PROFILES_FILE, the variable Fast DDS and ROS 2 users set.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 
 #include "bus_client.hpp"
@@ -62,8 +64,52 @@ std::string profiles_xml(const std::string& participant_profile, const std::stri
       <reliability><kind>BEST_EFFORT</kind></reliability>
     </qos>
   </data_writer>
+  <data_reader profile_name=")" +
+         writer_topic + R"(">
+    <topic><historyQos><kind>KEEP_LAST</kind><depth>3</depth></historyQos></topic>
+    <propertiesPolicy>
+      <properties>
+        <property><name>vnsba.test.reader</name><value>from_profile</value></property>
+      </properties>
+    </propertiesPolicy>
+  </data_reader>
 </profiles>
 )";
+}
+
+const std::string kNode = VNSBA_NODE_BINARY;
+const std::string kSlicer = VNSBA_SLICER_BINARY;
+const std::string kRecorder = VNSBA_RECORDER_BINARY;
+const std::string kSendGoal = VNSBA_SEND_GOAL_BINARY;
+
+// The value of property `name` in `properties`, or nullopt.
+std::optional<std::string> property_of(const eprosima::fastrtps::rtps::PropertyPolicy& properties,
+                                       const std::string& name) {
+  for (const auto& p : properties.properties())
+    if (p.name() == name) return p.value();
+  return std::nullopt;
+}
+
+// The working directory changed for one test, restored after it.
+class WorkingDirectory {
+ public:
+  explicit WorkingDirectory(const std::filesystem::path& dir)
+      : previous_(std::filesystem::current_path()) {
+    std::filesystem::current_path(dir);
+  }
+  ~WorkingDirectory() { std::filesystem::current_path(previous_); }
+
+ private:
+  std::filesystem::path previous_;
+};
+
+// A fresh empty directory under the test temp dir.
+std::filesystem::path fresh_dir(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::path(::testing::TempDir()) / (std::to_string(getpid()) + "_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
 }
 
 // A participant profile's lease duration reaches the participant and what its peers see of it;
@@ -105,6 +151,16 @@ TEST(XmlProfiles, AProfilesSettingsReachTheParticipantItsPeersAndTheTopicsWriter
                        status_topic + "_other", node::writer_qos(node::TopicQos::kStatus, false))
                    .value();
   EXPECT_EQ(other->get_qos().lifespan().duration, node::dds::DataWriterQos().lifespan().duration);
+
+  // The topic's data_reader profile: its property reaches the reader; its history (keep last 3)
+  // gives way to the node's rule for status readers (keep all).
+  auto reader = (*profiled)
+                    ->reader_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+                        status_topic, node::reader_qos(node::TopicQos::kStatus), nullptr)
+                    .value();
+  EXPECT_EQ(property_of(reader->get_qos().properties(), "vnsba.test.reader"), "from_profile");
+  EXPECT_EQ(reader->get_qos().history().kind, node::dds::KEEP_ALL_HISTORY_QOS);
+  EXPECT_EQ(reader->get_qos().reliability().kind, node::dds::RELIABLE_RELIABILITY_QOS);
 }
 
 // The node takes dds.participant_profile from its config; a name no profile has stops it,
@@ -112,7 +168,7 @@ TEST(XmlProfiles, AProfilesSettingsReachTheParticipantItsPeersAndTheTopicsWriter
 TEST(XmlProfiles, TheNodeUsesItsConfiguredProfileAndRefusesAnUnknownOne) {
   node::NodeConfig cfg = test_config("xml_node");
   const std::string profile = "vnsba_node_profile_" + std::to_string(getpid());
-  ProfilesFile env(write_temp_file("node_profiles.xml", profiles_xml(profile, "unused")));
+  ProfilesFile env(write_temp_file("node_profiles.xml", profiles_xml(profile, profile + "_topic")));
   cfg.participant_profile = profile + "_missing";
   {
     node::PlannerNode planner_node(cfg);
@@ -160,19 +216,163 @@ TEST(XmlProfiles, AMissingOrMalformedFileIsAnErrorNamingIt) {
         << participant.error().message;
     EXPECT_NE(participant.error().message.find("no such file"), std::string::npos);
   }
-  for (const std::string& text :
-       {std::string("<profiles><participant profile_name=\"x\">"), std::string("not xml at all"),
-        std::string(
-            "<profiles xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\"><participant "
-            "profile_name=\"x\"><rtps><builtin><discovery_config><leaseDuration><sec>forty</sec>"
-            "</leaseDuration></discovery_config></builtin></rtps></participant></profiles>")}) {
+  // Text, and what the message says of it: tinyxml2's line for XML that does not parse.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"<profiles><participant profile_name=\"x\">", "not well-formed XML: "},
+      {"not xml at all", "not well-formed XML: "},
+      {"<profiles xmlns=\"http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles\"><participant "
+       "profile_name=\"x\"><rtps><builtin><discovery_config><leaseDuration><sec>forty</sec>"
+       "</leaseDuration></discovery_config></builtin></rtps></participant></profiles>",
+       "well-formed XML, but not Fast DDS profiles"}};
+  for (const auto& [text, why] : cases) {
     const std::string path = write_temp_file("malformed_profiles.xml", text);
     ProfilesFile env(path);
     auto participant = node::Participant::create(cfg.domain_id, "bad");
     ASSERT_FALSE(participant) << text;
+    EXPECT_NE(
+        participant.error().message.find(path + ": not a valid Fast DDS XML profiles file: " + why),
+        std::string::npos)
+        << participant.error().message;
+  }
+}
+
+// A profile Fast DDS refuses (two profiles of one name) is an error naming the file, at every
+// creation, not only the first.
+TEST(XmlProfiles, AFileWithARefusedProfileIsAnErrorNamingIt) {
+  const node::NodeConfig cfg = test_config("xml_dup");
+  const std::string name = "vnsba_dup_" + std::to_string(getpid());
+  const std::string path = write_temp_file("duplicate_profiles.xml",
+                                           R"(<?xml version="1.0" encoding="UTF-8" ?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <participant profile_name=")" + name + R"("><rtps><name>one</name></rtps></participant>
+  <participant profile_name=")" + name + R"("><rtps><name>two</name></rtps></participant>
+</profiles>
+)");
+  ProfilesFile env(path);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    auto participant =
+        node::Participant::create(cfg.domain_id, "dup", nullptr, false, {}, {}, name);
+    ASSERT_FALSE(participant) << "attempt " << attempt;
     EXPECT_NE(participant.error().message.find(path), std::string::npos)
         << participant.error().message;
   }
+}
+
+// DEFAULT_FASTRTPS_PROFILES.xml in the working directory is read as Fast DDS reads it: alone,
+// together with the variable naming that same file (read once), and not at all with
+// SKIP_DEFAULT_XML_FILE=1.
+TEST(XmlProfiles, TheWorkingDirectorysFileIsReadOnceAndSkippedOnRequest) {
+  const node::NodeConfig cfg = test_config("xml_cwd");
+  const std::string profile = "vnsba_cwd_" + std::to_string(getpid());
+  const std::filesystem::path good = fresh_dir("xml_cwd_good");
+  std::ofstream(good / "DEFAULT_FASTRTPS_PROFILES.xml")
+      << profiles_xml(profile, profile + "_topic");
+  const std::filesystem::path bad = fresh_dir("xml_cwd_bad");
+  std::ofstream(bad / "DEFAULT_FASTRTPS_PROFILES.xml") << "<profiles><participant";
+  {
+    WorkingDirectory cwd(good);
+    auto alone = node::Participant::create(cfg.domain_id, "cwd", nullptr, false, {}, {}, profile);
+    ASSERT_TRUE(alone) << alone.error().message;
+    EXPECT_EQ((*alone)->get()->get_qos().wire_protocol().builtin.discovery_config.leaseDuration,
+              eprosima::fastrtps::Duration_t(42, 0));
+    ProfilesFile env((good / "DEFAULT_FASTRTPS_PROFILES.xml").string());
+    for (int i = 0; i < 2; ++i) {
+      auto both = node::Participant::create(cfg.domain_id, "cwd", nullptr, false, {}, {}, profile);
+      ASSERT_TRUE(both) << both.error().message;
+    }
+  }
+  WorkingDirectory cwd(bad);
+  {
+    auto refused = node::Participant::create(cfg.domain_id, "cwd_bad");
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("DEFAULT_FASTRTPS_PROFILES.xml"), std::string::npos)
+        << refused.error().message;
+  }
+  setenv("SKIP_DEFAULT_XML_FILE", "1", 1);
+  auto skipped = node::Participant::create(cfg.domain_id, "cwd_skipped");
+  unsetenv("SKIP_DEFAULT_XML_FILE");
+  EXPECT_TRUE(skipped) << skipped.error().message;
+}
+
+// --participant-profile on every executable: a name no profile has stops it as bad input
+// (exit 2) naming the option; dds.participant_profile in a config file the same, naming the key;
+// a known name runs (send_goal without a node: no answer, exit 3).
+TEST(XmlProfiles, ExecutablesTakeTheProfileFromTheFlagOrTheConfigAndNameAnUnknownOne) {
+  const node::NodeConfig cfg = test_config("xml_cli");
+  const std::string profile = "vnsba_cli_" + std::to_string(getpid());
+  ProfilesFile env(write_temp_file("cli_profiles.xml", profiles_xml(profile, profile + "_topic")));
+  const std::string config = write_temp_file("xml_cli.yaml", config_yaml(cfg));
+  const std::string out_dir = fresh_dir("xml_cli_out").string();
+  const std::string map = std::string(VNSBA_CONFIG_DIR) + "/scenes/geb079.bt";
+  const std::vector<std::pair<std::string, std::vector<std::string>>> runs = {
+      {kNode, {"--config", config}},
+      {kSendGoal, {"--config", config, "--start", "0", "0", "--goal", "1", "1", "--wait", "1"}},
+      {kSlicer, {map, "--publish", "--config", config}},
+      {kRecorder, {"--out", out_dir, "--config", config, "--duration", "1"}},
+  };
+  for (const auto& [binary, args] : runs) {
+    std::vector<std::string> flagged = args;
+    flagged.insert(flagged.end(), {"--participant-profile", profile + "_missing"});
+    const auto [code, output] = run_to_exit(binary, flagged);
+    EXPECT_EQ(code, 2) << binary << "\n" << output;
+    EXPECT_NE(output.find("--participant-profile: found \"" + profile + "_missing\""),
+              std::string::npos)
+        << binary << "\n"
+        << output;
+  }
+  const std::string bad_config = write_temp_file(
+      "xml_cli_bad.yaml", config_yaml(cfg) + "dds:\n  participant_profile: " + profile + "_x\n");
+  {
+    const auto [code, output] = run_to_exit(kNode, {"--config", bad_config});
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find("dds.participant_profile: found \"" + profile + "_x\""),
+              std::string::npos)
+        << output;
+    EXPECT_EQ(output.find("up on domain"), std::string::npos) << output;
+  }
+  // The flag wins over the key.
+  const auto [code, output] =
+      run_to_exit(kSendGoal, {"--config", bad_config, "--participant-profile", profile, "--start",
+                              "0", "0", "--goal", "1", "1", "--wait", "1"});
+  EXPECT_EQ(code, 3) << output;
+  EXPECT_NE(output.find("no planner node"), std::string::npos) << output;
+}
+
+// Last in this file: a default profile, once loaded, is the process's default for every later
+// participant and endpoint (as in Fast DDS). Without a name, the file's default participant
+// profile gives the participant its lease; the default data_writer profile every writer its
+// lifespan, under the node's rules.
+TEST(XmlProfiles, TheDefaultProfilesApplyWithoutAName) {
+  const node::NodeConfig cfg = test_config("xml_default");
+  ProfilesFile env(
+      write_temp_file("default_profiles.xml", R"(<?xml version="1.0" encoding="UTF-8" ?>
+<profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <participant profile_name="vnsba_default_participant" is_default_profile="true">
+    <rtps>
+      <builtin><discovery_config><leaseDuration><sec>33</sec></leaseDuration></discovery_config></builtin>
+      <userData><value>76.6e.73.62.61</value></userData>
+    </rtps>
+  </participant>
+  <data_writer profile_name="vnsba_default_writer" is_default_profile="true">
+    <qos><lifespan><duration><sec>5</sec></duration></lifespan></qos>
+  </data_writer>
+</profiles>
+)"));
+  auto participant = node::Participant::create(cfg.domain_id, "defaulted");
+  ASSERT_TRUE(participant) << participant.error().message;
+  const auto qos = (*participant)->get()->get_qos();
+  EXPECT_EQ(qos.wire_protocol().builtin.discovery_config.leaseDuration,
+            eprosima::fastrtps::Duration_t(33, 0));
+  EXPECT_EQ(qos.user_data().data_vec(),
+            (std::vector<eprosima::fastrtps::rtps::octet>{'v', 'n', 's', 'b', 'a'}));
+  EXPECT_EQ(qos.name().to_string(), "defaulted");  // the node's rule: its own name
+  auto writer = (*participant)
+                    ->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+                        node::dds_topic_name(cfg, cfg.topics.plan_status),
+                        node::writer_qos(node::TopicQos::kStatus, false))
+                    .value();
+  EXPECT_EQ(writer->get_qos().lifespan().duration, eprosima::fastrtps::Duration_t(5, 0));
+  EXPECT_EQ(writer->get_qos().history().depth, node::kStatusHistory);
 }
 
 }  // namespace

@@ -188,10 +188,12 @@ class Participant {
 
 // Fast DDS XML profiles, as rmw_fastrtps honours them. The participant QoS of `profile` (empty:
 // the default participant profile, or Fast DDS's defaults without one), after loading the
-// profiles files Fast DDS reads (FASTRTPS_DEFAULT_PROFILES_FILE, DEFAULT_FASTRTPS_PROFILES.xml in
-// the working directory). A missing or malformed file, or a profile no file has, is an error
-// naming it (dds.participant_profile for the latter).
-core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::string& profile);
+// profiles files Fast DDS reads (FASTRTPS_DEFAULT_PROFILES_FILE, and DEFAULT_FASTRTPS_PROFILES.xml
+// in the working directory unless SKIP_DEFAULT_XML_FILE=1). A missing or malformed file (one
+// Fast DDS cannot parse, or a profile in it Fast DDS could not take: no profile_name, a name
+// already used) is an error naming the file; a profile no file has is an error naming `key`.
+core::Expected<dds::DomainParticipantQos> profile_participant_qos(
+    const std::string& profile, const std::string& key = "dds.participant_profile");
 // The profile names an endpoint on `dds_topic` is looked up by: the DDS name, then the ROS 2 one.
 std::vector<std::string> topic_profile_names(const std::string& dds_topic);
 // The node's topic rules (writer_qos, reader_qos: reliability, durability, history, resource
@@ -199,6 +201,16 @@ std::vector<std::string> topic_profile_names(const std::string& dds_topic);
 // period) copied from `rules` onto `out`; every other policy stays as the profile set it.
 void overlay_topic_rules(const dds::DataWriterQos& rules, dds::DataWriterQos& out);
 void overlay_topic_rules(const dds::DataReaderQos& rules, dds::DataReaderQos& out);
+// The QoS an endpoint on `topic` is created with: the <data_writer>/<data_reader> profile named
+// after the topic (topic_profile_names), else the publisher's/subscriber's default (the default
+// profile, or Fast DDS's defaults), with `rules` overlaid. Participant::writer/reader use them;
+// so does any code making endpoints on a publisher or subscriber of its own.
+dds::DataWriterQos profiled_writer_qos(const dds::Publisher& publisher,
+                                       const std::string& topic_name,
+                                       const dds::DataWriterQos& rules);
+dds::DataReaderQos profiled_reader_qos(const dds::Subscriber& subscriber,
+                                       const std::string& topic_name,
+                                       const dds::DataReaderQos& rules);
 
 // Matched readers of a writer right now (0 when the call fails).
 int matched_readers(dds::DataWriter* writer);

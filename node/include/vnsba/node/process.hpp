@@ -21,13 +21,23 @@ void init_logging(const std::string& program);
 // Sets the log level from the config.
 // A set `namespace_override` (the --namespace flag) replaces the config's namespace; a bad one
 // is reported as an error naming --namespace.
+// A set `profile_override` (the --participant-profile flag) replaces dds.participant_profile.
+// A participant profile named either way is looked up in the Fast DDS XML profiles here (dds.hpp,
+// profile_participant_qos): a name no profile has, or a missing or malformed profiles file, is
+// an error naming the key or the flag (or the file).
 std::optional<NodeConfig> load_config_or_report(
     const std::string& path, int domain_override,
-    const std::optional<std::string>& namespace_override = std::nullopt);
+    const std::optional<std::string>& namespace_override = std::nullopt,
+    const std::optional<std::string>& profile_override = std::nullopt);
 
 // Every bus tool's --namespace help text.
 inline constexpr const char* kNamespaceOptionHelp =
     "ROS 2 namespace of the relative topic names (overrides namespace), e.g. robot7";
+
+// Every bus tool's --participant-profile help text.
+inline constexpr const char* kParticipantProfileOptionHelp =
+    "Fast DDS XML <participant> profile to start from (overrides dds.participant_profile); the "
+    "files are FASTRTPS_DEFAULT_PROFILES_FILE and ./DEFAULT_FASTRTPS_PROFILES.xml";
 
 // Blocks SIGINT and SIGTERM in the calling thread, and so in every thread it starts later (DDS
 // starts its own): create it first thing in main, before any participant.
