@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <optional>
 
 namespace vnsba::core {
 
@@ -77,76 +76,9 @@ bool is_obstacle(CellLayer layer) {
 }  // namespace
 
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline) {
-  double best = std::numeric_limits<double>::infinity();
-  if (polyline.empty() || map.cell_count() == 0) return best;
-  if (!std::isfinite(map.obstacle_distance({0, 0}))) return best;  // the map has no obstacle
-  // Each segment is probed at most one cell apart (kProbeStep), so every point of it lies within
-  // half a cell of a probe, and within sqrt 2 / 2 + 1/2 of the probe's cell's centre. An obstacle
-  // square nearer than `best` to such a point has its centre within best + sqrt 2 + 1/2 of that
-  // centre (a square's points lie within sqrt 2 / 2 of its centre): those obstacles are the
-  // probe's candidates, found in the map's bit rows (which the search has just read; the blocked
-  // bits are the obstacles plus inflation, which layer() tells apart). Before any distance is
-  // known, the distance transform's d (the nearest obstacle centre) bounds the nearest square by
-  // d + sqrt 2 / 2 + sqrt 2 / 2 + 1/2. Each candidate is measured against the whole segment, first
-  // by its centre (no square is nearer to the segment than its centre less sqrt 2 / 2), exactly
-  // where that could beat best. best only falls, so a cell's candidates stay enough for every
-  // later probe in it.
-  constexpr double kProbeStep = 1.0;                   // cells
-  constexpr double kProbeReach = kSqrt2 + 0.5 + 1e-9;  // cells; 1e-9 so rounding drops nothing
-  constexpr double kHalfDiagonal = kSqrt2 / 2;
-  const BlockedBits rows = map.blocked_rows();
-  const bool inflation = map.build_options().robot_radius > 0.0;
-  std::vector<Cell> candidates;
-  std::optional<Cell> candidates_of;
-  std::vector<Cell> measured_before;  // the previous probe's candidates, on this segment
-  auto probe = [&](const Point2& p, const Point2& a, const Point2& b) {
-    const Cell c{std::clamp(static_cast<int32_t>(std::floor(p.x())), 0, map.width() - 1),
-                 std::clamp(static_cast<int32_t>(std::floor(p.y())), 0, map.height() - 1)};
-    // Far from every obstacle (d: c's centre to the nearest obstacle centre, from the distance
-    // transform), no point near the probe can beat best. Read only once best is over a cell: on
-    // a path that passes obstacles closer, the bit rows answer as fast without it.
-    if (best > 1.0 && map.obstacle_distance(c) - kProbeReach >= best) return;
-    if (candidates_of != c) {
-      candidates.clear();
-      const double reach = std::isfinite(best) ? best + kProbeReach
-                                               : map.obstacle_distance(c) + kSqrt2 + kProbeReach;
-      const double reach_squared = reach * reach;
-      const int32_t r = static_cast<int32_t>(std::floor(reach));
-      const int32_t x0 = std::max(0, c.x - r), x1 = std::min(map.width() - 1, c.x + r);
-      for (int32_t y = std::max(0, c.y - r); y <= std::min(map.height() - 1, c.y + r); ++y) {
-        const double dy = y - c.y;
-        const uint64_t* line = rows.line(y);
-        for (int32_t word = x0 >> 6; word <= x1 >> 6; ++word) {
-          const int32_t from = std::max(x0, word << 6) & 63;
-          const int32_t to = std::min(x1, (word << 6) + 63) & 63;
-          uint64_t bits = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
-          while (bits != 0) {
-            const int32_t x = (word << 6) + __builtin_ctzll(bits);
-            bits &= bits - 1;
-            const double dx = x - c.x;
-            if (dx * dx + dy * dy > reach_squared) continue;
-            if (inflation && !is_obstacle(map.layer({x, y}))) continue;
-            candidates.push_back({x, y});
-          }
-        }
-      }
-      candidates_of = c;
-    }
-    const Point2 ab = b - a;
-    const double length_squared = ab.squaredNorm();
-    for (const Cell& o : candidates) {
-      // Neighbouring probes of a segment share most candidates: each is measured once.
-      if (std::find(measured_before.begin(), measured_before.end(), o) != measured_before.end())
-        continue;
-      const Point2 centre(o.x + 0.5, o.y + 0.5);
-      const double t =
-          length_squared > 0.0 ? std::clamp((centre - a).dot(ab) / length_squared, 0.0, 1.0) : 0.0;
-      const double bound = best + kHalfDiagonal + 1e-9;
-      if ((a + t * ab - centre).squaredNorm() >= bound * bound) continue;
-      best = std::min(best, segment_square_distance(a, b, o.x, o.y));
-    }
-    measured_before = candidates;
-  };
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  if (polyline.empty() || map.cell_count() == 0) return kInfinity;
+  if (!std::isfinite(map.obstacle_distance({0, 0}))) return kInfinity;  // the map has no obstacle
   // Collinear runs (a grid path's straight moves) are measured as one segment.
   std::vector<Point2> vertices;
   vertices.reserve(polyline.size());
@@ -161,15 +93,149 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
     }
     vertices.push_back(p);
   }
-  if (vertices.size() == 1) probe(vertices.front(), vertices.front(), vertices.front());
+  // An upper bound first, so that the bands below start narrow: a vertex is no farther from the
+  // nearest obstacle square than from the nearest obstacle centre, which is at most its distance
+  // to its cell's centre plus that centre's distance transform d (stored as a float: the factor
+  // undoes its rounding, relative 2^-24). A few reads, one a vertex, not one a cell of the path.
+  constexpr double kFloatRounding = 1e-6;
+  double bound = kInfinity;
+  for (const Point2& v : vertices) {
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y())) continue;
+    const Cell c{static_cast<int32_t>(std::clamp(std::floor(v.x()), 0.0, map.width() - 1.0)),
+                 static_cast<int32_t>(std::clamp(std::floor(v.y()), 0.0, map.height() - 1.0))};
+    const Point2 centre(c.x + 0.5, c.y + 0.5);
+    bound = std::min(
+        bound, map.obstacle_distance(c) * (1.0 + kFloatRounding) + (v - centre).norm() + 1e-9);
+  }
+  // Then each segment against the obstacle squares of its band, line by line from the map's bit
+  // lines (the blocked bits are the obstacles plus inflation, which layer() tells apart): rows
+  // for a flat segment, columns for a steep one, so that a straight run of a grid path crosses
+  // three lines, not one a cell. A square nearer than `reach` to the segment has its centre
+  // within that plus sqrt 2 / 2 of it (a square's points lie within sqrt 2 / 2 of its centre):
+  // per line, the cells whose centres lie within that reach of the part of the segment in reach
+  // of the line. The result is the least exact distance measured, never the bound (which only
+  // narrows the bands).
+  constexpr double kHalfDiagonal = kSqrt2 / 2;
+  const bool inflation = map.build_options().robot_radius > 0.0;
+  double best = kInfinity;
+  auto reach = [&] { return std::min(best, bound) + kHalfDiagonal + 1e-9; };  // cells
+  auto measure = [&](const Point2& a, const Point2& b) {
+    const Point2 ab = b - a;
+    const double length_squared = ab.squaredNorm();
+    // (u, v): along the lines and across them; (x, y) for rows, (y, x) for columns.
+    const bool columns = std::abs(ab.y()) > std::abs(ab.x());
+    const int u_axis = columns ? 1 : 0, v_axis = 1 - u_axis;
+    const BlockedBits bit_lines = columns ? map.blocked_columns() : map.blocked_rows();
+    const int32_t line_count = columns ? map.width() : map.height();
+    const double last_u = (columns ? map.height() : map.width()) - 1.0;
+    const double a_u = a[u_axis], a_v = a[v_axis], ab_u = ab[u_axis], ab_v = ab[v_axis];
+    const double per_v = ab_v != 0.0 ? 1.0 / ab_v : 0.0;  // t per cell across the lines
+    // Lines whose centres (v + 1/2) lie within reach of the segment's span across them.
+    const double low_v = std::min(a_v, a_v + ab_v) - reach();
+    const double high_v = std::max(a_v, a_v + ab_v) + reach();
+    const int32_t v0 =
+        static_cast<int32_t>(std::clamp(std::ceil(low_v - 0.5), 0.0, line_count - 1.0));
+    const int32_t v1 =
+        static_cast<int32_t>(std::clamp(std::floor(high_v - 0.5), -1.0, line_count - 1.0));
+    for (int32_t v = v0; v <= v1; ++v) {
+      const double r = reach();
+      const double centre_v = v + 0.5;
+      // The part of the segment within r of this line's centres across the lines, as t.
+      double t0 = 0.0, t1 = 1.0;
+      if (ab_v != 0.0) {
+        t0 = (centre_v - r - a_v) * per_v;
+        t1 = (centre_v + r - a_v) * per_v;
+        if (t0 > t1) std::swap(t0, t1);
+        t0 = std::max(t0, 0.0);
+        t1 = std::min(t1, 1.0);
+        if (t0 > t1) continue;
+      } else if (std::abs(a_v - centre_v) > r) {
+        continue;
+      }
+      const double ua = a_u + t0 * ab_u, ub = a_u + t1 * ab_u;
+      const double first = std::ceil(std::min(ua, ub) - r - 0.5);
+      const double last = std::floor(std::max(ua, ub) + r - 0.5);
+      if (last < 0.0 || first > last_u) continue;
+      const int32_t u0 = static_cast<int32_t>(std::max(first, 0.0));
+      const int32_t u1 = static_cast<int32_t>(std::min(last, last_u));
+      // Most lines of a path's band hold no blocked cell at all: one or two words say so.
+      const uint64_t* line = bit_lines.line(v);
+      uint64_t any = 0;
+      for (int32_t word = u0 >> 6; word <= u1 >> 6 && any == 0; ++word) {
+        const int32_t from = std::max(u0, word << 6) & 63;
+        const int32_t to = std::min(u1, (word << 6) + 63) & 63;
+        any = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
+      }
+      if (any == 0) continue;
+      // Along a line the distance from the segment to square u is convex in u (the distance
+      // between two convex sets as one slides), least at u_near: the square the segment meets
+      // on the line's centre, or, where it stays on one side of it, the square nearest its end
+      // nearest the line (on or straight beside that end). So only the nearest obstacle on each
+      // side of u_near can be the line's nearest.
+      const double t_near = ab_v != 0.0 ? std::clamp((centre_v - a_v) * per_v, 0.0, 1.0) : 0.0;
+      const int32_t u_near = static_cast<int32_t>(std::clamp(
+          std::floor(a_u + t_near * ab_u), static_cast<double>(u0), static_cast<double>(u1)));
+      auto cell_at = [&](int32_t u) { return columns ? Cell{v, u} : Cell{u, v}; };
+      auto is_obstacle_at = [&](int32_t u) {
+        return !inflation || is_obstacle(map.layer(cell_at(u)));
+      };
+      auto consider = [&](int32_t u) {
+        const Cell c = cell_at(u);
+        const Point2 centre(c.x + 0.5, c.y + 0.5);
+        const double t = length_squared > 0.0
+                             ? std::clamp((centre - a).dot(ab) / length_squared, 0.0, 1.0)
+                             : 0.0;
+        // No square is nearer to the segment than its centre less sqrt 2 / 2.
+        const double within = reach();
+        if ((a + t * ab - centre).squaredNorm() >= within * within) return;
+        best = std::min(best, segment_square_distance(a, b, c.x, c.y));
+      };
+      // The nearest obstacle at or before u_near, within [u0, u_near].
+      for (int32_t word = u_near >> 6; word >= u0 >> 6; --word) {
+        const int32_t from = std::max(u0, word << 6) & 63;
+        const int32_t to = std::min(u_near, (word << 6) + 63) & 63;
+        uint64_t bits = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
+        int32_t found = -1;
+        while (bits != 0) {
+          const int32_t u = (word << 6) + 63 - __builtin_clzll(bits);
+          if (is_obstacle_at(u)) {
+            found = u;
+            break;
+          }
+          bits &= ~(uint64_t{1} << (u & 63));
+        }
+        if (found >= 0) {
+          consider(found);
+          break;
+        }
+      }
+      // The nearest obstacle after u_near, within (u_near, u1].
+      for (int32_t word = (u_near + 1) >> 6; u_near < u1 && word <= u1 >> 6; ++word) {
+        const int32_t from = std::max(u_near + 1, word << 6) & 63;
+        const int32_t to = std::min(u1, (word << 6) + 63) & 63;
+        uint64_t bits = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
+        int32_t found = -1;
+        while (bits != 0) {
+          const int32_t u = (word << 6) + __builtin_ctzll(bits);
+          if (is_obstacle_at(u)) {
+            found = u;
+            break;
+          }
+          bits &= bits - 1;
+        }
+        if (found >= 0) {
+          consider(found);
+          break;
+        }
+      }
+    }
+  };
+  if (vertices.size() == 1 && std::isfinite(bound)) measure(vertices.front(), vertices.front());
   for (size_t i = 1; i < vertices.size(); ++i) {
     const Point2& a = vertices[i - 1];
     const Point2& b = vertices[i];
-    const double length = (b - a).norm();
-    if (!std::isfinite(length)) continue;  // not a path a planner makes; no endless probing
-    measured_before.clear();               // a new segment: every candidate is new to it
-    const int steps = std::max(1, static_cast<int>(std::ceil(length / kProbeStep)));
-    for (int k = 0; k <= steps; ++k) probe(a + (b - a) * (static_cast<double>(k) / steps), a, b);
+    if (!std::isfinite((b - a).norm())) continue;  // not a path a planner makes
+    measure(a, b);
   }
   return best;
 }
