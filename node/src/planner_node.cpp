@@ -988,9 +988,12 @@ PlannerNode::Stats PlannerNode::stats() const {
   s.other_status_writers = impl_->participant_watch_ ? impl_->participant_watch_->count() : 0;
   s.incompatible_qos =
       impl_->participant_watch_ ? impl_->participant_watch_->incompatible_qos() : 0;
-  for (const auto& robot : impl_->robots_)
+  for (const auto& robot : impl_->robots_) {
     if (robot->plan_writer != nullptr)
       s.plan_readers += static_cast<size_t>(matched_readers(robot->plan_writer));
+    if (robot->status_writer != nullptr)
+      s.status_readers += static_cast<size_t>(matched_readers(robot->status_writer));
+  }
   return s;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <set>
 
 #include "bus_client.hpp"
 #include "geometry_msgs/msg/PointStampedPubSubTypes.h"
@@ -86,10 +87,11 @@ struct Running {
     return node.wait_for_map(10s);
   }
   // Matching is not symmetric: our path reader may have matched the node's writer before that
-  // writer has matched our reader, and a path written in between is lost (`plan` is volatile).
+  // writer has matched our reader, and a path written in between is lost (`plan` is volatile;
+  // so is `plan_status`, whose answers to this client are held for it, but not those to others).
   bool wait_for_plan_reader() {
     const auto end = std::chrono::steady_clock::now() + 10s;
-    while (node.stats().plan_readers == 0) {
+    while (node.stats().plan_readers == 0 || node.stats().status_readers == 0) {
       if (std::chrono::steady_clock::now() > end) return false;
       std::this_thread::sleep_for(10ms);
     }
@@ -1293,10 +1295,25 @@ TEST(NodeAttacks, ABurstLargerThanTheWriterHistoryIsAnsweredInFull) {
     constexpr int kBurst = 3000;
     for (int i = 0; i < kBurst; ++i)
       run.client.publish_request("b" + std::to_string(i), ax, ay, bx, by, "astar");
-    EXPECT_TRUE(run.client.statuses.wait(
-        [](const auto& all) { return all.size() >= static_cast<size_t>(kBurst); }, 120s))
-        << run.client.statuses.snapshot().size() << " of " << kBurst << " answered";
-    EXPECT_EQ(run.node.stats().requests_received, static_cast<uint64_t>(kBurst));
+    const bool all_answered = run.client.statuses.wait(
+        [](const auto& all) { return all.size() >= static_cast<size_t>(kBurst); }, 120s);
+    // On failure, say which side lost what: requests the node never received, statuses it
+    // published that never arrived, or requests it received and never answered.
+    const node::PlannerNode::Stats stats = run.node.stats();
+    std::set<std::string> answered;
+    for (const auto& status : run.client.statuses.snapshot()) answered.insert(status.request_id());
+    std::string missing;
+    for (int i = 0, shown = 0; i < kBurst && shown < 10; ++i)
+      if (answered.count("b" + std::to_string(i)) == 0)
+        missing += " b" + std::to_string(i), ++shown;
+    const std::string diagnosis =
+        "preempt " + std::to_string(preempt) + ": " + std::to_string(answered.size()) + " of " +
+        std::to_string(kBurst) + " answered, node received " +
+        std::to_string(stats.requests_received) + " and published " +
+        std::to_string(stats.statuses_published) + " statuses; first missing:" + missing;
+    EXPECT_TRUE(all_answered) << diagnosis;
+    EXPECT_EQ(answered.size(), static_cast<size_t>(kBurst)) << diagnosis;
+    EXPECT_EQ(stats.requests_received, static_cast<uint64_t>(kBurst)) << diagnosis;
   }
 }
 

@@ -77,8 +77,24 @@ class SendGoal : public ::testing::Test {
     node_ = std::make_unique<node::PlannerNode>(config_);
     ASSERT_TRUE(node_->start().is_ok());
     client_ = std::make_unique<BusClient>(config_);
+    // Matched both ways before anything is sent: the tests read the node's statuses with this
+    // client's volatile reader too, and a status written before that reader is matched never
+    // reaches it (under ctest -j3 the node once answered send_goal before it).
+    ASSERT_TRUE(client_->wait_for_node() && node_matched_client())
+        << "the node and the test client never matched";
     client_->publish_slice(walled_room());
     ASSERT_TRUE(node_->wait_for_map(10s)) << "the node never got the slice";
+  }
+  // The node's side of the match (discovery is not symmetric): its status and path writers
+  // have matched this client's readers.
+  bool node_matched_client() const {
+    const auto end = std::chrono::steady_clock::now() + 10s;
+    for (;;) {
+      const node::PlannerNode::Stats stats = node_->stats();
+      if (stats.status_readers > 0 && stats.plan_readers > 0) return true;
+      if (std::chrono::steady_clock::now() > end) return false;
+      std::this_thread::sleep_for(10ms);
+    }
   }
   std::vector<std::string> args(const std::string& id, double sx, double sy, double gx,
                                 double gy) const {
@@ -185,6 +201,8 @@ TEST_F(SendGoal, AnAdjustedGoalIsPrintedWithTheLine) {
   node_ = std::make_unique<node::PlannerNode>(cfg);
   ASSERT_TRUE(node_->start().is_ok());
   client_ = std::make_unique<BusClient>(config_);
+  ASSERT_TRUE(client_->wait_for_node() && node_matched_client())
+      << "the node and the test client never matched";
   client_->publish_slice(walled_room());
   ASSERT_TRUE(node_->wait_for_map(10s));
   // (2.05, 1.05) m is in the wall (cell (20, 10)); the nearest free centres are 0.1 m away.

@@ -53,6 +53,9 @@ class PlannerNode {
     // Readers matched by the `plan` writer. `plan` is volatile: a path written before a reader
     // is matched never reaches it, so a client that needs the path waits for this.
     size_t plan_readers = 0;
+    // Readers matched by the `plan_status` writer(s): volatile too, so a bystander that reads
+    // other clients' answers (a dashboard, a test) waits for this as well.
+    size_t status_readers = 0;
     // Remote endpoints whose QoS can never match one of the node's (each is logged once).
     size_t incompatible_qos = 0;
   };
