@@ -67,13 +67,20 @@ for scen in "$data"/movingai/*.map.scen; do
       for (i = 0; i < limit; ++i) print line[int(i * count / limit) + 1]
     }' "$scen" > "$work/$name/$name.map.scen"
 
-  # Ours: CSV rows map,scenario(line),planner,status,optimal,raw_cost,...,time_us; the class is on
-  # the progress line (stderr).
+  # Ours: CSV with a header (map, scenario (line), planner, status, ..., raw_cost, ..., time_us);
+  # the columns are found by name, so a column added to the CSV cannot shift them. The class is
+  # on the progress line (stderr).
   $pin "$bench" movingai --maps "$work/$name" --planners astar,jps --csv \
     > "$work/ours.csv" 2> "$work/ours.err"
   class=$(sed -n 's/^[^ ]* (\([a-z]*\)): .*/\1/p' "$work/ours.err" | head -n 1)
-  awk -F, -v class="$class" 'NR > 1 && $4 == "OK" {
-      printf "%s\t%s\t%s\t%d\t%s\t%s\n", class, $1, $3, $2, $11, $6 }' "$work/ours.csv" \
+  awk -F, -v class="$class" '
+      NR == 1 { for (i = 1; i <= NF; ++i) column[$i] = i
+                for (k = split("map scenario planner status raw_cost time_us", need, " "); k > 0; --k)
+                  if (!(need[k] in column)) { print "vnsba_bench CSV: no column " need[k] > "/dev/stderr"; exit 2 }
+                next }
+      $column["status"] == "OK" {
+      printf "%s\t%s\t%s\t%d\t%s\t%s\n", class, $column["map"], $column["planner"],
+             $column["scenario"], $column["time_us"], $column["raw_cost"] }' "$work/ours.csv" \
     >> "$work/times.tsv"
   # The reference: rows id (0-based scenario), alg, expanded, generated, reopen, surplus, heapops,
   # nanos, plen, pcost, scost, map. Scenario id k is line k + 2 (after the version line).
