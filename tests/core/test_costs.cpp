@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/test_support.hpp"
+#include "vnsba/core/line_of_sight.hpp"
 #include "vnsba/core/metrics.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/core/postprocess.hpp"
@@ -1099,6 +1100,71 @@ TEST(ClearancePolylines, EqualsTheExactDistanceToTheNearestObstacleSquare) {
   }
   EXPECT_GT(finite, 700);
   EXPECT_GT(inflated, 20);
+}
+
+// Grid paths: runs from cell centre to cell centre along the axes and diagonals, through free
+// and blocked cells, cutting corners or not. Once half a cell has been measured the metric skips
+// the runs that have line of sight without cutting a corner (none of them can come nearer); the
+// result must still be the exact distance, and the skip must have been taken often.
+TEST(ClearancePolylines, GridPathsEqualTheExactDistanceToTheNearestObstacleSquare) {
+  std::mt19937 rng(5011);
+  int finite = 0, skippable = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    const Scenario s = random_scenario(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    for (int k = 0; k < 6; ++k) {
+      std::vector<Point2> polyline{
+          Point2(uniform_int(rng, 0, t.width - 1) + 0.5, uniform_int(rng, 0, t.height - 1) + 0.5)};
+      // Mostly runs a planner could make (line of sight, no corner cut), some that are not.
+      auto cell_of = [](const Point2& p) {
+        return Cell{static_cast<int32_t>(p.x()), static_cast<int32_t>(p.y())};
+      };
+      const int n = uniform_int(rng, 2, 12);
+      for (int i = 1; i < n; ++i) {
+        Point2 next;
+        for (int attempt = 0; attempt < 12; ++attempt) {
+          const int dx = uniform_int(rng, -1, 1), dy = uniform_int(rng, -1, 1);
+          next = (polyline.back() + uniform_int(rng, 1, 6) * Point2(dx, dy))
+                     .cwiseMax(Point2(0.5, 0.5))
+                     .cwiseMin(Point2(t.width - 0.5, t.height - 0.5));
+          if (core::line_of_sight(*map, cell_of(polyline.back()), cell_of(next),
+                                  core::CornerPolicy::kNever))
+            break;
+        }
+        polyline.push_back(next);
+      }
+      double exact = kInf;
+      for (const Cell& b : t.obstacles)
+        exact = std::min(exact, polyline_square_distance(polyline, b));
+      const double got = core::path_clearance_cells(*map, polyline);
+      SCOPED_TRACE("polyline " + std::to_string(k));
+      if (std::isinf(exact)) {
+        ASSERT_EQ(got, kInf);
+        continue;
+      }
+      ASSERT_NEAR(got, exact, 1e-9);
+      ++finite;
+      // A run after the first that has line of sight, on a path that comes within half a cell:
+      // the case where the metric may skip runs.
+      if (exact <= 0.5) {
+        for (size_t i = 2; i < polyline.size(); ++i) {
+          const Cell a{static_cast<int32_t>(polyline[i - 1].x()),
+                       static_cast<int32_t>(polyline[i - 1].y())};
+          const Cell b{static_cast<int32_t>(polyline[i].x()),
+                       static_cast<int32_t>(polyline[i].y())};
+          if (!(a == b) && core::line_of_sight(*map, a, b, core::CornerPolicy::kNever)) {
+            ++skippable;
+            break;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(finite, 600);
+  EXPECT_GT(skippable, 150);
 }
 
 // ---------------------------------------------------------------------------------------------
