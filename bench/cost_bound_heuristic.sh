@@ -11,19 +11,9 @@
 #   bench/cost_bound_heuristic.sh [MAPS_DIR] [SCENARIOS_PER_MAP]
 # Defaults: ../shared/data/movingai beside the repository, 40 scenarios a map.
 set -euo pipefail
-repo=$(cd "$(dirname "$0")/.." && pwd)
-maps=${1:-$repo/../shared/data/movingai}
+here=$(cd "$(dirname "$0")" && pwd)
 per_map=${2:-40}
-[[ -d $maps ]] || { echo "cost_bound_heuristic: no Moving AI maps at $maps" >&2; exit 2; }
-maps=$(cd "$maps" && pwd)
-work=$(mktemp -d)
-trap 'git -C "$repo" worktree remove --force "$work/tree" >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
-git -C "$repo" worktree add --detach "$work/tree" HEAD >/dev/null
-git -C "$work/tree" apply "$repo/bench/cost_bound_heuristic.patch"
-cmake -S "$work/tree" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DVNSBA_CORE_ONLY=ON \
-  -DVNSBA_BUILD_TESTS=OFF >/dev/null
-cmake --build "$work/build" -j "$(nproc)" --target vnsba_bench >/dev/null
-bench="$work/build/tools/vnsba_bench"
+source "$here/patched_bench.sh" cost_bound_heuristic cost_bound_heuristic.patch "${1:-$here/../../shared/data/movingai}"
 for heuristic in octile cost_bound; do
   echo "## cost-aware A* with the $heuristic heuristic"
   if [[ $heuristic == cost_bound ]]; then export VNSBA_COST_BOUND_HEURISTIC=1; fi

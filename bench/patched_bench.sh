@@ -1,0 +1,19 @@
+# Sourced by the experiment scripts (free_heuristic.sh, cost_bound_heuristic.sh): builds
+# vnsba_bench from the current commit with one patch of bench/ applied, in a temporary worktree
+# removed on exit, and sets `bench` to the executable and `maps` to the Moving AI folder.
+#   source patched_bench.sh NAME PATCH MAPS_DIR
+# NAME prefixes the error messages; MAPS_DIR must exist.
+patched_bench_name=$1
+patched_bench_patch=$2
+maps=$3
+repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+[[ -d $maps ]] || { echo "$patched_bench_name: no Moving AI maps at $maps" >&2; exit 2; }
+maps=$(cd "$maps" && pwd)
+work=$(mktemp -d)
+trap 'git -C "$repo" worktree remove --force "$work/tree" >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
+git -C "$repo" worktree add --detach "$work/tree" HEAD >/dev/null
+git -C "$work/tree" apply "$repo/bench/$patched_bench_patch"
+cmake -S "$work/tree" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DVNSBA_CORE_ONLY=ON \
+  -DVNSBA_BUILD_TESTS=OFF >/dev/null
+cmake --build "$work/build" -j "$(nproc)" --target vnsba_bench >/dev/null
+bench="$work/build/tools/vnsba_bench"
