@@ -25,6 +25,7 @@
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
+#include "vnsba/node/planner_node.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
 #include "vnsba_msgs/msg/PlanStatusPubSubTypes.h"
 #include "vnsba_msgs/msg/PlannerDebugPubSubTypes.h"
@@ -181,6 +182,21 @@ class BusClient {
       std::this_thread::sleep_for(10ms);
     }
     return false;
+  }
+
+  // Both sides of the match: wait_for_node(), then the node's side, which discovery does not
+  // make symmetric: its `plan` and `plan_status` writers have matched readers. Both topics are
+  // volatile, so a path or a status written before that is lost to a reader; the node holds the
+  // answers to a request for its requester, but not what this client reads of others' answers.
+  bool wait_for_match(const node::PlannerNode& planner, std::chrono::milliseconds timeout = 10s) {
+    if (!wait_for_node(timeout)) return false;
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      const node::PlannerNode::Stats stats = planner.stats();
+      if (stats.plan_readers > 0 && stats.status_readers > 0) return true;
+      if (std::chrono::steady_clock::now() > end) return false;
+      std::this_thread::sleep_for(10ms);
+    }
   }
 
   // Whether the node reads PoseStamped robot poses (our robot_pose writer's type) at all.

@@ -78,24 +78,13 @@ struct Running {
   bool start() {
     const core::Status s = node.start();
     EXPECT_TRUE(s.is_ok()) << s.message;
-    return s.is_ok() && client.wait_for_node() && wait_for_plan_reader();
+    return s.is_ok() && client.wait_for_match(node);
   }
   // start(), then `grid` as the node's map.
   bool start_with_map(const core::OccupancyGrid& grid) {
     if (!start()) return false;
     client.publish_slice(grid);
     return node.wait_for_map(10s);
-  }
-  // Matching is not symmetric: our path reader may have matched the node's writer before that
-  // writer has matched our reader, and a path written in between is lost (`plan` is volatile;
-  // so is `plan_status`, whose answers to this client are held for it, but not those to others).
-  bool wait_for_plan_reader() {
-    const auto end = std::chrono::steady_clock::now() + 10s;
-    while (node.stats().plan_readers == 0 || node.stats().status_readers == 0) {
-      if (std::chrono::steady_clock::now() > end) return false;
-      std::this_thread::sleep_for(10ms);
-    }
-    return true;
   }
 };
 

@@ -74,27 +74,19 @@ class SendGoal : public ::testing::Test {
     config_.preempt = preempt;
     config_.ros_namespace = ros_namespace;  // not in the YAML: the tools get --namespace
     config_path_ = write_temp_file(tag + ".yaml", config_yaml(config_));
-    node_ = std::make_unique<node::PlannerNode>(config_);
+    run_node(config_);
+  }
+  // The node with `node_config`, the test client on config_'s topics matched with it both ways
+  // before anything is sent (the tests read the node's statuses with this client's volatile
+  // reader too; under ctest -j3 the node once answered send_goal before that reader had
+  // matched), and the walled room as its map.
+  void run_node(const node::NodeConfig& node_config) {
+    node_ = std::make_unique<node::PlannerNode>(node_config);
     ASSERT_TRUE(node_->start().is_ok());
     client_ = std::make_unique<BusClient>(config_);
-    // Matched both ways before anything is sent: the tests read the node's statuses with this
-    // client's volatile reader too, and a status written before that reader is matched never
-    // reaches it (under ctest -j3 the node once answered send_goal before it).
-    ASSERT_TRUE(client_->wait_for_node() && node_matched_client())
-        << "the node and the test client never matched";
+    ASSERT_TRUE(client_->wait_for_match(*node_)) << "the node and the test client never matched";
     client_->publish_slice(walled_room());
     ASSERT_TRUE(node_->wait_for_map(10s)) << "the node never got the slice";
-  }
-  // The node's side of the match (discovery is not symmetric): its status and path writers
-  // have matched this client's readers.
-  bool node_matched_client() const {
-    const auto end = std::chrono::steady_clock::now() + 10s;
-    for (;;) {
-      const node::PlannerNode::Stats stats = node_->stats();
-      if (stats.status_readers > 0 && stats.plan_readers > 0) return true;
-      if (std::chrono::steady_clock::now() > end) return false;
-      std::this_thread::sleep_for(10ms);
-    }
   }
   std::vector<std::string> args(const std::string& id, double sx, double sy, double gx,
                                 double gy) const {
@@ -198,13 +190,7 @@ TEST_F(SendGoal, AnAdjustedGoalIsPrintedWithTheLine) {
       write_temp_file("sg_moved.yaml", config_yaml(config_) + "planner:\n  goal_tolerance: 0.3\n");
   node::NodeConfig cfg = config_;
   cfg.planner.settings.goal_tolerance = 0.3;
-  node_ = std::make_unique<node::PlannerNode>(cfg);
-  ASSERT_TRUE(node_->start().is_ok());
-  client_ = std::make_unique<BusClient>(config_);
-  ASSERT_TRUE(client_->wait_for_node() && node_matched_client())
-      << "the node and the test client never matched";
-  client_->publish_slice(walled_room());
-  ASSERT_TRUE(node_->wait_for_map(10s));
+  ASSERT_NO_FATAL_FAILURE(run_node(cfg));
   // (2.05, 1.05) m is in the wall (cell (20, 10)); the nearest free centres are 0.1 m away.
   const auto [code, output] = run_to_exit(kSendGoal, args("sg-moved", 0.55, 0.55, 2.05, 1.05));
   ASSERT_EQ(code, 0) << output;
