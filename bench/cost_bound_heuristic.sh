@@ -14,9 +14,6 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 per_map=${2:-40}
 source "$here/patched_bench.sh" cost_bound_heuristic cost_bound_heuristic.patch "${1:-$here/../../shared/data/movingai}"
-for heuristic in octile cost_bound; do
-  echo "## cost-aware A* with the $heuristic heuristic"
-  if [[ $heuristic == cost_bound ]]; then export VNSBA_COST_BOUND_HEURISTIC=1; fi
-  "$bench" costs --maps "$maps" --planners astar --max-scenarios "$per_map" --repetitions 1 \
-    2>/dev/null | sed -n '/^| class/,$p'
-done
+compare_with_variable VNSBA_COST_BOUND_HEURISTIC "cost-aware A* with the octile heuristic" \
+  "cost-aware A* with the cost_bound heuristic" \
+  costs --maps "$maps" --planners astar --max-scenarios "$per_map" --repetitions 1

@@ -13,9 +13,5 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 per_map=${2:-300}
 source "$here/patched_bench.sh" free_heuristic free_heuristic.patch "${1:-$here/../../shared/data/movingai}"
-for mode in as_is replayed; do
-  echo "## VNS-BA* heuristic $mode"
-  if [[ $mode == replayed ]]; then export VNSBA_REPLAY_HEURISTIC=1; fi
-  "$bench" movingai --maps "$maps" --planners astar,vns_bastar --max-scenarios "$per_map" 2>/dev/null |
-    sed -n '/^| class/,$p'
-done
+compare_with_variable VNSBA_REPLAY_HEURISTIC "VNS-BA* heuristic as_is" "VNS-BA* heuristic replayed" \
+  movingai --maps "$maps" --planners astar,vns_bastar --max-scenarios "$per_map"

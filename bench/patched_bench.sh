@@ -1,6 +1,7 @@
 # Sourced by the experiment scripts (free_heuristic.sh, cost_bound_heuristic.sh): builds
 # vnsba_bench from the current commit with one patch of bench/ applied, in a temporary worktree
-# removed on exit, and sets `bench` to the executable and `maps` to the Moving AI folder.
+# removed on exit, and sets `bench` to the executable and `maps` to the Moving AI folder; then
+# compare_with_variable runs it twice.
 #   source patched_bench.sh NAME PATCH MAPS_DIR
 # NAME prefixes the error messages; MAPS_DIR must exist.
 patched_bench_name=$1
@@ -17,3 +18,15 @@ cmake -S "$work/tree" -B "$work/build" -DCMAKE_BUILD_TYPE=Release -DVNSBA_CORE_O
   -DVNSBA_BUILD_TESTS=OFF >/dev/null
 cmake --build "$work/build" -j "$(nproc)" --target vnsba_bench >/dev/null
 bench="$work/build/tools/vnsba_bench"
+
+# compare_with_variable VARIABLE HEADING_AS_IS HEADING_SET ARGS...: `vnsba_bench ARGS...` as is,
+# then with the patch's switch VARIABLE set, each under its Markdown heading, printing the
+# tables from the first "| class" header on (the same queries both times).
+compare_with_variable() {
+  local variable=$1 heading_as_is=$2 heading_set=$3
+  shift 3
+  echo "## $heading_as_is"
+  "$bench" "$@" 2>/dev/null | sed -n '/^| class/,$p'
+  echo "## $heading_set"
+  env "$variable=1" "$bench" "$@" 2>/dev/null | sed -n '/^| class/,$p'
+}
