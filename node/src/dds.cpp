@@ -174,6 +174,16 @@ std::vector<std::string> profiles_files() {
   return files;
 }
 
+// Sets Fast DDS's process-wide intraprocess delivery to OFF; false if it was something else.
+bool force_intraprocess_off() {
+  using eprosima::fastrtps::xmlparser::XMLProfileManager;
+  eprosima::fastrtps::LibrarySettingsAttributes settings = XMLProfileManager::library_settings();
+  if (settings.intraprocess_delivery == eprosima::fastrtps::INTRAPROCESS_OFF) return true;
+  settings.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+  XMLProfileManager::library_settings(settings);
+  return false;
+}
+
 }  // namespace
 
 core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::string& profile,
@@ -192,6 +202,14 @@ core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::str
   // as Fast DDS would take the name for one it has read already.
   static std::map<std::string, std::string> read_as;
   auto* factory = dds::DomainParticipantFactory::get_instance();
+  // No intraprocess delivery: participants of one process talk through the transport, as
+  // participants of different processes do. Fast DDS 2.9 (Debian 12's) delivers intraprocess
+  // through raw pointers to the other participant's endpoints, and a participant deleting its
+  // endpoints just after another participant of the process was deleted writes through a dangling
+  // one (SIGSEGV in StatefulWriter::intraprocess_gap; eProsima/Fast-DDS#5034, fixed only in later
+  // releases). A process with one participant (each of our executables) loses nothing by it.
+  // Set before any file is read, so a file that sets it otherwise is noticed below.
+  force_intraprocess_off();
   // Each file checked here, so that a missing or malformed one stops the executable naming it
   // (Fast DDS alone would log it and go on with its defaults). A file Fast DDS read in full
   // before is not parsed again; one it read in part (XML_NOK: a profile it could not take) is,
@@ -232,8 +250,14 @@ core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::str
     }
     loaded_files.insert(canonical);
     read_as.emplace(name, canonical);
+    if (!force_intraprocess_off())
+      spdlog::warn(
+          "{}: <library_settings><intraprocess_delivery> ignored: this process keeps it OFF "
+          "(Fast DDS 2.9 can crash deleting a participant's endpoints with it on)",
+          file);
   }
   factory->load_profiles();  // once per process: Fast DDS's own loading, which finds them loaded
+  force_intraprocess_off();
   // The default participant profile as loaded now (load_profiles took it only the first time).
   factory->set_default_participant_qos(dds::PARTICIPANT_QOS_DEFAULT);
   dds::DomainParticipantQos qos = factory->get_default_participant_qos();

@@ -1,9 +1,11 @@
 // Issue 18, item 3: Fast DDS XML profiles, honoured as rmw_fastrtps honours them. Real
 // participants over loopback; the profiles file is handed over through
 // FASTRTPS_DEFAULT_PROFILES_FILE, the variable Fast DDS and ROS 2 users set.
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -122,15 +124,17 @@ TEST(XmlProfiles, AProfilesSettingsReachTheParticipantItsPeersAndTheTopicsWriter
   ProfilesFile env(write_temp_file("profiles.xml", profiles_xml(profile, status_topic)));
 
   LeaseWatch watch;
-  auto observer = node::Participant::create(cfg.domain_id, "observer", &watch).value();
+  auto observer = node::Participant::create(cfg.domain_id, "observer", &watch);
+  ASSERT_TRUE(observer) << observer.error().message;
   const std::string name = "profiled_" + std::to_string(getpid());
   auto profiled = node::Participant::create(cfg.domain_id, name, nullptr, false, {}, {}, profile);
   ASSERT_TRUE(profiled) << profiled.error().message;
   EXPECT_EQ((*profiled)->get()->get_qos().wire_protocol().builtin.discovery_config.leaseDuration,
             eprosima::fastrtps::Duration_t(42, 0));
   // Without the name: the file has no default profile, so Fast DDS's 20 s.
-  auto plain = node::Participant::create(cfg.domain_id, "plain").value();
-  EXPECT_EQ(plain->get()->get_qos().wire_protocol().builtin.discovery_config.leaseDuration,
+  auto plain = node::Participant::create(cfg.domain_id, "plain");
+  ASSERT_TRUE(plain) << plain.error().message;
+  EXPECT_EQ((*plain)->get()->get_qos().wire_protocol().builtin.discovery_config.leaseDuration,
             eprosima::fastrtps::Duration_t(20, 0));
   // What the observer learns over the wire.
   const auto end = std::chrono::steady_clock::now() + 10s;
@@ -139,28 +143,26 @@ TEST(XmlProfiles, AProfilesSettingsReachTheParticipantItsPeersAndTheTopicsWriter
   ASSERT_TRUE(watch.lease_of(name)) << "the profiled participant was never discovered";
   EXPECT_EQ(*watch.lease_of(name), 42);
 
-  auto writer = (*profiled)
-                    ->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
-                        status_topic, node::writer_qos(node::TopicQos::kStatus, false))
-                    .value();
-  EXPECT_EQ(writer->get_qos().lifespan().duration, eprosima::fastrtps::Duration_t(7, 0));
-  EXPECT_EQ(writer->get_qos().reliability().kind, node::dds::RELIABLE_RELIABILITY_QOS);
+  auto writer = (*profiled)->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+      status_topic, node::writer_qos(node::TopicQos::kStatus, false));
+  ASSERT_TRUE(writer) << writer.error().message;
+  EXPECT_EQ((*writer)->get_qos().lifespan().duration, eprosima::fastrtps::Duration_t(7, 0));
+  EXPECT_EQ((*writer)->get_qos().reliability().kind, node::dds::RELIABLE_RELIABILITY_QOS);
   // Another topic's writer gets no lifespan from it.
-  auto other = (*profiled)
-                   ->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
-                       status_topic + "_other", node::writer_qos(node::TopicQos::kStatus, false))
-                   .value();
-  EXPECT_EQ(other->get_qos().lifespan().duration, node::dds::DataWriterQos().lifespan().duration);
+  auto other = (*profiled)->writer_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+      status_topic + "_other", node::writer_qos(node::TopicQos::kStatus, false));
+  ASSERT_TRUE(other) << other.error().message;
+  EXPECT_EQ((*other)->get_qos().lifespan().duration,
+            node::dds::DataWriterQos().lifespan().duration);
 
   // The topic's data_reader profile: its property reaches the reader; its history (keep last 3)
   // gives way to the node's rule for status readers (keep all).
-  auto reader = (*profiled)
-                    ->reader_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
-                        status_topic, node::reader_qos(node::TopicQos::kStatus), nullptr)
-                    .value();
-  EXPECT_EQ(property_of(reader->get_qos().properties(), "vnsba.test.reader"), "from_profile");
-  EXPECT_EQ(reader->get_qos().history().kind, node::dds::KEEP_ALL_HISTORY_QOS);
-  EXPECT_EQ(reader->get_qos().reliability().kind, node::dds::RELIABLE_RELIABILITY_QOS);
+  auto reader = (*profiled)->reader_on<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+      status_topic, node::reader_qos(node::TopicQos::kStatus), nullptr);
+  ASSERT_TRUE(reader) << reader.error().message;
+  EXPECT_EQ(property_of((*reader)->get_qos().properties(), "vnsba.test.reader"), "from_profile");
+  EXPECT_EQ((*reader)->get_qos().history().kind, node::dds::KEEP_ALL_HISTORY_QOS);
+  EXPECT_EQ((*reader)->get_qos().reliability().kind, node::dds::RELIABLE_RELIABILITY_QOS);
 }
 
 // The node takes dds.participant_profile from its config; a name no profile has stops it,
@@ -336,6 +338,48 @@ TEST(XmlProfiles, ExecutablesTakeTheProfileFromTheFlagOrTheConfigAndNameAnUnknow
                               "0", "0", "--goal", "1", "1", "--wait", "1"});
   EXPECT_EQ(code, 3) << output;
   EXPECT_NE(output.find("no planner node"), std::string::npos) << output;
+}
+
+// Intraprocess delivery stays off in every process of ours, even when a profiles file turns it
+// on (Fast DDS 2.9 can write through a dangling pointer with it on when participants of one
+// process are deleted one after another); the file's other settings still apply, and the node
+// says which file's setting it ignored.
+TEST(XmlProfiles, IntraprocessDeliveryStaysOffWhateverAFileSays) {
+  using eprosima::fastrtps::xmlparser::XMLProfileManager;
+  node::NodeConfig cfg = test_config("xml_intraprocess");
+  const std::string profile = "vnsba_intraprocess_" + std::to_string(getpid());
+  const std::string path =
+      write_temp_file("intraprocess_profiles.xml", R"(<?xml version="1.0" encoding="UTF-8" ?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <library_settings><intraprocess_delivery>FULL</intraprocess_delivery></library_settings>
+  <profiles>
+    <participant profile_name=")" + profile + R"(">
+      <rtps><builtin><discovery_config><leaseDuration><sec>44</sec></leaseDuration></discovery_config></builtin></rtps>
+    </participant>
+  </profiles>
+</dds>
+)");
+  ProfilesFile env(path);
+  auto participant =
+      node::Participant::create(cfg.domain_id, "intraprocess", nullptr, false, {}, {}, profile);
+  ASSERT_TRUE(participant) << participant.error().message;
+  EXPECT_EQ(XMLProfileManager::library_settings().intraprocess_delivery,
+            eprosima::fastrtps::INTRAPROCESS_OFF);
+  EXPECT_EQ((*participant)->get()->get_qos().wire_protocol().builtin.discovery_config.leaseDuration,
+            eprosima::fastrtps::Duration_t(44, 0));
+  // A node process reading the same file: up, and the setting it ignored named with its file.
+  cfg.participant_profile = profile;
+  ChildProcess node_process(
+      kNode, {"--config", write_temp_file("xml_intraprocess.yaml",
+                                          config_yaml(cfg) +
+                                              "dds:\n  participant_profile: " + profile + "\n")});
+  ASSERT_TRUE(node_process.wait_for_output("up on domain", 10s)) << node_process.output();
+  EXPECT_NE(
+      node_process.output().find(path + ": <library_settings><intraprocess_delivery> ignored"),
+      std::string::npos)
+      << node_process.output();
+  node_process.signal(SIGINT);
+  EXPECT_EQ(node_process.wait(), 0) << node_process.output();
 }
 
 // Last in this file: a default profile, once loaded, is the process's default for every later
