@@ -408,7 +408,7 @@ int main(int argc, char** argv) {
   request.goal(node::to_pose_msg(goal[0], goal[1], yaw, config.frame_id, stamp));
   request.planner(planner);
   eprosima::fastrtps::rtps::WriteParams write_params;  // gets the request's sample identity
-  if (!request_writer->write(&request, write_params)) {
+  if (!node::write_sample(request_writer, &request, write_params)) {
     spdlog::error("could not write the request on '{}'", request_topic_name);
     bus.shutdown();
     return kDdsFailure;

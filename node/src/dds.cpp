@@ -494,6 +494,15 @@ int matched_readers(dds::DataWriter* writer) {
   return status.current_count;
 }
 
+bool write_sample(dds::DataWriter* writer, void* sample) {
+  return writer->write(sample) || writer->write(sample);
+}
+
+bool write_sample(dds::DataWriter* writer, void* sample,
+                  eprosima::fastrtps::rtps::WriteParams& params) {
+  return writer->write(sample, params) || writer->write(sample, params);
+}
+
 namespace {
 
 std::string prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {

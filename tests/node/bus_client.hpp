@@ -224,13 +224,13 @@ class BusClient {
   }
   node::RequestIdentity publish_request_msg(node::PlanRequestMsg msg) {
     eprosima::fastrtps::rtps::WriteParams params;
-    EXPECT_TRUE(request_->write(&msg, params)) << "request write failed";
+    EXPECT_TRUE(node::write_sample(request_, &msg, params)) << "request write failed";
     return node::identity_of(params, node::wire::SUBJECT_REQUEST);
   }
 
   void publish_goal(double x, double y) {
     auto msg = node::to_pose_msg(x, y, 0.0, "map", node::now_msg());
-    goal_->write(&msg);
+    node::write_sample(goal_, &msg);
   }
   void publish_robot_pose(double x, double y) {
     auto msg = node::to_pose_msg(x, y, 0.0, "map", node::now_msg());
