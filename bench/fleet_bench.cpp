@@ -156,7 +156,7 @@ class RobotClient : public node::dds::DataReaderListener {
     request.goal(node::to_pose_msg(bx, by, 0, "map", node::now_msg()));
     std::lock_guard<std::mutex> lock(mutex_);
     sent_[id] = Clock::now();
-    if (!request_->write(&request)) ++write_failures_;
+    if (!node::write_sample(request_, &request)) ++write_failures_;
   }
   void on_data_available(node::dds::DataReader* reader) override {
     node::PlanStatusMsg msg;

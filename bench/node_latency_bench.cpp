@@ -178,7 +178,7 @@ void run_map(const char* label, int size, int queries, core::PlannerKind planner
     request.start(node::to_pose_msg(ca.x(), ca.y(), 0, "map", node::now_msg()));
     request.goal(node::to_pose_msg(cb.x(), cb.y(), 0, "map", node::now_msg()));
     const auto sent = Clock::now();
-    if (!s.request->write(&request)) {  // counted, never silently dropped
+    if (!node::write_sample(s.request, &request)) {  // counted, never silently dropped
       ++failures;
       continue;
     }

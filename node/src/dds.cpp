@@ -8,6 +8,7 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/log/Log.hpp>
@@ -206,10 +207,18 @@ core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::str
   // participants of different processes do. Fast DDS 2.9 (Debian 12's) delivers intraprocess
   // through raw pointers to the other participant's endpoints, and a participant deleting its
   // endpoints just after another participant of the process was deleted writes through a dangling
-  // one (SIGSEGV in StatefulWriter::intraprocess_gap; eProsima/Fast-DDS#5034, fixed only in later
-  // releases). A process with one participant (each of our executables) loses nothing by it.
-  // Set before any file is read, so a file that sets it otherwise is noticed below.
+  // one (SIGSEGV in StatefulWriter::intraprocess_gap; eProsima/Fast-DDS#5034, fixed in 2.14.4 and
+  // 3.0.2). The node and each tool have one participant and lose nothing by it; processes with
+  // several (the tests, the benchmarks' in-process clients) talk over loopback.
+  // Set before any file is read, so a file that sets it otherwise is noticed below, and again on
+  // every way out: Fast DDS applies a file's setting while it parses it, also when it then
+  // refuses the file. Fast DDS reads the setting at each match, so a file first read while other
+  // participants of the process exist has it on for them during its parse; our executables read
+  // their files before their one participant exists.
   force_intraprocess_off();
+  struct KeepIntraprocessOff {
+    ~KeepIntraprocessOff() { force_intraprocess_off(); }
+  } keep_intraprocess_off;
   // Each file checked here, so that a missing or malformed one stops the executable naming it
   // (Fast DDS alone would log it and go on with its defaults). A file Fast DDS read in full
   // before is not parsed again; one it read in part (XML_NOK: a profile it could not take) is,
@@ -257,7 +266,6 @@ core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::str
           file);
   }
   factory->load_profiles();  // once per process: Fast DDS's own loading, which finds them loaded
-  force_intraprocess_off();
   // The default participant profile as loaded now (load_profiles took it only the first time).
   factory->set_default_participant_qos(dds::PARTICIPANT_QOS_DEFAULT);
   dds::DomainParticipantQos qos = factory->get_default_participant_qos();
@@ -494,13 +502,28 @@ int matched_readers(dds::DataWriter* writer) {
   return status.current_count;
 }
 
+namespace {
+
+// `write` once, and once more if it was refused before the writer's max_blocking_time passed:
+// the refusal write_sample works around comes early; a real timeout keeps its bound.
+template <class Write>
+bool write_refused_early_again(dds::DataWriter* writer, Write write) {
+  const auto started = std::chrono::steady_clock::now();
+  if (write()) return true;
+  const auto blocking =
+      std::chrono::nanoseconds(writer->get_qos().reliability().max_blocking_time.to_ns());
+  return std::chrono::steady_clock::now() - started < blocking && write();
+}
+
+}  // namespace
+
 bool write_sample(dds::DataWriter* writer, void* sample) {
-  return writer->write(sample) || writer->write(sample);
+  return write_refused_early_again(writer, [&] { return writer->write(sample); });
 }
 
 bool write_sample(dds::DataWriter* writer, void* sample,
                   eprosima::fastrtps::rtps::WriteParams& params) {
-  return writer->write(sample, params) || writer->write(sample, params);
+  return write_refused_early_again(writer, [&] { return writer->write(sample, params); });
 }
 
 namespace {

@@ -347,6 +347,19 @@ TEST(XmlProfiles, ExecutablesTakeTheProfileFromTheFlagOrTheConfigAndNameAnUnknow
 TEST(XmlProfiles, IntraprocessDeliveryStaysOffWhateverAFileSays) {
   using eprosima::fastrtps::xmlparser::XMLProfileManager;
   node::NodeConfig cfg = test_config("xml_intraprocess");
+  // Without any file: Fast DDS's own default (FULL, as in a fresh process) is turned off.
+  {
+    auto settings = XMLProfileManager::library_settings();
+    settings.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_FULL;
+    XMLProfileManager::library_settings(settings);
+    setenv("SKIP_DEFAULT_XML_FILE", "1", 1);
+    auto plain = node::Participant::create(cfg.domain_id, "no_file");
+    unsetenv("SKIP_DEFAULT_XML_FILE");
+    ASSERT_TRUE(plain) << plain.error().message;
+    EXPECT_EQ(XMLProfileManager::library_settings().intraprocess_delivery,
+              eprosima::fastrtps::INTRAPROCESS_OFF);
+  }
+  // A file that turns it on (and, last, one that turns it on and is refused): off after each.
   const std::string profile = "vnsba_intraprocess_" + std::to_string(getpid());
   const std::string path =
       write_temp_file("intraprocess_profiles.xml", R"(<?xml version="1.0" encoding="UTF-8" ?>
@@ -380,6 +393,22 @@ TEST(XmlProfiles, IntraprocessDeliveryStaysOffWhateverAFileSays) {
       << node_process.output();
   node_process.signal(SIGINT);
   EXPECT_EQ(node_process.wait(), 0) << node_process.output();
+  {
+    const std::string refused =
+        write_temp_file("intraprocess_refused.xml", R"(<?xml version="1.0" encoding="UTF-8" ?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <library_settings><intraprocess_delivery>FULL</intraprocess_delivery></library_settings>
+  <profiles>
+    <participant profile_name=")" + profile + R"(_twice"><rtps><name>one</name></rtps></participant>
+    <participant profile_name=")" + profile + R"(_twice"><rtps><name>two</name></rtps></participant>
+  </profiles>
+</dds>
+)");
+    ProfilesFile refused_env(refused);
+    ASSERT_FALSE(node::Participant::create(cfg.domain_id, "refused"));
+    EXPECT_EQ(XMLProfileManager::library_settings().intraprocess_delivery,
+              eprosima::fastrtps::INTRAPROCESS_OFF);
+  }
 }
 
 // Last in this file: a default profile, once loaded, is the process's default for every later

@@ -215,13 +215,15 @@ dds::DataReaderQos profiled_reader_qos(const dds::Subscriber& subscriber,
 // Matched readers of a writer right now (0 when the call fails).
 int matched_readers(dds::DataWriter* writer);
 
-// DataWriter::write, tried a second time if the first is refused. A reliable keep-all writer of
+// DataWriter::write, tried a second time if the first is refused before the writer's
+// max_blocking_time has passed. A reliable keep-all writer of
 // Fast DDS 2.9 whose history is full waits up to max_blocking_time for acknowledgements; when the
 // acknowledgements arrive while it waits and empty the whole history (a volatile writer drops
 // what every reader has), it finds no sample left to remove and refuses at once, though there is
 // room now (StatefulWriter::try_remove_change). A 3,000-request burst over the transport hit it
-// at the 2,049th write. A refused write adds nothing, so the second try cannot duplicate; a
-// history still full of unacknowledged samples refuses it again after another wait.
+// at the 2,049th write. A refused write adds nothing, so the second try cannot duplicate; a write
+// refused after the whole max_blocking_time (a history full of unacknowledged samples) is not
+// tried again, so a real timeout takes no longer than before.
 bool write_sample(dds::DataWriter* writer, void* sample);
 bool write_sample(dds::DataWriter* writer, void* sample,
                   eprosima::fastrtps::rtps::WriteParams& params);
