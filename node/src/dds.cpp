@@ -147,7 +147,15 @@ dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
   // DataWriter::assert_liveliness() heartbeats the status writer's readers at once: the replier
   // does that before each status it writes (planner_node.cpp, replier_loop).
   if (profile == TopicQos::kStatus) qos.liveliness().kind = dds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
-  if (large_samples) qos.publish_mode().kind = dds::ASYNCHRONOUS_PUBLISH_MODE;
+  // Large samples go out on Fast DDS's sending thread, so the writer returns at once, but only
+  // from writers that keep what readers acknowledged (transient local). A volatile writer drops a
+  // sample once every reader has it, and Fast DDS 2.9 does that, when a reader goes away, under
+  // the lock the sending thread takes while it holds its own (StatefulWriter::
+  // matched_reader_remove against FlowControllerImpl::run; eProsima/Fast-DDS#5432, fixed in
+  // 2.10.x and 2.14.x): the node hung on it when a debug reader left while a debug sample was
+  // being sent. Synchronous volatile writers send on the writing thread, fragments and all.
+  const bool durable = qos.durability().kind != dds::VOLATILE_DURABILITY_QOS;
+  if (large_samples && durable) qos.publish_mode().kind = dds::ASYNCHRONOUS_PUBLISH_MODE;
   return qos;
 }
 

@@ -115,6 +115,26 @@ bool publish_until_accepted(const node::NodeConfig& cfg, node::PlannerNode& plan
 // issue 17, item 1: a volatile map publisher never matches the default transient-local map reader
 // (DDS forbids it); the node says so instead of answering NO_MAP in silence, and with
 // map.durability: volatile it takes maps from volatile and latched publishers alike.
+// Large samples are sent asynchronously only by transient-local writers: a volatile
+// asynchronous writer can deadlock Fast DDS 2.9 when one of its readers goes away (dds.cpp,
+// writer_qos). Small samples always go out synchronously.
+TEST(WriterQos, OnlyDurableWritersOfLargeSamplesPublishAsynchronously) {
+  using node::TopicQos;
+  for (TopicQos profile :
+       {TopicQos::kLatched, TopicQos::kEvents, TopicQos::kStatus, TopicQos::kLatest,
+        TopicQos::kDebug, TopicQos::kStream, TopicQos::kStatic}) {
+    SCOPED_TRACE(node::describe(profile));
+    const auto large = node::writer_qos(profile, true);
+    const bool volatile_writer = large.durability().kind == node::dds::VOLATILE_DURABILITY_QOS;
+    EXPECT_EQ(large.publish_mode().kind, volatile_writer ? node::dds::SYNCHRONOUS_PUBLISH_MODE
+                                                         : node::dds::ASYNCHRONOUS_PUBLISH_MODE);
+    EXPECT_EQ(node::writer_qos(profile, false).publish_mode().kind,
+              node::dds::SYNCHRONOUS_PUBLISH_MODE);
+  }
+  EXPECT_EQ(node::writer_qos(TopicQos::kDebug, true).publish_mode().kind,
+            node::dds::SYNCHRONOUS_PUBLISH_MODE);
+}
+
 TEST(NodeIntegration, MapDurabilityDecidesWhichPublishersMatchAndAMismatchIsCounted) {
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
   {
