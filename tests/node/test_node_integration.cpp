@@ -112,9 +112,6 @@ bool publish_until_accepted(const node::NodeConfig& cfg, node::PlannerNode& plan
   return accepted;
 }
 
-// issue 17, item 1: a volatile map publisher never matches the default transient-local map reader
-// (DDS forbids it); the node says so instead of answering NO_MAP in silence, and with
-// map.durability: volatile it takes maps from volatile and latched publishers alike.
 // Large samples are sent asynchronously only by transient-local writers: a volatile
 // asynchronous writer can deadlock Fast DDS 2.9 when one of its readers goes away (dds.cpp,
 // writer_qos). Small samples always go out synchronously.
@@ -135,6 +132,9 @@ TEST(WriterQos, OnlyDurableWritersOfLargeSamplesPublishAsynchronously) {
             node::dds::SYNCHRONOUS_PUBLISH_MODE);
 }
 
+// issue 17, item 1: a volatile map publisher never matches the default transient-local map reader
+// (DDS forbids it); the node says so instead of answering NO_MAP in silence, and with
+// map.durability: volatile it takes maps from volatile and latched publishers alike.
 TEST(NodeIntegration, MapDurabilityDecidesWhichPublishersMatchAndAMismatchIsCounted) {
   const core::OccupancyGrid grid = grid_from_rows(kRoom);
   {
