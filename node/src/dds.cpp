@@ -104,13 +104,17 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
     qos.resource_limits().max_instances = 1;
     qos.resource_limits().max_samples_per_instance = limit;
   }
-  // Preallocated: the history's first samples, each at the type's bound. For a status or a
-  // path that bound assumes 100 poses per sequence, tens of kB, and Fast DDS's default of 100
-  // such samples per endpoint cost about 4 MB for each robot of a `robots` node (a 50-robot node
-  // idled at 213 MB). One sample up front; the history grows as samples come, up to its limit.
+  // Dynamic: each sample's payload is allocated at its serialized size when the sample enters
+  // the history and freed when it leaves. Fast DDS's pools in any other mode keep every payload
+  // they ever made, each at the largest sample it carried (at least the type's bound, tens of kB
+  // for a status with its path): a node's memory then followed the largest debug sample seen so
+  // far and grew for as long as it ran (issue 18's ten-robot soak: 23 MB of payloads after ten
+  // minutes, still growing). A malloc per sample costs nothing beside planning or serializing
+  // it. The reason ARCHITECTURE.md gave for PREALLOCATED_WITH_REALLOC (maps are megabytes, so
+  // nothing is made at the type's bound) holds for this mode too. One cache change up front
+  // (allocated_samples), the rest as samples come, up to the history's limit.
   qos.resource_limits().allocated_samples = 1;
-  qos.endpoint().history_memory_policy =
-      eprosima::fastrtps::rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  qos.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_RESERVE_MEMORY_MODE;
   qos.data_sharing().off();
 }
 

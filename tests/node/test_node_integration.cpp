@@ -2,6 +2,10 @@
 // each test on its own topics (see bus_client.hpp).
 #include <fastrtps/utils/IPLocator.h>
 #include <gtest/gtest.h>
+#include <malloc.h>
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/allocator_interface.h>
+#endif
 
 #include <cmath>
 #include <fstream>
@@ -130,6 +134,95 @@ TEST(WriterQos, OnlyDurableWritersOfLargeSamplesPublishAsynchronously) {
   }
   EXPECT_EQ(node::writer_qos(TopicQos::kDebug, true).publish_mode().kind,
             node::dds::SYNCHRONOUS_PUBLISH_MODE);
+}
+
+// Heap bytes in use by the whole process (every malloc arena and mmapped block).
+size_t heap_in_use() {
+#if defined(__SANITIZE_ADDRESS__)
+  return __sanitizer_get_current_allocated_bytes();
+#else
+  const struct mallinfo2 info = mallinfo2();
+  return info.uordblks + info.hblkhd;
+#endif
+}
+
+// Takes every sample and keeps only its size (cells), so the test holds no payload itself.
+class SliceSizes : public node::dds::DataReaderListener {
+ public:
+  void on_data_available(node::dds::DataReader* reader) override {
+    node::OccupancyGridMsg msg;
+    node::dds::SampleInfo info;
+    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      std::lock_guard<std::mutex> lock(mutex_);
+      sizes_.push_back(msg.data().size());
+      cv_.notify_all();
+    }
+  }
+  bool wait_for(size_t count, std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, timeout, [&] { return sizes_.size() >= count; });
+  }
+  std::vector<size_t> sizes() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return sizes_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<size_t> sizes_;
+};
+
+// A sample's payload is freed on both sides once the sample has left the writer's and the
+// reader's histories, whatever the largest sample the endpoints have carried. In Fast DDS's
+// preallocated-with-realloc mode each pool kept its payloads at the largest size they ever held,
+// so the node's memory followed the largest debug sample seen and grew for as long as it ran
+// (issue 18's soak). Here: a 9 MB slice, then a small one replacing it in the latched writer's
+// history; once the reader has taken both, the heap is back where it was before the large one.
+TEST(EndpointMemory, APayloadIsFreedWithItsSampleNotKeptAtTheLargestSizeCarried) {
+  const node::NodeConfig cfg = test_config("payload_memory");
+  auto participant = node::Participant::create(cfg.domain_id, "payload_memory").value();
+  const std::string topic = node::dds_topic_name(cfg, cfg.topics.projected_map);
+  SliceSizes taken;
+  ASSERT_TRUE(participant->reader_on<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+      topic, node::reader_qos(node::TopicQos::kLatched), &taken));
+  node::dds::DataWriter* writer =
+      participant
+          ->writer_on<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
+              topic, node::writer_qos(node::TopicQos::kLatched, /*large_samples=*/true))
+          .value();
+  ASSERT_TRUE(wait_until([&] { return node::matched_readers(writer) > 0; }, 10s));
+  core::OccupancyGrid small;
+  small.width = small.height = 10;
+  small.resolution = 0.1;
+  small.data.assign(100, 0);
+  auto publish = [&](const core::OccupancyGrid& grid) {
+    auto msg = node::to_slice_msg(grid, cfg.frame_id, node::now_msg());
+    ASSERT_TRUE(writer->write(&msg));
+  };
+  // A small sample first, so that what the endpoints make once is made before the baseline.
+  publish(small);
+  ASSERT_TRUE(taken.wait_for(1, 10s));
+  ASSERT_EQ(writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0)),
+            ReturnCode_t::RETCODE_OK);
+  const double baseline_mb = heap_in_use() / 1e6;
+  {
+    core::OccupancyGrid large = small;
+    large.width = large.height = 3000;
+    large.data.assign(9'000'000, 0);
+    publish(large);
+  }
+  ASSERT_TRUE(taken.wait_for(2, 30s));
+  publish(small);  // replaces the large one in the writer's history (keep last 1)
+  ASSERT_TRUE(taken.wait_for(3, 10s));
+  ASSERT_EQ(writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0)),
+            ReturnCode_t::RETCODE_OK);
+  const double after_mb = heap_in_use() / 1e6;
+  EXPECT_EQ(taken.sizes(), (std::vector<size_t>{100, 9'000'000, 100}));
+  EXPECT_LT(after_mb - baseline_mb, 2.0) << "heap " << baseline_mb << " MB before the 9 MB slice, "
+                                         << after_mb << " MB after it left both histories";
+  participant->shutdown();
 }
 
 // issue 17, item 1: a volatile map publisher never matches the default transient-local map reader

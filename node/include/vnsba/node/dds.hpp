@@ -3,9 +3,10 @@
 // delete_contained_entities().
 //
 // Rules learned the hard way (ARCHITECTURE.md): UDP only (shared memory fails silently across
-// users and containers), data sharing off, PREALLOCATED_WITH_REALLOC history memory (maps are
-// megabytes), no type information on the wire (Cyclone DDS drops such matches), and a short
-// heartbeat on latched writers so late joiners get the map quickly.
+// users and containers), data sharing off, payloads allocated per sample and freed with it
+// (DYNAMIC_RESERVE: maps are megabytes and debug samples vary; see apply_common), no type
+// information on the wire (Cyclone DDS drops such matches), and a short heartbeat on latched
+// writers so late joiners get the map quickly.
 #pragma once
 
 #include <array>
