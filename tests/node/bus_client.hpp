@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
@@ -90,6 +91,11 @@ class Collector : public node::dds::DataReaderListener {
   std::vector<Msg> snapshot() {
     std::lock_guard<std::mutex> lock(mutex_);
     return received_;
+  }
+  // Removes and returns everything received so far.
+  std::vector<Msg> take_all() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::exchange(received_, {});
   }
 
  private:

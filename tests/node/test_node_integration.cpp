@@ -149,34 +149,6 @@ size_t heap_in_use() {
 #endif
 }
 
-// Takes every sample and keeps only its size (cells), so the test holds no payload itself.
-class SliceSizes : public node::dds::DataReaderListener {
- public:
-  void on_data_available(node::dds::DataReader* reader) override {
-    node::OccupancyGridMsg msg;
-    node::dds::SampleInfo info;
-    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;
-      std::lock_guard<std::mutex> lock(mutex_);
-      sizes_.push_back(msg.data().size());
-      cv_.notify_all();
-    }
-  }
-  bool wait_for(size_t count, std::chrono::milliseconds timeout) {
-    std::unique_lock<std::mutex> lock(mutex_);
-    return cv_.wait_for(lock, timeout, [&] { return sizes_.size() >= count; });
-  }
-  std::vector<size_t> sizes() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return sizes_;
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  std::vector<size_t> sizes_;
-};
-
 // A sample's payload is freed on both sides once the sample has left the writer's and the
 // reader's histories, whatever the largest sample the endpoints have carried. In Fast DDS's
 // preallocated-with-realloc mode each pool kept its payloads at the largest size they ever held,
@@ -187,7 +159,7 @@ TEST(EndpointMemory, APayloadIsFreedWithItsSampleNotKeptAtTheLargestSizeCarried)
   const node::NodeConfig cfg = test_config("payload_memory");
   auto participant = node::Participant::create(cfg.domain_id, "payload_memory").value();
   const std::string topic = node::dds_topic_name(cfg, cfg.topics.projected_map);
-  SliceSizes taken;
+  Collector<node::OccupancyGridMsg> taken;
   ASSERT_TRUE(participant->reader_on<nav_msgs::msg::dds_::OccupancyGrid_PubSubType>(
       topic, node::reader_qos(node::TopicQos::kLatched), &taken));
   node::dds::DataWriter* writer =
@@ -200,29 +172,31 @@ TEST(EndpointMemory, APayloadIsFreedWithItsSampleNotKeptAtTheLargestSizeCarried)
   small.width = small.height = 10;
   small.resolution = 0.1;
   small.data.assign(100, 0);
-  auto publish = [&](const core::OccupancyGrid& grid) {
-    auto msg = node::to_slice_msg(grid, cfg.frame_id, node::now_msg());
-    ASSERT_TRUE(writer->write(&msg));
+  // Publishes `grid`, waits until the reader has it and every reader acknowledged it, and
+  // returns its cells as received; the test keeps no sample.
+  auto deliver = [&](const core::OccupancyGrid& grid) -> size_t {
+    {
+      auto msg = node::to_slice_msg(grid, cfg.frame_id, node::now_msg());
+      EXPECT_TRUE(writer->write(&msg));
+    }
+    EXPECT_TRUE(taken.wait([](const auto& all) { return !all.empty(); }, 30s));
+    EXPECT_EQ(writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0)),
+              ReturnCode_t::RETCODE_OK);
+    const auto received = taken.take_all();
+    return received.size() == 1 ? received.front().data().size() : 0;
   };
   // A small sample first, so that what the endpoints make once is made before the baseline.
-  publish(small);
-  ASSERT_TRUE(taken.wait_for(1, 10s));
-  ASSERT_EQ(writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0)),
-            ReturnCode_t::RETCODE_OK);
+  ASSERT_EQ(deliver(small), 100u);
   const double baseline_mb = heap_in_use() / 1e6;
   {
     core::OccupancyGrid large = small;
     large.width = large.height = 3000;
     large.data.assign(9'000'000, 0);
-    publish(large);
+    ASSERT_EQ(deliver(large), 9'000'000u);
   }
-  ASSERT_TRUE(taken.wait_for(2, 30s));
-  publish(small);  // replaces the large one in the writer's history (keep last 1)
-  ASSERT_TRUE(taken.wait_for(3, 10s));
-  ASSERT_EQ(writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0)),
-            ReturnCode_t::RETCODE_OK);
+  // Replaces the large one in the writer's history (keep last 1).
+  ASSERT_EQ(deliver(small), 100u);
   const double after_mb = heap_in_use() / 1e6;
-  EXPECT_EQ(taken.sizes(), (std::vector<size_t>{100, 9'000'000, 100}));
   EXPECT_LT(after_mb - baseline_mb, 2.0) << "heap " << baseline_mb << " MB before the 9 MB slice, "
                                          << after_mb << " MB after it left both histories";
   participant->shutdown();
