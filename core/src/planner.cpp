@@ -6,6 +6,7 @@
 #include <string>
 
 #include "jps.hpp"
+#include "reachability.hpp"
 #include "search_space.hpp"
 #include "vnsba/core/budget.hpp"
 #include "vnsba/core/heuristics.hpp"
@@ -376,11 +377,19 @@ std::string metres(double v) {
   return text;
 }
 
-// "goal (1.225, 4.575) m, cell (24, 91)" (the cell's centre).
-std::string describe_position(const GridMap& map, const char* which, const Cell& c) {
-  const Eigen::Vector2d w = map.cell_centre_world(c);
-  return std::string(which) + " (" + metres(w.x()) + ", " + metres(w.y()) + ") m, cell " +
+// "goal (1.230, 4.560) m, in cell (24, 91)": a requested point (continuous cell coordinates) in
+// metres, and the cell it falls in (or, outside the map, would).
+std::string describe_point(const GridMap& map, const char* which, const Point2& point,
+                           const Cell& c) {
+  const Eigen::Vector2d w = map.grid_to_world(point);
+  return std::string(which) + " (" + metres(w.x()) + ", " + metres(w.y()) + ") m, in cell " +
          describe(c);
+}
+
+// "(1.225, 4.575) m, cell (24, 91)": a cell by its centre in metres.
+std::string describe_centre(const GridMap& map, const Cell& c) {
+  const Eigen::Vector2d w = map.cell_centre_world(c);
+  return "(" + metres(w.x()) + ", " + metres(w.y()) + ") m, cell " + describe(c);
 }
 
 // Why a cell in the map is blocked, naming the layer (ALGORITHM.md section 8).
@@ -402,103 +411,187 @@ std::string why_blocked(const GridMap& map, const Cell& c) {
   return "is free";
 }
 
-// The free cell whose centre is nearest to `point` (continuous cell coordinates) within
-// `radius_cells`, ties to the lower row-major index (ALGORITHM.md section 8).
-std::optional<Cell> nearest_free_cell(const GridMap& map, const Point2& point,
-                                      double radius_cells) {
-  if (!(radius_cells > 0.0) || !point.allFinite()) return std::nullopt;
-  // Centres within the radius lie in cells whose indices are within this box.
-  const double x0 = std::floor(point.x() - radius_cells), x1 = std::ceil(point.x() + radius_cells);
-  const double y0 = std::floor(point.y() - radius_cells), y1 = std::ceil(point.y() + radius_cells);
-  if (x1 < 0 || y1 < 0 || x0 >= map.width() || y0 >= map.height()) return std::nullopt;
-  const int32_t xa = static_cast<int32_t>(std::max(x0, 0.0));
-  const int32_t xb = static_cast<int32_t>(std::min(x1, map.width() - 1.0));
-  const int32_t ya = static_cast<int32_t>(std::max(y0, 0.0));
-  const int32_t yb = static_cast<int32_t>(std::min(y1, map.height() - 1.0));
-  std::optional<Cell> best;
-  double best_squared = radius_cells * radius_cells;
-  // Row-major order and a strict comparison keep the lower index on ties.
-  for (int32_t y = ya; y <= yb; ++y) {
-    for (int32_t x = xa; x <= xb; ++x) {
-      if (map.blocked(x, y)) continue;
-      const double squared = (cell_centre({x, y}) - point).squaredNorm();
-      if (squared < best_squared || (!best && squared <= best_squared)) {
-        best = Cell{x, y};
-        best_squared = squared;
-      }
-    }
-  }
-  return best;
+// The message of a plan that ran out of its budget at `stage` ("while pruning the path").
+std::string budget_message(StatusCode code, const PlannerOptions& options, const char* stage) {
+  if (code == StatusCode::kCanceled) return std::string("planning canceled ") + stage;
+  return "max_planning_time of " + std::to_string(options.max_planning_time.count()) +
+         " us elapsed " + stage;
 }
 
-}  // namespace
+// A requested point must lie in its cell: the tolerance measures from it, and the path begins or
+// ends there (ALGORITHM.md section 8).
+Status check_point(const char* field, const std::optional<Point2>& point, const Cell& cell) {
+  if (!point) return Status::ok();
+  if (point->allFinite() && std::floor(point->x()) == cell.x && std::floor(point->y()) == cell.y)
+    return Status::ok();
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "%s (%.17g, %.17g) cells must be finite and lie in cell (%d, %d)", field,
+                point->x(), point->y(), cell.x, cell.y);
+  return Status::error(StatusCode::kInvalidRequest, text);
+}
 
-Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query,
-                                      const PlannerOptions& options) {
+// resolve_endpoints, and with `states` null check_query: the reachability of moved endpoints is
+// then not checked (the nearest free cells are taken as they are).
+Expected<Endpoints> resolve(const GridMap& map, const PlanQuery& query,
+                            const PlannerOptions& options, CellStates* states,
+                            PlanningBudget* budget) {
   if (Status s = validate(options); !s.is_ok()) return s;
+  if (Status s = check_point("start_point", query.start_point, query.start); !s.is_ok()) return s;
+  if (Status s = check_point("goal_point", query.goal_point, query.goal); !s.is_ok()) return s;
   Endpoints out;
   out.start = query.start;
   out.goal = query.goal;
+  out.start_point = query.start_point.value_or(cell_centre(query.start));
+  out.goal_point = query.goal_point.value_or(cell_centre(query.goal));
   auto outside = [&](const char* which, const Cell& c) {
     return std::string(which) + " " + describe(c) + " is outside the map (" +
            std::to_string(map.width()) + " x " + std::to_string(map.height()) + " cells)";
   };
-  auto moved = [&](const Point2& from, const Cell& to) {
-    return (cell_centre(to) - from).norm() * map.resolution();
-  };
-  const Point2 start_point = query.start_point.value_or(cell_centre(query.start));
-  const Point2 goal_point = query.goal_point.value_or(cell_centre(query.goal));
   const double start_tolerance_cells = metres_to_cells(options.start_tolerance, map.resolution());
   const double goal_tolerance_cells = metres_to_cells(options.goal_tolerance, map.resolution());
+  const Point2 requested_start = out.start_point, requested_goal = out.goal_point;
+  auto start_candidates = [&] {
+    return detail::NearestFreeCells(map, requested_start, start_tolerance_cells);
+  };
+  auto goal_candidates = [&] {
+    return detail::NearestFreeCells(map, requested_goal, goal_tolerance_cells);
+  };
 
   // The start: moved only out of inflation (a robot standing in an obstacle has a real problem).
   if (!map.in_bounds(query.start))
     return Status::error(StatusCode::kStartOutsideMap, outside("start", query.start));
   // Without goal_tolerance a goal outside the map is final, and it is reported before a blocked
   // start, in the order of sections 1-7: start outside, goal outside, start blocked, goal blocked.
-  if (!map.in_bounds(query.goal) && !(goal_tolerance_cells > 0.0))
+  const bool goal_inside = map.in_bounds(query.goal);
+  if (!goal_inside && !(goal_tolerance_cells > 0.0))
     return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal));
-  if (map.blocked(query.start)) {
+  auto start_blocked = [&] {
+    return describe_point(map, "start", requested_start, query.start) + ", " +
+           why_blocked(map, query.start);
+  };
+  const bool move_start = map.blocked(query.start);
+  std::optional<Cell> nearest_start;
+  if (move_start) {
     const bool inflation = map.layer(query.start) == CellLayer::kInflated;
-    const auto free =
-        inflation ? nearest_free_cell(map, start_point, start_tolerance_cells) : std::nullopt;
-    if (!free) {
-      std::string message =
-          describe_position(map, "start", query.start) + " " + why_blocked(map, query.start);
+    if (inflation) nearest_start = start_candidates().next();
+    if (!nearest_start) {
+      std::string message = start_blocked();
       if (inflation && options.start_tolerance > 0.0)
         message +=
             "; no free cell within start_tolerance " + metres(options.start_tolerance) + " m";
       return Status::error(StatusCode::kStartOccupied, message);
     }
-    out.start = *free;
-    out.start_adjusted = true;
-    out.start_moved_m = moved(start_point, *free);
   }
 
   // The goal: moved out of any blocked cell, or into the map, within goal_tolerance.
-  const bool goal_inside = map.in_bounds(query.goal);
-  if (!goal_inside || map.blocked(query.goal)) {
-    const auto free = nearest_free_cell(map, goal_point, goal_tolerance_cells);
-    if (!free) {
+  const bool move_goal = !goal_inside || map.blocked(query.goal);
+  const std::string goal_blocked = !move_goal ? std::string()
+                                   : goal_inside
+                                       ? describe_point(map, "goal", requested_goal, query.goal) +
+                                             ", " + why_blocked(map, query.goal)
+                                       : outside("goal", query.goal);
+  std::optional<Cell> nearest_goal;
+  if (move_goal) {
+    nearest_goal = goal_candidates().next();
+    if (!nearest_goal) {
       const std::string within =
           options.goal_tolerance > 0.0
               ? "; no free cell within goal_tolerance " + metres(options.goal_tolerance) + " m"
               : "";
-      if (!goal_inside)
-        return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal) + within);
-      return Status::error(
-          StatusCode::kGoalOccupied,
-          describe_position(map, "goal", query.goal) + " " + why_blocked(map, query.goal) + within);
+      return Status::error(goal_inside ? StatusCode::kGoalOccupied : StatusCode::kGoalOutsideMap,
+                           goal_blocked + within);
     }
-    out.goal = *free;
+  }
+  auto use_start = [&](const Cell& c) {
+    out.start = c;
+    out.start_adjusted = true;
+    out.start_point = cell_centre(c);
+    out.start_moved_m = (out.start_point - requested_start).norm() * map.resolution();
+  };
+  auto use_goal = [&](const Cell& c) {
+    out.goal = c;
     out.goal_adjusted = true;
-    out.goal_moved_m = moved(goal_point, *free);
+    out.goal_point = cell_centre(c);
+    out.goal_moved_m = (out.goal_point - requested_goal).norm() * map.resolution();
+  };
+  if (states == nullptr) {  // check_query
+    if (nearest_start) use_start(*nearest_start);
+    if (nearest_goal) use_goal(*nearest_goal);
+    return out;
+  }
+  // "3 free cells lie within goal_tolerance 0.300 m (the nearest (1.225, 4.575) m, cell (24, 91))"
+  auto free_within = [&](int64_t count, const char* key, double tolerance, const Cell& nearest) {
+    return std::to_string(count) + (count == 1 ? " free cell lies" : " free cells lie") +
+           " within " + key + " " + metres(tolerance) + " m (the nearest " +
+           describe_centre(map, nearest) + ")";
+  };
+  auto stopped = [&](StatusCode code, const char* stage) {
+    return Status::error(code, budget_message(code, options, stage));
+  };
+
+  if (move_start) {
+    // The start first, towards the goal or, when the goal moves too, towards any free cell within
+    // goal_tolerance of it (the goal is then chosen among those the start reaches).
+    std::vector<uint32_t> anchors;
+    if (move_goal) {
+      for (auto goals = goal_candidates(); const auto c = goals.next();)
+        anchors.push_back(map.padded_index(*c));
+    } else {
+      anchors.push_back(map.padded_index(query.goal));
+    }
+    auto candidates = start_candidates();
+    const detail::ReachOutcome reach =
+        detail::first_reachable(map, options.corner_policy, *states, budget, anchors, candidates);
+    if (reach.code != StatusCode::kOk)
+      return stopped(reach.code, "while choosing a start within start_tolerance");
+    if (!reach.cell) {
+      const std::string goal_side =
+          move_goal ? "any of the " + std::to_string(anchors.size()) +
+                          " free cells within goal_tolerance " + metres(options.goal_tolerance) +
+                          " m of the " + describe_point(map, "goal", requested_goal, query.goal)
+                    : "the " + describe_point(map, "goal", requested_goal, query.goal);
+      return Status::error(StatusCode::kNoValidPath,
+                           start_blocked() + "; " +
+                               free_within(reach.candidates, "start_tolerance",
+                                           options.start_tolerance, *nearest_start) +
+                               ", but none of them connects to " + goal_side);
+    }
+    use_start(*reach.cell);
+  }
+  if (move_goal) {
+    auto candidates = goal_candidates();
+    const detail::ReachOutcome reach = detail::first_reachable(
+        map, options.corner_policy, *states, budget, {map.padded_index(out.start)}, candidates);
+    if (reach.code != StatusCode::kOk)
+      return stopped(reach.code, "while choosing a goal within goal_tolerance");
+    if (!reach.cell) {
+      const std::string start_used =
+          out.start_adjusted ? "the start used " + describe_centre(map, out.start)
+                             : "the " + describe_point(map, "start", requested_start, out.start);
+      return Status::error(StatusCode::kNoValidPath,
+                           goal_blocked + "; " +
+                               free_within(reach.candidates, "goal_tolerance",
+                                           options.goal_tolerance, *nearest_goal) +
+                               ", but none of them is reachable from " + start_used +
+                               ": they are sealed off from it");
+    }
+    use_goal(*reach.cell);
   }
   return out;
 }
 
+}  // namespace
+
+Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query,
+                                      const PlannerOptions& options, PlanningBudget* budget) {
+  // The flood's words are allocated only when an endpoint moves (begin_query sizes them).
+  CellStates states;
+  return resolve(map, query, options, &states, budget);
+}
+
 Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOptions& options) {
-  const Expected<Endpoints> endpoints = resolve_endpoints(map, query, options);
+  const Expected<Endpoints> endpoints = resolve(map, query, options, nullptr, nullptr);
   return endpoints ? Status::ok() : endpoints.error();
 }
 
@@ -530,19 +623,16 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   };
   if (!map_ || map_->cell_count() == 0) return fail(StatusCode::kInvalidMap, "no map to plan on");
   const GridMap& map = *map_;
-  const Expected<Endpoints> endpoints = resolve_endpoints(map, query, options);
+  // One budget for the tolerance's floods, search, pruning and smoothing.
+  PlanningBudget budget(started, options.max_planning_time, cancel);
+  auto budget_failure = [&](StatusCode code, const char* stage) {
+    return fail(code, budget_message(code, options, stage));
+  };
+  // The search words serve the tolerance's floods first (no allocation).
+  const Expected<Endpoints> endpoints = resolve(map, query, options, &impl_->states, &budget);
   if (!endpoints) return fail(endpoints.error().code, endpoints.error().message);
   result.endpoints = *endpoints;
   const PlanQuery resolved{endpoints->start, endpoints->goal};
-
-  // One budget for search, pruning and smoothing.
-  PlanningBudget budget(started, options.max_planning_time, cancel);
-  auto budget_failure = [&](StatusCode code, const char* stage) {
-    if (code == StatusCode::kCanceled) return fail(code, std::string("planning canceled ") + stage);
-    return fail(code, std::string("max_planning_time of ") +
-                          std::to_string(options.max_planning_time.count()) + " us elapsed " +
-                          stage);
-  };
   SearchOutcome outcome;
   if (resolved.start == resolved.goal) {
     outcome.code = StatusCode::kOk;
@@ -558,9 +648,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     case StatusCode::kOk:
       break;
     case StatusCode::kNoValidPath:
-      return fail(outcome.code, "no path from " + describe_position(map, "start", resolved.start) +
-                                    " to " + describe_position(map, "goal", resolved.goal) +
-                                    ": they are not connected");
+      return fail(outcome.code,
+                  "no path from " +
+                      describe_point(map, "start", endpoints->start_point, resolved.start) +
+                      " to " + describe_point(map, "goal", endpoints->goal_point, resolved.goal) +
+                      ": they are not connected");
     case StatusCode::kTimeout:
     case StatusCode::kCanceled:
       return budget_failure(outcome.code, "before a path was found");

@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -17,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "core/movingai_support.hpp"
 #include "core/test_support.hpp"
 #include "vnsba/core/line_of_sight.hpp"
 #include "vnsba/core/metrics.hpp"
@@ -1189,24 +1193,36 @@ TEST(ClearanceCorridor, RisesWithCostWeight) {
 
 // ---------------------------------------------------------------------------------------------
 // 8. Goal and start tolerance.
+//
+// The oracle of reachability is component_labels (test_support.hpp): a breadth-first search over
+// the whole grid under the planners' moves, independent of the planner's floods. The expected
+// cell is then chosen by brute force over every cell of the map.
 
 struct Nearest {
   std::optional<Cell> cell;
   double squared = kInf;  // cells^2
 };
 
-// The free cell whose centre is nearest to p (cell coordinates) within tolerance_m metres, ties
-// to the lower row-major index.
-Nearest brute_nearest_free(const Truth& t, const Point2& p, double tolerance_m) {
+// Every free cell whose centre lies within tolerance_m metres of p (cell coordinates), in
+// row-major order: brute force over the whole map.
+std::vector<Cell> brute_free_within(const GridMap& map, const Point2& p, double tolerance_m) {
+  std::vector<Cell> out;
+  for (int32_t y = 0; y < map.height(); ++y)
+    for (int32_t x = 0; x < map.width(); ++x)
+      if (cell_free(map, x, y) &&
+          std::hypot(x + 0.5 - p.x(), y + 0.5 - p.y()) * map.resolution() <= tolerance_m)
+        out.push_back({x, y});
+  return out;
+}
+
+// The one of those nearest to p, ties to the lower row-major index, among the cells `keep`
+// accepts (all of them without it).
+Nearest brute_nearest_free(const GridMap& map, const Point2& p, double tolerance_m,
+                           const std::function<bool(const Cell&)>& keep = nullptr) {
   Nearest best;
-  for (int32_t y = 0; y < t.height; ++y) {
-    for (int32_t x = 0; x < t.width; ++x) {
-      if (t.layer[t.index(x, y)] != CellLayer::kFree) continue;
-      const double dx = x + 0.5 - p.x(), dy = y + 0.5 - p.y();
-      const double squared = dx * dx + dy * dy;
-      if (std::sqrt(squared) * t.resolution > tolerance_m) continue;
-      if (squared < best.squared) best = {Cell{x, y}, squared};
-    }
+  for (const Cell& c : brute_free_within(map, p, tolerance_m)) {
+    const double squared = (core::cell_centre(c) - p).squaredNorm();
+    if ((!keep || keep(c)) && squared < best.squared) best = {c, squared};
   }
   return best;
 }
@@ -1224,11 +1240,50 @@ std::vector<Cell> cells_where(const Truth& t, const std::function<bool(CellLayer
   return out;
 }
 
-TEST(ToleranceGoal, BlockedGoalMovesToTheNearestFreeCell) {
+// A planner and a corner policy it accepts, at random: what is reachable depends on the policy.
+PlannerOptions random_policy_options(std::mt19937& rng) {
+  static const PlannerKind kinds[] = {PlannerKind::kAStar,
+                                      PlannerKind::kWeightedAStar,
+                                      PlannerKind::kBidirectionalAStar,
+                                      PlannerKind::kAlternatingBidirectionalAStar,
+                                      PlannerKind::kVnsBaStar,
+                                      PlannerKind::kJps};
+  PlannerOptions o = core::default_options(kinds[rng() % 6]);
+  o.corner_policy =
+      o.planner == PlannerKind::kJps ? core::CornerPolicy::kNever : kAllCornerPolicies[rng() % 3];
+  return o;
+}
+
+// Same component of `labels` (component_labels of a map `width` cells wide).
+bool connected(const std::vector<int32_t>& labels, int32_t width, const Cell& a, const Cell& b) {
+  const int32_t la = labels[static_cast<size_t>(a.y) * width + a.x];
+  return la >= 0 && la == labels[static_cast<size_t>(b.y) * width + b.x];
+}
+
+// The nearest free cell within tolerance_m of p, and the nearest of those in the component of
+// `anchor` (labels from component_labels).
+struct Choice {
+  Nearest any, reachable;
+};
+Choice brute_choice(const GridMap& map, const std::vector<int32_t>& labels, const Point2& p,
+                    double tolerance_m, const Cell& anchor) {
+  return {brute_nearest_free(map, p, tolerance_m),
+          brute_nearest_free(map, p, tolerance_m, [&](const Cell& c) {
+            return connected(labels, map.width(), c, anchor);
+          })};
+}
+
+// The goal is moved to the nearest free cell within goal_tolerance that the start reaches; a
+// sealed-off free cell nearer to the goal is passed over. NO_VALID_PATH, saying that free cells
+// were there but unreachable, when none is reachable; GOAL_OCCUPIED when none is free. A moved
+// goal always plans.
+TEST(ToleranceGoal, BlockedGoalMovesToTheNearestReachableFreeCell) {
   std::mt19937 rng(88008);
-  int moved = 0, refused = 0, occupied_goals = 0, planned = 0;
-  for (int trial = 0; trial < 1000; ++trial) {
-    const Scenario s = random_scenario(rng);
+  int moved = 0, refused = 0, unreachable = 0, passed_over = 0, occupied_goals = 0;
+  for (int trial = 0; trial < 1500; ++trial) {
+    Spec spec;
+    spec.max_occupied = 0.5;  // walls enough to seal specks off
+    const Scenario s = random_scenario(rng, spec);
     SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
     const auto map = build_shared(s);
     ASSERT_TRUE(map);
@@ -1243,23 +1298,41 @@ TEST(ToleranceGoal, BlockedGoalMovesToTheNearestFreeCell) {
     occupied_goals += t.layer[t.index(goal.x, goal.y)] == CellLayer::kOccupied;
     const Point2 goal_point = point_in(rng, goal);
     const Cell start = pick(rng, free);
-    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    PlannerOptions o = random_policy_options(rng);
     o.goal_tolerance = uniform(rng, 0.2, 4.0) * s.grid.resolution;
     const PlanQuery q(start, goal, std::nullopt, goal_point);
-    SCOPED_TRACE("goal " + str(goal) + " point (" + std::to_string(goal_point.x()) + ", " +
-                 std::to_string(goal_point.y()) + ") tolerance " +
-                 std::to_string(o.goal_tolerance));
-    const Nearest expected = brute_nearest_free(t, goal_point, o.goal_tolerance);
+    SCOPED_TRACE("start " + str(start) + " goal " + str(goal) + " point (" +
+                 std::to_string(goal_point.x()) + ", " + std::to_string(goal_point.y()) +
+                 ") tolerance " + std::to_string(o.goal_tolerance) + " corner_policy " +
+                 std::string(core::to_string(o.corner_policy)));
+    const auto [any, expected] = brute_choice(*map, component_labels(*map, o.corner_policy),
+                                              goal_point, o.goal_tolerance, start);
     const auto endpoints = core::resolve_endpoints(*map, q, o);
-    if (!expected.cell) {
+    const PlanResult r = core::plan_once(map, q, o);
+    if (!any.cell) {
       ++refused;
       ASSERT_FALSE(endpoints);
       ASSERT_EQ(endpoints.error().code, StatusCode::kGoalOccupied);
-      ASSERT_TRUE(contains(endpoints.error().message, "goal_tolerance"))
+      ASSERT_TRUE(contains(endpoints.error().message, "no free cell within goal_tolerance"))
           << endpoints.error().message;
+      ASSERT_EQ(r.status.code, StatusCode::kGoalOccupied);
+      continue;
+    }
+    if (!expected.cell) {
+      ++unreachable;
+      ASSERT_FALSE(endpoints);
+      ASSERT_EQ(endpoints.error().code, StatusCode::kNoValidPath);
+      const std::string& m = endpoints.error().message;
+      ASSERT_TRUE(contains(m, "within goal_tolerance")) << m;
+      ASSERT_TRUE(contains(m, "none of them is reachable from the start")) << m;
+      ASSERT_EQ(r.status.code, StatusCode::kNoValidPath);
+      ASSERT_EQ(r.status.message, m);
+      // The request itself is well-formed: only the plan finds the cells unreachable.
+      ASSERT_TRUE(core::check_query(*map, q, o).is_ok());
       continue;
     }
     ++moved;
+    passed_over += *expected.cell != *any.cell;
     ASSERT_TRUE(endpoints) << endpoints.error().message;
     ASSERT_EQ(endpoints->goal, *expected.cell)
         << "got " << str(endpoints->goal) << ", expected " << str(*expected.cell);
@@ -1267,25 +1340,22 @@ TEST(ToleranceGoal, BlockedGoalMovesToTheNearestFreeCell) {
     ASSERT_TRUE(endpoints->goal_adjusted);
     const double moved_m = std::sqrt(expected.squared) * s.grid.resolution;
     ASSERT_NEAR(endpoints->goal_moved_m, moved_m, 1e-9 * std::max(1.0, moved_m));
+    ASSERT_EQ(endpoints->goal_point, core::cell_centre(*expected.cell));
     ASSERT_EQ(endpoints->start, start);
     ASSERT_FALSE(endpoints->start_adjusted);
     ASSERT_EQ(endpoints->start_moved_m, 0.0);
-    // The plan uses the same endpoints.
-    const PlanResult r = core::plan_once(map, q, o);
-    if (r.status.is_ok()) {
-      ++planned;
-      ASSERT_EQ(r.endpoints.goal, *expected.cell);
-      ASSERT_TRUE(r.endpoints.goal_adjusted);
-      ASSERT_EQ(r.raw_path.front(), start);
-      ASSERT_EQ(r.raw_path.back(), *expected.cell);
-    } else {
-      ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
-    }
+    // The plan uses the same endpoints, and always finds a path.
+    ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+    ASSERT_EQ(r.endpoints.goal, *expected.cell);
+    ASSERT_TRUE(r.endpoints.goal_adjusted);
+    ASSERT_EQ(r.raw_path.front(), start);
+    ASSERT_EQ(r.raw_path.back(), *expected.cell);
   }
-  EXPECT_GT(moved, 200);
-  EXPECT_GT(refused, 100);
+  EXPECT_GT(moved, 350);
+  EXPECT_GT(refused, 350);
+  EXPECT_GT(unreachable, 150);
+  EXPECT_GT(passed_over, 25);  // the nearest free cell was sealed off, a farther one reachable
   EXPECT_GT(occupied_goals, 300);
-  EXPECT_GT(planned, 100);
 }
 
 TEST(ToleranceGoal, BlockedGoalWithoutToleranceNamesTheLayer) {
@@ -1319,8 +1389,8 @@ TEST(ToleranceGoal, BlockedGoalWithoutToleranceNamesTheLayer) {
 
 TEST(ToleranceGoal, GoalOutsideTheMapIsMovedIn) {
   std::mt19937 rng(88010);
-  int moved = 0, refused = 0;
-  for (int trial = 0; trial < 200; ++trial) {
+  int moved = 0, refused = 0, unreachable = 0;
+  for (int trial = 0; trial < 300; ++trial) {
     const Scenario s = random_scenario(rng);
     SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
     const auto map = build_shared(s);
@@ -1333,17 +1403,30 @@ TEST(ToleranceGoal, GoalOutsideTheMapIsMovedIn) {
       goal = {uniform_int(rng, -4, t.width + 3), uniform_int(rng, -4, t.height + 3)};
     } while (map->in_bounds(goal));
     const Point2 goal_point = point_in(rng, goal);
-    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    PlannerOptions o = random_policy_options(rng);
     o.goal_tolerance = uniform(rng, 0.5, 6.0) * s.grid.resolution;
-    const PlanQuery q(pick(rng, free), goal, std::nullopt, goal_point);
-    SCOPED_TRACE("goal " + str(goal) + " tolerance " + std::to_string(o.goal_tolerance));
-    const Nearest expected = brute_nearest_free(t, goal_point, o.goal_tolerance);
+    const Cell start = pick(rng, free);
+    const PlanQuery q(start, goal, std::nullopt, goal_point);
+    SCOPED_TRACE("start " + str(start) + " goal " + str(goal) + " tolerance " +
+                 std::to_string(o.goal_tolerance));
+    const auto [any, expected] = brute_choice(*map, component_labels(*map, o.corner_policy),
+                                              goal_point, o.goal_tolerance, start);
     const auto endpoints = core::resolve_endpoints(*map, q, o);
-    if (!expected.cell) {
+    if (!any.cell) {
       ++refused;
       ASSERT_FALSE(endpoints);
       ASSERT_EQ(endpoints.error().code, StatusCode::kGoalOutsideMap);
       ASSERT_TRUE(contains(endpoints.error().message, "goal_tolerance"))
+          << endpoints.error().message;
+      continue;
+    }
+    if (!expected.cell) {
+      ++unreachable;
+      ASSERT_FALSE(endpoints);
+      ASSERT_EQ(endpoints.error().code, StatusCode::kNoValidPath);
+      ASSERT_TRUE(contains(endpoints.error().message, "is outside the map"))
+          << endpoints.error().message;
+      ASSERT_TRUE(contains(endpoints.error().message, "none of them is reachable"))
           << endpoints.error().message;
       continue;
     }
@@ -1359,8 +1442,9 @@ TEST(ToleranceGoal, GoalOutsideTheMapIsMovedIn) {
     ASSERT_FALSE(exact);
     ASSERT_EQ(exact.error().code, StatusCode::kGoalOutsideMap);
   }
-  EXPECT_GT(moved, 50);
-  EXPECT_GT(refused, 20);
+  EXPECT_GT(moved, 60);
+  EXPECT_GT(refused, 100);
+  EXPECT_GT(unreachable, 20);
 }
 
 // Tolerances and the gradient's reach are whole cells when metres / resolution is within 1e-9 of
@@ -1430,7 +1514,8 @@ TEST(ToleranceGoal, FreeGoalIsNeverMoved) {
 
 TEST(ToleranceStart, InflatedStartMovesObstacleStartNever) {
   std::mt19937 rng(88012);
-  int moved = 0, refused = 0, occupied_starts = 0, unknown_starts = 0;
+  int moved = 0, refused = 0, unreachable = 0, passed_over = 0, occupied_starts = 0,
+      unknown_starts = 0;
   for (int trial = 0; trial < 1000; ++trial) {
     Spec spec;
     spec.min_radius_cells = 1;
@@ -1444,33 +1529,41 @@ TEST(ToleranceStart, InflatedStartMovesObstacleStartNever) {
     const auto obstacles = t.obstacles;
     if (free.empty() || inflated.empty()) continue;
     const Cell goal = pick(rng, free);
-    // Inflated start, with tolerance.
+    // Inflated start, with tolerance: moved to the nearest free cell that reaches the goal.
     const Cell start = pick(rng, inflated);
     const Point2 start_point = point_in(rng, start);
-    PlannerOptions o = core::default_options(PlannerKind::kAStar);
+    PlannerOptions o = random_policy_options(rng);
     o.start_tolerance = uniform(rng, 0.2, 4.0) * s.grid.resolution;
     const PlanQuery q(start, goal, start_point, std::nullopt);
-    SCOPED_TRACE("start " + str(start) + " tolerance " + std::to_string(o.start_tolerance));
-    const Nearest expected = brute_nearest_free(t, start_point, o.start_tolerance);
+    SCOPED_TRACE("start " + str(start) + " goal " + str(goal) + " tolerance " +
+                 std::to_string(o.start_tolerance));
+    const auto [any, expected] = brute_choice(*map, component_labels(*map, o.corner_policy),
+                                              start_point, o.start_tolerance, goal);
     const auto endpoints = core::resolve_endpoints(*map, q, o);
     if (expected.cell) {
       ++moved;
+      passed_over += *expected.cell != *any.cell;
       ASSERT_TRUE(endpoints) << endpoints.error().message;
       ASSERT_EQ(endpoints->start, *expected.cell) << "got " << str(endpoints->start);
       ASSERT_EQ(map->layer(endpoints->start), CellLayer::kFree);
       ASSERT_TRUE(endpoints->start_adjusted);
       const double moved_m = std::sqrt(expected.squared) * s.grid.resolution;
       ASSERT_NEAR(endpoints->start_moved_m, moved_m, 1e-9 * std::max(1.0, moved_m));
+      ASSERT_EQ(endpoints->start_point, core::cell_centre(*expected.cell));
       ASSERT_EQ(endpoints->goal, goal);
       ASSERT_FALSE(endpoints->goal_adjusted);
       const PlanResult r = core::plan_once(map, q, o);
-      if (r.status.is_ok()) {
-        ASSERT_EQ(r.raw_path.front(), *expected.cell);
-        ASSERT_EQ(r.raw_path.back(), goal);
-        ASSERT_TRUE(r.endpoints.start_adjusted);
-      } else {
-        ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
-      }
+      ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+      ASSERT_EQ(r.raw_path.front(), *expected.cell);
+      ASSERT_EQ(r.raw_path.back(), goal);
+      ASSERT_TRUE(r.endpoints.start_adjusted);
+    } else if (any.cell) {
+      ++unreachable;
+      ASSERT_FALSE(endpoints);
+      ASSERT_EQ(endpoints.error().code, StatusCode::kNoValidPath);
+      const std::string& m = endpoints.error().message;
+      ASSERT_TRUE(contains(m, "within start_tolerance")) << m;
+      ASSERT_TRUE(contains(m, "none of them connects to the goal")) << m;
     } else {
       ++refused;
       ASSERT_FALSE(endpoints);
@@ -1500,10 +1593,266 @@ TEST(ToleranceStart, InflatedStartMovesObstacleStartNever) {
       ASSERT_EQ(r.status.code, StatusCode::kStartOccupied);
     }
   }
-  EXPECT_GT(moved, 250);
-  EXPECT_GT(refused, 60);
+  EXPECT_GT(moved, 100);
+  EXPECT_GT(refused, 300);
+  EXPECT_GT(unreachable, 150);
+  EXPECT_GT(passed_over, 10);
   EXPECT_GT(occupied_starts, 300);
   EXPECT_GT(unknown_starts, 10);
+}
+
+// Both ends moved: the start first, to the nearest free cell within start_tolerance connected to
+// any free cell within goal_tolerance of the goal; then the goal, to the nearest free cell within
+// goal_tolerance that start reaches.
+TEST(ToleranceStart, BothEndsMovedStartFirstTowardsTheGoalsCandidates) {
+  std::mt19937 rng(88013);
+  int moved = 0, unreachable = 0, not_nearest = 0;
+  for (int trial = 0; trial < 1500; ++trial) {
+    Spec spec;
+    spec.min_radius_cells = 1;
+    spec.max_occupied = 0.45;
+    const Scenario s = random_scenario(rng, spec);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    const auto map = build_shared(s);
+    ASSERT_TRUE(map);
+    const Truth t = brute_force(s);
+    const auto inflated = cells_where(t, [](CellLayer l) { return l == CellLayer::kInflated; });
+    const auto blocked = cells_where(t, [](CellLayer l) { return l != CellLayer::kFree; });
+    if (inflated.empty()) continue;
+    const Cell start = pick(rng, inflated), goal = pick(rng, blocked);
+    const Point2 start_point = point_in(rng, start), goal_point = point_in(rng, goal);
+    PlannerOptions o = random_policy_options(rng);
+    o.start_tolerance = uniform(rng, 0.5, 4.0) * s.grid.resolution;
+    o.goal_tolerance = uniform(rng, 0.5, 4.0) * s.grid.resolution;
+    const PlanQuery q(start, goal, start_point, goal_point);
+    SCOPED_TRACE("start " + str(start) + " goal " + str(goal));
+    const auto labels = component_labels(*map, o.corner_policy);
+    const auto goal_candidates = brute_free_within(*map, goal_point, o.goal_tolerance);
+    const Nearest any_start = brute_nearest_free(*map, start_point, o.start_tolerance);
+    if (!any_start.cell || goal_candidates.empty()) continue;  // refusals: tested above
+    const Nearest expected_start =
+        brute_nearest_free(*map, start_point, o.start_tolerance, [&](const Cell& c) {
+          return std::any_of(goal_candidates.begin(), goal_candidates.end(),
+                             [&](const Cell& g) { return connected(labels, t.width, c, g); });
+        });
+    const auto endpoints = core::resolve_endpoints(*map, q, o);
+    if (!expected_start.cell) {
+      ++unreachable;
+      ASSERT_FALSE(endpoints);
+      ASSERT_EQ(endpoints.error().code, StatusCode::kNoValidPath);
+      ASSERT_TRUE(contains(endpoints.error().message, "none of them connects to any of the " +
+                                                          std::to_string(goal_candidates.size()) +
+                                                          " free cells within goal_tolerance"))
+          << endpoints.error().message;
+      continue;
+    }
+    const Nearest expected_goal = brute_nearest_free(
+        *map, goal_point, o.goal_tolerance,
+        [&](const Cell& c) { return connected(labels, t.width, c, *expected_start.cell); });
+    ASSERT_TRUE(expected_goal.cell);
+    ++moved;
+    not_nearest += *expected_start.cell != *any_start.cell;
+    ASSERT_TRUE(endpoints) << endpoints.error().message;
+    ASSERT_EQ(endpoints->start, *expected_start.cell) << "got " << str(endpoints->start);
+    ASSERT_EQ(endpoints->goal, *expected_goal.cell) << "got " << str(endpoints->goal);
+    ASSERT_TRUE(endpoints->start_adjusted && endpoints->goal_adjusted);
+    const PlanResult r = core::plan_once(map, q, o);
+    ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+    ASSERT_EQ(r.raw_path.front(), *expected_start.cell);
+    ASSERT_EQ(r.raw_path.back(), *expected_goal.cell);
+  }
+  EXPECT_GT(moved, 90);
+  EXPECT_GT(unreachable, 100);
+  EXPECT_GT(not_nearest, 8);
+}
+
+// The case a robot meets: a goal clicked 0.1 m inside a wall (0.05 m cells), whose nearest free
+// cell is a speck sealed inside the wall. The plan goes to the room's side of the wall, farther
+// but reachable; with a tolerance that reaches only the speck, NO_VALID_PATH says so.
+TEST(ToleranceGoal, AGoalInsideAWallSkipsTheSealedSpeckNearestToIt) {
+  // 40 x 24 cells at 0.05 m, origin (0, 0); a wall 8 cells thick (rows 10..17) across the room,
+  // with one free cell (20, 13) sealed inside it. Row 0 is the bottom row.
+  std::vector<std::string> rows(24, std::string(40, '.'));
+  for (int y = 10; y <= 17; ++y) rows[23 - y] = std::string(40, '#');
+  rows[23 - 13][20] = '.';
+  auto built = GridMap::from_rows(rows, 0.05);
+  ASSERT_TRUE(built);
+  const auto map = std::make_shared<const GridMap>(std::move(built).value());
+  // The wall's face is y = 10 cells; the goal (20.5, 12.0) is 2 cells (0.1 m) beyond it, in the
+  // wall cell (20, 12). The speck's centre is 1.5 cells (0.075 m) from it, the room's cell
+  // (20, 9) 2.5 cells (0.125 m).
+  const PlanQuery q({5, 2}, {20, 12}, std::nullopt, Point2(20.5, 12.0));
+  ASSERT_TRUE(map->blocked({20, 12}));
+  ASSERT_TRUE(map->free({20, 13}));
+  for (PlannerKind kind : {PlannerKind::kAStar, PlannerKind::kVnsBaStar, PlannerKind::kJps}) {
+    SCOPED_TRACE(std::string(core::to_string(kind)));
+    PlannerOptions o = core::default_options(kind);
+    o.goal_tolerance = 0.2;
+    const PlanResult r = core::plan_once(map, q, o);
+    ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+    EXPECT_EQ(r.endpoints.goal, (Cell{20, 9}));
+    EXPECT_TRUE(r.endpoints.goal_adjusted);
+    EXPECT_NEAR(r.endpoints.goal_moved_m, 0.125, 1e-12);
+    EXPECT_EQ(r.raw_path.back(), (Cell{20, 9}));
+    // A tolerance of 0.1 m reaches the speck only: free, but sealed off.
+    o.goal_tolerance = 0.1;
+    const PlanResult sealed = core::plan_once(map, q, o);
+    EXPECT_EQ(sealed.status.code, StatusCode::kNoValidPath) << sealed.status.message;
+    EXPECT_TRUE(contains(sealed.status.message,
+                         "goal (1.025, 0.600) m, in cell (20, 12), is in an occupied cell"))
+        << sealed.status.message;
+    EXPECT_TRUE(contains(sealed.status.message,
+                         "1 free cell lies within goal_tolerance 0.100 m (the nearest (1.025, "
+                         "0.675) m, cell (20, 13)), but none of them is reachable from the start "
+                         "(0.275, 0.125) m, in cell (5, 2)"))
+        << sealed.status.message;
+  }
+}
+
+// Real maps (Moving AI benchmark maps, read from the shared data folder): goals on blocked cells
+// beside free ones, half of them beside a small sealed pocket, moved within goal_tolerance from a
+// benchmark scenario's start; against the whole-grid oracle, for every corner policy.
+TEST(ToleranceGoal, OnMovingAiMapsTheGoalMovesToTheNearestReachableFreeCell) {
+  const std::string dir = data_path("movingai");
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << "Moving AI data not found at " << dir;
+  std::mt19937 rng(88014);
+  int moved = 0, passed_over = 0, unreachable = 0;
+  for (const char* name : {"random512-20-0", "arena", "den312d", "Berlin_0_256"}) {
+    SCOPED_TRACE(name);
+    MovingAiCase loaded;
+    ASSERT_TRUE(load_movingai(dir + "/" + name + ".map", &loaded));
+    const auto& map = loaded.map;
+    core::Planner planner(map);
+    const int32_t w = map->width();
+    for (core::CornerPolicy policy : kAllCornerPolicies) {
+      SCOPED_TRACE(std::string(core::to_string(policy)));
+      const auto labels = component_labels(*map, policy);
+      std::vector<int64_t> size;
+      for (const int32_t l : labels) {
+        if (l < 0) continue;
+        if (static_cast<size_t>(l) >= size.size()) size.resize(l + 1, 0);
+        ++size[l];
+      }
+      // Blocked cells beside a free one, and those beside a pocket of fewer than 50 cells.
+      std::vector<Cell> beside_free, beside_pocket;
+      for (int32_t y = 0; y < map->height(); ++y) {
+        for (int32_t x = 0; x < w; ++x) {
+          if (!map->blocked(x, y)) continue;
+          bool free = false, pocket = false;
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              if (!cell_free(*map, x + dx, y + dy)) continue;
+              free = true;
+              pocket = pocket || size[labels[static_cast<size_t>(y + dy) * w + x + dx]] < 50;
+            }
+          }
+          if (free) beside_free.push_back({x, y});
+          if (pocket) beside_pocket.push_back({x, y});
+        }
+      }
+      ASSERT_FALSE(beside_free.empty());
+      PlannerOptions o = core::default_options(PlannerKind::kVnsBaStar);
+      o.corner_policy = policy;
+      for (int i = 0; i < 40; ++i) {
+        const Cell start = pick(rng, loaded.scenarios).start;
+        const Cell goal = !beside_pocket.empty() && i % 2 == 0 ? pick(rng, beside_pocket)
+                                                               : pick(rng, beside_free);
+        const Point2 point = point_in(rng, goal);
+        // Beyond 2.13 cells: a free cell beside the goal's is always within it.
+        o.goal_tolerance = uniform(rng, 2.2, 5.0);  // metres = cells here
+        SCOPED_TRACE("start " + str(start) + " goal " + str(goal) + " tolerance " +
+                     std::to_string(o.goal_tolerance));
+        const auto [any, expected] = brute_choice(*map, labels, point, o.goal_tolerance, start);
+        const PlanResult r = planner.plan(PlanQuery(start, goal, std::nullopt, point), o);
+        ASSERT_TRUE(any.cell);
+        if (!expected.cell) {
+          ++unreachable;
+          ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
+          ASSERT_TRUE(contains(r.status.message, "none of them is reachable")) << r.status.message;
+          continue;
+        }
+        ++moved;
+        passed_over += *expected.cell != *any.cell;
+        ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+        ASSERT_EQ(r.endpoints.goal, *expected.cell) << "got " << str(r.endpoints.goal);
+        ASSERT_EQ(r.raw_path.back(), *expected.cell);
+      }
+    }
+  }
+  EXPECT_GT(moved, 300);
+  EXPECT_GT(passed_over, 5);
+  EXPECT_GT(unreachable, 20);
+}
+
+// The floods poll the plan's budget: a goal beside a wall whose nearest free cell lies in the
+// half of the map the start cannot reach (about 640,000 cells to exhaust), under a tenth of the
+// time the resolution takes unbounded, ends in TIMEOUT, and a raised cancel flag in CANCELED,
+// both naming the stage.
+TEST(ToleranceGoal, TheReachabilityFloodsHonourTheBudget) {
+  constexpr int32_t kWidth = 1601, kHeight = 800;
+  core::OccupancyGrid grid;
+  grid.width = kWidth;
+  grid.height = kHeight;
+  grid.resolution = 1.0;
+  grid.data.assign(static_cast<size_t>(kWidth) * kHeight, 0);
+  for (int32_t y = 0; y < kHeight; ++y) grid.data[static_cast<size_t>(y) * kWidth + 800] = 100;
+  auto built = GridMap::build(grid);
+  ASSERT_TRUE(built);
+  const auto map = std::make_shared<const GridMap>(std::move(built).value());
+  // The goal point (800.9, 400.5): the sealed-off right side's (801, 400) is 0.6 cells away, the
+  // start's side (799, 400) 1.4.
+  const PlanQuery q({10, 10}, {800, 400}, std::nullopt, Point2(800.9, 400.5));
+  PlannerOptions o = core::default_options(PlannerKind::kAStar);
+  o.goal_tolerance = 2.0;
+  using Clock = std::chrono::steady_clock;
+  double fastest_us = kInf;
+  for (int run = 0; run < 3; ++run) {
+    const auto t0 = Clock::now();
+    const auto e = core::resolve_endpoints(*map, q, o);
+    fastest_us =
+        std::min(fastest_us, std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    ASSERT_TRUE(e) << e.error().message;
+    ASSERT_EQ(e->goal, (Cell{799, 400}));
+  }
+  RecordProperty("unbounded_resolution_us", static_cast<int>(fastest_us));
+  ASSERT_GT(fastest_us, 1000.0) << "the flood is too quick to show a budget cut it short";
+  const auto budget_us = std::chrono::microseconds(static_cast<int64_t>(fastest_us / 10));
+  core::PlanningBudget budget(Clock::now(), budget_us, nullptr);
+  const auto cut = core::resolve_endpoints(*map, q, o, &budget);
+  ASSERT_FALSE(cut);
+  EXPECT_EQ(cut.error().code, StatusCode::kTimeout);
+  EXPECT_TRUE(contains(cut.error().message, "elapsed while choosing a goal within goal_tolerance"))
+      << cut.error().message;
+
+  core::Planner planner(map);
+  o.max_planning_time = budget_us;
+  const PlanResult timed = planner.plan(q, o);
+  EXPECT_EQ(timed.status.code, StatusCode::kTimeout) << timed.status.message;
+  EXPECT_TRUE(contains(timed.status.message, "while choosing a goal")) << timed.status.message;
+  o.max_planning_time = std::chrono::microseconds(0);
+  std::atomic<bool> cancel{true};
+  const PlanResult canceled = planner.plan(q, o, &cancel);
+  EXPECT_EQ(canceled.status.code, StatusCode::kCanceled) << canceled.status.message;
+  EXPECT_EQ(canceled.status.message,
+            "planning canceled while choosing a goal within goal_tolerance");
+  cancel = false;
+  const PlanResult planned = planner.plan(q, o, &cancel);
+  ASSERT_TRUE(planned.status.is_ok()) << planned.status.message;
+  EXPECT_EQ(planned.endpoints.goal, (Cell{799, 400}));
+}
+
+// check_query, the verdict a request gets before it waits for a planner, does not flood: it
+// accepts a goal whose only free cells within goal_tolerance are sealed off (the plan then says
+// NO_VALID_PATH, as it does for a free goal the start cannot reach).
+TEST(ToleranceGoal, CheckQueryLeavesReachabilityToThePlan) {
+  auto built = GridMap::from_rows({"...#...", "...#.#.", "...###."});
+  ASSERT_TRUE(built);
+  const auto map = std::make_shared<const GridMap>(std::move(built).value());
+  PlannerOptions o = core::default_options(PlannerKind::kAStar);
+  o.goal_tolerance = 1.0;
+  const PlanQuery q({0, 0}, {5, 0}, std::nullopt, std::nullopt);  // (5, 0) is blocked
+  EXPECT_TRUE(core::check_query(*map, q, o).is_ok());
+  EXPECT_EQ(core::plan_once(map, q, o).status.code, StatusCode::kNoValidPath);
 }
 
 // ---------------------------------------------------------------------------------------------

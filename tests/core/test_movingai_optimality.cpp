@@ -5,9 +5,9 @@
 
 #include <filesystem>
 
+#include "core/movingai_support.hpp"
 #include "core/test_support.hpp"
 #include "vnsba/core/planner.hpp"
-#include "vnsba/maps/map_io.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -24,15 +24,10 @@ TEST(MovingAiOptimality, AStarMatchesPublishedOptima) {
   if (!std::filesystem::exists(dir)) GTEST_SKIP() << "Moving AI data not found at " << dir;
   size_t checked = 0, maps = 0;
   for (const char* name : kMaps) {
-    const std::string map_file = dir + "/" + name + ".map";
-    auto grid = maps::load_movingai_map(map_file);
-    ASSERT_TRUE(grid) << grid.error().message;
-    auto scenarios = maps::load_movingai_scenarios(map_file + ".scen");
-    ASSERT_TRUE(scenarios) << scenarios.error().message;
-    auto built = GridMap::build(*grid);
-    ASSERT_TRUE(built) << built.error().message;
-    auto map = std::make_shared<const GridMap>(std::move(built).value());
-    core::Planner planner(map);
+    MovingAiCase loaded;
+    ASSERT_TRUE(load_movingai(dir + "/" + name + ".map", &loaded));
+    const auto* scenarios = &loaded.scenarios;
+    core::Planner planner(loaded.map);
     const auto options = core::default_options(core::PlannerKind::kAStar);
     const size_t total = scenarios->size();
     const size_t step = std::max<size_t>(1, total / kScenariosPerMap);

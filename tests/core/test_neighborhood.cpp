@@ -172,6 +172,39 @@ TEST(Neighborhood, EveryMoveIsCollisionFree) {
   EXPECT_GT(extra_moves, 5000);
 }
 
+// The tolerance's reachability floods use the 8-neighbourhood alone (reachability.hpp): the
+// 8-11-13 moves must reach no cell outside the 8-connected component of the cell they leave, for
+// every guide direction and corner policy. Components by the tests' own breadth-first search.
+TEST(Neighborhood, EightElevenThirteenReachesNothingEightConnectedMovesDoNot) {
+  std::mt19937 rng(4242);
+  int64_t long_moves = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    auto map = random_shared_map(rng, 24, 20, 0.05 + 0.4 * (trial % 5) / 4.0);
+    ASSERT_TRUE(map);
+    for (CornerPolicy policy : kAllCornerPolicies) {
+      const auto labels = component_labels(*map, policy);
+      auto label = [&](int32_t x, int32_t y) {
+        return labels[static_cast<size_t>(y) * map->width() + x];
+      };
+      for (const Cell& from : free_cells(*map)) {
+        for (int gx = -1; gx <= 1; ++gx) {
+          for (int gy = -1; gy <= 1; ++gy) {
+            const Cell guide{from.x + 5 * gx, from.y + 5 * gy};
+            for (const auto& m :
+                 generate_moves(*map, from, guide, Neighborhood::kEightElevenThirteen, policy)) {
+              long_moves += std::max(std::abs(m.dx), std::abs(m.dy)) == 2;
+              ASSERT_EQ(label(from.x + m.dx, from.y + m.dy), label(from.x, from.y))
+                  << "(" << from.x << ", " << from.y << ") + (" << int{m.dx} << ", " << int{m.dy}
+                  << ") leaves its 8-connected component under " << core::to_string(policy);
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(long_moves, 10000);
+}
+
 TEST(Neighborhood, NamesRoundTrip) {
   EXPECT_EQ(core::neighborhood_from_string("8"), Neighborhood::kEight);
   EXPECT_EQ(core::neighborhood_from_string("8-11-13"), Neighborhood::kEightElevenThirteen);

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <random>
 
 #include "core/test_support.hpp"
@@ -54,8 +55,20 @@ TEST_P(EveryPlanner, ErrorStatusesNameTheProblem) {
   };
   expect({{-1, 0}, {9, 0}}, StatusCode::kStartOutsideMap, "start (-1, 0)");
   expect({{0, 0}, {10, 0}}, StatusCode::kGoalOutsideMap, "goal (10, 0)");
-  expect({{4, 3}, {9, 0}}, StatusCode::kStartOccupied, "start (4.500, 3.500) m, cell (4, 3) is in an occupied cell");
-  expect({{0, 0}, {4, 5}}, StatusCode::kGoalOccupied, "goal (4.500, 5.500) m, cell (4, 5) is in an occupied cell");
+  expect({{4, 3}, {9, 0}}, StatusCode::kStartOccupied,
+         "start (4.500, 3.500) m, in cell (4, 3), is in an occupied cell");
+  expect({{0, 0}, {4, 5}}, StatusCode::kGoalOccupied,
+         "goal (4.500, 5.500) m, in cell (4, 5), is in an occupied cell");
+  // The requested points themselves, not their cells' centres, with the cell they fall in.
+  expect({{4, 3}, {9, 0}, Point2(4.2, 3.9), std::nullopt}, StatusCode::kStartOccupied,
+         "start (4.200, 3.900) m, in cell (4, 3), is in an occupied cell");
+  expect({{0, 0}, {4, 5}, std::nullopt, Point2(4.95, 5.05)}, StatusCode::kGoalOccupied,
+         "goal (4.950, 5.050) m, in cell (4, 5), is in an occupied cell");
+  // A requested point outside its cell, or not finite, is refused naming the field.
+  expect({{0, 0}, {9, 0}, Point2(1.5, 0.5), std::nullopt}, StatusCode::kInvalidRequest,
+         "start_point (1.5, 0.5) cells must be finite and lie in cell (0, 0)");
+  expect({{0, 0}, {9, 0}, std::nullopt, Point2(9.5, std::nan(""))}, StatusCode::kInvalidRequest,
+         "goal_point");
   // Outside wins over occupied for the start, and start is reported before goal.
   expect({{-5, -5}, {4, 5}}, StatusCode::kStartOutsideMap, "start");
 }
@@ -63,9 +76,13 @@ TEST_P(EveryPlanner, ErrorStatusesNameTheProblem) {
 TEST_P(EveryPlanner, NoPathBetweenComponents) {
   auto map = shared({"...#...", "...#...", "...#...", "...#..."});
   core::Planner planner(map);
-  const PlanResult r = planner.plan({{0, 0}, {6, 3}}, default_options(GetParam()));
+  const PlanResult r =
+      planner.plan({{0, 0}, {6, 3}, Point2(0.25, 0.75), std::nullopt}, default_options(GetParam()));
   EXPECT_EQ(r.status.code, StatusCode::kNoValidPath);
-  EXPECT_NE(r.status.message.find("not connected"), std::string::npos);
+  EXPECT_NE(r.status.message.find("no path from start (0.250, 0.750) m, in cell (0, 0) to goal "
+                                  "(6.500, 3.500) m, in cell (6, 3): they are not connected"),
+            std::string::npos)
+      << r.status.message;
   EXPECT_GT(r.metrics.expanded, 0);
 }
 

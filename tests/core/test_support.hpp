@@ -125,6 +125,25 @@ inline bool reference_los_centres(const GridMap& map, Cell a, Cell b, CornerPoli
   return true;
 }
 
+// Calls visit(dx, dy) for each 8-connected move from free cell (x, y) to a free cell that `policy`
+// allows (a diagonal one by its two side cells: both free for never, one for touch), written
+// from ALGORITHM.md section 1 rather than taken from the planner.
+template <class Visit>
+void for_each_oracle_move(const GridMap& map, int64_t x, int64_t y, CornerPolicy policy,
+                          Visit&& visit) {
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      if ((dx == 0 && dy == 0) || !cell_free(map, x + dx, y + dy)) continue;
+      if (dx != 0 && dy != 0) {
+        const bool a = cell_free(map, x + dx, y), b = cell_free(map, x, y + dy);
+        if (policy == CornerPolicy::kNever && !(a && b)) continue;
+        if (policy == CornerPolicy::kTouch && !(a || b)) continue;
+      }
+      visit(dx, dy);
+    }
+  }
+}
+
 // Optimal 8-connected path cost (cells) by plain Dijkstra; infinity when unreachable.
 inline double reference_shortest_cost(const GridMap& map, Cell s, Cell g, CornerPolicy policy) {
   const int64_t w = map.width(), h = map.height();
@@ -139,24 +158,45 @@ inline double reference_shortest_cost(const GridMap& map, Cell s, Cell g, Corner
     if (d > dist[i]) continue;
     const int64_t x = i % w, y = i / w;
     if (x == g.x && y == g.y) return d;
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        if ((dx == 0 && dy == 0) || !cell_free(map, x + dx, y + dy)) continue;
-        if (dx != 0 && dy != 0) {
-          const bool a = cell_free(map, x + dx, y), b = cell_free(map, x, y + dy);
-          if (policy == CornerPolicy::kNever && !(a && b)) continue;
-          if (policy == CornerPolicy::kTouch && !(a || b)) continue;
-        }
-        const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
-        const int64_t j = (y + dy) * w + (x + dx);
-        if (nd < dist[j]) {
-          dist[j] = nd;
-          open.push({nd, j});
-        }
+    for_each_oracle_move(map, x, y, policy, [&, d = d](int dx, int dy) {
+      const double nd = d + ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
+      const int64_t j = (y + dy) * w + (x + dx);
+      if (nd < dist[j]) {
+        dist[j] = nd;
+        open.push({nd, j});
       }
-    }
+    });
   }
   return std::numeric_limits<double>::infinity();
+}
+
+// Component labels of the free cells under the planners' move graph (ALGORITHM.md section 1):
+// 8-connected moves, a diagonal one only where `policy` lets it pass its two side cells. A
+// breadth-first search over the whole grid from every unlabelled free cell, on the map's blocked
+// flags alone. Row-major (index y * width + x); -1 on blocked cells.
+inline std::vector<int32_t> component_labels(const GridMap& map, CornerPolicy policy) {
+  const int64_t w = map.width(), h = map.height();
+  std::vector<int32_t> label(static_cast<size_t>(w * h), -1);
+  int32_t next = 0;
+  for (int64_t seed = 0; seed < w * h; ++seed) {
+    if (label[seed] >= 0 || !cell_free(map, seed % w, seed / w)) continue;
+    std::queue<int64_t> open;
+    label[seed] = next;
+    open.push(seed);
+    while (!open.empty()) {
+      const int64_t i = open.front();
+      open.pop();
+      const int64_t x = i % w, y = i / w;
+      for_each_oracle_move(map, x, y, policy, [&](int dx, int dy) {
+        const int64_t j = (y + dy) * w + (x + dx);
+        if (label[j] >= 0) return;
+        label[j] = next;
+        open.push(j);
+      });
+    }
+    ++next;
+  }
+  return label;
 }
 
 // A random map as text rows (top row first), '#' blocked.

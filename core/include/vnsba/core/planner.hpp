@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "vnsba/core/budget.hpp"
 #include "vnsba/core/geometry.hpp"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/line_of_sight.hpp"
@@ -47,9 +48,10 @@ struct PlanQuery {
 
   Cell start;  // may lie outside the map (refused, or moved by start_tolerance; see below)
   Cell goal;   // likewise, with goal_tolerance
-  // The requested positions in continuous cell coordinates (inside `start` / `goal`, or anywhere
-  // for a goal outside the map). Tolerance picks the free cell whose centre is nearest to them
-  // (ALGORITHM.md section 8); unset, the cells' centres.
+  // The requested positions in continuous cell coordinates, each inside its cell (floor of the
+  // point = the cell, also for a goal outside the map; anything else is INVALID_REQUEST naming
+  // the field). Tolerance picks the free cell whose centre is nearest to them (ALGORITHM.md
+  // section 8); unset, the cells' centres.
   std::optional<Point2> start_point;
   std::optional<Point2> goal_point;
 };
@@ -63,6 +65,11 @@ struct Endpoints {
   bool goal_adjusted = false;
   double start_moved_m = 0.0;  // metres from the requested point to the used cell's centre
   double goal_moved_m = 0.0;   // (0 when not adjusted)
+  // Where the path begins and ends, continuous cell coordinates: the requested point (the query's
+  // start_point / goal_point, else its cell's centre), or the used cell's centre where a
+  // tolerance moved it.
+  Point2 start_point = Point2::Zero();
+  Point2 goal_point = Point2::Zero();
 };
 
 struct PlanResult {
@@ -90,12 +97,33 @@ struct PlanResult {
 };
 
 // What Planner::plan checks before it searches: the options, then start and goal inside the
-// map and on free cells, each moved to the nearest free cell within its tolerance where it is
-// not (the start only when inflation alone blocks it). The message names the field at fault,
-// the layer that blocks it (occupied, unknown, inflation) and the position in metres.
+// map and on free cells, each moved within its tolerance where it is not (the start only when
+// inflation alone blocks it). The message names the field at fault, the layer that blocks it
+// (occupied, unknown, inflation), and the requested point in metres with the cell it falls in.
+//
+// Tolerance (ALGORITHM.md section 8) picks the free cell nearest the requested point (centre
+// distance, ties to the lower row-major index) within the tolerance *that the other endpoint can
+// reach* under the planner's moves (8-connected, diagonals by corner_policy; the 8-11-13 moves
+// reach no other cell): a free speck sealed inside a wall is never chosen while a reachable free
+// cell lies within the tolerance. The start is resolved first: with a free goal, the nearest start
+// candidate connected to the goal; with a goal that must move too, the nearest start candidate
+// connected to any free cell within goal_tolerance of the goal; then the goal, the nearest
+// candidate the start used can reach. GOAL_OCCUPIED / GOAL_OUTSIDE_MAP / START_OCCUPIED when no
+// free cell lies within the tolerance; NO_VALID_PATH, saying that free cells were there but
+// unreachable, when some do but none connects.
+//
+// Cost: nothing beyond the checks when no endpoint moves. Otherwise a flood alternating between
+// the candidate and the other endpoint (see reachability.hpp): a sealed speck costs its own size,
+// a reachable candidate about the cells between the two; over all candidates each cell is visited
+// at most twice. It needs 2 bytes per map cell: the Planner's own search words (no allocation);
+// this free function allocates them when an endpoint moves. `budget` (may be null) is polled
+// throughout: TIMEOUT / CANCELED when it runs out.
 Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query,
-                                      const PlannerOptions& options);
-// resolve_endpoints' verdict alone.
+                                      const PlannerOptions& options,
+                                      PlanningBudget* budget = nullptr);
+// resolve_endpoints' verdict without the reachability of moved endpoints (which only the plan
+// finds out, as it finds out whether start and goal connect): the cheap checks a request can get
+// before it waits for a planner, O(the cells out to the nearest free one).
 Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOptions& options);
 
 class Planner {
