@@ -159,11 +159,14 @@ struct MapServerParams {
   PgmMode mode = PgmMode::kTrinary;
 };
 
-// ROS map_server's conversion of one grey sample (0..maxval, maxval = white) to occupancy.
-// Raw mode ignores `negate`, as Nav2's map_server does.
+// ROS 2 map_server's (Nav2's map_io.cpp) conversion of one grey sample (0..maxval, maxval =
+// white) to occupancy: what the node receives when the map is published, so vnsba_plan reads
+// the file as the node plans on it. Raw mode ignores `negate`, and reads the shade on 0..255
+// (the sample itself in an 8-bit image).
 int8_t pgm_occupancy(uint32_t sample, uint32_t maxval, const MapServerParams& params) {
   if (params.mode == PgmMode::kRaw) {
-    return sample <= 100 ? static_cast<int8_t>(sample) : kOccupancyUnknown;
+    const double value = std::round(static_cast<double>(sample) / maxval * 255.0);
+    return value <= 100 ? static_cast<int8_t>(value) : kOccupancyUnknown;
   }
   const double occupied = params.negate ? static_cast<double>(sample) / maxval
                                         : static_cast<double>(maxval - sample) / maxval;
@@ -172,7 +175,7 @@ int8_t pgm_occupancy(uint32_t sample, uint32_t maxval, const MapServerParams& pa
   if (params.mode == PgmMode::kTrinary) return kOccupancyUnknown;
   const double ratio =
       (occupied - params.free_thresh) / (params.occupied_thresh - params.free_thresh);
-  return static_cast<int8_t>(std::lround(99.0 * ratio));
+  return static_cast<int8_t>(std::rint(ratio * 100.0));  // Nav2: 0..100, ties to even
 }
 
 // Next whitespace-separated PGM token, skipping '#' comments (to the end of the line); empty at

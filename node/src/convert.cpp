@@ -3,6 +3,7 @@
 #include <octomap/OcTree.h>
 
 #include <algorithm>
+#include <charconv>
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -193,6 +194,16 @@ TimeMsg now_msg() {
   return to_time_msg(std::chrono::system_clock::now());
 }
 
+double float32_decimal(float value) {
+  // Shortest round-trip text (std::to_chars) of the float, read back as a double: 0.05f prints
+  // "0.05", which is 0.05 as a double. Non-finite values come back as they are.
+  char text[32];
+  const std::to_chars_result printed = std::to_chars(text, text + sizeof text, value);
+  double decimal = value;
+  if (printed.ec == std::errc()) std::from_chars(text, printed.ptr, decimal);
+  return decimal;
+}
+
 bool same_frame(std::string_view a, std::string_view b) {
   return without_leading_slash(a) == without_leading_slash(b);
 }
@@ -246,7 +257,10 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   }
   out.grid.width = static_cast<int32_t>(info.width());
   out.grid.height = static_cast<int32_t>(info.height());
-  out.grid.resolution = info.resolution();
+  // MapMetaData carries the resolution as a float32: map_server's 0.05 arrives as
+  // 0.05000000074505806, which turned robot_radius 0.15 m into 2.99999996 cells instead of 3
+  // (metres_to_cells) and planned on another inflation than vnsba_plan reading the same file.
+  out.grid.resolution = float32_decimal(info.resolution());
   out.grid.origin_x = p.x();
   out.grid.origin_y = p.y();
   out.grid.data = std::move(msg.data());
@@ -574,7 +588,7 @@ DebugData from_debug_msg(const PlannerDebugMsg& msg) {
   // MapMetaData sizes are uint32; anything above int32 cannot be a map the node planned on.
   t.width = static_cast<int32_t>(std::min<uint32_t>(msg.info().width(), INT32_MAX));
   t.height = static_cast<int32_t>(std::min<uint32_t>(msg.info().height(), INT32_MAX));
-  t.resolution = msg.info().resolution();
+  t.resolution = float32_decimal(msg.info().resolution());
   t.origin_x = msg.info().origin().position().x();
   t.origin_y = msg.info().origin().position().y();
   auto cells = [](const std::vector<vnsba_msgs::msg::dds_::GridCell_>& in) {

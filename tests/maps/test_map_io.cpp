@@ -340,8 +340,8 @@ TEST(MapServer, ScaleModeInterpolatesBetweenThresholds) {
                                             "occupied_thresh: 0.75\nfree_thresh: 0.25\n"
                                             "mode: scale\n"));
   ASSERT_TRUE(grid.has_value()) << grid.error().message;
-  // p = 0.75 -> 99, p = 0.5 -> round(49.5) = 50, p = 0.25 -> 0.
-  EXPECT_EQ(Row(*grid, 1), (std::vector<int>{100, 99, 50, 0, 0}));
+  // Nav2's map_server: rint(100 * ratio), so p = 0.75 -> 100, p = 0.5 -> 50, p = 0.25 -> 0.
+  EXPECT_EQ(Row(*grid, 1), (std::vector<int>{100, 100, 50, 0, 0}));
 }
 
 TEST(MapServer, NegateMakesWhiteOccupied) {

@@ -514,7 +514,7 @@ const std::string kMapServerKeys =
 
 // map_server's reading of a grey sample: p = (255 - v) / 255, occupied (100) above
 // occupied_thresh, free (0) below free_thresh; between them unknown (-1) in trinary mode and
-// 99 * (p - free_thresh) / (occupied_thresh - free_thresh) in scale mode.
+// 100 * (p - free_thresh) / (occupied_thresh - free_thresh) rounded in scale mode (Nav2's).
 int map_server_value(int grey, bool scale) {
   const double p = (255.0 - grey) / 255.0;
   EXPECT_GT(std::abs(p - kOccupiedThresh), 1e-9) << grey << " is on a threshold: pick another";
@@ -522,7 +522,7 @@ int map_server_value(int grey, bool scale) {
   if (p > kOccupiedThresh) return 100;
   if (p < kFreeThresh) return 0;
   if (!scale) return -1;
-  const double value = 99.0 * (p - kFreeThresh) / (kOccupiedThresh - kFreeThresh);
+  const double value = 100.0 * (p - kFreeThresh) / (kOccupiedThresh - kFreeThresh);
   EXPECT_GT(std::abs(value - std::floor(value) - 0.5), 1e-6) << grey << " rounds either way";
   return static_cast<int>(std::lround(value));
 }

@@ -82,6 +82,13 @@ std::vector<std::string> add_transforms(const TFMessageMsg& msg, bool is_static,
                                         TransformTree& tree);
 TimeMsg now_msg();
 
+// The decimal a float32 field was written from: the shortest decimal that rounds to `value` as
+// a float (std::to_chars), as a double. ROS messages carry a map's resolution as float32
+// (nav_msgs/MapMetaData): a map_server map of 0.05 m arrives as 0.05000000074505806, and read
+// as that it plans on another grid than the file's 0.05 (cells of inflation, costs, which cell
+// holds a point). The one IDL -> core conversion of such fields.
+double float32_decimal(float value);
+
 // Whether two frame ids name one frame: equal once a leading '/' is dropped from each, as tf2
 // does ("/map" from a ROS 1 bridge or an old config is "map"). Anything else differs ("odom").
 bool same_frame(std::string_view a, std::string_view b);
