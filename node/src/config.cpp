@@ -18,10 +18,12 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <utility>
 
+#include "vnsba/node/default_config_text.hpp"
 #include "vnsba/node/security.hpp"
 #include "vnsba/yaml/document.hpp"
 
@@ -123,12 +125,55 @@ template <class T>
 T current(const std::optional<T>& out) {
   return out.value_or(T{});
 }
+// Whether a getter's target holds a value (an optional setting may be unset).
+template <class T>
+bool holds_value(const T&) {
+  return true;
+}
+template <class T>
+bool holds_value(const std::optional<T>& out) {
+  return out.has_value();
+}
+
+// A value as YAML text, for config_as_yaml: numbers in their shortest round-trip form (0.15, not
+// 0.14999999999999999), strings double-quoted, lists in flow style.
+std::string yaml_quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char ch : text) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    out += ch;
+  }
+  return out + "\"";
+}
+struct ShowValue {
+  std::string operator()(bool v) const { return v ? "true" : "false"; }
+  std::string operator()(double v) const {
+    char buffer[64];
+    const auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), v);
+    return ec == std::errc{} ? std::string(buffer, end) : std::to_string(v);
+  }
+  std::string operator()(const std::string& v) const { return yaml_quoted(v); }
+  std::string operator()(const std::vector<std::string>& v) const {
+    std::string out;
+    for (const std::string& item : v) out += (out.empty() ? "" : ", ") + yaml_quoted(item);
+    return "[" + out + "]";
+  }
+  template <class Int, class = std::enable_if_t<std::is_integral_v<Int>>>
+  std::string operator()(Int v) const {
+    return std::to_string(v);
+  }
+};
+
+// Each key's effective value, dotted key path first ("map.robot_radius"), in schema order.
+using Settings = std::vector<std::pair<std::string, std::string>>;
 
 class Section {
  public:
   // `node` may be absent or null (an empty section); `path` is its dotted key ("" at the top).
-  Section(const YAML::Node& node, std::string path, Errors& errors)
-      : path_(std::move(path)), errors_(&errors) {
+  // `shown`, when given, receives every key the file leaves out with the value it keeps (a
+  // std::optional left unset is not shown): read over an empty file, the whole configuration.
+  Section(const YAML::Node& node, std::string path, Errors& errors, Settings* shown = nullptr)
+      : path_(std::move(path)), errors_(&errors), shown_(shown) {
     if (!node.IsMap()) return;
     for (const auto& kv : node) entries_.push_back({kv.first, kv.second});
   }
@@ -140,20 +185,27 @@ class Section {
     errors_->push_back(key_path(key) + ": found " + describe(found) + ", expected " + expected);
   }
 
+  // Whether this file gives `key` (registers it as known, like every getter).
+  bool has(const std::string& key) { return find(key) != nullptr; }
+
   // A nested map; a scalar or list there is an error and reads as an empty section.
   Section child(const std::string& key) {
     const YAML::Node* node = find(key);
     if (node && !node->IsMap() && !node->IsNull()) error(key, *node, "a map of settings");
-    return Section(node ? *node : YAML::Node(), key_path(key), *errors_);
+    return Section(node ? *node : YAML::Node(), key_path(key), *errors_, shown_);
   }
 
   // Every getter: an absent key keeps `out` (a std::optional stays unset) and returns true.
   // Otherwise `check(node, value)` returns "" and sets `value` when the node is acceptable, else
   // what was expected; the error is recorded, `out` keeps its value and the getter returns false.
-  template <class Out, class Check>
-  bool get(const std::string& key, Out& out, Check check) {
+  // `show` turns the value into YAML text for `shown`.
+  template <class Out, class Check, class Show = ShowValue>
+  bool get(const std::string& key, Out& out, Check check, Show show = {}) {
     const YAML::Node* node = find(key);
-    if (!node) return true;
+    if (!node) {
+      if (shown_ != nullptr && holds_value(out)) shown_->emplace_back(key_path(key), show(current(out)));
+      return true;
+    }
     value_of<Out> value = current(out);
     const std::string expected = check(*node, value);
     if (expected.empty())
@@ -206,14 +258,23 @@ class Section {
   template <class Out, class Parse>
   bool choice(const std::string& key, Out& out, Parse parse,
               const std::vector<std::string>& names) {
-    return get(key, out, [&](const YAML::Node& node, value_of<Out>& value) {
+    // A value shows as the name that parses to it.
+    auto show = [&](const value_of<Out>& value) {
+      for (const std::string& name : names)
+        if (const auto parsed = parse(name); parsed && *parsed == value) return yaml_quoted(name);
+      return std::string("\"?\"");
+    };
+    return get(
+        key, out,
+        [&](const YAML::Node& node, value_of<Out>& value) {
       if (auto parsed = node.IsScalar() ? parse(node.Scalar()) : std::nullopt) {
         value = *parsed;
         return std::string();
       }
       const std::string near = node.IsScalar() ? closest(node.Scalar(), names) : "";
       return "one of " + join(names) + (near.empty() ? "" : " (did you mean \"" + near + "\"?)");
-    });
+        },
+        show);
   }
 
   // One of the names of a {name, value} table.
@@ -266,6 +327,7 @@ class Section {
 
   std::string path_;
   Errors* errors_;
+  Settings* shown_;
   std::vector<std::pair<YAML::Node, YAML::Node>> entries_;
   std::vector<std::string> known_;
 };
@@ -283,8 +345,11 @@ std::vector<std::string> names_of(std::initializer_list<Enum> values) {
   return out;
 }
 
-void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
-  Section top(root, "", errors);
+// Reads `root` over `c`. With `shown`, also lists every key `root` leaves out with the value it
+// keeps (config_as_yaml reads an empty file so).
+void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors,
+                 Settings* shown = nullptr) {
+  Section top(root, "", errors, shown);
   top.integer("domain_id", c.domain_id, 0, 232);
   top.boolean("ros2_naming", c.ros2_naming);
   top.text("frame_id", c.frame_id, "a frame name",
@@ -292,7 +357,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
 
   // ROS 2 namespace of the relative topic names (see normalized_namespace).
   {
-    std::string given;
+    std::string given = c.ros_namespace;
     if (top.text("namespace", given, "a namespace", [](const std::string& s) {
           const auto ns = normalized_namespace(s);
           return ns ? std::string() : ns.error().message;
@@ -351,6 +416,30 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
     valid.emplace_back(key, name);
   }
   topics.finish();
+  // ROS 2 refuses longer names, and Fast DDS truncates a topic name past 255 characters without
+  // a word, so such a node would match nobody. The longest robot name counts (the fleet's).
+  {
+    std::string longest_robot;
+    for (const std::string& robot : c.robots)
+      if (robot.size() > longest_robot.size()) longest_robot = robot;
+    const NodeConfig view = robot_view(c, longest_robot);
+    // The map, the octomap and tf/clock are read once, under the node's namespace alone.
+    const std::set<std::string> shared = {"projected_map", "octomap", "tf", "tf_static", "clock"};
+    for (const auto& [key, name] : valid) {
+      const bool robot_topic = shared.count(key) == 0;
+      const std::string full = ros_topic_name(robot_topic ? view : c, *name);
+      if (full.size() <= kMaxTopicNameLength) continue;
+      std::ostringstream msg;
+      const bool robot_part = robot_topic && !longest_robot.empty();
+      msg << (c.ros_namespace.empty() ? "" : "namespace, ") << (robot_part ? "robots, " : "")
+          << topics.key_path(key)
+          << ": found the topic \"" << full.substr(0, 60) << "...\" of " << full.size()
+          << " characters, expected at most " << kMaxTopicNameLength
+          << " (ROS 2's limit for a full topic name; Fast DDS would cut it and match nothing)";
+      errors.push_back(msg.str());
+      break;  // one message says it: the namespace makes every name long
+    }
+  }
 
   top.choice<RobotPoseSource>("robot_pose_source", c.robot_pose_source,
                               {{"topic", RobotPoseSource::kTopic}, {"tf", RobotPoseSource::kTf}});
@@ -436,7 +525,9 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   planner.boolean("smooth", s.smooth);
   number_in(core::kSmoothingDistanceRange, s.smoothing_distance);
   number_in(core::kSampleStepRange, s.sample_step);
+  // Seconds (stored in microseconds).
   std::optional<double> seconds;
+  if (s.max_planning_time) seconds = static_cast<double>(s.max_planning_time->count()) / 1e6;
   planner.number(core::kMaxPlanningTimeRange.key, seconds,
                  core::kMaxPlanningTimeRange.describe() + " (0 = unlimited)",
                  [](double v) { return core::kMaxPlanningTimeRange.contains(v); });
@@ -444,8 +535,12 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   planner.boolean("compute_length_ratio", s.compute_length_ratio);
   // ALGORITHM.md section 8: costs, tolerances and path poses. Absent = 0 (the paper's binary
   // grid, exact start and goal) and the map's resolution for path_spacing.
+  // A cost_weight the file leaves out is default.yaml's, meant for the planners that weigh costs:
+  // with jps it is no contradiction, and each plan says it ran on uniform costs (requests.cpp).
+  const bool cost_weight_given = planner.has("cost_weight");
   const bool cost_weight_ok = number_in(core::kCostWeightRange, s.cost_weight);
-  if (cost_weight_ok && s.cost_weight && *s.cost_weight > 0.0 && !core::supports_costs(kind)) {
+  if (cost_weight_given && cost_weight_ok && s.cost_weight && *s.cost_weight > 0.0 &&
+      !core::supports_costs(kind)) {
     std::ostringstream msg;
     msg << "planner.cost_weight: found \"" << *s.cost_weight << "\", expected 0 for "
         << to_string(kind) << " (its jump rules hold only on a grid of uniform costs; use a "
@@ -466,12 +561,19 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
   requests.boolean("preempt", c.preempt);
   requests.integer("queue_capacity", c.queue_capacity, 1, 100000);
   requests.integer("workers", c.workers, 0, kMaxWorkers);
-  std::optional<double> reply_wait_s;
-  if (requests.number("reply_wait", reply_wait_s, "a finite number of seconds in [0, 10]",
-                      [](double v) { return v >= 0.0 && v <= 10.0; }) &&
-      reply_wait_s) {
-    c.reply_wait = std::chrono::milliseconds(std::llround(*reply_wait_s * 1000.0));
-  }
+  // Seconds in [0, max_s], stored in milliseconds.
+  auto milliseconds_key = [&](const char* key, std::chrono::milliseconds& out, double max_s) {
+    std::optional<double> value_s = static_cast<double>(out.count()) / 1000.0;
+    std::ostringstream expected;
+    expected << "a finite number of seconds in [0, " << max_s << "]";
+    if (requests.number(key, value_s, expected.str(),
+                        [max_s](double v) { return v >= 0.0 && v <= max_s; }) &&
+        value_s) {
+      out = std::chrono::milliseconds(std::llround(*value_s * 1000.0));
+    }
+  };
+  milliseconds_key("reply_wait", c.reply_wait, 10.0);
+  milliseconds_key("map_wait", c.map_wait, 60.0);
   requests.finish();
 
   Section network = top.child("network");
@@ -549,16 +651,71 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors) {
 
   // Safety net: core's own checks must agree (they can only fire if core grows new rules).
   if (errors.empty()) {
-    if (core::Status s = core::validate(c.planner.options()); !s.is_ok())
+    // As requests plan: a planner on uniform costs drops an inherited cost_weight (requests.cpp).
+    core::PlannerOptions options = c.planner.options();
+    core::drop_unsupported_costs(options);
+    if (core::Status s = core::validate(options); !s.is_ok())
       errors.push_back("planner: " + s.message);
     if (core::Status s = core::validate(c.map); !s.is_ok()) errors.push_back("map: " + s.message);
   }
 }
 
+// config/default.yaml as compiled in, read once: the starting point of every loaded config.
+const ConfigResult& built_in_defaults() {
+  static const ConfigResult defaults = [] {
+    ConfigResult result;
+    const yaml::Document doc = yaml::load_document(generated::kDefaultConfigYaml);
+    NodeConfig config;
+    if (doc.problem) {
+      result.errors.push_back("the built-in default.yaml: " + doc.problem->message);
+    } else {
+      try {
+        read_config(doc.root, config, result.errors);
+      } catch (const std::exception& e) {
+        result.errors.push_back(std::string("the built-in default.yaml: ") + e.what());
+      }
+    }
+    for (std::string& e : result.errors) e = "the built-in default.yaml (a build defect): " + e;
+    if (result.errors.empty()) result.config = std::move(config);
+    return result;
+  }();
+  return defaults;
+}
+
 }  // namespace
+
+ConfigResult default_config() {
+  return built_in_defaults();
+}
+
+std::string config_as_yaml(const NodeConfig& config) {
+  Settings shown;
+  Errors ignored;  // an empty file raises none but the checks across keys, already passed
+  NodeConfig copy = config;
+  read_config(YAML::Node(), copy, ignored, &shown);
+  // Sections in the order their first key was read; a top-level key is its own "section".
+  std::vector<std::pair<std::string, std::vector<std::string>>> sections;
+  for (const auto& [key, value] : shown) {
+    const size_t dot = key.find('.');
+    const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
+    const std::string line = dot == std::string::npos ? key + ": " + value
+                                                      : "  " + key.substr(dot + 1) + ": " + value;
+    if (section.empty() || sections.empty() || sections.back().first != section)
+      sections.push_back({section, {}});
+    sections.back().second.push_back(line);
+  }
+  std::string out;
+  for (const auto& [section, lines] : sections) {
+    if (!section.empty()) out += section + ":\n";
+    for (const std::string& line : lines) out += line + "\n";
+  }
+  return out;
+}
 
 ConfigResult parse_config(const std::string& yaml_text, const std::string& source) {
   ConfigResult result;
+  const ConfigResult& defaults = built_in_defaults();
+  if (!defaults.config) return defaults;
   // The project's guards (vnsba/yaml/document.hpp): nesting, documents, bytes yaml-cpp misreads.
   const yaml::Document doc = yaml::load_document(yaml_text);
   if (doc.problem) {
@@ -580,7 +737,8 @@ ConfigResult parse_config(const std::string& yaml_text, const std::string& sourc
   }
   try {
     const YAML::Node& root = doc.root;
-    NodeConfig config;
+    // A key the file leaves out keeps default.yaml's value.
+    NodeConfig config = *defaults.config;
     if (!root.IsMap() && !root.IsNull()) {
       result.errors.push_back(source + ": found " + describe(root) +
                               " at the top level, expected a map of settings");
@@ -617,11 +775,23 @@ ConfigResult load_config(const std::string& path) {
   }
 }
 
-std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
+namespace {
+// A configured name resolved against the namespace, without any leading '/' ("robot7/plan").
+std::string resolved_name(const NodeConfig& config, const std::string& name) {
   const bool absolute = !name.empty() && name.front() == '/';
   std::string resolved(without_leading_slash(name));
   if (!absolute && !config.ros_namespace.empty()) resolved = config.ros_namespace + "/" + resolved;
+  return resolved;
+}
+}  // namespace
+
+std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
+  const std::string resolved = resolved_name(config, name);
   return config.ros2_naming ? "rt/" + resolved : resolved;
+}
+
+std::string ros_topic_name(const NodeConfig& config, const std::string& name) {
+  return "/" + resolved_name(config, name);
 }
 
 NodeConfig robot_view(const NodeConfig& config, const std::string& robot) {

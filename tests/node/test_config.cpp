@@ -12,6 +12,10 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+
 #include "bench/costs.hpp"
 #include "core/options_support.hpp"
 #include "vnsba/node/config.hpp"
@@ -45,9 +49,9 @@ std::string ReadText(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// What a loaded config holds when the file gives no keys: the struct defaults (whose planner
-// settings hold the node's 5 s planning-time budget, see config.hpp).
-NodeConfig LoadedDefaults() {
+// The bare struct: the paper's binary grid (whose planner settings hold the node's 5 s
+// planning-time budget, see config.hpp). Not what a loaded config starts from (RobotDefaults).
+NodeConfig BareStruct() {
   NodeConfig config;
   EXPECT_EQ(config.planner.options().max_planning_time, std::chrono::seconds(5));
   return config;
@@ -135,10 +139,10 @@ std::string PaperYamlPath() {
   return std::string(VNSBA_CONFIG_DIR) + "/paper.yaml";
 }
 
-// What config/default.yaml adds to the built-in defaults (the paper's setting) for a real robot
-// (ALGORITHM.md section 8): its radius, the cost gradient, cost_weight and the tolerances.
+// What config/default.yaml adds to the bare struct (the paper's setting) for a real robot: its
+// radius, the cost gradient, cost_weight and the tolerances. Every loaded config starts here.
 NodeConfig RobotDefaults() {
-  NodeConfig config = LoadedDefaults();
+  NodeConfig config = BareStruct();
   config.map.robot_radius = 0.15;
   config.map.inflation_radius = 0.55;
   config.map.cost_scaling_factor = 3.0;
@@ -188,12 +192,12 @@ TEST(Config, TheCostsBenchmarkUsesDefaultYamlsRobot) {
   EXPECT_EQ(c.slicer.resolution, 0.0);  // the bench slices at the tree's leaf size too
 }
 
-// config/paper.yaml is the paper's binary setting: exactly the built-in defaults.
-TEST(Config, PaperYamlLoadsAndEqualsTheBuiltInDefaults) {
+// config/paper.yaml is the paper's binary setting: the bare struct's values.
+TEST(Config, PaperYamlLoadsAndEqualsTheBareStruct) {
   const ConfigResult result = load_config(PaperYamlPath());
   ASSERT_TRUE(result.errors.empty()) << Joined(result.errors);
   ASSERT_TRUE(result.config.has_value());
-  ExpectSameConfig(*result.config, LoadedDefaults());
+  ExpectSameConfig(*result.config, BareStruct());
   const PlannerOptions o = result.config->planner.options();
   EXPECT_EQ(o.cost_weight, 0.0);
   EXPECT_EQ(o.goal_tolerance, 0.0);
@@ -312,15 +316,140 @@ TEST(Config, EmptyFileGivesTheDefaults) {
     const ConfigResult result = load_config(Fixture(name));
     ASSERT_TRUE(result.config.has_value()) << name << Joined(result.errors);
     EXPECT_TRUE(result.errors.empty());
-    ExpectSameConfig(*result.config, LoadedDefaults());
+    ExpectSameConfig(*result.config, RobotDefaults());
   }
   const ConfigResult text = parse_config("");
   ASSERT_TRUE(text.config.has_value());
-  ExpectSameConfig(*text.config, LoadedDefaults());
+  ExpectSameConfig(*text.config, RobotDefaults());
   // Empty sections are fine too.
   const ConfigResult sections = parse_config("planner:\ntopics: {}\n");
   ASSERT_TRUE(sections.config.has_value()) << Joined(sections.errors);
-  ExpectSameConfig(*sections.config, LoadedDefaults());
+  ExpectSameConfig(*sections.config, RobotDefaults());
+}
+
+// Every leaf key of a YAML document, dotted ("map.robot_radius"), with its node.
+void CollectLeaves(const YAML::Node& node, const std::string& path,
+                   std::map<std::string, YAML::Node>& out) {
+  if (node.IsMap()) {
+    for (const auto& kv : node)
+      CollectLeaves(kv.second, path.empty() ? kv.first.Scalar() : path + "." + kv.first.Scalar(),
+                    out);
+  } else {
+    out[path] = node;
+  }
+}
+
+// Two YAML values mean the same setting: numbers compared as numbers ("0.5" and "5e-1"), lists
+// item by item, anything else as text.
+::testing::AssertionResult SameYamlValue(const YAML::Node& a, const YAML::Node& b) {
+  if (a.IsSequence() || b.IsSequence()) {
+    if (!a.IsSequence() || !b.IsSequence() || a.size() != b.size())
+      return ::testing::AssertionFailure() << "lists differ";
+    for (size_t i = 0; i < a.size(); ++i)
+      if (auto same = SameYamlValue(a[i], b[i]); !same) return same;
+    return ::testing::AssertionSuccess();
+  }
+  double x = 0.0, y = 0.0;
+  if (YAML::convert<double>::decode(a, x) && YAML::convert<double>::decode(b, y))
+    return x == y ? ::testing::AssertionSuccess()
+                  : ::testing::AssertionFailure() << x << " != " << y;
+  const std::string sa = a.IsNull() ? "" : a.Scalar(), sb = b.IsNull() ? "" : b.Scalar();
+  return sa == sb ? ::testing::AssertionSuccess()
+                  : ::testing::AssertionFailure() << '"' << sa << "\" != \"" << sb << '"';
+}
+
+// Issue 31: a config with only domain_id (or only one map key, or nothing) planned with no robot
+// radius, inflation or tolerance, although default.yaml says a left-out key keeps the value it
+// shows. Every key default.yaml sets is compared, through the config as the node holds it
+// (config_as_yaml), with the value default.yaml shows; the oracle is the file, read by yaml-cpp.
+TEST(Config, EveryKeyAShortConfigLeavesOutHasDefaultYamlsValue) {
+  std::map<std::string, YAML::Node> shipped;
+  CollectLeaves(YAML::LoadFile(DefaultYamlPath()), "", shipped);
+  ASSERT_GT(shipped.size(), 50u);
+  for (const char* short_config :
+       {"", "domain_id: 7\n", "map: {max_cells: 1000000}\n", "planner: {omega: 0.5}\n"}) {
+    SCOPED_TRACE(std::string("config: '") + short_config + "'");
+    const ConfigResult result = parse_config(short_config);
+    ASSERT_TRUE(result.config.has_value()) << Joined(result.errors);
+    std::map<std::string, YAML::Node> loaded;
+    CollectLeaves(YAML::Load(vnsba::node::config_as_yaml(*result.config)), "", loaded);
+    const YAML::Node given = YAML::Load(short_config);
+    std::map<std::string, YAML::Node> given_keys;
+    if (given.IsMap()) CollectLeaves(given, "", given_keys);
+    for (const auto& [key, value] : shipped) {
+      SCOPED_TRACE(key);
+      ASSERT_EQ(loaded.count(key), 1u) << "the loaded config has no " << key;
+      if (given_keys.count(key) == 0) {
+        EXPECT_TRUE(SameYamlValue(loaded[key], value));
+      }
+    }
+    // And nothing beyond default.yaml's keys: every key of the config is documented there.
+    for (const auto& entry : loaded) {
+      EXPECT_EQ(shipped.count(entry.first), 1u) << entry.first;
+    }
+  }
+  // The values that went missing, checked on the fields themselves.
+  const NodeConfig c = *parse_config("domain_id: 7\n").config;
+  EXPECT_EQ(c.map.robot_radius, shipped["map.robot_radius"].as<double>());
+  EXPECT_EQ(c.map.inflation_radius, shipped["map.inflation_radius"].as<double>());
+  EXPECT_EQ(c.planner.options().goal_tolerance, shipped["planner.goal_tolerance"].as<double>());
+  EXPECT_EQ(c.planner.options().cost_weight, shipped["planner.cost_weight"].as<double>());
+  EXPECT_EQ(vnsba::node::default_config().config->map.robot_radius, c.map.robot_radius);
+}
+
+// config_as_yaml is a config file: it loads back to the same configuration (custom.yaml sets
+// every key to something other than its default).
+TEST(Config, ConfigAsYamlLoadsBackToTheSameConfig) {
+  for (const std::string& path : {Fixture("custom.yaml"), DefaultYamlPath(), PaperYamlPath()}) {
+    SCOPED_TRACE(path);
+    const ConfigResult original = load_config(path);
+    ASSERT_TRUE(original.config.has_value()) << Joined(original.errors);
+    const std::string text = vnsba::node::config_as_yaml(*original.config);
+    const ConfigResult again = parse_config(text, "config_as_yaml");
+    ASSERT_TRUE(again.config.has_value()) << Joined(again.errors) << "\n" << text;
+    ExpectSameConfig(*again.config, *original.config);
+    EXPECT_EQ(vnsba::node::config_as_yaml(*again.config), text);
+  }
+}
+
+// jps weighs no costs: with cost_weight left out (default.yaml's 2.0 is for the planners that
+// do) `name: jps` loads and its plans say they ran on uniform costs; given, it is refused.
+TEST(Config, JpsAloneLoadsWithTheDefaultCostWeightLeftToOtherPlanners) {
+  const ConfigResult jps = parse_config("planner: {name: jps}\n");
+  ASSERT_TRUE(jps.config.has_value()) << Joined(jps.errors);
+  EXPECT_EQ(jps.config->planner.kind, PlannerKind::kJps);
+  vnsba::core::PlannerOptions options = jps.config->planner.options();
+  EXPECT_TRUE(vnsba::core::drop_unsupported_costs(options));
+  EXPECT_TRUE(HasError(parse_config("planner: {name: jps, cost_weight: 2}\n"),
+                       "planner.cost_weight", {"expected 0 for jps"}));
+}
+
+// A namespace (or robot) that makes a topic name longer than ROS 2 allows is refused at load,
+// naming the key and the limit: Fast DDS cut such names, and the node matched nothing.
+TEST(Config, ANamespaceThatMakesTopicNamesTooLongIsRefused) {
+  const std::string long_ns(300, 'n');
+  const ConfigResult result = parse_config("namespace: " + long_ns + "\n");
+  EXPECT_FALSE(result.config.has_value());
+  EXPECT_TRUE(HasError(result, "namespace, topics.projected_map", {"247"})) << Joined(result.errors);
+  // The longest that fits: "/" + namespace + "/" + the longest topic name is 247 characters.
+  const size_t longest_topic = std::string("planner_expansions_backward").size();
+  const std::string fits(vnsba::node::kMaxTopicNameLength - 2 - longest_topic, 'n');
+  EXPECT_TRUE(parse_config("namespace: " + fits + "\n").config.has_value());
+  EXPECT_FALSE(parse_config("namespace: " + fits + "x\n").config.has_value());
+  // A robot's name counts too.
+  const ConfigResult robots = parse_config("robots: [r1, " + long_ns + "]\n");
+  EXPECT_FALSE(robots.config.has_value());
+  EXPECT_TRUE(HasError(robots, "robots, topics.goal_pose", {"247"})) << Joined(robots.errors);
+}
+
+TEST(Config, MapWaitIsSecondsInZeroToSixty) {
+  EXPECT_EQ(parse_config("requests: {map_wait: 0.25}\n").config->map_wait,
+            std::chrono::milliseconds(250));
+  EXPECT_EQ(parse_config("requests: {map_wait: 0}\n").config->map_wait,
+            std::chrono::milliseconds(0));
+  EXPECT_TRUE(HasError(parse_config("requests: {map_wait: 61}\n"), "requests.map_wait",
+                       {"seconds in [0, 60]"}));
+  EXPECT_TRUE(HasError(parse_config("requests: {map_wait: -1}\n"), "requests.map_wait"));
 }
 
 TEST(Config, EveryKeyReachesItsField) {
@@ -519,12 +648,13 @@ TEST(Config, CostAndToleranceKeysReachTheirFieldsForEveryPlanner) {
     EXPECT_DOUBLE_EQ(o.goal_tolerance, 0.4);
     EXPECT_DOUBLE_EQ(o.start_tolerance, 0.15);
   }
-  // Absent: the paper (0) and the map's resolution.
+  // Absent: default.yaml's robot, and the map's resolution.
   const NodeConfig d = parse_config("").config.value();
-  EXPECT_EQ(d.planner.options().cost_weight, 0.0);
-  EXPECT_EQ(d.planner.options().goal_tolerance, 0.0);
-  EXPECT_EQ(d.planner.options().start_tolerance, 0.0);
-  EXPECT_EQ(d.map.inflation_radius, 0.0);
+  const NodeConfig robot = RobotDefaults();
+  EXPECT_EQ(d.planner.options().cost_weight, robot.planner.options().cost_weight);
+  EXPECT_EQ(d.planner.options().goal_tolerance, robot.planner.options().goal_tolerance);
+  EXPECT_EQ(d.planner.options().start_tolerance, robot.planner.options().start_tolerance);
+  EXPECT_EQ(d.map.inflation_radius, robot.map.inflation_radius);
   EXPECT_DOUBLE_EQ(d.planner.path_spacing_for(0.05), 0.05);
 }
 

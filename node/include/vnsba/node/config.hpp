@@ -97,10 +97,11 @@ inline core::GridBuildOptions default_map_options() {
 // (ALGORITHM.md section 8); unset = the map's resolution.
 inline constexpr core::OptionRange kPathSpacingRange{"path_spacing", "metres", 0.0, 10.0, true};
 
-// The planner.* keys. A key the file gives is a setting; a key it leaves out stays unset and
+// The planner.* keys. A key the file or default.yaml gives is a setting; a key both leave out
+// (default.yaml comments out neighborhood, prune, smooth and path_spacing) stays unset and
 // follows the paper configuration (core::default_options) of whichever planner runs. The options
 // of a request are make_options(the request's planner, or `kind`, settings), so a request that
-// picks another planner keeps every configured key. A NodeConfig starts with the node's own
+// picks another planner keeps every configured key. The bare struct starts with the node's own
 // defaults as settings (max_planning_time = 5 s), which hold for every planner too.
 struct PlannerConfig {
   core::PlannerKind kind = core::PlannerKind::kVnsBaStar;  // planner.name
@@ -146,9 +147,9 @@ struct NodeConfig {
 
   // How incoming slices become planning grids (occupied_threshold, allow_unknown,
   // robot_radius in metres, the cost gradient inflation_radius in metres and
-  // cost_scaling_factor per metre, max_cells as the size limit of an accepted slice). The
-  // defaults are the paper's binary grid (no radius, no gradient); config/default.yaml sets a
-  // real robot's values.
+  // cost_scaling_factor per metre, max_cells as the size limit of an accepted slice). The bare
+  // struct's are the paper's binary grid (no radius, no gradient); a loaded config has
+  // config/default.yaml's real robot unless the file says otherwise.
   core::GridBuildOptions map = default_map_options();
   // map.durability: the slice reader's DDS durability. transient_local (default, as Nav2's static
   // layer with map_subscribe_transient_local) also receives the last map of a latched publisher
@@ -167,6 +168,10 @@ struct NodeConfig {
   // reader of the requesting participant to be matched before it is written anyway (0: never
   // waits). Fresh clients are matched within one discovery round (0.5 s here).
   std::chrono::milliseconds reply_wait{2000};
+  // requests.map_wait, seconds in [0, 60]: how long a request that arrives before the first map
+  // waits for one before it is answered NO_MAP (0: at once). A client that latches its map and
+  // asks right away would otherwise race its own map.
+  std::chrono::milliseconds map_wait{0};
   // requests.workers: planning threads, 0 = one per core (std::thread::hardware_concurrency).
   // A robot's requests are planned one at a time, in order (preemption is per robot), so more
   // workers than robots are never used. Each worker keeps its own search state per map.
@@ -224,9 +229,23 @@ struct ConfigResult {
 };
 
 // Reads and validates a YAML file. A missing or unparsable file is one error naming the file
-// (and the 1-based line and column for syntax errors). An empty file gives the defaults. Every
-// key is optional; unknown keys are errors (with a "did you mean" for near misses). Never throws.
+// (and the 1-based line and column for syntax errors). Every key is optional: a key the file
+// leaves out has config/default.yaml's value (compiled in, so an empty file gives exactly
+// default.yaml's configuration whichever file a tool was pointed at). Unknown keys are errors
+// (with a "did you mean" for near misses). Never throws.
+//
+// NodeConfig{} itself is NOT that configuration: its initializers are the bare struct's (no
+// robot radius, no costs, no tolerance: the paper's binary grid), for code that builds a config
+// field by field. A loaded config, or default_config(), is what users get.
 ConfigResult load_config(const std::string& path);
+
+// config/default.yaml's configuration (what an empty file gives).
+ConfigResult default_config();
+
+// Every key of `config` with its value, as a YAML config file that loads back to `config`
+// (`vnsba_node --print-config`). Settings left to each planner's paper configuration (unset
+// planner.prune, smooth, neighborhood, path_spacing) are left out, as in default.yaml.
+std::string config_as_yaml(const NodeConfig& config);
 
 // The same from YAML text; `source` names it in messages.
 ConfigResult parse_config(const std::string& yaml_text, const std::string& source = "<config>");
@@ -258,5 +277,10 @@ core::Expected<std::string> normalized_namespace(std::string_view given);
 // name goes under the namespace ("plan" -> "robot7/plan"), an absolute one ("/map") does not and
 // loses its '/'; then "rt/" in front with ros2_naming ("rt/robot7/plan", "rt/map").
 std::string dds_topic_name(const NodeConfig& config, const std::string& name);
+// The full ROS 2 name of a configured topic name ("/robot7/plan"), as `ros2 topic list` shows it.
+std::string ros_topic_name(const NodeConfig& config, const std::string& name);
+// ROS 2's longest full topic name (rmw's RMW_TOPIC_MAX_NAME_LENGTH: 255 less 8 characters kept for
+// the middleware's prefixes); config loading refuses a namespace, robot or topic past it.
+inline constexpr size_t kMaxTopicNameLength = 247;
 
 }  // namespace vnsba::node
