@@ -9,6 +9,8 @@
 #   ctest --test-dir build/asan --output-on-failure -L fuzz_long
 # The soak (label soak: vnsba_node for 10 minutes under steady load) is left out too:
 #   ctest --test-dir build/release --output-on-failure -L soak
+# and so are the full-size bursts (label stress: 3 clients x 5,000 requests, SIGTERM mid-burst):
+#   ctest --test-dir build/release --output-on-failure -L stress
 # Build folders: build/release and build/asan (reused, so a second run only rebuilds changes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,7 +22,7 @@ echo "[test] release build"
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build/release -j "$jobs"
 echo "[test] release tests"
-ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900 -LE "fuzz_long|soak"
+ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900 -LE "fuzz_long|soak|stress"
 
 echo "[test] sanitizer build (address, undefined) of everything but the benchmarks and the soak"
 # -O1 -g1: the optimisation level the sanitizers' authors recommend, and line tables only, which

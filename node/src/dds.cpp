@@ -85,19 +85,20 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
   const bool durable = profile == TopicQos::kLatched || profile == TopicQos::kStatic;
   qos.durability().kind =
       durable ? dds::TRANSIENT_LOCAL_DURABILITY_QOS : dds::VOLATILE_DURABILITY_QOS;
-  // Readers keep every request and status; the status writer keeps its last kStatusHistory.
-  const bool keep_all = profile == TopicQos::kEvents || (reader && profile == TopicQos::kStatus);
+  // Requests and statuses are kept until taken (readers) or acknowledged (writers): nothing is
+  // overwritten. A status writer's full history makes write() wait for acknowledgements (the
+  // node retries until its statuses are out); a keep-last one overwrote unacknowledged statuses
+  // in bursts (4,467 of 15,000 lost to three fast clients).
+  const bool keep_all = profile == TopicQos::kEvents || profile == TopicQos::kStatus;
   int32_t limit = 0;
   if (keep_all) {
     qos.history().kind = dds::KEEP_ALL_HISTORY_QOS;
-    limit = reader ? 4096 : 2048;
+    limit = reader ? 4096 : profile == TopicQos::kStatus ? kStatusHistory : 2048;
   } else {
     qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = profile == TopicQos::kStatus  ? kStatusHistory
-                          : profile == TopicQos::kDebug ? 8
+    qos.history().depth = profile == TopicQos::kDebug ? 8
                           : profile == TopicQos::kStream || profile == TopicQos::kStatic ? 100
                                                                                          : 1;
-    if (profile == TopicQos::kStatus) limit = kStatusHistory;
   }
   if (limit > 0) {
     qos.resource_limits().max_samples = limit;
@@ -125,7 +126,7 @@ std::string describe(TopicQos profile) {
     case TopicQos::kEvents:
       return "reliable, volatile, keep all";
     case TopicQos::kStatus:
-      return "reliable, volatile, keep last " + std::to_string(kStatusHistory);
+      return "reliable, volatile, keep all";
     case TopicQos::kLatest:
       return "reliable, volatile, keep last 1";
     case TopicQos::kDebug:

@@ -37,17 +37,33 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Takes every valid sample of a reader and hands it, with its SampleInfo, to `on_sample`; runs
-// on a DDS thread. Nothing escapes it: an exception (resource exhaustion) is logged, the sample
-// is lost to that exception only, and the listener goes on with the next one.
-template <class Msg, class OnSample>
-class TakeListener : public dds::DataReaderListener {
+// A listener that can also be asked, from another thread, to take what its reader holds.
+class TakingListener : public dds::DataReaderListener {
  public:
-  explicit TakeListener(OnSample on_sample) : on_sample_(std::move(on_sample)) {}
-  void on_data_available(dds::DataReader* reader) override {
+  virtual void take_available(dds::DataReader* reader) = 0;
+};
+
+// Takes every valid sample of a reader and hands it, with its SampleInfo, to `on_sample`; runs
+// on a DDS thread, or on whichever thread calls take_available (one at a time, so samples are
+// handed on in the order they were taken). Nothing escapes it: an exception (resource
+// exhaustion) is logged, the sample is lost to that exception only, and the listener goes on
+// with the next one.
+//
+// `may_take()` is asked before each sample: while it says no, samples stay in the reader's
+// history, which is bounded (keep all, reader_qos), so a full history makes the remote writer
+// wait (reliable flow control) instead of the node holding an unbounded backlog. Whoever frees
+// room calls take_available again: no new sample may come to trigger this listener.
+template <class Msg, class OnSample, class MayTake>
+class TakeListener : public TakingListener {
+ public:
+  TakeListener(OnSample on_sample, MayTake may_take)
+      : on_sample_(std::move(on_sample)), may_take_(std::move(may_take)) {}
+  void on_data_available(dds::DataReader* reader) override { take_available(reader); }
+  void take_available(dds::DataReader* reader) override {
+    std::lock_guard<std::mutex> lock(mutex_);
     Msg msg;
     dds::SampleInfo info;
-    for (;;) {
+    while (may_take_()) {
       try {
         if (reader->take_next_sample(&msg, &info) != ReturnCode_t::RETCODE_OK) return;
         if (info.valid_data) on_sample_(std::move(msg), info);
@@ -60,13 +76,29 @@ class TakeListener : public dds::DataReaderListener {
   }
 
  private:
+  std::mutex mutex_;
   OnSample on_sample_;
+  MayTake may_take_;
 };
 
 template <class Msg, class OnSample>
-std::unique_ptr<dds::DataReaderListener> make_listener(OnSample on_sample) {
-  return std::make_unique<TakeListener<Msg, OnSample>>(std::move(on_sample));
+std::unique_ptr<TakingListener> make_listener(OnSample on_sample) {
+  auto always = [] { return true; };
+  return std::make_unique<TakeListener<Msg, OnSample, decltype(always)>>(std::move(on_sample),
+                                                                         always);
 }
+template <class Msg, class OnSample, class MayTake>
+std::unique_ptr<TakingListener> make_gated_listener(OnSample on_sample, MayTake may_take) {
+  return std::make_unique<TakeListener<Msg, OnSample, MayTake>>(std::move(on_sample),
+                                                                std::move(may_take));
+}
+
+// Answers a robot may owe at once beyond its queue: statuses planned but not yet handed to DDS
+// (held for a requester's reader, or waiting for room in the status writer's history). Past
+// queue_capacity + this, the node stops taking that robot's requests until answers go out.
+constexpr size_t kAnswerBacklog = 1024;
+// How long stop() waits, in all, for the statuses it still owes to be written and acknowledged.
+constexpr std::chrono::seconds kDrainTimeout{10};
 
 // Names a PubSubType in a generic lambda's argument.
 template <class T>
@@ -101,7 +133,7 @@ class PlannerNode::Impl {
   // Declared before the participant, which calls it, so that it is destroyed after it.
   std::unique_ptr<ParticipantWatch> participant_watch_;
   std::unique_ptr<Participant> participant_;
-  std::vector<std::unique_ptr<dds::DataReaderListener>> listeners_;
+  std::vector<std::unique_ptr<TakingListener>> listeners_;
 
   // The node's clock (use_sim_time) and, with robot_pose_source tf, the transforms received.
   TimeSource time_{cfg_.use_sim_time};
@@ -114,7 +146,8 @@ class PlannerNode::Impl {
   // the replier thread.
   struct HeldStatus {
     PlanStatusMsg msg;
-    std::string what;  // for the error log
+    std::string what;     // for the error log
+    bool answer = false;  // a request's answer (counted in Robot::unanswered), not a map report
   };
 
   // One robot the node serves: its topics (robot_view), writers, request queue, pose and held
@@ -145,6 +178,17 @@ class PlannerNode::Impl {
     uint64_t goal_counter = 0;                                // under queue_mutex_
     std::mutex pose_mutex;
     std::optional<PoseStampedMsg> robot_pose;  // under pose_mutex
+    // Requests taken from the bus whose status has not been handed to DDS yet (queued, planned,
+    // waiting for a map, held for the requester's reader, or waiting for room in the status
+    // writer's history). Past queue_capacity + kAnswerBacklog the request and goal readers
+    // stop taking (input_paused) until answers go out: the bus holds the rest, not the node.
+    std::atomic<size_t> unanswered{0};
+    std::atomic<bool> input_paused{false};
+    // This robot's request and goal readers, to take from again once there is room.
+    std::vector<std::pair<TakingListener*, dds::DataReader*>> inputs;
+    // Statuses released by `replies` and not yet accepted by the status writer, in order. The
+    // replier thread's alone.
+    std::deque<HeldStatus> unwritten;
     std::string topic(const std::string& configured) const {
       return dds_topic_name(cfg, configured);
     }
@@ -157,6 +201,9 @@ class PlannerNode::Impl {
   std::mutex reply_mutex_;
   std::condition_variable reply_cv_;
   bool replier_stopping_ = false;  // under reply_mutex_
+  // Set by stop() with replier_stopping_: statuses still unwritten then are given up (and
+  // counted in the log), and the acknowledgement wait ends.
+  Clock::time_point drain_deadline_ = Clock::time_point::max();
   std::thread replier_;
   std::atomic<uint64_t> replies_timed_out_{0};
   class StatusReaders;  // a status writer's listener
@@ -176,6 +223,21 @@ class PlannerNode::Impl {
   Robot* robot_with_work();
 
   std::atomic<bool> stopping_{false};
+  // From the start of stop(): every request taken is answered CANCELED at once, none queued, and
+  // the readers are drained whatever the backlog.
+  std::atomic<bool> refusing_requests_{false};
+  // Whether robot may take another request now (see Robot::unanswered); marks it paused if not.
+  bool may_take_request(Robot& robot);
+  // Takes what the robot's readers hold, if it is paused and has room again (replier thread).
+  void resume_input(Robot& robot);
+  // Requests that came before the first map, waiting for one at most requests.map_wait; under
+  // map_mutex_. Answered NO_MAP by the map thread when their deadline passes.
+  struct WaitingForMap {
+    Robot* robot;
+    Job job;
+    Clock::time_point deadline;
+  };
+  std::deque<WaitingForMap> waiting_for_map_;
   bool started_ = false;
   std::vector<std::thread> worker_threads_;
   std::thread map_thread_;
@@ -189,6 +251,10 @@ class PlannerNode::Impl {
     return active_map_;
   }
   void on_request(Robot& robot, Job job);
+  // on_request after counting: checks, then queues or answers.
+  void submit(Robot& robot, Job job);
+  // Answers NO_MAP the requests whose map_wait has passed (all with `all`); map thread and stop.
+  void expire_waiting_for_map(bool all);
   void on_slice(OccupancyGridMsg&& msg);
   void on_goal(Robot& robot, PoseStampedMsg&& goal, const dds::SampleInfo& info);
   // The start of a goal_pose goal from robot_pose_source, or what is missing.
@@ -209,7 +275,8 @@ class PlannerNode::Impl {
   // A report about a slice (SUBJECT_MAP), on every robot's status topic.
   void report_map(const WireStatus& status, const TimeMsg& map_stamp);
   // Hands a status to the replier; `requester` (a plan_request's client) gates it.
-  void write_status(Robot& robot, PlanStatusMsg&& msg, const std::string& what,
+  // `is_answer`: a request's status (counted in Robot::unanswered until written).
+  void write_status(Robot& robot, PlanStatusMsg&& msg, const std::string& what, bool is_answer,
                     std::optional<GuidPrefix> requester = std::nullopt);
   // Whether to publish on a debug writer now (debug.publish: auto = while a reader is matched).
   bool publishing(dds::DataWriter* writer) const;
@@ -364,12 +431,16 @@ core::Status PlannerNode::Impl::start() {
   started_ = true;
 
   // Then the readers; each listener lives in listeners_ until stop(). `topic` is the DDS name.
+  // `input`, when given, is the robot whose requests the reader carries (Robot::inputs).
   auto add_reader = [&](auto type, const std::string& topic, const dds::DataReaderQos& qos,
-                        std::unique_ptr<dds::DataReaderListener> listener) -> core::Status {
+                        std::unique_ptr<TakingListener> listener,
+                        Robot* input = nullptr) -> core::Status {
     listeners_.push_back(std::move(listener));
     auto reader =
         participant_->reader_on<typename decltype(type)::type>(topic, qos, listeners_.back().get());
-    return reader ? core::Status::ok() : reader.error();
+    if (!reader) return reader.error();
+    if (input != nullptr) input->inputs.emplace_back(listeners_.back().get(), *reader);
+    return core::Status::ok();
   };
   auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
   // The clock first, so that the first goal already has the simulation's time.
@@ -433,18 +504,22 @@ core::Status PlannerNode::Impl::start() {
           }));
     }
     if (!pose_status.is_ok()) return pose_status;
+    // Goals and requests: taken only while the robot has room for their answers.
+    auto has_room = [this, &robot] { return may_take_request(robot); };
     if (core::Status s = add_reader(
             TypeTag<PoseType>(), robot.topic(cfg_.topics.goal_pose), reader_qos(TopicQos::kEvents),
-            make_listener<PoseStampedMsg>(
+            make_gated_listener<PoseStampedMsg>(
                 [this, &robot](PoseStampedMsg&& m, const dds::SampleInfo& info) {
                   on_goal(robot, std::move(m), info);
-                }));
+                },
+                has_room),
+            &robot);
         !s.is_ok())
       return s;
     if (core::Status s =
             add_reader(TypeTag<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(),
                        robot.topic(cfg_.topics.plan_request), reader_qos(TopicQos::kEvents),
-                       make_listener<PlanRequestMsg>(
+                       make_gated_listener<PlanRequestMsg>(
                            [this, &robot](PlanRequestMsg&& m, const dds::SampleInfo& info) {
                              Job job;
                              job.id = std::move(m.id());
@@ -453,7 +528,9 @@ core::Status PlannerNode::Impl::start() {
                              job.goal = std::move(m.goal());
                              job.planner = std::move(m.planner());
                              on_request(robot, std::move(job));
-                           }));
+                           },
+                           has_room),
+                       &robot);
         !s.is_ok())
       return s;
   }
@@ -474,6 +551,12 @@ core::Status PlannerNode::Impl::start() {
 }
 
 void PlannerNode::Impl::stop() {
+  // Every request taken from here on is answered CANCELED at once; what the readers still hold
+  // (taken by the DDS threads as it comes, or left by a paused robot) is taken and answered so,
+  // then the readers go: nothing the bus delivered goes unanswered.
+  refusing_requests_ = true;
+  for (const auto& robot : robots_)
+    for (const auto& [listener, reader] : robot->inputs) listener->take_available(reader);
   if (participant_) participant_->delete_readers();  // no new input from here on
   stopping_ = true;
   {
@@ -486,16 +569,37 @@ void PlannerNode::Impl::stop() {
     std::lock_guard<std::mutex> lock(map_mutex_);
   }
   map_cv_.notify_all();
+  // The map thread first: a map it installs now hands the requests that waited for it on
+  // (submit answers them CANCELED from here on), so none can reach a queue no worker reads.
+  if (map_thread_.joinable()) map_thread_.join();
   for (std::thread& worker : worker_threads_)
     if (worker.joinable()) worker.join();  // answers every queued request first
   worker_threads_.clear();
-  if (map_thread_.joinable()) map_thread_.join();
+  expire_waiting_for_map(/*all=*/true);
+  const Clock::time_point drain_deadline = Clock::now() + kDrainTimeout;
   {
     std::lock_guard<std::mutex> lock(reply_mutex_);
     replier_stopping_ = true;
+    drain_deadline_ = drain_deadline;
   }
   reply_cv_.notify_all();
   if (replier_.joinable()) replier_.join();  // writes every status still held
+  // Written is not delivered: a reader that lost a packet needs it again, and deleting the
+  // writer would take the status with it (a SIGTERM mid-burst lost 226 of one client's 1,764).
+  // Wait for every reader's acknowledgement of every status, within the drain's bound.
+  for (const auto& robot : robots_) {
+    if (robot->status_writer == nullptr || !started_) continue;
+    const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(
+        std::max(Clock::duration::zero(), drain_deadline - Clock::now()));
+    const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(left);
+    const eprosima::fastrtps::Duration_t wait(
+        static_cast<int32_t>(seconds.count()), static_cast<uint32_t>((left - seconds).count()));
+    if (robot->status_writer->wait_for_acknowledgments(wait) != ReturnCode_t::RETCODE_OK)
+      spdlog::warn(
+          "shutdown{}: statuses written but not acknowledged by every reader within the drain's "
+          "{} s",
+          robot->label(), kDrainTimeout.count());
+  }
   if (participant_) participant_->shutdown();
   participant_.reset();
   // The writers were deleted with the participant; the listeners go after it.
@@ -584,11 +688,81 @@ void PlannerNode::Impl::on_transforms(const TFMessageMsg& msg, bool is_static) {
                  dds_topic_name(cfg_, is_static ? cfg_.topics.tf_static : cfg_.topics.tf), problem);
 }
 
+bool PlannerNode::Impl::may_take_request(Robot& robot) {
+  if (refusing_requests_) return true;  // answered at once, and everything must be taken
+  const size_t room = static_cast<size_t>(cfg_.queue_capacity) + kAnswerBacklog;
+  if (robot.unanswered < room) return true;
+  robot.input_paused = true;
+  // Answers that went out between the check and the flag found it unset: look again.
+  if (robot.unanswered < room) {
+    robot.input_paused = false;
+    return true;
+  }
+  return false;
+}
+
+void PlannerNode::Impl::resume_input(Robot& robot) {
+  if (!robot.input_paused) return;
+  if (robot.unanswered >= static_cast<size_t>(cfg_.queue_capacity) + kAnswerBacklog) return;
+  robot.input_paused = false;
+  for (const auto& [listener, reader] : robot.inputs) listener->take_available(reader);
+}
+
 void PlannerNode::Impl::on_request(Robot& robot, Job job) {
   ++requests_received_;
+  ++robot.unanswered;  // until its status is handed to DDS (replier_loop)
+  submit(robot, std::move(job));
+}
+
+void PlannerNode::Impl::expire_waiting_for_map(bool all) {
+  std::vector<WaitingForMap> expired;
+  {
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    const Clock::time_point now = Clock::now();
+    while (!waiting_for_map_.empty() && (all || waiting_for_map_.front().deadline <= now)) {
+      expired.push_back(std::move(waiting_for_map_.front()));
+      waiting_for_map_.pop_front();
+    }
+  }
+  for (WaitingForMap& waiting : expired) {
+    const std::string why =
+        all && stopping_ ? "node is shutting down before a map arrived"
+                         : fmt::format("no map received within requests.map_wait ({:g} s)",
+                                       static_cast<double>(cfg_.map_wait.count()) / 1000.0);
+    const WireStatus status{all && stopping_ ? wire::CANCELED : wire::NO_MAP, why};
+    spdlog::warn("request '{}'{}: {} ({})", printable(waiting.job.id), waiting.robot->label(),
+                 code_name(status.code), status.message);
+    answer(*waiting.robot, waiting.job, status);
+  }
+}
+
+void PlannerNode::Impl::submit(Robot& robot, Job job) {
+  if (refusing_requests_) {
+    spdlog::info("request '{}'{}: CANCELED (node is shutting down)", printable(job.id),
+                 robot.label());
+    answer(robot, job, {wire::CANCELED, "node is shutting down"});
+    return;
+  }
   // Checked before it may touch anything: only a request that would be planned preempts,
   // replaces or queues (see requests.hpp). The worker checks again against its map.
-  const std::shared_ptr<const ActiveMap> map = current_map();
+  std::shared_ptr<const ActiveMap> map = current_map();
+  // Before the first map, a request waits for one (requests.map_wait): a client that latches its
+  // map and asks at once must not lose the race to its own map.
+  if (!map && cfg_.map_wait.count() > 0) {
+    std::unique_lock<std::mutex> lock(map_mutex_);
+    if (!active_map_) {
+      if (waiting_for_map_.empty()) {
+        spdlog::info("request '{}'{}: no map yet; waiting up to requests.map_wait ({:g} s)",
+                     printable(job.id), robot.label(),
+                     static_cast<double>(cfg_.map_wait.count()) / 1000.0);
+      }
+      waiting_for_map_.push_back({&robot, std::move(job), Clock::now() + cfg_.map_wait});
+      lock.unlock();
+      map_cv_.notify_all();  // the map thread times the wait
+      return;
+    }
+    map = active_map_;  // arrived meanwhile
+  }
   const ResolvedRequest resolved = resolve_request(job, robot.cfg, map ? map->grid.get() : nullptr);
   if (!resolved.status.ok()) {
     spdlog::warn("request '{}'{}: {} ({})", printable(job.id), robot.label(),
@@ -621,8 +795,17 @@ void PlannerNode::Impl::map_loop() {
     std::optional<SliceSlot::Taken> taken;
     {
       std::unique_lock<std::mutex> lock(map_mutex_);
-      map_cv_.wait(lock, [&] { return stopping_ || slices_.has_waiting(); });
+      auto has_work = [&] { return stopping_ || slices_.has_waiting(); };
+      // Requests waiting for a first map are answered NO_MAP when their wait is over.
+      while (!has_work() && !waiting_for_map_.empty()) {
+        if (map_cv_.wait_until(lock, waiting_for_map_.front().deadline, has_work)) break;
+        lock.unlock();
+        expire_waiting_for_map(/*all=*/false);
+        lock.lock();
+      }
+      map_cv_.wait(lock, [&] { return has_work() || !waiting_for_map_.empty(); });
       if (stopping_) return;
+      if (!slices_.has_waiting()) continue;  // a request came to wait for a map: time it
       taken = slices_.take();
     }
     const TimeMsg stamp = taken->slice.header().stamp();
@@ -692,12 +875,16 @@ WireStatus PlannerNode::Impl::convert_slice(SliceSlot::Taken taken) {
       active->grid->width(), active->grid->height(), active->grid->resolution(),
       active->grid->blocked_count(), search_state_bytes / 1e6, workers_, ms);
   std::shared_ptr<const ActiveMap> previous;
+  std::deque<WaitingForMap> waited;
   {
     std::lock_guard<std::mutex> lock(map_mutex_);
     previous = std::exchange(active_map_, std::move(active));
+    waited.swap(waiting_for_map_);
   }
   map_cv_.notify_all();
   ++maps_accepted_;
+  // The requests that waited for a first map, in arrival order, as if they came now.
+  for (WaitingForMap& w : waited) submit(*w.robot, std::move(w.job));
   // The previous map and its planner go here, outside the lock, unless a plan still holds
   // them (then when that plan is answered).
   previous.reset();
@@ -746,10 +933,10 @@ void PlannerNode::Impl::publish_debug(Robot& robot, const std::string& id,
 }
 
 void PlannerNode::Impl::write_status(Robot& robot, PlanStatusMsg&& msg, const std::string& what,
-                                     std::optional<GuidPrefix> requester) {
+                                     bool is_answer, std::optional<GuidPrefix> requester) {
   {
     std::lock_guard<std::mutex> lock(reply_mutex_);
-    robot.replies.hold(requester, HeldStatus{std::move(msg), what},
+    robot.replies.hold(requester, HeldStatus{std::move(msg), what, is_answer},
                        ReplyGate<HeldStatus>::Clock::now());
   }
   reply_cv_.notify_all();
@@ -758,17 +945,21 @@ void PlannerNode::Impl::write_status(Robot& robot, PlanStatusMsg&& msg, const st
 void PlannerNode::Impl::replier_loop() {
   using ReplyClock = ReplyGate<HeldStatus>::Clock;
   std::unique_lock<std::mutex> lock(reply_mutex_);
+  bool warned_full = false;  // one warning per episode of a full status history
   for (;;) {
     size_t timed_out = 0;
     // At shutdown everything still held goes out at once: nothing accepted is lost.
+    const bool stopping = replier_stopping_;
+    const Clock::time_point drain_deadline = drain_deadline_;
     const ReplyClock::time_point now =
-        replier_stopping_ ? ReplyClock::time_point::max() : ReplyClock::now();
-    std::vector<std::pair<dds::DataWriter*, std::vector<HeldStatus>>> ready;
+        stopping ? ReplyClock::time_point::max() : ReplyClock::now();
+    bool unwritten = false;
     for (const auto& robot : robots_) {
-      std::vector<HeldStatus> released = robot->replies.release(now, &timed_out);
-      if (!released.empty()) ready.emplace_back(robot->status_writer, std::move(released));
+      for (HeldStatus& held : robot->replies.release(now, &timed_out))
+        robot->unwritten.push_back(std::move(held));
+      unwritten = unwritten || !robot->unwritten.empty();
     }
-    if (!ready.empty()) {
+    if (unwritten) {
       lock.unlock();  // write() may block up to the writer's max_blocking_time
       replies_timed_out_ += timed_out;
       if (timed_out > 0)
@@ -776,7 +967,11 @@ void PlannerNode::Impl::replier_loop() {
             "{} status(es) written after requests.reply_wait ({} ms) without a matched status "
             "reader of the requesting participant: a volatile reader that matches later misses it",
             timed_out, cfg_.reply_wait.count());
-      for (auto& [writer, statuses] : ready) {
+      size_t waiting = 0;  // statuses a full history kept back this round
+      for (const auto& robot : robots_) {
+        std::deque<HeldStatus>& queue = robot->unwritten;
+        if (queue.empty()) continue;
+        dds::DataWriter* writer = robot->status_writer;
         // A heartbeat first, one that does not count these statuses (writer_qos: manual
         // liveliness for that). To a volatile reader that has acknowledged nothing yet, Fast DDS
         // sends a status right behind a heartbeat that counts it, and Cyclone DDS's volatile
@@ -784,15 +979,38 @@ void PlannerNode::Impl::replier_loop() {
         // from a writer. A client that matched this writer after the node matched its reader
         // (discovery is not symmetric) missed the earlier heartbeats: it would lose its status.
         if (writer != nullptr) writer->assert_liveliness();
-        for (HeldStatus& held : statuses) {
-          if (writer == nullptr || !writer->write(&held.msg))
-            spdlog::error("could not publish the status of {}", held.what);
+        while (!queue.empty()) {
+          HeldStatus& held = queue.front();
+          // A keep-all history full of unacknowledged statuses refuses after max_blocking_time:
+          // the status stays first in line and is tried again; none is ever dropped for a newer
+          // one. Only a shutdown whose drain ran out of time gives the rest up, and says so.
+          const bool written = writer != nullptr && write_sample(writer, &held.msg);
+          if (!written && writer != nullptr && !(stopping && Clock::now() >= drain_deadline)) {
+            waiting += queue.size();
+            break;
+          }
+          if (!written)
+            spdlog::error("could not publish the status of {}{}", held.what,
+                          writer == nullptr ? "" : ": the shutdown's drain ran out of time");
+          if (held.answer) --robot->unanswered;
+          queue.pop_front();
         }
+        resume_input(*robot);
       }
       lock.lock();
+      if (waiting > 0 && !warned_full) {
+        spdlog::warn(
+            "status history full: {} status(es) wait for readers to acknowledge earlier ones "
+            "(requests are taken again once answers go out)",
+            waiting);
+      }
+      warned_full = waiting > 0;
+      // Kept back: the write waited max_blocking_time already; look again soon, or at once
+      // when something new is held.
+      if (waiting > 0) reply_cv_.wait_for(lock, std::chrono::milliseconds(10));
       continue;
     }
-    if (replier_stopping_) return;
+    if (stopping) return;
     std::optional<ReplyClock::time_point> deadline;
     for (const auto& robot : robots_) {
       const auto next = robot->replies.next_deadline();
@@ -818,7 +1036,7 @@ void PlannerNode::Impl::answer(Robot& robot, const Job& job, const WireStatus& s
     std::copy_n(job.identity.writer_guid.begin(), requester->size(), requester->begin());
   }
   write_status(robot, std::move(msg), "request '" + printable(job.id) + "'" + robot.label(),
-               requester);
+               /*is_answer=*/true, requester);
   ++statuses_published_;
 }
 
@@ -826,7 +1044,7 @@ void PlannerNode::Impl::report_map(const WireStatus& status, const TimeMsg& map_
   // The map is every robot's: each robot's tools see the report.
   for (const auto& robot : robots_)
     write_status(*robot, to_status_msg("", nullptr, status, "", nullptr, map_stamp, PathMsg()),
-                 "a slice" + robot->label());
+                 "a slice" + robot->label(), /*is_answer=*/false);
 }
 
 PlannerNode::Impl::Robot* PlannerNode::Impl::robot_with_work() {

@@ -1014,6 +1014,46 @@ TEST(NodeIntegration, TinyTimeBudgetOnAHugeMapTimesOut) {
   EXPECT_NE(status->message().find("max_planning_time"), std::string::npos);
 }
 
+// Issue 31, item 8: a client that latched its map and asked at once got NO_MAP (its request was
+// handled before its map). A request that comes before the first map now waits for one, at most
+// requests.map_wait, and is planned on it; without a map in that time it gets NO_MAP naming the
+// key. (A bare NodeConfig has map_wait 0: NO_MAP at once, as the other tests here expect.)
+TEST(NodeIntegration, ARequestBeforeTheFirstMapWaitsForIt) {
+  node::NodeConfig cfg = test_config("map_wait");
+  cfg.map_wait = 10s;
+  cfg.preempt = false;  // both are planned, in order
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  const auto [sx, sy] = centre(grid, 1, 1);
+  const auto [gx, gy] = centre(grid, 18, 8);
+  const auto first = run.client.publish_request("early", sx, sy, gx, gy);
+  const auto second = run.client.publish_request("early2", gx, gy, sx, sy);
+  ASSERT_TRUE(wait_until([&] { return run.node.stats().requests_received == 2; }, 10s));
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(run.node.stats().statuses_published, 0u) << "answered before any map came";
+  run.client.publish_slice(grid);
+  for (const auto& identity : {first, second}) {
+    const auto status = run.client.wait_status_for(identity);
+    ASSERT_TRUE(status) << "no status";
+    EXPECT_EQ(code_name(status->code()), "OK") << status->message();
+  }
+}
+
+TEST(NodeIntegration, ARequestWithoutAMapWithinMapWaitGetsNoMapNamingTheKey) {
+  node::NodeConfig cfg = test_config("map_wait_over");
+  cfg.map_wait = 400ms;
+  Running run(cfg);
+  ASSERT_TRUE(run.start());
+  const auto sent = std::chrono::steady_clock::now();
+  const auto status = run.client.wait_status_for(run.client.publish_request("lonely", 0, 0, 1, 1));
+  ASSERT_TRUE(status) << "no status";
+  EXPECT_GE(std::chrono::steady_clock::now() - sent, 400ms);
+  EXPECT_EQ(code_name(status->code()), "NO_MAP");
+  EXPECT_NE(status->message().find("requests.map_wait (0.4 s)"), std::string::npos)
+      << status->message();
+}
+
 // Every status code the node can produce from input, each with a message naming the problem.
 TEST(NodeIntegration, EveryErrorCodeComesFromSomeInput) {
   Running run(test_config("errors"));

@@ -445,7 +445,9 @@ TEST(XmlProfiles, TheDefaultProfilesApplyWithoutAName) {
                         node::writer_qos(node::TopicQos::kStatus, false))
                     .value();
   EXPECT_EQ(writer->get_qos().lifespan().duration, eprosima::fastrtps::Duration_t(5, 0));
-  EXPECT_EQ(writer->get_qos().history().depth, node::kStatusHistory);
+  // The node's rule on top: keep all, at most kStatusHistory unacknowledged statuses.
+  EXPECT_EQ(writer->get_qos().history().kind, eprosima::fastdds::dds::KEEP_ALL_HISTORY_QOS);
+  EXPECT_EQ(writer->get_qos().resource_limits().max_samples, node::kStatusHistory);
 }
 
 }  // namespace

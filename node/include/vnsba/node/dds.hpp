@@ -40,12 +40,13 @@ namespace dds = eprosima::fastdds::dds;
 enum class TopicQos {
   kLatched,  // reliable, transient local, keep last 1: the slice (and the octomap)
   kEvents,   // reliable, volatile, keep all: requests and goals; nothing dropped
-  // Statuses: reliable and volatile, as a ROS 2 client's default reader; the writer keeps at
-  // most kStatusHistory (a burst is not overwritten before it is acknowledged), readers keep all.
-  // A volatile writer drops a status from its history once every matched reader acknowledged it,
-  // so the history holds only what is in flight: a transient-local one kept its last 1,024 with
-  // their paths per robot for ever (a 10-robot node grew to 340 MB). A requester's answer is held
-  // until the node has matched its reader (requests.reply_wait), so no history is needed.
+  // Statuses: reliable and volatile, as a ROS 2 client's default reader; keep all on both sides:
+  // the writer holds at most kStatusHistory unacknowledged statuses, and a write into a full
+  // history waits for acknowledgements (never overwrites one). A volatile writer drops a status
+  // from its history once every matched reader acknowledged it, so the history holds only what
+  // is in flight: a transient-local one kept its last 1,024 with their paths per robot for ever
+  // (a 10-robot node grew to 340 MB). A requester's answer is held until the node has matched
+  // its reader (requests.reply_wait), so no history is needed.
   kStatus,
   kLatest,  // reliable, volatile, keep last 1: robot pose, path
   kDebug,   // reliable, volatile, keep last 8: debug, so back-to-back runs are not replaced
