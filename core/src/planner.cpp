@@ -669,6 +669,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
                                                 &budget, path_cost_weight)
                                    : std::move(raw_centres);
   if (budget.expired()) return budget_failure(budget.state(), "while pruning the path");
+  // The requested start and goal exactly, or the cells' centres where a tolerance moved them
+  // (ALGORITHM.md section 8); turns, length and clearance are those of this path.
+  result.waypoints = join_exact_ends(map, std::move(result.waypoints), endpoints->start_point,
+                                     endpoints->goal_point, options.corner_policy, path_cost_weight,
+                                     options.prune);
   const TurnStats turns = turn_stats(result.waypoints);
   result.metrics.turns = turns.turns;
   result.metrics.turn_angle_deg = turns.total_angle_deg;

@@ -81,6 +81,32 @@ std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path
   return out;
 }
 
+std::vector<Point2> join_exact_ends(const GridMap& map, std::vector<Point2> waypoints,
+                                    const Point2& start, const Point2& goal, CornerPolicy policy,
+                                    double cost_weight, bool drop_centres) {
+  if (waypoints.empty()) return waypoints;
+  const bool start_added = start != waypoints.front();
+  const bool goal_added = goal != waypoints.back();
+  if (start_added) waypoints.insert(waypoints.begin(), start);
+  if (goal_added) waypoints.push_back(goal);
+  if (!drop_centres) return waypoints;
+  // a -> b in place of a -> via -> b: clear, and no dearer (up to rounding, as in pruning).
+  auto shortcut = [&](const Point2& a, const Point2& via, const Point2& b) {
+    return segment_cost(map, a, b, cost_weight, policy) <=
+           (segment_cost(map, a, via, cost_weight, policy) +
+            segment_cost(map, via, b, cost_weight, policy)) *
+               kCostRoundingTolerance;
+  };
+  if (start_added && waypoints.size() >= 3 && shortcut(waypoints[0], waypoints[1], waypoints[2]))
+    waypoints.erase(waypoints.begin() + 1);
+  // waypoints[k - 2] is the last centre unless the first step dropped the only one (then the
+  // path is start, goal: fewer than 3 points).
+  const size_t k = waypoints.size();
+  if (goal_added && k >= 3 && shortcut(waypoints[k - 3], waypoints[k - 2], waypoints[k - 1]))
+    waypoints.erase(waypoints.end() - 2);
+  return waypoints;
+}
+
 namespace {
 
 constexpr double kCollinearRad = 1e-6;  // corners turning less than this are left alone

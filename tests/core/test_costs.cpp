@@ -24,6 +24,7 @@
 #include "core/test_support.hpp"
 #include "vnsba/core/line_of_sight.hpp"
 #include "vnsba/core/metrics.hpp"
+#include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/core/postprocess.hpp"
 
@@ -216,6 +217,23 @@ Truth brute_force(const Scenario& s) {
     }
   }
   return t;
+}
+
+// One random scenario as most tests here use it: its map, the brute-force truth and the free
+// cells. `map` is null (and a failure recorded) when the map does not build.
+struct Trial {
+  Scenario s;
+  std::shared_ptr<const GridMap> map;
+  Truth t;
+  std::vector<Cell> free;
+};
+Trial random_trial(std::mt19937& rng, const Spec& spec = {}) {
+  Trial trial{random_scenario(rng, spec), nullptr, {}, {}};
+  trial.map = build_shared(trial.s);
+  if (!trial.map) return trial;
+  trial.t = brute_force(trial.s);
+  trial.free = free_cells(*trial.map);
+  return trial;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -937,12 +955,9 @@ TEST(ClearanceMetric, WithinHalfASampleOfTheBruteForceOnPlannedPaths) {
   std::mt19937 rng(86006);
   int checked = 0, smoothed = 0;
   for (int trial = 0; trial < 500; ++trial) {
-    const Scenario s = random_scenario(rng);
+    const auto [s, map, t, cells] = random_trial(rng);
     SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
-    const auto map = build_shared(s);
     ASSERT_TRUE(map);
-    const Truth t = brute_force(s);
-    const auto cells = free_cells(*map);
     if (cells.size() < 2) continue;
     core::Planner planner(map);
     for (int q = 0; q < 3; ++q) {
@@ -1853,6 +1868,183 @@ TEST(ToleranceGoal, CheckQueryLeavesReachabilityToThePlan) {
   const PlanQuery q({0, 0}, {5, 0}, std::nullopt, std::nullopt);  // (5, 0) is blocked
   EXPECT_TRUE(core::check_query(*map, q, o).is_ok());
   EXPECT_EQ(core::plan_once(map, q, o).status.code, StatusCode::kNoValidPath);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 8b. Exact end poses: the path begins at the requested start and ends at the requested goal.
+
+// Heading changes above 1e-6 rad at the interior vertices, by atan2 here (section 7's turns).
+int count_turns(const std::vector<Point2>& polyline) {
+  int turns = 0;
+  for (size_t i = 1; i + 1 < polyline.size(); ++i) {
+    const Point2 a = polyline[i] - polyline[i - 1], b = polyline[i + 1] - polyline[i];
+    const double change = std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)));
+    turns += change > 1e-6;
+  }
+  return turns;
+}
+
+// Every planner, corner policy, cost weight and post-processing, from and to random points inside
+// random free cells: the final path's first and last points are the requested points (to 1e-12,
+// in cells and in metres), every segment passes the sampled line-of-sight oracle, the path costs
+// no more than the same plan joined to its cell centres, and length, turns and clearance are
+// those of this path.
+TEST(ExactEnds, ThePathBeginsAndEndsAtTheRequestedPoints) {
+  std::mt19937 rng(88101);
+  int checked = 0, dropped_centre = 0, kept_centre = 0, smoothed = 0;
+  for (int trial = 0; trial < 600; ++trial) {
+    const auto [s, map, t, cells] = random_trial(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    ASSERT_TRUE(map);
+    if (cells.size() < 2) continue;
+    core::Planner planner(map);
+    for (int q = 0; q < 3; ++q) {
+      PlannerOptions o = random_policy_options(rng);
+      if (map->has_costs() && o.planner != PlannerKind::kJps)
+        o.cost_weight = std::vector<double>{0.0, 1.0, 10.0}[rng() % 3];
+      o.prune = rng() % 4 != 0;
+      o.smooth = o.prune && rng() % 2 == 0;
+      const Cell start = pick(rng, cells), goal = pick(rng, cells);
+      const Point2 start_point = point_in(rng, start), goal_point = point_in(rng, goal);
+      SCOPED_TRACE(std::string(core::to_string(o.planner)) + " " +
+                   std::string(core::to_string(o.corner_policy)) + " weight " +
+                   std::to_string(o.cost_weight) + " prune " + std::to_string(o.prune) +
+                   " smooth " + std::to_string(o.smooth) + " start (" +
+                   std::to_string(start_point.x()) + ", " + std::to_string(start_point.y()) +
+                   ") goal (" + std::to_string(goal_point.x()) + ", " +
+                   std::to_string(goal_point.y()) + ")");
+      const PlanResult r = planner.plan(PlanQuery(start, goal, start_point, goal_point), o);
+      const PlanResult centred = planner.plan(PlanQuery(start, goal), o);
+      ASSERT_EQ(r.status.code, centred.status.code) << r.status.message;
+      if (!r.status.is_ok()) continue;
+      ++checked;
+      ASSERT_EQ(r.raw_path, centred.raw_path);  // the same search
+      ASSERT_NEAR((r.path.front() - start_point).norm(), 0.0, 1e-12);
+      ASSERT_NEAR((r.path.back() - goal_point).norm(), 0.0, 1e-12);
+      ASSERT_EQ(r.waypoints.front(), r.path.front());
+      ASSERT_EQ(r.waypoints.back(), r.path.back());
+      const Eigen::Vector2d start_world(s.grid.origin_x + start_point.x() * s.grid.resolution,
+                                        s.grid.origin_y + start_point.y() * s.grid.resolution);
+      const Eigen::Vector2d goal_world(s.grid.origin_x + goal_point.x() * s.grid.resolution,
+                                       s.grid.origin_y + goal_point.y() * s.grid.resolution);
+      ASSERT_NEAR((r.world_path.front() - start_world).norm(), 0.0, 1e-12);
+      ASSERT_NEAR((r.world_path.back() - goal_world).norm(), 0.0, 1e-12);
+      ASSERT_EQ(r.world_path.size(), r.path.size());
+      for (size_t i = 1; i < r.path.size(); ++i) {
+        ASSERT_TRUE(segment_clear_sampled(*map, r.path[i - 1], r.path[i], o.corner_policy, 32))
+            << "segment " << i << ": " << r.path[i - 1].transpose() << " -> "
+            << r.path[i].transpose();
+      }
+      // No dearer than the centred plan's waypoints joined to the exact points by plain segments.
+      std::vector<Point2> joined = centred.waypoints;
+      if (joined.front() != start_point) joined.insert(joined.begin(), start_point);
+      if (joined.back() != goal_point) joined.push_back(goal_point);
+      const double w = map->has_costs() ? o.cost_weight : 0.0;
+      const double exact_cost = core::path_cost(*map, r.waypoints, w, o.corner_policy);
+      const double joined_cost = core::path_cost(*map, joined, w, o.corner_policy);
+      ASSERT_TRUE(std::isfinite(exact_cost));
+      ASSERT_LE(exact_cost, joined_cost * (1.0 + 1e-9));
+      // The waypoints are the centred ones, the exact ends, and no more.
+      ASSERT_LE(r.waypoints.size(), joined.size());
+      ASSERT_GE(r.waypoints.size() + 2, joined.size());
+      if (o.prune && r.waypoints.size() < joined.size()) ++dropped_centre;
+      if (r.waypoints.size() == joined.size() && joined.size() > centred.waypoints.size())
+        ++kept_centre;
+      if (!o.prune) {
+        ASSERT_EQ(r.waypoints, joined);
+      }
+      // The metrics are those of this path.
+      double length = 0.0;
+      for (size_t i = 1; i < r.path.size(); ++i) length += (r.path[i] - r.path[i - 1]).norm();
+      ASSERT_NEAR(r.metrics.length_cells, length, 1e-9 * std::max(1.0, length));
+      ASSERT_NEAR(r.metrics.length_m, length * s.grid.resolution, 1e-9 * std::max(1.0, length));
+      ASSERT_EQ(r.metrics.turns, count_turns(r.waypoints));
+      expect_clearance_within_sampling(r.metrics.clearance_m / s.grid.resolution,
+                                       brute_clearance_cells(t, r.path, 0.1), 0.1);
+      smoothed += r.path.size() > r.waypoints.size();
+    }
+  }
+  EXPECT_GT(checked, 800);
+  EXPECT_GT(dropped_centre, 300);
+  EXPECT_GT(kept_centre, 20);
+  EXPECT_GT(smoothed, 50);
+}
+
+// The report's example: (7.5, 4.5) m on a 0.05 m grid is the corner of cell (150, 90), whose
+// centre is (7.525, 4.525) m. The path and the poses the node publishes begin there exactly, and
+// end at the requested goal, with the goal's yaw.
+TEST(ExactEnds, PosesStartAndEndAtTheRequestedWorldPoints) {
+  core::OccupancyGrid grid;
+  grid.width = 200;
+  grid.height = 120;
+  grid.resolution = 0.05;
+  grid.data.assign(static_cast<size_t>(grid.width) * grid.height, 0);
+  for (int32_t y = 20; y < 110; ++y) grid.data[static_cast<size_t>(y) * grid.width + 100] = 100;
+  auto built = GridMap::build(grid);
+  ASSERT_TRUE(built);
+  const auto map = std::make_shared<const GridMap>(std::move(built).value());
+  const Point2 start_point = map->world_to_grid(7.5, 4.5);
+  const Point2 goal_point = map->world_to_grid(1.2345, 3.21);
+  const auto start = map->world_to_cell(7.5, 4.5), goal = map->world_to_cell(1.2345, 3.21);
+  ASSERT_TRUE(start && goal);
+  ASSERT_EQ(*start, (Cell{150, 90}));
+  for (PlannerKind kind : {PlannerKind::kVnsBaStar, PlannerKind::kAStar, PlannerKind::kJps}) {
+    SCOPED_TRACE(std::string(core::to_string(kind)));
+    const PlanResult r = core::plan_once(map, PlanQuery(*start, *goal, start_point, goal_point),
+                                         core::default_options(kind));
+    ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+    EXPECT_NEAR(r.world_path.front().x(), 7.5, 1e-12);
+    EXPECT_NEAR(r.world_path.front().y(), 4.5, 1e-12);
+    EXPECT_NEAR(r.world_path.back().x(), 1.2345, 1e-12);
+    EXPECT_NEAR(r.world_path.back().y(), 3.21, 1e-12);
+    const auto poses = core::path_poses(r.world_path, 0.05, 0.75);
+    ASSERT_GE(poses.size(), 2u);
+    EXPECT_NEAR(poses.front().x, 7.5, 1e-12);
+    EXPECT_NEAR(poses.front().y, 4.5, 1e-12);
+    EXPECT_NEAR(poses.back().x, 1.2345, 1e-12);
+    EXPECT_NEAR(poses.back().y, 3.21, 1e-12);
+    EXPECT_NEAR(poses.back().yaw, 0.75, 1e-12);
+  }
+}
+
+// A goal moved by goal_tolerance ends at the used cell's centre (there is no requested point in a
+// free cell to reach); the start still begins at its requested point.
+TEST(ExactEnds, AMovedGoalEndsAtTheUsedCellsCentre) {
+  auto built = GridMap::from_rows({"........", "....##..", "....##..", "........"}, 0.1);
+  ASSERT_TRUE(built);
+  const auto map = std::make_shared<const GridMap>(std::move(built).value());
+  PlannerOptions o = core::default_options(PlannerKind::kVnsBaStar);
+  o.goal_tolerance = 0.2;
+  const Point2 start_point(0.3, 0.8), goal_point(4.2, 1.7);  // the goal in wall cell (4, 1)
+  const PlanResult r = core::plan_once(map, PlanQuery({0, 0}, {4, 1}, start_point, goal_point), o);
+  ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+  ASSERT_TRUE(r.endpoints.goal_adjusted);
+  EXPECT_EQ(r.path.front(), start_point);
+  EXPECT_EQ(r.path.back(), core::cell_centre(r.endpoints.goal));
+  EXPECT_EQ(r.endpoints.goal_point, core::cell_centre(r.endpoints.goal));
+  EXPECT_EQ(r.endpoints.start_point, start_point);
+}
+
+// Points at the cells' centres change nothing: the plan is the one without points, bit for bit
+// (the Moving AI benchmarks plan cell to cell).
+TEST(ExactEnds, PointsAtTheCentresGiveThePlanWithoutPoints) {
+  std::mt19937 rng(88102);
+  for (int trial = 0; trial < 100; ++trial) {
+    auto map = random_shared_map(rng, 30, 20, 0.25);
+    ASSERT_TRUE(map);
+    const auto cells = free_cells(*map);
+    if (cells.size() < 2) continue;
+    const Cell start = pick(rng, cells), goal = pick(rng, cells);
+    const PlannerOptions o = random_policy_options(rng);
+    const PlanResult a = core::plan_once(map, PlanQuery(start, goal), o);
+    const PlanResult b = core::plan_once(
+        map, PlanQuery(start, goal, core::cell_centre(start), core::cell_centre(goal)), o);
+    ASSERT_EQ(a.status.code, b.status.code);
+    ASSERT_EQ(a.waypoints, b.waypoints);
+    ASSERT_EQ(a.path, b.path);
+    ASSERT_EQ(a.metrics.length_cells, b.metrics.length_cells);
+    ASSERT_EQ(a.metrics.turns, b.metrics.turns);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -80,10 +80,15 @@ struct PlanResult {
   // The grid path from start to goal, one cell per search step (steps up to 2 cells long with
   // the 8-11-13 neighbourhood). Empty unless status is OK.
   std::vector<Cell> raw_path;
-  // Turning points after pruning, continuous cell coordinates (cell centres); equal to the raw
-  // path's centres when pruning is off.
+  // Turning points after pruning, continuous cell coordinates: cell centres between the exact
+  // ends, endpoints.start_point first and endpoints.goal_point last (join_exact_ends: the first
+  // and last centres stay only where the segment past them would lack line of sight or cost
+  // more). With pruning off, the raw path's centres between the exact ends. The polyline turns
+  // are counted on.
   std::vector<Point2> waypoints;
-  // The final path in continuous cell coordinates (after smoothing where it is on).
+  // The final path in continuous cell coordinates (after smoothing where it is on): it begins at
+  // endpoints.start_point and ends at endpoints.goal_point exactly (the requested points, or the
+  // used cells' centres where a tolerance moved them; ALGORITHM.md section 8).
   std::vector<Point2> path;
   // The final path in world coordinates (metres).
   std::vector<Eigen::Vector2d> world_path;

@@ -32,6 +32,18 @@ std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path
                                CornerPolicy policy, PlanningBudget* budget = nullptr,
                                double cost_weight = 0.0);
 
+// The path's exact ends (ALGORITHM.md section 8): `waypoints` run between cell centres, the final
+// path must begin at `start` and end at `goal` (continuous cell coordinates, each inside the cell
+// of the first / last waypoint: a requested point, or the centre itself). Puts `start` in front of
+// the first waypoint and `goal` after the last (a segment inside one free cell: always clear);
+// then, with `drop_centres` (pruning on), removes the first centre when the segment from `start`
+// to the waypoint after it has line of sight and costs no more than the two it replaces (the
+// pruning rule, costs as segment_cost with `cost_weight`), and likewise the last centre before
+// `goal`. A point equal to its centre adds nothing, so a path between centres is returned as is.
+std::vector<Point2> join_exact_ends(const GridMap& map, std::vector<Point2> waypoints,
+                                    const Point2& start, const Point2& goal, CornerPolicy policy,
+                                    double cost_weight, bool drop_centres);
+
 struct SmoothingOptions {
   double smoothing_distance = 1.5;  // cells: the d of section 5 before the |TA|/4, |TB|/4 caps
   double sample_step = 0.25;        // cells: the largest gap between spline samples
