@@ -6,6 +6,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -37,30 +38,40 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// A listener that can also be asked, from another thread, to take what its reader holds.
+// A listener whose reader can also be emptied by a thread of the node's (take_available).
 class TakingListener : public dds::DataReaderListener {
  public:
   virtual void take_available(dds::DataReader* reader) = 0;
 };
 
-// Takes every valid sample of a reader and hands it, with its SampleInfo, to `on_sample`; runs
-// on a DDS thread, or on whichever thread calls take_available (one at a time, so samples are
-// handed on in the order they were taken). Nothing escapes it: an exception (resource
-// exhaustion) is logged, the sample is lost to that exception only, and the listener goes on
-// with the next one.
+// Takes every valid sample of a reader and hands it, with its SampleInfo, to `on_sample`.
+// Nothing escapes it: an exception (resource exhaustion) is logged, the sample is lost to that
+// exception only, and the listener goes on with the next one.
 //
-// `may_take()` is asked before each sample: while it says no, samples stay in the reader's
-// history, which is bounded (keep all, reader_qos), so a full history makes the remote writer
-// wait (reliable flow control) instead of the node holding an unbounded backlog. Whoever frees
-// room calls take_available again: no new sample may come to trigger this listener.
+// Two ways to run, one take loop:
+// - `on_arrival` empty: the DDS thread that delivers a sample takes it (maps, poses, tf, clock).
+// - `on_arrival` set (requests and goals): the DDS thread only calls it, and the node's intake
+//   thread takes, asking `may_take()` before each sample. While it says no, samples stay in the
+//   reader's history, which is bounded (keep all, reader_qos), so a full history makes the remote
+//   writer wait (reliable flow control) instead of the node holding an unbounded backlog. The
+//   take must not run on the DDS thread then: Fast DDS 2.9 calls a listener with the reader's
+//   lock held, and a second thread taking from the same reader would wait for that lock while
+//   the listener waited for the second thread (a burst of 3 x 5,000 deadlocked so).
 template <class Msg, class OnSample, class MayTake>
 class TakeListener : public TakingListener {
  public:
-  TakeListener(OnSample on_sample, MayTake may_take)
-      : on_sample_(std::move(on_sample)), may_take_(std::move(may_take)) {}
-  void on_data_available(dds::DataReader* reader) override { take_available(reader); }
+  TakeListener(OnSample on_sample, MayTake may_take, std::function<void()> on_arrival)
+      : on_sample_(std::move(on_sample)),
+        may_take_(std::move(may_take)),
+        on_arrival_(std::move(on_arrival)) {}
+  void on_data_available(dds::DataReader* reader) override {
+    if (on_arrival_)
+      on_arrival_();
+    else
+      take_available(reader);
+  }
   void take_available(dds::DataReader* reader) override {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(mutex_);  // one taker at a time keeps arrival order
     Msg msg;
     dds::SampleInfo info;
     while (may_take_()) {
@@ -79,18 +90,21 @@ class TakeListener : public TakingListener {
   std::mutex mutex_;
   OnSample on_sample_;
   MayTake may_take_;
+  std::function<void()> on_arrival_;
 };
 
 template <class Msg, class OnSample>
 std::unique_ptr<TakingListener> make_listener(OnSample on_sample) {
   auto always = [] { return true; };
   return std::make_unique<TakeListener<Msg, OnSample, decltype(always)>>(std::move(on_sample),
-                                                                         always);
+                                                                         always, nullptr);
 }
+// Taken by the node's intake thread, which `on_arrival` wakes, while `may_take()` holds.
 template <class Msg, class OnSample, class MayTake>
-std::unique_ptr<TakingListener> make_gated_listener(OnSample on_sample, MayTake may_take) {
-  return std::make_unique<TakeListener<Msg, OnSample, MayTake>>(std::move(on_sample),
-                                                                std::move(may_take));
+std::unique_ptr<TakingListener> make_intake_listener(OnSample on_sample, MayTake may_take,
+                                                     std::function<void()> on_arrival) {
+  return std::make_unique<TakeListener<Msg, OnSample, MayTake>>(
+      std::move(on_sample), std::move(may_take), std::move(on_arrival));
 }
 
 // Answers a robot may owe at once beyond its queue: statuses planned but not yet handed to DDS
@@ -228,8 +242,19 @@ class PlannerNode::Impl {
   std::atomic<bool> refusing_requests_{false};
   // Whether robot may take another request now (see Robot::unanswered); marks it paused if not.
   bool may_take_request(Robot& robot);
-  // Takes what the robot's readers hold, if it is paused and has room again (replier thread).
+  // Wakes the intake for a robot that is paused and has room again (replier thread).
   void resume_input(Robot& robot);
+  // The intake thread: the one taker of every robot's requests and goals (TakeListener says
+  // why not the DDS threads), woken by their arrival and by resume_input.
+  std::mutex intake_mutex_;
+  std::condition_variable intake_cv_;
+  bool intake_pending_ = false;   // under intake_mutex_
+  bool intake_stopping_ = false;  // under intake_mutex_
+  std::thread intake_;
+  void wake_intake();
+  void intake_loop();
+  // Takes what every robot's request and goal readers hold (as far as may_take_request allows).
+  void take_inputs();
   // Requests that came before the first map, waiting for one at most requests.map_wait; under
   // map_mutex_. Answered NO_MAP by the map thread when their deadline passes.
   struct WaitingForMap {
@@ -425,6 +450,7 @@ core::Status PlannerNode::Impl::start() {
     if (core::Status s = add_robot_endpoints(*robot); !s.is_ok()) return s;
 
   replier_ = std::thread([this] { replier_loop(); });
+  intake_ = std::thread([this] { intake_loop(); });
   map_thread_ = std::thread([this] { map_loop(); });
   for (int w = 0; w < workers_; ++w)
     worker_threads_.emplace_back([this, w] { worker_loop(static_cast<size_t>(w)); });
@@ -506,20 +532,21 @@ core::Status PlannerNode::Impl::start() {
     if (!pose_status.is_ok()) return pose_status;
     // Goals and requests: taken only while the robot has room for their answers.
     auto has_room = [this, &robot] { return may_take_request(robot); };
+    auto wake = [this] { wake_intake(); };
     if (core::Status s = add_reader(
             TypeTag<PoseType>(), robot.topic(cfg_.topics.goal_pose), reader_qos(TopicQos::kEvents),
-            make_gated_listener<PoseStampedMsg>(
+            make_intake_listener<PoseStampedMsg>(
                 [this, &robot](PoseStampedMsg&& m, const dds::SampleInfo& info) {
                   on_goal(robot, std::move(m), info);
                 },
-                has_room),
+                has_room, wake),
             &robot);
         !s.is_ok())
       return s;
     if (core::Status s =
             add_reader(TypeTag<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(),
                        robot.topic(cfg_.topics.plan_request), reader_qos(TopicQos::kEvents),
-                       make_gated_listener<PlanRequestMsg>(
+                       make_intake_listener<PlanRequestMsg>(
                            [this, &robot](PlanRequestMsg&& m, const dds::SampleInfo& info) {
                              Job job;
                              job.id = std::move(m.id());
@@ -529,7 +556,7 @@ core::Status PlannerNode::Impl::start() {
                              job.planner = std::move(m.planner());
                              on_request(robot, std::move(job));
                            },
-                           has_room),
+                           has_room, wake),
                        &robot);
         !s.is_ok())
       return s;
@@ -555,8 +582,14 @@ void PlannerNode::Impl::stop() {
   // (taken by the DDS threads as it comes, or left by a paused robot) is taken and answered so,
   // then the readers go: nothing the bus delivered goes unanswered.
   refusing_requests_ = true;
-  for (const auto& robot : robots_)
-    for (const auto& [listener, reader] : robot->inputs) listener->take_available(reader);
+  {
+    std::lock_guard<std::mutex> lock(intake_mutex_);
+    intake_stopping_ = true;
+    intake_pending_ = true;  // one last pass, whatever the backlog
+  }
+  intake_cv_.notify_one();
+  if (intake_.joinable()) intake_.join();
+  take_inputs();  // what came during that pass (DDS threads only wake the intake: no deadlock)
   if (participant_) participant_->delete_readers();  // no new input from here on
   stopping_ = true;
   {
@@ -705,7 +738,32 @@ void PlannerNode::Impl::resume_input(Robot& robot) {
   if (!robot.input_paused) return;
   if (robot.unanswered >= static_cast<size_t>(cfg_.queue_capacity) + kAnswerBacklog) return;
   robot.input_paused = false;
-  for (const auto& [listener, reader] : robot.inputs) listener->take_available(reader);
+  wake_intake();
+}
+
+void PlannerNode::Impl::wake_intake() {
+  {
+    std::lock_guard<std::mutex> lock(intake_mutex_);
+    intake_pending_ = true;
+  }
+  intake_cv_.notify_one();
+}
+
+void PlannerNode::Impl::take_inputs() {
+  for (const auto& robot : robots_)
+    for (const auto& [listener, reader] : robot->inputs) listener->take_available(reader);
+}
+
+void PlannerNode::Impl::intake_loop() {
+  std::unique_lock<std::mutex> lock(intake_mutex_);
+  for (;;) {
+    intake_cv_.wait(lock, [&] { return intake_pending_ || intake_stopping_; });
+    if (!intake_pending_) return;  // stopping, and nothing arrived since the last pass
+    intake_pending_ = false;
+    lock.unlock();
+    take_inputs();
+    lock.lock();
+  }
 }
 
 void PlannerNode::Impl::on_request(Robot& robot, Job job) {
