@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "vnsba/core/path_poses.hpp"
@@ -179,13 +180,33 @@ PoseStampedMsg to_pose_stamped(const PoseWithCovarianceStampedMsg& msg) {
 std::vector<std::string> add_transforms(const TFMessageMsg& msg, bool is_static,
                                         TransformTree& tree) {
   std::vector<std::string> problems;
+  // Refusals at a limit (too deep, too many frames) come in floods: one line each for the
+  // message, the first refused and how many more.
+  struct AtLimit {
+    std::string first;
+    size_t count = 0;
+  };
+  std::map<TransformTree::Refusal, AtLimit> at_limit;
   for (const auto& t : msg.transforms()) {
     const auto& v = t.transform().translation();
     const auto& q = t.transform().rotation();
-    std::string problem = tree.set(
+    TransformTree::SetResult result = tree.set(
         t.header().frame_id(), t.child_frame_id(), Eigen::Vector3d(v.x(), v.y(), v.z()),
         Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()), to_seconds(t.header().stamp()), is_static);
-    if (!problem.empty()) problems.push_back(printable(problem, 256));
+    if (result.taken()) continue;
+    if (result.refusal == TransformTree::Refusal::kTooDeep ||
+        result.refusal == TransformTree::Refusal::kTooManyFrames) {
+      AtLimit& limit = at_limit[result.refusal];
+      if (limit.count++ == 0) limit.first = std::move(result.problem);
+      continue;
+    }
+    problems.push_back(printable(result.problem, 256));
+  }
+  for (const auto& [refusal, limit] : at_limit) {
+    std::string line = printable(limit.first, 256);
+    if (limit.count > 1)
+      line += " (and " + std::to_string(limit.count - 1) + " more transforms of this message)";
+    problems.push_back(std::move(line));
   }
   return problems;
 }
@@ -230,17 +251,43 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   else if (msg.data().size() != cells)
     bad << "data has " << msg.data().size()
         << " values, expected info.width x info.height = " << cells << "; ";
-  if (!finite(info.resolution()) || info.resolution() <= 0.0f)
+  const bool resolution_ok = finite(info.resolution()) && info.resolution() > 0.0f;
+  if (!resolution_ok)
     bad << "info.resolution is " << info.resolution() << ", must be finite and > 0; ";
   const auto& p = info.origin().position();
-  if (!finite(p.x()) || !finite(p.y()) || !finite(p.z()))
-    bad << "info.origin.position must be finite; ";
+  if (!finite(p.x()) || !finite(p.y()) || !finite(p.z())) {
+    bad << "info.origin.position (" << num(p.x()) << ", " << num(p.y()) << ", " << num(p.z())
+        << ") must be finite; ";
+  } else if (resolution_ok && info.width() > 0 && info.height() > 0) {
+    // World coordinates of the cells must keep a millionth of a cell: a double resolves
+    // |c| * 2^-52 metres at |c| metres, so the map must stay within resolution * 1e-6 / 2^-52
+    // (225,000 km at 0.05 m) of the frame's origin. A 1e15 m origin holds 0.125 m steps.
+    const double resolution = float32_decimal(info.resolution());
+    const double limit = resolution * 1e-6 / std::numeric_limits<double>::epsilon();
+    const double reach =
+        std::max({std::abs(p.x()), std::abs(p.y()), std::abs(p.x() + resolution * info.width()),
+                  std::abs(p.y() + resolution * info.height())});
+    if (!(reach <= limit))
+      bad << "info.origin.position (" << num(p.x()) << ", " << num(p.y()) << ") m puts the map "
+          << num(reach) << " m from the frame's origin, more than the " << num(limit)
+          << " m within which cells of " << num(resolution)
+          << " m keep a millionth of a cell in double precision; ";
+  }
+  // Only axis-aligned grids: the origin may carry no rotation (x = y = z = 0, w != 0; tf2
+  // normalises the quaternion). The all-zero quaternion is no rotation at all: ROS 2's messages
+  // default w to 1, so a publisher that sends 0 left the field unset.
   const auto& q = info.origin().orientation();
-  // Only axis-aligned grids: the origin may carry no rotation about z (w = +-1, x = y = z = 0,
-  // or the all-zero quaternion DDS default-constructs, read as identity).
-  const bool identity = std::abs(q.x()) < 1e-9 && std::abs(q.y()) < 1e-9 && std::abs(q.z()) < 1e-9;
-  if (!identity)
-    bad << "info.origin.orientation must be the identity (rotated grids are not supported); ";
+  const double q_norm = std::hypot(std::hypot(q.x(), q.y()), std::hypot(q.z(), q.w()));
+  std::ostringstream quaternion;
+  quaternion << "info.origin.orientation (x, y, z, w) = (" << num(q.x()) << ", " << num(q.y())
+             << ", " << num(q.z()) << ", " << num(q.w()) << ")";
+  if (!finite(q.x()) || !finite(q.y()) || !finite(q.z()) || !finite(q.w()))
+    bad << quaternion.str() << " must be finite; ";
+  else if (q_norm < 1e-9)
+    bad << quaternion.str() << " is the zero quaternion, not a rotation (w = 1 for a grid "
+        << "without rotation); ";
+  else if (std::max({std::abs(q.x()), std::abs(q.y()), std::abs(q.z())}) > 1e-9 * q_norm)
+    bad << quaternion.str() << " must be the identity (rotated grids are not supported); ";
   std::string message = bad.str();
   if (!message.empty()) {
     message.resize(message.size() - 2);
@@ -261,7 +308,7 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   // 0.05000000074505806, which turned robot_radius 0.15 m into 2.99999996 cells instead of 3
   // (metres_to_cells) and planned on another inflation than vnsba_plan reading the same file.
   out.grid.resolution = float32_decimal(info.resolution());
-  out.grid.origin_x = p.x();
+  out.grid.origin_x = p.x();  // metres
   out.grid.origin_y = p.y();
   out.grid.data = std::move(msg.data());
   return out;

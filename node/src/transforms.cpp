@@ -24,39 +24,63 @@ std::string seconds(double s) {
 
 }  // namespace
 
-std::string TransformTree::set(std::string_view parent_frame, std::string_view child_frame,
-                               const Eigen::Vector3d& translation_m,
-                               const Eigen::Quaterniond& rotation, double stamp_s, bool is_static) {
+TransformTree::SetResult TransformTree::set(std::string_view parent_frame,
+                                            std::string_view child_frame,
+                                            const Eigen::Vector3d& translation_m,
+                                            const Eigen::Quaterniond& rotation, double stamp_s,
+                                            bool is_static) {
   const std::string_view parent = without_leading_slash(parent_frame);
   const std::string_view child = without_leading_slash(child_frame);
   const std::string what = "transform " + quoted(parent) + " -> " + quoted(child) + ": ";
+  auto refuse = [&](Refusal refusal, const std::string& why) {
+    return SetResult{refusal, what + why};
+  };
   if (parent.empty() || child.empty())
-    return what + "header.frame_id and child_frame_id must both be non-empty";
-  if (parent == child) return what + "a frame cannot be its own parent";
+    return refuse(Refusal::kInvalid, "header.frame_id and child_frame_id must both be non-empty");
+  if (parent == child) return refuse(Refusal::kInvalid, "a frame cannot be its own parent");
   if (!translation_m.allFinite() || !rotation.coeffs().allFinite() || !std::isfinite(stamp_s))
-    return what + "translation, rotation and stamp must be finite";
-  if (rotation.norm() < 1e-9) return what + "rotation is a zero quaternion";
-  // A loop would make every lookup through it walk forever: refuse the transform that closes it.
-  for (std::string_view frame = parent;;) {
-    const auto it = parent_of_.find(frame);
-    if (it == parent_of_.end()) break;
-    if (it->second.parent == child)
-      return what + "would close a loop (" + quoted(child) + " is already an ancestor of " +
-             quoted(parent) + ")";
-    frame = it->second.parent;
-  }
+    return refuse(Refusal::kInvalid, "translation, rotation and stamp must be finite");
+  if (rotation.norm() < 1e-9) return refuse(Refusal::kInvalid, "rotation is a zero quaternion");
   auto it = parent_of_.find(child);
-  if (it == parent_of_.end()) {
-    if (parent_of_.size() >= kMaxFrames)
-      return what + "more than " + std::to_string(kMaxFrames) + " frames";
-    it = parent_of_.emplace(std::string(child), Edge()).first;
+  // A new frame past the limit is refused before any walk: a flood of new frames costs a
+  // look-up each.
+  if (it == parent_of_.end() && parent_of_.size() >= kMaxFrames)
+    return refuse(Refusal::kTooManyFrames, "more than " + std::to_string(kMaxFrames) + " frames");
+  // The parent's chain up to its root: a loop would make every lookup through it walk forever,
+  // and the walk stops after kMaxDepth transforms.
+  size_t depth = 1;  // transforms from the root down to `child`, this one included
+  for (std::string_view frame = parent;; ++depth) {
+    const auto up = parent_of_.find(frame);
+    if (up == parent_of_.end()) break;
+    if (up->second.parent == child)
+      return refuse(Refusal::kLoop, "would close a loop (" + quoted(child) +
+                                        " is already an ancestor of " + quoted(parent) + ")");
+    if (depth >= kMaxDepth)
+      return refuse(Refusal::kTooDeep, "would make a chain of more than " +
+                                           std::to_string(kMaxDepth) +
+                                           " transforms from the root frame (the limit)");
+    frame = up->second.parent;
   }
+  if (it == parent_of_.end()) it = parent_of_.emplace(std::string(child), Edge()).first;
   Edge& edge = it->second;
   edge.parent = std::string(parent);
   edge.child_in_parent = Eigen::Translation3d(translation_m) * rotation.normalized();
   edge.stamp_s = stamp_s;
   edge.is_static = is_static;
-  return "";
+  return {};
+}
+
+size_t TransformTree::clear_dynamic() {
+  size_t dropped = 0;
+  for (auto it = parent_of_.begin(); it != parent_of_.end();) {
+    if (it->second.is_static) {
+      ++it;
+    } else {
+      it = parent_of_.erase(it);
+      ++dropped;
+    }
+  }
+  return dropped;
 }
 
 TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
@@ -76,10 +100,19 @@ TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
     Eigen::Isometry3d source_in_frame;
     const std::pair<const std::string, Edge>* edge;  // from the previous step's frame to this one
   };
+  // Every walk stops after kMaxDepth transforms: set() keeps chains within it, but a frame
+  // given a new parent carries its own subtree along, which can make a deeper one.
+  const std::string too_deep = what + "the chain above " + quoted(source) + " and " +
+                               quoted(target) + " holds more than " + std::to_string(kMaxDepth) +
+                               " transforms (the limit)";
   std::vector<Step> up_from_source{{source, Eigen::Isometry3d::Identity(), nullptr}};
   for (;;) {
     const auto it = parent_of_.find(up_from_source.back().frame);
     if (it == parent_of_.end()) break;
+    if (up_from_source.size() > kMaxDepth) {
+      result.problem = too_deep;
+      return result;
+    }
     up_from_source.push_back({it->second.parent,
                               it->second.child_in_parent * up_from_source.back().source_in_frame,
                               &*it});
@@ -110,16 +143,32 @@ TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
                          quoted(frame) + ", and none joins those two";
       return result;
     }
+    if (used.size() >= kMaxDepth) {
+      result.problem = too_deep;
+      return result;
+    }
     used.push_back(&*it);
     target_in_frame = it->second.child_in_parent * target_in_frame;
     frame = it->second.parent;
   }
-  // The oldest dynamic transform on the chain decides, as it would time out a tf2 lookup.
+  // The newest dynamic transform on the chain must not be ahead of the clock, and the oldest
+  // decides staleness, as it would time out a tf2 lookup.
   const std::pair<const std::string, Edge>* oldest = nullptr;
-  for (const auto* edge : used)
-    if (!edge->second.is_static &&
-        (oldest == nullptr || edge->second.stamp_s < oldest->second.stamp_s))
-      oldest = edge;
+  const std::pair<const std::string, Edge>* newest = nullptr;
+  for (const auto* edge : used) {
+    if (edge->second.is_static) continue;
+    if (oldest == nullptr || edge->second.stamp_s < oldest->second.stamp_s) oldest = edge;
+    if (newest == nullptr || edge->second.stamp_s > newest->second.stamp_s) newest = edge;
+  }
+  if (newest != nullptr && newest->second.stamp_s - now_s > kMaxAheadS) {
+    result.problem = "transform from " + quoted(target) + " to " + quoted(source) +
+                     " is in the future: " + quoted(newest->second.parent) + " -> " +
+                     quoted(newest->first) + " is stamped " + seconds(newest->second.stamp_s) +
+                     ", " + seconds(newest->second.stamp_s - now_s) + " after the node's clock (" +
+                     seconds(now_s) + "; at most " + seconds(kMaxAheadS) +
+                     " ahead is taken, as tf2 does not extrapolate into the future)";
+    return result;
+  }
   if (oldest != nullptr && now_s - oldest->second.stamp_s > tolerance_s) {
     result.problem = "transform from " + quoted(target) + " to " + quoted(source) +
                      " is stale: " + quoted(oldest->second.parent) + " -> " +

@@ -232,5 +232,73 @@ TEST(Time, NanosecondsRoundTripAndNanosecStaysInRange) {
   }
 }
 
+// Issue 31 item 7: a slice's origin must be a position a double resolves to a millionth of a
+// cell, and carry a rotation that is one and is none (the identity); each refusal names the
+// field and, for the position, the limit in metres.
+TEST(SliceMsg, AnOriginThatIsNoRotationOrTooFarIsRefusedNamingTheField) {
+  core::OccupancyGrid grid;
+  grid.width = 40;
+  grid.height = 30;
+  grid.resolution = 0.05;
+  grid.data.assign(1200, 0);
+  auto check = [&](auto edit) {
+    node::OccupancyGridMsg msg = node::to_slice_msg(grid, "map", node::now_msg());
+    edit(msg.info().origin());
+    return node::from_slice_msg(std::move(msg), "map", 1 << 20).status;
+  };
+  auto expect_refused = [](const node::WireStatus& status, const std::vector<std::string>& parts) {
+    EXPECT_EQ(status.code, wire::INVALID_MAP) << status.message;
+    for (const std::string& part : parts)
+      EXPECT_NE(status.message.find(part), std::string::npos) << status.message;
+  };
+  using Pose = geometry_msgs::msg::dds_::Pose_;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  expect_refused(check([&](Pose& o) { o.orientation().w(nan); }),
+                 {"info.origin.orientation", "(0, 0, 0, nan)", "must be finite"});
+  expect_refused(check([](Pose& o) { o.orientation().w(0.0); }),
+                 {"info.origin.orientation", "zero quaternion"});
+  expect_refused(check([](Pose& o) {
+                   o.orientation().z(std::sin(0.3));
+                   o.orientation().w(std::cos(0.3));
+                 }),
+                 {"info.origin.orientation", "must be the identity"});
+  // The identity however written: w = -1, or not normalised.
+  EXPECT_TRUE(check([](Pose& o) { o.orientation().w(-1.0); }).ok());
+  EXPECT_TRUE(check([](Pose& o) { o.orientation().w(2.5); }).ok());
+
+  // 1e15 m: a double steps by 0.125 m there, more than two cells of 0.05 m. The limit is
+  // 0.05 m * 1e-6 / 2^-52 = 225,179,981 m.
+  expect_refused(check([](Pose& o) { o.position().x(1e15); }),
+                 {"info.origin.position (1e+15, 0)", "2.2518e+08 m"});
+  expect_refused(check([](Pose& o) { o.position().y(-2.3e8); }),
+                 {"info.origin.position (0, -2.3e+08)"});
+  expect_refused(check([&](Pose& o) { o.position().z(nan); }),
+                 {"info.origin.position (0, 0, nan) must be finite"});
+  // UTM coordinates (easting 500 km, northing 5,000 km) are fine.
+  EXPECT_TRUE(check([](Pose& o) {
+                o.position().x(500000.0);
+                o.position().y(5e6);
+              }).ok());
+}
+
+// A map_server map of 0.05 m arrives with the float32 0.05000000074505806: the grid is the
+// file's 0.05 m again (the decimal the float was written from), whatever the resolution.
+TEST(SliceMsg, AFloat32ResolutionIsTheDecimalItWasWrittenFrom) {
+  for (const double resolution : {0.05, 0.1, 0.025, 0.3, 0.08, 0.123456}) {
+    core::OccupancyGrid grid;
+    grid.width = grid.height = 2;
+    grid.resolution = resolution;
+    grid.data.assign(4, 0);
+    const node::SliceCheck received =
+        node::from_slice_msg(node::to_slice_msg(grid, "map", node::now_msg()), "map", 1 << 20);
+    ASSERT_TRUE(received.status.ok()) << received.status.message;
+    EXPECT_EQ(received.grid.resolution, resolution);
+    EXPECT_NE(double(static_cast<float>(resolution)), resolution) << "not a float32 case";
+  }
+  EXPECT_EQ(node::float32_decimal(0.05f), 0.05);
+  EXPECT_EQ(node::float32_decimal(1e-7f), 1e-7);
+  EXPECT_EQ(node::float32_decimal(3.0f), 3.0);
+}
+
 }  // namespace
 }  // namespace vnsba::test

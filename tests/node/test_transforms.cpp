@@ -7,6 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "bus_client.hpp"
+#include "log_capture.hpp"
+#include "rosgraph_msgs/msg/ClockPubSubTypes.h"
+#include "tf2_msgs/msg/TFMessagePubSubTypes.h"
+#include "vnsba/node/time_source.hpp"
 #include "vnsba/node/transforms.hpp"
 
 namespace vnsba::node {
@@ -28,11 +33,13 @@ Pose2 inverse(const Pose2& p) {
           std::sin(p.yaw) * p.x - std::cos(p.yaw) * p.y, -p.yaw};
 }
 
+// What set() said: "" when taken, else the problem.
 std::string set(TransformTree& tree, const std::string& parent, const std::string& child,
                 const Pose2& p, double stamp = 0.0, bool is_static = true) {
-  return tree.set(parent, child, Eigen::Vector3d(p.x, p.y, 0.0),
-                  Eigen::Quaterniond(Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ())), stamp,
-                  is_static);
+  return tree
+      .set(parent, child, Eigen::Vector3d(p.x, p.y, 0.0),
+           Eigen::Quaterniond(Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ())), stamp, is_static)
+      .problem;
 }
 
 void expect_pose(const TransformTree::Lookup& found, const Pose2& expected) {
@@ -129,10 +136,12 @@ TEST(TransformTree, BadTransformsAreRefusedNamingTheFramesAndChangeNothing) {
   const double nan = std::nan("");
   EXPECT_TRUE(mentions(set(tree, "map", "odom", {nan, 0, 0}), {"'map' -> 'odom'", "finite"}));
   EXPECT_TRUE(mentions(
-      tree.set("map", "odom", Eigen::Vector3d::Zero(), Eigen::Quaterniond(0, 0, 0, 0), 0.0, true),
+      tree.set("map", "odom", Eigen::Vector3d::Zero(), Eigen::Quaterniond(0, 0, 0, 0), 0.0, true)
+          .problem,
       {"zero quaternion"}));
   EXPECT_TRUE(mentions(
-      tree.set("map", "odom", Eigen::Vector3d::Zero(), Eigen::Quaterniond(1, 0, 0, 0), nan, true),
+      tree.set("map", "odom", Eigen::Vector3d::Zero(), Eigen::Quaterniond(1, 0, 0, 0), nan, true)
+          .problem,
       {"finite"}));
   expect_pose(tree.lookup("map", "base_link", 0.0, 1.0), Pose2{1, 2, 0});
   // A re-parented frame (tf2 allows it) is looked up through its new parent.
@@ -143,10 +152,10 @@ TEST(TransformTree, BadTransformsAreRefusedNamingTheFramesAndChangeNothing) {
 TEST(TransformTree, ANonUnitQuaternionIsNormalised) {
   TransformTree tree;
   const double yaw = 0.9;
-  ASSERT_EQ(
-      tree.set("map", "base_link", Eigen::Vector3d(1, 1, 0),
-               Eigen::Quaterniond(3 * std::cos(yaw / 2), 0, 0, 3 * std::sin(yaw / 2)), 0.0, true),
-      "");
+  ASSERT_TRUE(tree.set("map", "base_link", Eigen::Vector3d(1, 1, 0),
+                       Eigen::Quaterniond(3 * std::cos(yaw / 2), 0, 0, 3 * std::sin(yaw / 2)), 0.0,
+                       true)
+                  .taken());
   expect_pose(tree.lookup("map", "base_link", 0.0, 1.0), Pose2{1, 1, yaw});
 }
 
@@ -160,5 +169,288 @@ TEST(TransformTree, AFloodOfMadeUpFramesIsBounded) {
   EXPECT_EQ(set(tree, "root", "f0", {1, 0, 0}), "");
 }
 
+// Issue 31 item 7: each transform walks its parent's chain (for loops), so the chain's depth is
+// bounded: 20,000 chained frames took 12 s a message under the lock a goal needs.
+TEST(TransformTree, AChainDeeperThanTheLimitIsRefusedNamingTheLimit) {
+  TransformTree tree;
+  std::string last = "map";
+  for (size_t i = 0; i < TransformTree::kMaxDepth; ++i) {
+    const std::string child = "f" + std::to_string(i);
+    ASSERT_EQ(set(tree, last, child, {1, 0, 0}), "") << i;
+    last = child;
+  }
+  // kMaxDepth steps of 1 m: the deepest frame is kMaxDepth metres along x.
+  expect_pose(tree.lookup("map", last, 0.0, 1.0), Pose2{double(TransformTree::kMaxDepth), 0, 0});
+  const TransformTree::SetResult deeper =
+      tree.set(last, "one_more", Eigen::Vector3d::Zero(), Eigen::Quaterniond::Identity(), 0, true);
+  EXPECT_EQ(deeper.refusal, TransformTree::Refusal::kTooDeep);
+  EXPECT_TRUE(mentions(deeper.problem, {"'" + last + "' -> 'one_more'", "more than 100"}))
+      << deeper.problem;
+  EXPECT_EQ(tree.frame_count(), TransformTree::kMaxDepth);
+
+  // A subtree given a new parent deep in the chain makes a deeper chain: lookups through it stop
+  // at the limit and say so; the frames above the limit still resolve.
+  std::string sub = "b_root";
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_EQ(set(tree, sub, "b" + std::to_string(i), {0, 1, 0}), "");
+    sub = "b" + std::to_string(i);
+  }
+  ASSERT_EQ(set(tree, "f59", "b_root", {}), "");  // b_root 61 deep, b59 121
+  expect_pose(tree.lookup("map", "b20", 0.0, 1.0), Pose2{60, 21, 0});
+  const TransformTree::Lookup too_deep = tree.lookup("map", "b59", 0.0, 1.0);
+  EXPECT_FALSE(too_deep.ok);
+  EXPECT_TRUE(mentions(too_deep.problem, {"'b59'", "more than 100 transforms"}))
+      << too_deep.problem;
+  EXPECT_FALSE(tree.lookup("b59", "map", 0.0, 1.0).ok);
+}
+
+// tf2_msgs/TFMessage of `count` frames chained from "map": flood_0 in map, flood_1 in flood_0...
+TFMessageMsg chained_frames(size_t count, const TimeMsg& stamp) {
+  TFMessageMsg msg;
+  msg.transforms().resize(count);
+  for (size_t i = 0; i < count; ++i) {
+    auto& t = msg.transforms()[i];
+    t.header().frame_id(i == 0 ? "map" : "flood_" + std::to_string(i - 1));
+    t.header().stamp(stamp);
+    t.child_frame_id("flood_" + std::to_string(i));
+    t.transform().rotation().w(1.0);
+  }
+  return msg;
+}
+
+TEST(TransformTree, AFloodOfChainedFramesIsOneLinePerLimitAndKeepsTheLimits) {
+  TransformTree tree;
+  const TFMessageMsg flood = chained_frames(20000, to_time_msg(int64_t{0}));
+  for (int message = 0; message < 3; ++message) {
+    const std::vector<std::string> problems = add_transforms(flood, false, tree);
+    ASSERT_GE(problems.size(), 1u);
+    EXPECT_LE(problems.size(), 2u) << "one line per limit reached";
+    for (const std::string& problem : problems)
+      EXPECT_TRUE(mentions(problem, {"more transforms of this message"})) << problem;
+    EXPECT_LE(tree.frame_count(), TransformTree::kMaxFrames);
+  }
+}
+
+TEST(TransformTree, ATransformStampedAfterTheClockIsRefusedAtLookup) {
+  TransformTree tree;
+  const double now = 1000.0;                      // seconds, the node's clock
+  const double years_56 = 56 * 365.25 * 86400.0;  // seconds
+  ASSERT_EQ(set(tree, "map", "odom", {}, now, true), "");
+  ASSERT_EQ(set(tree, "odom", "base_link", {1, 2, 0}, now + years_56, false), "");
+  const TransformTree::Lookup future = tree.lookup("map", "base_link", now, 0.5);
+  EXPECT_FALSE(future.ok);
+  EXPECT_TRUE(mentions(future.problem, {"in the future", "'odom' -> 'base_link'",
+                                        "1767225600.000 s after the node's clock (1000.000 s"}))
+      << future.problem;
+  // Clock skew of less than kMaxAheadS is taken, more is not.
+  ASSERT_EQ(set(tree, "odom", "base_link", {1, 2, 0}, now + 0.4, false), "");
+  expect_pose(tree.lookup("map", "base_link", now, 0.5), Pose2{1, 2, 0});
+  ASSERT_EQ(set(tree, "odom", "base_link", {1, 2, 0}, now + 0.6, false), "");
+  EXPECT_FALSE(tree.lookup("map", "base_link", now, 0.5).ok);
+  // A static transform has no time.
+  ASSERT_EQ(set(tree, "odom", "base_link", {1, 2, 0}, now + years_56, true), "");
+  expect_pose(tree.lookup("map", "base_link", now, 0.5), Pose2{1, 2, 0});
+}
+
+TEST(TransformTree, ClearingDynamicTransformsKeepsTheStaticOnes) {
+  TransformTree tree;
+  ASSERT_EQ(set(tree, "map", "odom", {1, 0, 0}, 5.0, true), "");
+  ASSERT_EQ(set(tree, "odom", "base_link", {2, 0, 0}, 5.0, false), "");
+  ASSERT_EQ(set(tree, "base_link", "laser", {0, 1, 0}, 5.0, true), "");
+  EXPECT_EQ(tree.clear_dynamic(), 1u);
+  EXPECT_EQ(tree.frame_count(), 2u);
+  expect_pose(tree.lookup("map", "odom", 5.0, 1.0), Pose2{1, 0, 0});
+  expect_pose(tree.lookup("base_link", "laser", 5.0, 1.0), Pose2{0, 1, 0});
+  EXPECT_FALSE(tree.lookup("map", "base_link", 5.0, 1.0).ok);
+}
+
+TimeMsg at(int32_t sec, uint32_t nanosec = 0) {
+  TimeMsg t;
+  t.sec(sec);
+  t.nanosec(nanosec);
+  return t;
+}
+
+TEST(TimeSource, ASimulatedClockFollowsAJumpBackAndRefusesNegativeTimesSayingSoOnce) {
+  const test::LogCapture log;
+  TimeSource clock(true);
+  EXPECT_EQ(clock.now_seconds(), 0.0);  // until the first Clock
+  EXPECT_EQ(clock.set_sim_time(at(1000, 250'000'000)), ClockUpdate::kFollowed);
+  EXPECT_EQ(clock.set_sim_time(at(1000, 250'000'000)), ClockUpdate::kFollowed);  // paused
+  EXPECT_EQ(clock.set_sim_time(at(10)), ClockUpdate::kJumpedBack);
+  EXPECT_EQ(clock.now_seconds(), 10.0);
+  EXPECT_EQ(log.matching({"[warning]", "went back from 1000.250000000 s to 10.000000000 s"}).size(),
+            1u);
+  for (int repeat = 0; repeat < 3; ++repeat)
+    EXPECT_EQ(clock.set_sim_time(at(-5)), ClockUpdate::kRefusedNegative);
+  EXPECT_EQ(clock.now_seconds(), 10.0);
+  EXPECT_EQ(log.matching({"[warning]", "refused a clock of -5.000000000 s"}).size(), 1u);
+  // Once a valid time came, a negative one is news again.
+  EXPECT_EQ(clock.set_sim_time(at(11)), ClockUpdate::kFollowed);
+  EXPECT_EQ(clock.set_sim_time(at(-1, 500'000'000)), ClockUpdate::kRefusedNegative);
+  EXPECT_EQ(log.matching({"refused a clock of -0.500000000 s", "stays at 11.000000000 s"}).size(),
+            1u);
+  EXPECT_EQ(log.matching({"went back"}).size(), 1u);
+
+  TimeSource wall(false);
+  EXPECT_EQ(wall.set_sim_time(at(5)), ClockUpdate::kIgnored);
+  EXPECT_GT(wall.now_seconds(), 1.6e9);  // the system clock: after 2020
+}
+
 }  // namespace
 }  // namespace vnsba::node
+
+// --- On the bus: the node's tf readers, clock and goals together. ---
+
+namespace vnsba::test {
+namespace {
+
+using node::wire::INVALID_REQUEST;
+using node::wire::OK;
+
+// The node (robot_pose_source tf) on an open 2 m x 2 m map, and a tf broadcaster beside it.
+struct TfNode {
+  explicit TfNode(const std::string& tag, bool use_sim_time = false)
+      : config(make_config(tag, use_sim_time)), node(config), client(config) {}
+  static node::NodeConfig make_config(const std::string& tag, bool use_sim_time) {
+    node::NodeConfig cfg = test_config(tag);
+    cfg.robot_pose_source = node::RobotPoseSource::kTf;
+    cfg.use_sim_time = use_sim_time;
+    return cfg;
+  }
+  bool start() {
+    const core::Status s = node.start();
+    EXPECT_TRUE(s.is_ok()) << s.message;
+    if (!s.is_ok() || !client.wait_for_match(node)) return false;
+    core::OccupancyGrid grid;
+    grid.width = grid.height = 20;
+    grid.resolution = 0.1;
+    grid.data.assign(400, 0);
+    client.publish_slice(grid);
+    return node.wait_for_map(10s);
+  }
+  // A writer of `topic` on a participant of its own, once the node reads it.
+  template <class PubSubType>
+  node::dds::DataWriter* writer(const std::string& topic) {
+    auto* w = broadcaster
+                  ->writer_on<PubSubType>(node::dds_topic_name(config, topic),
+                                          node::writer_qos(node::TopicQos::kLatest, true))
+                  .value();
+    const auto end = std::chrono::steady_clock::now() + 10s;
+    while (node::matched_readers(w) == 0 && std::chrono::steady_clock::now() < end)
+      std::this_thread::sleep_for(10ms);
+    EXPECT_GT(node::matched_readers(w), 0) << topic;
+    return w;
+  }
+  // Writes `msg` a few times (the node reads tf and clock best effort: one sample alone may be
+  // lost, a stream is not), then leaves the node a moment to take it.
+  template <class Msg>
+  bool broadcast(node::dds::DataWriter* writer, Msg msg) {
+    for (int i = 0; i < 3; ++i) {
+      if (!writer->write(&msg)) return false;
+      std::this_thread::sleep_for(20ms);
+    }
+    std::this_thread::sleep_for(200ms);
+    return true;
+  }
+  // A goal at (1.55, 1.55) m, and its status.
+  std::optional<PlanStatusMsg> goal(const std::string& id) {
+    client.publish_goal(1.55, 1.55);
+    return client.wait_status(id);
+  }
+  ~TfNode() {
+    broadcaster->shutdown();
+    node.stop();
+  }
+
+  node::NodeConfig config;
+  node::PlannerNode node;
+  BusClient client;
+  std::unique_ptr<node::Participant> broadcaster =
+      node::Participant::create(config.domain_id, "tf_broadcaster").value();
+};
+
+node::TFMessageMsg base_link_at(double x, double y, const node::TimeMsg& stamp) {
+  geometry_msgs::msg::dds_::TransformStamped_ t;
+  t.header().frame_id("map");
+  t.header().stamp(stamp);
+  t.child_frame_id("base_link");
+  t.transform().translation().x(x);
+  t.transform().translation().y(y);
+  t.transform().rotation().w(1.0);
+  node::TFMessageMsg msg;
+  msg.transforms().push_back(t);
+  return msg;
+}
+
+// Issue 31 item 7: after 20 /tf messages of 20,000 chained frames each, the next goal_pose got
+// no status at all (each message held the transforms' lock for 12 s). Now it gets its status at
+// once, planned from the robot's transform, and the flood is one warning per limit it reached.
+TEST(TfOnTheBus, AGoalAfterAFloodOfChainedFramesGetsItsStatus) {
+  const LogCapture log;
+  TfNode run("tfflood");
+  ASSERT_TRUE(run.start());
+  auto* tf = run.writer<tf2_msgs::msg::dds_::TFMessage_PubSubType>(run.config.topics.tf);
+  // The robot broadcasts before the flood, as it does from its start.
+  ASSERT_TRUE(run.broadcast(tf, base_link_at(0.15, 0.15, node::now_msg())));
+  const node::TFMessageMsg flood = node::chained_frames(20000, node::now_msg());
+  for (int message = 0; message < 20; ++message) {
+    node::TFMessageMsg copy = flood;
+    ASSERT_TRUE(tf->write(&copy));
+    std::this_thread::sleep_for(20ms);  // best effort on the node's side: room to take each
+  }
+  const std::string tf_topic = node::dds_topic_name(run.config, run.config.topics.tf);
+  ASSERT_TRUE(log.wait_for({"'" + tf_topic + "': refused"}, 20s)) << "the flood never arrived";
+  ASSERT_TRUE(run.broadcast(tf, base_link_at(0.25, 0.35, node::now_msg())));
+  const auto start = std::chrono::steady_clock::now();
+  const auto status = run.goal("goal-1");
+  ASSERT_TRUE(status) << "no status for the goal after the flood";
+  EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
+  ASSERT_EQ(status->code(), OK) << status->message();
+  EXPECT_NEAR(status->path().poses().front().pose().position().x(), 0.25, 1e-9);
+  EXPECT_NEAR(status->path().poses().front().pose().position().y(), 0.35, 1e-9);
+  // One line per limit a message reached, each once: the first flood reaches both limits, the
+  // next nineteen repeat one line (the node logs a repeated line once). The old code logged
+  // one line per refused transform, up to its cap of 100.
+  EXPECT_LE(log.matching({"'" + tf_topic + "': refused"}).size(), 3u);
+}
+
+// With use_sim_time a transform 56 years ahead of /clock is no start (it counted as fresh), nor
+// are transforms from before the clock went back (a simulation reset).
+TEST(TfOnTheBus, WithSimulatedTimeAFutureTransformOrAClockGoneBackIsNoStart) {
+  const LogCapture log;
+  TfNode run("tffuture", /*use_sim_time=*/true);
+  ASSERT_TRUE(run.start());
+  auto* clock = run.writer<rosgraph_msgs::msg::dds_::Clock_PubSubType>(run.config.topics.clock);
+  auto* tf = run.writer<tf2_msgs::msg::dds_::TFMessage_PubSubType>(run.config.topics.tf);
+  auto tick = [&](int32_t sec) {
+    node::ClockMsg msg;
+    msg.clock(node::at(sec));
+    return run.broadcast(clock, msg);
+  };
+  ASSERT_TRUE(tick(600));
+  ASSERT_TRUE(run.broadcast(tf, base_link_at(0.25, 0.35, node::at(600 + 56 * 31'557'600))));
+  const auto future = run.goal("goal-1");
+  ASSERT_TRUE(future);
+  EXPECT_EQ(future->code(), INVALID_REQUEST);
+  EXPECT_NE(future->message().find("in the future: 'map' -> 'base_link'"), std::string::npos)
+      << future->message();
+
+  ASSERT_TRUE(run.broadcast(tf, base_link_at(0.25, 0.35, node::at(600))));
+  const auto planned = run.goal("goal-2");
+  ASSERT_TRUE(planned);
+  EXPECT_EQ(planned->code(), OK) << planned->message();
+
+  ASSERT_TRUE(tick(30));  // the simulation restarts
+  ASSERT_TRUE(log.wait_for({"[warning]", "went back from 600.000000000 s to 30.000000000 s"}, 5s));
+  const auto reset = run.goal("goal-3");
+  ASSERT_TRUE(reset);
+  EXPECT_EQ(reset->code(), INVALID_REQUEST) << "a transform from before the reset was used";
+  EXPECT_NE(reset->message().find("'base_link'"), std::string::npos) << reset->message();
+
+  ASSERT_TRUE(tick(-7));
+  ASSERT_TRUE(log.wait_for({"[warning]", "refused a clock of -7.000000000 s"}, 5s));
+}
+
+}  // namespace
+}  // namespace vnsba::test

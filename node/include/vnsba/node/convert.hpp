@@ -78,6 +78,8 @@ double to_seconds(const TimeMsg& t);
 PoseStampedMsg to_pose_stamped(const PoseWithCovarianceStampedMsg& msg);
 // Puts every transform of a tf2_msgs/TFMessage (from /tf, or /tf_static when `is_static`) into
 // `tree`; returns what was wrong with those it refused (see TransformTree::set), made printable.
+// Refusals at a limit of the tree (kMaxDepth, kMaxFrames) are one line each per message: the
+// first, and how many more (a flood of made-up frames is one warning, not thousands).
 std::vector<std::string> add_transforms(const TFMessageMsg& msg, bool is_static,
                                         TransformTree& tree);
 TimeMsg now_msg();
@@ -93,9 +95,12 @@ double float32_decimal(float value);
 // does ("/map" from a ROS 1 bridge or an old config is "map"). Anything else differs ("odom").
 bool same_frame(std::string_view a, std::string_view b);
 
-// A slice off the bus, checked and converted: frame, size, resolution, origin (finite, no
-// rotation: grids must be axis-aligned), data length, values in -1..100, size limit. Errors are
-// FRAME_MISMATCH or INVALID_MAP with the offending field named.
+// A slice off the bus, checked and converted: frame, size, resolution (read as
+// float32_decimal), origin (finite, and near enough to the frame's origin that the cells' world
+// coordinates keep a millionth of a cell in doubles; an orientation that is the identity: no
+// rotation, since grids must be axis-aligned, and not the zero or a non-finite quaternion), data
+// length, values in -1..100, size limit. Errors are FRAME_MISMATCH or INVALID_MAP with the
+// offending field named.
 struct SliceCheck {
   WireStatus status;
   core::OccupancyGrid grid;  // valid when status.ok()

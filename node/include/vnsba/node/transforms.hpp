@@ -5,7 +5,8 @@
 //
 // Only the newest transform of each frame is kept (no history, no interpolation): the node asks
 // for the robot's pose now, when a goal arrives. A dynamic transform older than the tolerance is
-// stale, as tf2's lookups time out; a static one (/tf_static) never is.
+// stale, as tf2's lookups time out, and one stamped after now is refused, as tf2 does not
+// extrapolate into the future; a static one (/tf_static) is neither.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -20,26 +21,54 @@ class TransformTree {
  public:
   // Frames the tree holds at most: a bound on the memory a flood of made-up frames can take.
   static constexpr size_t kMaxFrames = 10000;
+  // Transforms a chain from a root frame down to a frame may hold at most. Each new transform
+  // walks its parent's chain up to the root (to refuse loops), so this bounds its cost: without
+  // it, one /tf message of 20,000 chained frames walked 10,000 ancestors a transform, 12 s under
+  // the lock every goal needs, and a flood of them kept goals unanswered for minutes. A robot's
+  // tree (map -> odom -> base_footprint -> base_link -> sensors) is a few to a few dozen deep;
+  // tf2 itself gives up at 1000 (its loop guard).
+  static constexpr size_t kMaxDepth = 100;
+  // Seconds a dynamic transform may be stamped after the clock's now: clock skew between hosts
+  // (NTP keeps them within milliseconds). A later one is refused at lookup, as tf2 refuses to
+  // extrapolate into the future; with use_sim_time that is also every transform stamped before
+  // the simulation's clock went back.
+  static constexpr double kMaxAheadS = 0.5;
 
+  // Why set() refused a transform; kNone when it was taken.
+  enum class Refusal {
+    kNone,
+    kInvalid,        // an empty frame, a frame its own parent, a non-finite value, zero quaternion
+    kLoop,           // it would close a loop
+    kTooDeep,        // it would make a chain of more than kMaxDepth transforms
+    kTooManyFrames,  // a new frame beyond kMaxFrames
+  };
+  struct SetResult {
+    Refusal refusal = Refusal::kNone;
+    std::string problem;  // what is wrong, naming the frames; "" when taken
+    bool taken() const { return refusal == Refusal::kNone; }
+  };
   // Sets `child`'s pose in `parent` (translation in metres, rotation a quaternion that is
   // normalised here), stamped `stamp_s` seconds; frames are compared without a leading '/'.
-  // Returns "" when taken, else what is wrong, naming the frames: an empty frame, a frame its own
-  // parent, a non-finite value or zero quaternion, a transform that would close a loop, or one
-  // frame too many. A refused transform changes nothing.
-  std::string set(std::string_view parent, std::string_view child,
-                  const Eigen::Vector3d& translation_m, const Eigen::Quaterniond& rotation,
-                  double stamp_s, bool is_static);
+  // A refused transform changes nothing. Costs at most kMaxDepth map look-ups.
+  SetResult set(std::string_view parent, std::string_view child,
+                const Eigen::Vector3d& translation_m, const Eigen::Quaterniond& rotation,
+                double stamp_s, bool is_static);
 
   struct Lookup {
     bool ok = false;
     Eigen::Isometry3d source_in_target = Eigen::Isometry3d::Identity();
-    std::string problem;  // when !ok: which frames, and what is missing or stale
+    std::string problem;  // when !ok: which frames, and what is missing, stale or in the future
   };
   // The pose of frame `source` in frame `target` (tf2's lookupTransform(target, source) with the
-  // newest data). Refused when no chain of received transforms joins them, or when a dynamic
-  // transform on the chain is older than `tolerance_s` at `now_s` (seconds, the node's clock).
+  // newest data). Refused when no chain of received transforms joins them (or one deeper than
+  // kMaxDepth does), when a dynamic transform on the chain is older than `tolerance_s` at
+  // `now_s` (seconds, the node's clock), or stamped more than kMaxAheadS after `now_s`.
   Lookup lookup(std::string_view target, std::string_view source, double now_s,
                 double tolerance_s) const;
+
+  // Drops every dynamic transform (static ones stay): tf2_ros's buffer does this when the
+  // clock jumps back. Returns how many were dropped.
+  size_t clear_dynamic();
 
   size_t frame_count() const { return parent_of_.size(); }
 
