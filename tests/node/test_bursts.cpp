@@ -4,9 +4,10 @@
 // (PlannerNode::Stats::requests_received, or the count vnsba_node logs when it stops) against
 // what the clients received, request id by request id.
 //
-// Suites: Bursts.* run in the default suite (label node) at a size that still overflows the
-// node's answer backlog with queue 64 (so its flow control is exercised); StressBursts.* are the
-// issue's full sizes (3 clients x 5,000, label stress, outside the default run):
+// Suites: Bursts.* run in the default suite (label node): the 3 x 5,000 with queue
+// 100,000, and smaller bursts that still overflow the node's answer backlog with queue 64 (so its
+// flow control is exercised) or meet a SIGTERM; StressBursts.* are the other full sizes
+// (3 clients x 5,000 with queue 64, SIGTERM 2 s in; label stress, outside the default run):
 //   ctest --test-dir build/release -L stress --output-on-failure
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -142,8 +143,11 @@ TEST(Bursts, ThreeClientsWithAQueueOf64LoseNoStatus) {
   expect_no_status_lost("burst64", 1500, 64, std::chrono::seconds(120));
 }
 
-TEST(StressBursts, ThreeClientsOf5000WithAQueueOf100000LoseNoStatus) {
-  expect_no_status_lost("stress100k", 5000, 100000, std::chrono::seconds(600));
+// The issue's own burst, in the default run (about 25 s): with the old keep-last status writer it
+// lost 1,976 of 15,000 statuses (client 0 from its 2,614th request on); the smaller bursts here
+// did not reproduce that loss.
+TEST(Bursts, ThreeClientsOf5000WithAQueueOf100000LoseNoStatus) {
+  expect_no_status_lost("burst100k", 5000, 100000, std::chrono::seconds(600));
 }
 
 TEST(StressBursts, ThreeClientsOf5000WithAQueueOf64LoseNoStatus) {
