@@ -85,6 +85,13 @@ std::vector<Point2> join_exact_ends(const GridMap& map, std::vector<Point2> wayp
                                     const Point2& start, const Point2& goal, CornerPolicy policy,
                                     double cost_weight, bool drop_centres) {
   if (waypoints.empty()) return waypoints;
+  // A requested point within rounding of its cell's centre (a world position converted to cells,
+  // 1.5000000000000002 for 1.5) replaces the centre instead of adding a segment of 1e-16 cells
+  // whose heading is noise (it turned two extra corners into a path planned from centres).
+  constexpr double kSamePointCells = 1e-9;
+  auto same = [&](const Point2& a, const Point2& b) { return (a - b).norm() <= kSamePointCells; };
+  if (same(start, waypoints.front())) waypoints.front() = start;
+  if (same(goal, waypoints.back())) waypoints.back() = goal;
   const bool start_added = start != waypoints.front();
   const bool goal_added = goal != waypoints.back();
   if (start_added) waypoints.insert(waypoints.begin(), start);

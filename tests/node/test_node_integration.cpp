@@ -384,8 +384,11 @@ TEST(NodeIntegration, LengthRatioIsFilledOnlyWhenConfigured) {
   for (const bool on : {true, false}) {
     SCOPED_TRACE(on ? "compute_length_ratio: true" : "compute_length_ratio: false");
     const node::NodeConfig bus = test_config(on ? "ratio_on" : "ratio_off");
+    // The paper's binary grid (a loaded config starts from default.yaml's robot otherwise).
     const node::ConfigResult parsed = node::parse_config(
-        config_yaml(bus) + "planner:\n  compute_length_ratio: " + (on ? "true" : "false") + "\n");
+        config_yaml(bus) + "map:\n  robot_radius: 0\n  inflation_radius: 0\n" +
+        "planner:\n  cost_weight: 0\n  goal_tolerance: 0\n  start_tolerance: 0\n" +
+        "  compute_length_ratio: " + (on ? "true" : "false") + "\n");
     ASSERT_TRUE(parsed.config.has_value()) << parsed.errors.front();
     Running run(*parsed.config);
     ASSERT_TRUE(run.start());
