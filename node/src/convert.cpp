@@ -548,8 +548,15 @@ PlanStatusMsg to_status_msg(const std::string& request_id, const RequestIdentity
   msg.goal_x(nan);
   msg.goal_y(nan);
   if (endpoints != nullptr && map != nullptr) {
-    const Eigen::Vector2d s = map->cell_centre_world(endpoints->start);
-    const Eigen::Vector2d g = map->cell_centre_world(endpoints->goal);
+    // Where the path begins and ends: the requested point, or the centre of the cell a tolerance
+    // moved it to (core::Endpoints), so the status and the path's first and last poses agree.
+    auto used = [&](const core::Cell& cell, const core::Point2& point) {
+      const bool in_cell =
+          point.allFinite() && std::floor(point.x()) == cell.x && std::floor(point.y()) == cell.y;
+      return map->grid_to_world(in_cell ? point : core::cell_centre(cell));
+    };
+    const Eigen::Vector2d s = used(endpoints->start, endpoints->start_point);
+    const Eigen::Vector2d g = used(endpoints->goal, endpoints->goal_point);
     msg.start_x(s.x());
     msg.start_y(s.y());
     msg.goal_x(g.x());

@@ -625,8 +625,8 @@ void PlannerNode::Impl::stop() {
     const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(
         std::max(Clock::duration::zero(), drain_deadline - Clock::now()));
     const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(left);
-    const eprosima::fastrtps::Duration_t wait(
-        static_cast<int32_t>(seconds.count()), static_cast<uint32_t>((left - seconds).count()));
+    const eprosima::fastrtps::Duration_t wait(static_cast<int32_t>(seconds.count()),
+                                              static_cast<uint32_t>((left - seconds).count()));
     if (robot->status_writer->wait_for_acknowledgments(wait) != ReturnCode_t::RETCODE_OK)
       spdlog::warn(
           "shutdown{}: statuses written but not acknowledged by every reader within the drain's "
@@ -783,10 +783,10 @@ void PlannerNode::Impl::expire_waiting_for_map(bool all) {
     }
   }
   for (WaitingForMap& waiting : expired) {
-    const std::string why =
-        all && stopping_ ? "node is shutting down before a map arrived"
-                         : fmt::format("no map received within requests.map_wait ({:g} s)",
-                                       static_cast<double>(cfg_.map_wait.count()) / 1000.0);
+    const std::string why = all && stopping_
+                                ? "node is shutting down before a map arrived"
+                                : fmt::format("no map received within requests.map_wait ({:g} s)",
+                                              static_cast<double>(cfg_.map_wait.count()) / 1000.0);
     const WireStatus status{all && stopping_ ? wire::CANCELED : wire::NO_MAP, why};
     spdlog::warn("request '{}'{}: {} ({})", printable(waiting.job.id), waiting.robot->label(),
                  code_name(status.code), status.message);
@@ -1009,8 +1009,7 @@ void PlannerNode::Impl::replier_loop() {
     // At shutdown everything still held goes out at once: nothing accepted is lost.
     const bool stopping = replier_stopping_;
     const Clock::time_point drain_deadline = drain_deadline_;
-    const ReplyClock::time_point now =
-        stopping ? ReplyClock::time_point::max() : ReplyClock::now();
+    const ReplyClock::time_point now = stopping ? ReplyClock::time_point::max() : ReplyClock::now();
     bool unwritten = false;
     for (const auto& robot : robots_) {
       for (HeldStatus& held : robot->replies.release(now, &timed_out))

@@ -49,7 +49,7 @@ BurstResult burst(std::vector<std::unique_ptr<BusClient>>& clients, size_t per_c
                   const core::OccupancyGrid& grid, Settled settled,
                   std::chrono::milliseconds timeout, const std::function<void()>& mid_burst = {}) {
   BurstResult result;
-  const double ax = 0.15, ay = 0.15;                              // cell (1, 1)
+  const double ax = 0.15, ay = 0.15;                           // cell (1, 1)
   const double bx = 0.1 * (grid.width - 2) + 0.05, by = 1.45;  // cell (14, 14)
   std::vector<std::vector<node::RequestIdentity>> identities(clients.size());
   std::vector<std::thread> writers;
@@ -79,8 +79,8 @@ BurstResult burst(std::vector<std::unique_ptr<BusClient>>& clients, size_t per_c
       const auto it = seen.find(id.sequence_number);
       if (it == seen.end()) {
         if (result.first_missing.empty())
-          result.first_missing = "client " + std::to_string(c) + " request seq " +
-                                 std::to_string(id.sequence_number);
+          result.first_missing =
+              "client " + std::to_string(c) + " request seq " + std::to_string(id.sequence_number);
       } else if (it->second > 1) {
         ++repeated;
       }
@@ -173,7 +173,8 @@ void expect_drain_loses_nothing(const std::string& tag, size_t per_client,
   const BurstResult r = burst(
       clients, per_client, grid,
       [&] { return node_process.output().find("stopped:") != std::string::npos; },
-      std::chrono::seconds(120), [&] {
+      std::chrono::seconds(120),
+      [&] {
         std::this_thread::sleep_for(term_after);
         node_process.signal(SIGTERM);
       });
@@ -184,10 +185,9 @@ void expect_drain_loses_nothing(const std::string& tag, size_t per_client,
   ASSERT_TRUE(std::regex_search(log, m, std::regex("stopped: (\\d+) requests")))
       << log.substr(log.size() > 4000 ? log.size() - 4000 : 0);
   const size_t taken = std::stoul(m[1]);
-  const std::string diagnosis = "node took " + std::to_string(taken) + "; clients sent " +
-                                std::to_string(sum(r.sent)) + ", answered " +
-                                std::to_string(sum(r.answered)) + "; first missing: " +
-                                r.first_missing;
+  const std::string diagnosis =
+      "node took " + std::to_string(taken) + "; clients sent " + std::to_string(sum(r.sent)) +
+      ", answered " + std::to_string(sum(r.answered)) + "; first missing: " + r.first_missing;
   EXPECT_GT(taken, 0u) << diagnosis;
   EXPECT_EQ(sum(r.answered), taken) << diagnosis;
   for (size_t c = 0; c < clients.size(); ++c) EXPECT_EQ(r.repeated[c], 0u) << "client " << c;

@@ -3,18 +3,16 @@
 // Fixtures live in tests/fixtures/config (VNSBA_FIXTURE_DIR); the shipped config in
 // VNSBA_CONFIG_DIR.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string>
 #include <vector>
-
-#include <yaml-cpp/yaml.h>
-
-#include <map>
 
 #include "bench/costs.hpp"
 #include "core/options_support.hpp"
@@ -430,7 +428,8 @@ TEST(Config, ANamespaceThatMakesTopicNamesTooLongIsRefused) {
   const std::string long_ns(300, 'n');
   const ConfigResult result = parse_config("namespace: " + long_ns + "\n");
   EXPECT_FALSE(result.config.has_value());
-  EXPECT_TRUE(HasError(result, "namespace, topics.projected_map", {"247"})) << Joined(result.errors);
+  EXPECT_TRUE(HasError(result, "namespace, topics.projected_map", {"247"}))
+      << Joined(result.errors);
   // The longest that fits: "/" + namespace + "/" + the longest topic name is 247 characters.
   const size_t longest_topic = std::string("planner_expansions_backward").size();
   const std::string fits(vnsba::node::kMaxTopicNameLength - 2 - longest_topic, 'n');

@@ -374,6 +374,33 @@ TEST(NodeIntegration, PlanRequestYieldsTheCorePathAndMetrics) {
   }
 }
 
+// Issue 31, item 6: paths ended at the goal's cell centre ((7.5, 4.5) became (7.475, 4.475)).
+// The published path's first and last poses, and the status's start and goal, are the requested
+// points exactly.
+TEST(NodeIntegration, ThePathAndStatusStartAndEndAtTheRequestedPoints) {
+  Running run(test_config("exact_ends"));
+  const core::OccupancyGrid grid = grid_from_rows(kRoom);
+  ASSERT_TRUE(run.start_with_map(grid));
+  const auto [cx, cy] = centre(grid, 1, 1);
+  const auto [dx, dy] = centre(grid, 12, 6);
+  // Off-centre inside their cells (cells are 0.1 m).
+  const double sx = cx + 0.031, sy = cy - 0.027, gx = dx - 0.044, gy = dy + 0.019;
+  const auto status =
+      run.client.wait_status_for(run.client.publish_request("exact", sx, sy, gx, gy));
+  ASSERT_TRUE(status);
+  ASSERT_EQ(code_name(status->code()), "OK") << status->message();
+  EXPECT_DOUBLE_EQ(status->start_x(), sx);
+  EXPECT_DOUBLE_EQ(status->start_y(), sy);
+  EXPECT_DOUBLE_EQ(status->goal_x(), gx);
+  EXPECT_DOUBLE_EQ(status->goal_y(), gy);
+  const auto& poses = status->path().poses();
+  ASSERT_GE(poses.size(), 2u);
+  EXPECT_NEAR(poses.front().pose().position().x(), sx, 1e-12);
+  EXPECT_NEAR(poses.front().pose().position().y(), sy, 1e-12);
+  EXPECT_NEAR(poses.back().pose().position().x(), gx, 1e-12);
+  EXPECT_NEAR(poses.back().pose().position().y(), gy, 1e-12);
+}
+
 // planner.compute_length_ratio: true puts final length / the optimal A* cost into every status
 // (the node runs a second, optimal A* search after each plan); off, the default, it is NaN.
 TEST(NodeIntegration, LengthRatioIsFilledOnlyWhenConfigured) {
