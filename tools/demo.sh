@@ -70,13 +70,15 @@ started_at=$SECONDS
 stage() { echo "[demo] $*"; }
 
 # --- Install and build ------------------------------------------------------------------------
-targets=(vnsba_node vnsba_slicer vnsba_recorder vnsba_send_goal)
+# The demo's four bus tools and everything else `cmake --install` takes from the build folder
+# (the CMake target vnsba_install_set), so that an install after the demo finds every file.
+targets=(vnsba_install_set)
 mkdir -p "$logs"
 if [ "$build" = 1 ]; then
   stage "bootstrap: checking the Debian packages"
   bash tools/bootstrap.sh
   jobs=$(nproc 2>/dev/null || echo 2)
-  stage "building ${targets[*]} in $build_dir (Release; log: $logs/build.log)"
+  stage "building ${targets[*]} (every installed tool) in $build_dir (Release; log: $logs/build.log)"
   # Configured once, with the test command's options, so both share one build folder; later
   # runs let `cmake --build` re-configure only when a CMakeLists.txt changed.
   if ! { [ -f "$build_dir/CMakeCache.txt" ] ||

@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
 # Installs a build to a temporary prefix and uses it as a stranger would, from another folder:
+#   0. what tools/demo.sh builds is everything `cmake --install` takes from the build folder
+#      (issue 31: an install after the demo failed, "cannot find vnsba_plan"): checked on a fresh
+#      configure with the demo's options, by what a dry run of the demo's build would link;
 #   1. vnsba_plan plans on the installed demo scene;
 #   2. vnsba_node, with no --config, reads the installed share/vnsba/default.yaml (its first log
 #      line says so), comes up, and exits 0 on SIGINT;
@@ -19,6 +22,43 @@ cleanup() {
 }
 trap cleanup EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
+
+echo "[install] the demo's build covers what cmake --install takes"
+# The demo's build targets: its `targets=(...)` line.
+demo_targets=$(sed -n 's/^targets=(\(.*\))$/\1/p' "$source/tools/demo.sh")
+[[ -n "$demo_targets" ]] || fail "no targets=(...) line in tools/demo.sh"
+fresh="$work/fresh"
+cmake -G "Unix Makefiles" -S "$source" -B "$fresh" -DCMAKE_BUILD_TYPE=Release \
+  >"$work/fresh.log" 2>&1 || fail "configuring a fresh build folder: $(tail -n 20 "$work/fresh.log")"
+# Every target those build: the closure of the generated makefile's target dependencies
+# ("tools/CMakeFiles/vnsba_plan.dir/all: core/CMakeFiles/vnsba_core.dir/all"), from the
+# top-level rule of each ("vnsba_plan: tools/CMakeFiles/vnsba_plan.dir/rule").
+rules="$fresh/CMakeFiles/Makefile2"
+queue=()
+for target in $demo_targets; do
+  dir=$(sed -n "s|^$target: \(.*\)/rule\$|\1|p" "$rules")
+  [[ -n "$dir" ]] || fail "tools/demo.sh builds '$target', which the build does not define"
+  queue+=("$dir")
+done
+declare -A reached=()
+while [[ ${#queue[@]} -gt 0 ]]; do
+  dir=${queue[0]}
+  queue=("${queue[@]:1}")
+  [[ -z "${reached[$dir]:-}" ]] || continue
+  reached[$dir]=1
+  while read -r dependency; do
+    [[ -z "$dependency" ]] || queue+=("$dependency")
+  done < <(sed -n "s|^$dir/all: \(.*\)/all\$|\1|p" "$rules")
+done
+built=$(for dir in "${!reached[@]}"; do basename "$dir" .dir; done | sort -u)
+# What the install scripts copy: executables by name, static libraries as lib<target>.a.
+installed=$(grep -rhoE 'TYPE (EXECUTABLE|STATIC_LIBRARY) FILES "[^"]*"' \
+  --include=cmake_install.cmake "$fresh" | sed 's|.*/||; s|"$||; s|^lib\(.*\)\.a$|\1|' | sort -u)
+[[ -n "$installed" ]] || fail "no executable or library in the fresh folder's install scripts"
+missing=$(comm -23 <(echo "$installed") <(echo "$built"))
+[[ -z "$missing" ]] ||
+  fail "cmake --install after tools/demo.sh (targets: $demo_targets) misses:" $missing
+rm -rf "$fresh"
 
 cmake --install "$build" --prefix "$prefix" >/dev/null
 for tool in vnsba_plan vnsba_node vnsba_slicer vnsba_recorder vnsba_send_goal vnsba_make_keystore; do
