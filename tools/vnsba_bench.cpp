@@ -30,6 +30,7 @@
 #include "bench/sweep.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
+#include "vnsba/node/command_line.hpp"
 
 namespace {
 
@@ -182,16 +183,8 @@ int main(int argc, char** argv) {
                    "timed plans per demo-scene query (the median is reported)")
       ->capture_default_str();
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return vnsba::bench::kExitBadInput;  // bad command line: the message above names it
-  }
+  // A bad command line exits 2 (vnsba::node::kExitUsage, bench's kExitBadInput), naming it.
+  if (const auto exit_code = vnsba::node::parse_command_line(app, argc, argv)) return *exit_code;
   if (optimality->parsed()) return run_optimality(maps_dir);
   if (paper->parsed()) return vnsba::bench::run_paper(paper_options);
   if (sweep->parsed()) return vnsba::bench::run_sweep(sweep_options);

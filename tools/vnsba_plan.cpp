@@ -74,6 +74,7 @@
 #include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/node/command_line.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/status_codes.hpp"
 #include "vnsba/records/run_record.hpp"
@@ -88,7 +89,7 @@ namespace {
 using namespace vnsba;
 
 constexpr int kPlanFailed = 1;
-constexpr int kBadInput = 2;
+constexpr int kBadInput = node::kExitUsage;
 // --poses writes at most this many poses (a path of 10 km at 1 mm spacing): a tiny
 // --path-spacing is refused rather than filling the disk.
 constexpr double kMaxPoses = 1e7;
@@ -505,12 +506,7 @@ int main(int argc, char** argv) {
                                   "vns_bastar: weight of the distance to the other search's "
                                   "start, 0..1e6 (default 0.5)")
                        ->check(CLI::Range(0.0, 1e6));
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : kBadInput;
-  }
+  if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
 
   // The config's sections are the defaults of every flag below.
   std::optional<node::NodeConfig> config;

@@ -40,6 +40,7 @@
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "nav_msgs/msg/PathPubSubTypes.h"
 #include "vnsba/maps/map_io.hpp"
+#include "vnsba/node/command_line.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -58,7 +59,7 @@ using namespace vnsba;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kDdsFailure = 1;
-constexpr int kBadInput = 2;
+constexpr int kBadInput = node::kExitUsage;
 
 // Memory guards: the recorder may run for days next to a busy node.
 constexpr size_t kMaxOpenRuns = 10000;     // runs heard of but not yet written
@@ -452,12 +453,7 @@ int main(int argc, char** argv) {
   std::string record_path, render_out;
   render_cmd->add_option("record", record_path, "RUN.json written by the recorder")->required();
   render_cmd->add_option("--out", render_out, "SVG to write (default: RUN.svg beside the record)");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : kBadInput;
-  }
+  if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
   if (render_cmd->parsed()) return render_command(record_path, render_out);
 
   if (out_dir.empty()) {

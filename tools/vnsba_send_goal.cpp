@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "vnsba/core/planner.hpp"
+#include "vnsba/node/command_line.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -247,12 +248,7 @@ int main(int argc, char** argv) {
                  "send only once this many request readers matched (the node counts as one)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    // --help exits 0; every parse error exits 2 with CLI11's message, which names the option.
-    return app.exit(e) == 0 ? 0 : kOtherStatusOrBadInput;
-  }
+  if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
 
   auto bad_input = [](const std::string& message) {
     spdlog::error("{}", message);

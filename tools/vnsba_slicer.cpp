@@ -33,6 +33,7 @@
 #include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/node/command_line.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -43,7 +44,7 @@ namespace {
 
 using namespace vnsba;
 
-constexpr int kBadInput = 2;
+constexpr int kBadInput = node::kExitUsage;
 constexpr int kDdsFailure = 1;
 
 // Newest tree received on the bus, handed from the DDS listener to the main loop.
@@ -218,7 +219,7 @@ int main(int argc, char** argv) {
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
   std::optional<std::string> participant_profile;
   app.add_option("--participant-profile", participant_profile, node::kParticipantProfileOptionHelp);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
 
   if (subscribe == !input.empty()) {
     spdlog::error("give either a map file or --subscribe (not both, not neither)");

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "vnsba/node/command_line.hpp"
 #include "vnsba/node/planner_node.hpp"
 #include "vnsba/node/process.hpp"
 
@@ -21,13 +22,13 @@ int main(int argc, char** argv) {
   std::optional<std::string> participant_profile;
   app.add_option("--participant-profile", participant_profile,
                  vnsba::node::kParticipantProfileOptionHelp);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto exit_code = vnsba::node::parse_command_line(app, argc, argv)) return *exit_code;
 
   vnsba::node::init_logging("vnsba_node");  // logs go to stderr
   const vnsba::node::StopSignals stop;      // before any thread exists
   const auto config =
       vnsba::node::load_config_or_report(config_path, domain, ros_namespace, participant_profile);
-  if (!config) return 2;
+  if (!config) return vnsba::node::kExitUsage;
 
   vnsba::node::PlannerNode node(*config);
   if (vnsba::core::Status status = node.start(); !status.is_ok()) {

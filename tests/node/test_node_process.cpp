@@ -42,6 +42,46 @@ TEST(NodeProcess, MissingConfigFileIsNamed) {
   EXPECT_NE(output.find("no/such/file.yaml"), std::string::npos) << output;
 }
 
+// Issue 31: a usage error exits 2 from every executable on the bus, naming the flag (vnsba_node
+// and vnsba_slicer exited 109, CLI11's own code for an argument not expected).
+TEST(CommandLine, EveryExecutableExitsTwoOnAnUnknownFlagNamingIt) {
+  const std::vector<std::vector<std::string>> commands = {
+      {kNode, "--no-such-flag"},
+      {VNSBA_SLICER_BINARY, "--no-such-flag"},
+      {VNSBA_RECORDER_BINARY, "--no-such-flag"},
+      {VNSBA_RECORDER_BINARY, "render", "run.json", "--no-such-flag"},
+      {VNSBA_SEND_GOAL_BINARY, "--no-such-flag"},
+      {VNSBA_MAKE_KEYSTORE, "--no-such-flag"},
+  };
+  for (const std::vector<std::string>& command : commands) {
+    const auto [code, output] =
+        run_to_exit(command.front(), std::vector<std::string>(command.begin() + 1, command.end()));
+    EXPECT_EQ(code, 2) << command.front() << ":\n" << output;
+    EXPECT_NE(output.find("--no-such-flag"), std::string::npos) << command.front() << ":\n"
+                                                                << output;
+  }
+}
+
+// A misspelt flag is reported as unknown, with the flag it was probably meant to be, before any
+// other error (the value it was given is not taken for something else).
+TEST(CommandLine, AMisspeltFlagIsNamedWithTheNearestKnownOne) {
+  struct Case {
+    std::vector<std::string> args;
+    std::string said;
+  };
+  for (const Case& c : {
+           Case{{"--domian", "3"}, "unknown option --domian (did you mean --domain?)"},
+           Case{{"--config-file", "x.yaml"},
+                "unknown option --config-file (did you mean --config?)"},
+           Case{{"--namesp", "robot7"}, "unknown option --namesp (did you mean --namespace?)"},
+           Case{{"extra"}, "unexpected argument extra"},
+       }) {
+    const auto [code, output] = run_to_exit(kNode, c.args);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find(c.said), std::string::npos) << c.said << " not in:\n" << output;
+  }
+}
+
 TEST(NodeProcess, SigtermDrainsAndExitsZero) {
   const node::NodeConfig cfg = test_config("proc");
   const std::string path = write_temp_file("good.yaml", config_yaml(cfg));

@@ -326,5 +326,23 @@ TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
   }
 }
 
+// Issue 31: `--goal-pose 16 -6.5` was reported as "--goal is required". The unknown flag comes
+// first, with the flag it was probably meant to be; nothing is sent (no config is even read).
+TEST(SendGoalArguments, AMisspeltFlagIsNamedBeforeAMissingOne) {
+  for (const auto& [misspelt, meant] :
+       {std::pair{"--goal-pose", "--goal"}, std::pair{"--gaol", "--goal"},
+        std::pair{"--min", "--min-readers"}}) {
+    const auto [code, output] = run_to_exit(
+        kSendGoal, {misspelt, "16", "-6.5", "--start", "2", "-6", "--config", "no/such/file.yaml"});
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(
+        output.find("unknown option " + std::string(misspelt) + " (did you mean " + meant + "?)"),
+        std::string::npos)
+        << output;
+    EXPECT_EQ(output.find("is required"), std::string::npos) << output;
+    EXPECT_EQ(output.find("no/such/file.yaml"), std::string::npos) << output;
+  }
+}
+
 }  // namespace
 }  // namespace vnsba::test

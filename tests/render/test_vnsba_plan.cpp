@@ -293,6 +293,24 @@ TEST(VnsbaPlan, BadInputExitsTwoNamingTheOption) {
   }
 }
 
+// Issue 31: an unknown flag is named first, with the flag it was probably meant to be, and exits 2
+// as every other usage error.
+TEST(VnsbaPlan, AnUnknownFlagIsNamedWithTheNearestKnownOne) {
+  for (const auto& [args, said] : {
+           std::pair<std::vector<std::string>, std::string>{
+               {kRooms, "--strat", "1", "1", "--goal", "2", "2"},
+               "unknown option --strat (did you mean --start?)"},
+           {{kRooms, "--start", "1", "1", "--goal", "2", "2", "--robot-radius-m", "0.3"},
+            "unknown option --robot-radius-m (did you mean --robot-radius?)"},
+           {{kRooms, "--start", "1", "1", "--goal", "2", "2", "--no-such-flag"},
+            "unknown option --no-such-flag"},
+       }) {
+    const auto [code, output] = run_to_exit(kPlan, args);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find(said), std::string::npos) << said << " not in:\n" << output;
+  }
+}
+
 // Every new option is refused (exit 2) for a value outside its core range, naming the option and
 // its unit; --path-spacing and --goal-yaw only mean something with --poses.
 TEST(VnsbaPlan, NewOptionsRefuseBadValuesNamingTheOptionAndUnit) {
