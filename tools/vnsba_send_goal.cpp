@@ -16,9 +16,12 @@
 // metres) appear only when the node's start_tolerance / goal_tolerance moved that end. The
 // status message of an OK plan (what was moved, warnings) goes to stderr.
 //
-// Exit codes: 0 the status is OK; 2 another status came, or the command line or config is bad
-// (stderr names the option); 3 no status came within --wait seconds (no node), or SIGINT or
-// SIGTERM came first; 1 DDS failure.
+// Exit codes (kExitCodesHelp, also in --help), so that a script can tell a refused plan from a
+// mistake of its own: 0 the node answered OK; 1 the node answered with another status (the line
+// is printed, its message goes to stderr); 2 usage error: the command line or the config is bad
+// (stderr names the option or key), nothing was sent; 3 no answer: no node matched or no status
+// came within --wait seconds (no node, wrong domain or topic names), or SIGINT or SIGTERM came
+// first; 4 DDS failure (a participant, endpoint or write refused).
 //
 // Order matters on the bus: the status reader exists and has matched the node's status writer
 // before the request goes out (the reader is volatile, as ROS 2's default; the node holds our
@@ -64,9 +67,14 @@ using namespace vnsba;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kStatusOk = 0;
-constexpr int kDdsFailure = 1;
-constexpr int kOtherStatusOrBadInput = 2;
+constexpr int kRefused = 1;  // the node answered with another status than OK
+constexpr int kBadInput = node::kExitUsage;
 constexpr int kNoStatus = 3;
+constexpr int kDdsFailure = 4;
+constexpr const char* kExitCodesHelp =
+    "Exit codes: 0 the node answered OK; 1 it answered with another status (printed); 2 bad "
+    "command line or config, nothing sent; 3 no answer within --wait (no node matched, no "
+    "status) or interrupted; 4 DDS failure.";
 
 // Longest --wait accepted, seconds: an hour is far beyond any planning budget.
 constexpr double kMaxWaitSeconds = 3600.0;
@@ -214,6 +222,7 @@ int main(int argc, char** argv) {
   const node::StopSignals stop_signals;
   node::init_logging("vnsba_send_goal");
   CLI::App app{"vnsba_send_goal: send one plan request and print the status it gets"};
+  app.footer(kExitCodesHelp);
   std::string config_path = "", planner, request_id;
   std::optional<int> domain;
   std::vector<double> start, goal;
@@ -252,7 +261,7 @@ int main(int argc, char** argv) {
 
   auto bad_input = [](const std::string& message) {
     spdlog::error("{}", message);
-    return kOtherStatusOrBadInput;
+    return kBadInput;
   };
   for (const auto& [option, xy] : {std::pair{"--start", &start}, std::pair{"--goal", &goal}}) {
     for (size_t i = 0; i < 2; ++i) {
@@ -284,7 +293,7 @@ int main(int argc, char** argv) {
 
   const std::optional<node::NodeConfig> loaded = node::load_config_or_report(
       config_path, domain.value_or(-1), ros_namespace, participant_profile);
-  if (!loaded) return kOtherStatusOrBadInput;
+  if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
   // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one
   // status line, stderr only says what went wrong.
@@ -448,7 +457,7 @@ int main(int argc, char** argv) {
       static_cast<long long>(status->planning_time_us()), adjusted.c_str());
   if (status->code() != node::wire::OK) {
     spdlog::warn("{}", node::printable(status->message(), 4096));
-    return kOtherStatusOrBadInput;
+    return kRefused;
   }
   // What an OK plan reports besides its metrics: moved endpoints, ignored goal orientation.
   if (!status->message().empty())

@@ -1,5 +1,6 @@
 // vnsba_send_goal as a process against a planner node over real loopback DDS: the one status
-// line and the exit codes (0 OK, 2 another status or bad input, 3 no answer in time).
+// line and the exit codes (0 OK, 1 another status, 2 bad input, 3 no answer in time, 4 DDS
+// failure).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -220,10 +221,12 @@ TEST_F(SendGoal, PlannerOverrideReachesTheNode) {
   EXPECT_EQ(status->planner(), "astar");
 }
 
-TEST_F(SendGoal, GoalInAWallExitsTwoWithTheStatus) {
+// Issue 31: a plan the node refused exits 1, not 2 as bad input does, so a script tells them
+// apart.
+TEST_F(SendGoal, GoalInAWallExitsOneWithTheStatus) {
   start_node("sg_occupied");
   const auto [code, output] = run_to_exit(kSendGoal, args("sg-wall", 0.55, 0.55, 2.05, 1.05));
-  EXPECT_EQ(code, 2) << output;
+  EXPECT_EQ(code, 1) << output;
   const auto line = find_status_line(output, "sg-wall");
   ASSERT_TRUE(line) << output;
   EXPECT_EQ(line->status, "GOAL_OCCUPIED");
@@ -239,7 +242,7 @@ TEST_F(SendGoal, AReusedIdPrintsItsOwnAnswerNotTheEarlierOne) {
   ASSERT_TRUE(find_status_line(first_output, "X"));
   EXPECT_EQ(find_status_line(first_output, "X")->status, "OK");
   const auto [code, output] = run_to_exit(kSendGoal, args("X", 0.55, 0.55, 2.05, 1.05));
-  EXPECT_EQ(code, 2) << output;
+  EXPECT_EQ(code, 1) << output;
   const auto line = find_status_line(output, "X");
   ASSERT_TRUE(line) << output;
   EXPECT_EQ(line->status, "GOAL_OCCUPIED") << output;
@@ -287,6 +290,30 @@ TEST(SendGoalWithoutNode, NoAnswerExitsThreeWithinTheWait) {
   EXPECT_NE(output.find("no planner node"), std::string::npos) << output;
   // One second of waiting, plus process start and DDS teardown.
   EXPECT_LT(took, 6s);
+}
+
+// Issue 31: a DDS failure exits 4 (it was 1, which now means a plan refused): here the
+// participant is refused before it exists, its keystore missing under security's Enforce.
+TEST(SendGoalWithoutNode, ADdsFailureExitsFour) {
+  const node::NodeConfig cfg = test_config("sg_dds");
+  const std::string path =
+      write_temp_file("sg_dds.yaml", config_yaml(cfg) +
+                                         "security:\n  enable: true\n  keystore: /nonexistent/ks\n"
+                                         "  strategy: Enforce\n");
+  const auto [code, output] = run_to_exit(kSendGoal, {"--config", path, "--start", "0.5", "0.5",
+                                                      "--goal", "1.5", "0.5", "--wait", "1"});
+  EXPECT_EQ(code, 4) << output;
+  EXPECT_NE(output.find("/nonexistent/ks"), std::string::npos) << output;
+}
+
+// The exit codes are in --help, each with its meaning.
+TEST(SendGoalArguments, HelpListsTheExitCodes) {
+  const auto [code, output] = run_to_exit(kSendGoal, {"--help"});
+  EXPECT_EQ(code, 0) << output;
+  for (const char* said :
+       {"0 the node answered OK", "1 it answered with another status",
+        "2 bad command line or config", "3 no answer within --wait", "4 DDS failure"})
+    EXPECT_NE(output.find(said), std::string::npos) << said << " not in:\n" << output;
 }
 
 TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
