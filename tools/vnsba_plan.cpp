@@ -379,7 +379,8 @@ int main(int argc, char** argv) {
   Outputs out;
   bool cells = false;
   maps::SliceOptions slice;
-  slice.names = {"--z-min", "--z-max", "--resolution", "--bounds", "vnsba_plan's limit"};
+  slice.names.bounds = "--bounds";
+  slice.names.max_cells = "vnsba_plan's limit";
   std::vector<double> bounds;
   // Flags parse into `cli`; the build options are the config's map section (or core's
   // defaults) with every flag given on top.
@@ -556,6 +557,14 @@ int main(int argc, char** argv) {
     out.frame_id = config->frame_id;
     out.path_spacing = config->planner.path_spacing;
   }
+  // A slicing error names the flag given, else the config key the value came from.
+  const std::string slice_config = config ? config_path : "";
+  slice.names.z_min =
+      node::value_source(z_min_flag->count() > 0, "--z-min", "slicer.z_min", slice_config);
+  slice.names.z_max =
+      node::value_source(z_max_flag->count() > 0, "--z-max", "slicer.z_max", slice_config);
+  slice.names.resolution = node::value_source(resolution_flag->count() > 0, "--resolution",
+                                              "slicer.resolution", slice_config);
   if (*path_spacing_flag) out.path_spacing = path_spacing;
   if (*goal_yaw_flag) out.goal_yaw = goal_yaw;
 

@@ -258,9 +258,12 @@ int main(int argc, char** argv) {
   if (config_name.empty())
     if (auto found = node::find_default_config()) config_name = *found;
   const std::string in_config = " in " + config_name;
-  options.names.z_min = z_min ? "--z-min" : "slicer.z_min" + in_config;
-  options.names.z_max = z_max ? "--z-max" : "slicer.z_max" + in_config;
-  options.names.resolution = resolution ? "--resolution" : "slicer.resolution" + in_config;
+  options.names.z_min =
+      node::value_source(z_min.has_value(), "--z-min", "slicer.z_min", config_name);
+  options.names.z_max =
+      node::value_source(z_max.has_value(), "--z-max", "slicer.z_max", config_name);
+  options.names.resolution =
+      node::value_source(resolution.has_value(), "--resolution", "slicer.resolution", config_name);
   options.names.bounds = "--bounds";
   options.names.max_cells = "map.max_cells" + in_config;
   if (!bounds.empty())

@@ -1,6 +1,7 @@
 // vnsba_plan as a process: a plan and its picture from a map file, and exit codes with messages
 // naming the option for bad input.
 #include <gtest/gtest.h>
+#include <octomap/OcTree.h>
 #include <tinyxml2.h>
 
 #include <algorithm>
@@ -309,6 +310,34 @@ TEST(VnsbaPlan, AnUnknownFlagIsNamedWithTheNearestKnownOne) {
     EXPECT_EQ(code, 2) << output;
     EXPECT_NE(output.find(said), std::string::npos) << said << " not in:\n" << output;
   }
+}
+
+// Issue 31: a slicing value from --config is blamed on its key and file, not on a flag nobody
+// gave; a flag given is named as the flag. geb079.bt's leaves are `leaf` metres, so 1.5 leaves
+// is no whole multiple of them.
+TEST(VnsbaPlan, ASliceValueFromTheConfigIsNamedByItsKey) {
+  const std::string bt = VNSBA_DATA_DIR "/octomap/geb079.bt";
+  if (!std::ifstream(bt)) GTEST_SKIP() << bt << " is absent (third-party data beside the project)";
+  const auto tree = maps::load_octree(bt);
+  ASSERT_TRUE(tree) << tree.error().message;
+  char resolution[32];
+  std::snprintf(resolution, sizeof resolution, "%.6f", 1.5 * (*tree)->getResolution());
+  const std::string config = write_temp_file(
+      "plan_slicer.yaml", std::string("slicer:\n  resolution: ") + resolution + "\n");
+  const std::vector<std::string> query = {bt,   "--start", "2",        "-6",  "--goal",
+                                          "16", "-6.5",    "--config", config};
+  const auto [code, output] = run_to_exit(kPlan, query);
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("slicer.resolution in " + config), std::string::npos) << output;
+  EXPECT_EQ(output.find("--resolution"), std::string::npos) << output;
+
+  std::vector<std::string> with_flag = query;
+  with_flag.insert(with_flag.end(), {"--resolution", resolution});
+  const auto [flag_code, flag_output] = run_to_exit(kPlan, with_flag);
+  EXPECT_EQ(flag_code, 2) << flag_output;
+  EXPECT_NE(flag_output.find("--resolution is"), std::string::npos) << flag_output;
+  EXPECT_EQ(flag_output.find("slicer.resolution"), std::string::npos) << flag_output;
+  std::remove(config.c_str());
 }
 
 // Every new option is refused (exit 2) for a value outside its core range, naming the option and

@@ -125,4 +125,14 @@ inline std::optional<int> parse_command_line(CLI::App& app, int argc, const char
   }
 }
 
+// How an error message names a value a flag or a config key may have set: the flag when it was
+// given, otherwise the key with its file ("slicer.resolution in robot.yaml"), or, without a
+// config, the flag's default ("--z-min (default)").
+inline std::string value_source(bool flag_given, const std::string& flag, const std::string& key,
+                                const std::string& config_file) {
+  if (flag_given) return flag;
+  if (!config_file.empty()) return key + " in " + config_file;
+  return flag + " (default)";
+}
+
 }  // namespace vnsba::node
