@@ -53,6 +53,9 @@ class Reader {
  public:
   bool ok() const { return error_.empty(); }
   const std::string& error() const { return error_; }
+  // The geometry fields (a resolution, an origin coordinate, a radius) that were null, in the
+  // order read: each reads as NaN, which no picture can be drawn with.
+  const std::vector<std::string>& null_geometry() const { return null_geometry_; }
 
   // The member `key` of object `j` at `path`, or nullptr when absent or null.
   const json* member(const json& j, const std::string& key, const std::string& path) {
@@ -87,6 +90,13 @@ class Reader {
       return 0.0;
     }
     return m->get<double>();
+  }
+  // A number of the geometry a picture is drawn in: as real(), and a null is remembered by its
+  // path (null_geometry()).
+  double geometry(const json& j, const std::string& key, const std::string& path) {
+    if (j.is_object() && j.contains(key) && j.at(key).is_null())
+      null_geometry_.push_back(join(path, key));
+    return real(j, key, path);
   }
   int64_t integer(const json& j, const std::string& key, const std::string& path, int64_t lo,
                   int64_t hi) {
@@ -139,10 +149,13 @@ class Reader {
       fail(join(path, "origin"), "must be [x, y] with two numbers");
       return std::nullopt;
     }
-    auto coordinate = [](const json& v) {
-      return v.is_null() ? std::numeric_limits<double>::quiet_NaN() : v.get<double>();
+    auto coordinate = [&](size_t i) {
+      const json& v = (*m)[i];
+      if (!v.is_null()) return v.get<double>();
+      null_geometry_.push_back(join(path, "origin") + "[" + std::to_string(i) + "]");
+      return std::numeric_limits<double>::quiet_NaN();
     };
-    return Eigen::Vector2d(coordinate((*m)[0]), coordinate((*m)[1]));
+    return Eigen::Vector2d(coordinate(0), coordinate(1));
   }
   std::vector<Eigen::Vector2d> points(const json& j, const std::string& key,
                                       const std::string& path) {
@@ -195,6 +208,7 @@ class Reader {
 
  private:
   std::string error_;
+  std::vector<std::string> null_geometry_;
 };
 
 }  // namespace
@@ -287,7 +301,8 @@ OptionsRecord options_record(const core::PlannerOptions& options) {
   return o;
 }
 
-core::Expected<RunRecord> run_record_from_json(const json& j) {
+core::Expected<RunRecord> run_record_from_json(const json& j,
+                                               std::vector<std::string>* null_geometry) {
   Reader in;
   RunRecord r;
   if (!j.is_object())
@@ -337,7 +352,7 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     dbg.planner = in.string(*d, "planner", "debug");
     dbg.width = static_cast<int32_t>(in.integer(*d, "width", "debug", 0, INT32_MAX));
     dbg.height = static_cast<int32_t>(in.integer(*d, "height", "debug", 0, INT32_MAX));
-    dbg.resolution = in.real(*d, "resolution", "debug");
+    dbg.resolution = in.geometry(*d, "resolution", "debug");
     if (auto o = in.origin(*d, "debug")) {
       dbg.origin_x = o->x();
       dbg.origin_y = o->y();
@@ -361,7 +376,7 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     }
     map.width = static_cast<int32_t>(in.integer(*m, "width", "map", 0, INT32_MAX));
     map.height = static_cast<int32_t>(in.integer(*m, "height", "map", 0, INT32_MAX));
-    map.resolution = in.real(*m, "resolution", "map");
+    map.resolution = in.geometry(*m, "resolution", "map");
     if (auto o = in.origin(*m, "map")) {
       map.origin_x = o->x();
       map.origin_y = o->y();
@@ -373,12 +388,12 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     map.allow_unknown = in.boolean(*m, "allow_unknown", "map");
     // Absent (older records): no inflation. Null, written for a non-finite value, stays NaN, which
     // check_record refuses.
-    const double radius = in.real(*m, "robot_radius", "map");
+    const double radius = in.geometry(*m, "robot_radius", "map");
     map.robot_radius = m->contains("robot_radius") ? radius : 0.0;
     // Absent (records from before the cost gradient): no gradient.
-    const double inflation = in.real(*m, "inflation_radius", "map");
+    const double inflation = in.geometry(*m, "inflation_radius", "map");
     map.inflation_radius = m->contains("inflation_radius") ? inflation : 0.0;
-    const double scaling = in.real(*m, "cost_scaling_factor", "map");
+    const double scaling = in.geometry(*m, "cost_scaling_factor", "map");
     map.cost_scaling_factor =
         m->contains("cost_scaling_factor") ? scaling : MapReference{}.cost_scaling_factor;
     r.map = map;
@@ -404,6 +419,7 @@ core::Expected<RunRecord> run_record_from_json(const json& j) {
     r.options = options;
   }
   if (!in.ok()) return core::Status::error(core::StatusCode::kInvalidRequest, in.error());
+  if (null_geometry != nullptr) *null_geometry = in.null_geometry();
   return r;
 }
 
@@ -643,10 +659,17 @@ core::Expected<std::string> render_record_file(const std::string& json_path) {
   json j = json::parse(file, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded())
     return core::Status::error(core::StatusCode::kInvalidRequest, json_path + ": not valid JSON");
-  auto record = run_record_from_json(j);
+  std::vector<std::string> null_geometry;
+  auto record = run_record_from_json(j, &null_geometry);
   if (!record)
     return core::Status::error(core::StatusCode::kInvalidRequest,
                                json_path + ": " + record.error().message);
+  // The geometry check would see NaN there ("got nan"); the file says null.
+  if (!null_geometry.empty())
+    return core::Status::error(core::StatusCode::kInvalidMap,
+                               json_path + ": " + null_geometry.front() +
+                                   " is null (written for a value that was not a finite number): "
+                                   "the run cannot be drawn without it");
   std::optional<core::OccupancyGrid> grid;
   if (record->map && !record->map->file.empty()) {
     const std::filesystem::path map_path =

@@ -338,8 +338,9 @@ TEST(RunRecord, RenderRecordFileReadsTheMapBesideIt) {
 }
 
 // A record whose geometry cannot be drawn is refused with the JSON field named, and no picture is
-// made: a negative or NaN resolution, no cells, an absurd size, a non-finite origin, a bad robot
-// radius, debug cells outside the debug grid. With the map file beside it and without.
+// made: a negative or null resolution, no cells, an absurd size, a null origin, a bad robot
+// radius, debug cells outside the debug grid. With the map file beside it and without. A null
+// (to_json's NaN) is said to be null, naming its field.
 TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
   const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
                                     ("vnsba_bad_geometry_" + std::to_string(getpid()));
@@ -360,19 +361,20 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
   };
   const std::vector<Case> cases = {
       {"/map/resolution", -0.5, "map: resolution must be finite and > 0"},
-      {"/map/resolution", nullptr, "map: resolution must be finite and > 0"},  // NaN
+      {"/map/resolution", nullptr, "map.resolution is null"},
       {"/map/resolution", 0, "map: resolution"},
       {"/map/width", 0, "map: width must be > 0"},
-      {"/map/origin", nlohmann::json::array({nullptr, 0}), "map: origin x must be finite"},
+      {"/map/origin", nlohmann::json::array({nullptr, 0}), "map.origin[0] is null"},
       {"/map/robot_radius", -1, "map: robot_radius"},
-      {"/map/robot_radius", nullptr, "map: robot_radius"},  // NaN
+      {"/map/robot_radius", nullptr, "map.robot_radius is null"},
       {"/map/inflation_radius", -1, "map: inflation_radius"},
-      {"/map/inflation_radius", 0.25, "map: inflation_radius"},           // below robot_radius
-      {"/map/cost_scaling_factor", nullptr, "map: cost_scaling_factor"},  // NaN
+      {"/map/inflation_radius", 0.25, "map: inflation_radius"},  // below robot_radius
+      {"/map/cost_scaling_factor", nullptr, "map.cost_scaling_factor is null"},
       {"/debug/resolution", -1, "debug: resolution must be finite and > 0"},
-      {"/debug/resolution", nullptr, "debug: resolution must be finite and > 0"},
+      {"/debug/resolution", nullptr, "debug.resolution is null"},
       {"/debug/height", 0, "debug: height must be > 0"},
-      {"/debug/origin", nlohmann::json::array({0, nullptr}), "debug: origin y must be finite"},
+      {"/debug/origin", nlohmann::json::array({0, nullptr}), "debug.origin[1] is null"},
+      {"/map/inflation_radius", nullptr, "map.inflation_radius is null"},
       {"/debug/expanded_forward/1", nlohmann::json::array({4, 0}),
        "debug.expanded_forward[1] = [4, 0] is outside the debug grid"},
       {"/debug/expanded_backward/0", nlohmann::json::array({0, -1}), "debug.expanded_backward[0]"},
@@ -408,6 +410,8 @@ TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
       ASSERT_FALSE(svg) << bad[nlohmann::json::json_pointer(c.pointer)];
       EXPECT_EQ(svg.error().message.rfind(path.string() + ": ", 0), 0u) << svg.error().message;
       EXPECT_NE(svg.error().message.find(c.named), std::string::npos) << svg.error().message;
+      // Issue 31: a null was reported as the NaN it reads as ("got nan").
+      EXPECT_EQ(svg.error().message.find("nan"), std::string::npos) << svg.error().message;
     }
   }
   // An absurd size is refused before any cell is allocated.

@@ -104,8 +104,13 @@ struct RunRecord {
 // out). Non-finite numbers are written as null, except status.clearance_m: metres, "inf" on a
 // map without obstacles, null when NaN (no path); a record without it (older ones) reads NaN.
 nlohmann::json to_json(const RunRecord& record);
-// The inverse; errors (kInvalidRequest) name the key at fault ("status.metrics.turns").
-core::Expected<RunRecord> run_record_from_json(const nlohmann::json& json);
+// The inverse; errors (kInvalidRequest) name the key at fault ("status.metrics.turns"). A null
+// geometry value (map.resolution, map.origin[0], map.robot_radius, map.inflation_radius,
+// map.cost_scaling_factor, debug.resolution, debug.origin[1], ...: what to_json wrote for a value
+// that was not finite) reads as NaN, so that the record reads back as it was written; with
+// `null_geometry`, their paths are listed there, in the order read.
+core::Expected<RunRecord> run_record_from_json(const nlohmann::json& json,
+                                               std::vector<std::string>* null_geometry = nullptr);
 
 // A file name for a request id: letters, digits, '-', '_' and '.' kept, anything else '_',
 // never empty, never "." or "..", at most 120 characters (then a hash suffix keeps it unique).
@@ -127,10 +132,11 @@ core::Status check_record(const RunRecord& record, const core::OccupancyGrid* gr
 render::RunPicture picture_of(const RunRecord& record, const core::OccupancyGrid* grid);
 
 // Reads RUN.json (and the map file it references, relative to the record's folder) and returns
-// the SVG. Errors name the file and the key at fault; a record that check_record refuses is not
-// drawn. The map is built for planning as the node builds it (GridMap::build with the record's
-// occupied_threshold, allow_unknown, robot_radius and cost gradient), so inflated cells and cell
-// costs are drawn as the node saw them.
+// the SVG. Errors name the file and the key at fault; a record with a null geometry value
+// ("map.resolution is null") or one that check_record refuses is not drawn. The map is built for
+// planning as the node builds it (GridMap::build with the record's occupied_threshold,
+// allow_unknown, robot_radius and cost gradient), so inflated cells and cell costs are drawn as the
+// node saw them.
 core::Expected<std::string> render_record_file(const std::string& json_path);
 
 }  // namespace vnsba::records
