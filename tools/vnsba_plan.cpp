@@ -312,8 +312,7 @@ bool write_outputs(const Outputs& out, const std::string& map_path, const core::
     records::RunRecord record = run_record(request_id, *map, query, result, build, out.frame_id,
                                            std::filesystem::path(*saved).filename().string());
     record.options = out.record_options;
-    const core::Status written =
-        render::write_text_file(out.json, records::to_json(record).dump(1));
+    const core::Status written = records::write_json_file(out.json, record);
     if (!written.is_ok()) {
       std::fprintf(stderr, "--json: %s\n", written.message.c_str());
       return false;

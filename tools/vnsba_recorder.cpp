@@ -17,7 +17,14 @@
 // Runs heard of but not yet written are held in memory, at most 10,000 of them and at most
 // --max-open-mb (default 512 MiB) of their data: past that, the debug data of the oldest runs
 // is dropped first, then the oldest runs; every drop is logged (run id, bytes) and counted in
-// the summary at exit.
+// the summary at exit. The samples received but not yet handled count against the same limit,
+// with the runs being written: while the main thread is busy, a debug sample that would take
+// them past it is dropped on arrival (logged, counted). So what is held for runs stays within
+// the limit, and within twice it while a run is drawn (its picture copies its cells). A run's
+// record is written element by element (records::write_json, no JSON tree of its cells) in
+// about 1.5 bytes per byte of its cells, at most 2.6; its picture grows with its map, not with
+// its expansions. Outside the limit: the 4 slices kept, and the DDS readers' own histories (up
+// to 8 debug samples).
 //
 // Files are written to a temporary name and renamed, so a reader never sees half a file. A run
 // whose data cannot be drawn or written is logged and skipped; the others go on. SIGINT/SIGTERM
@@ -25,6 +32,7 @@
 // written (a request without a status as NO_STATUS) and it exits 0.
 //
 // Exit codes: 0 done, 1 DDS failure, 2 bad arguments, config or record file.
+#include <malloc.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -67,33 +75,125 @@ constexpr double kDefaultMaxOpenMb = 512;  // and their data, MiB (--max-open-mb
 constexpr size_t kMaxPendingGoals = 1024;  // goal poses waiting for their status
 constexpr size_t kMaxKeptMaps = 4;         // recent slices kept to pair runs with
 
+std::string megabytes(uint64_t bytes) {
+  return fmt::format("{:.3g} MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+}
+
 struct GoalEvent {
   node::PoseStampedMsg goal;
 };
 struct RobotPoseEvent {
   node::PoseStampedMsg pose;
 };
+// Debug data converted as it arrives (in the DDS thread): what is queued is what a run will hold,
+// and the message is freed at once.
+struct DebugEvent {
+  explicit DebugEvent(const node::PlannerDebugMsg& msg) : data(node::from_debug_msg(msg)) {}
+  node::DebugData data;
+};
 using Event = std::variant<node::OccupancyGridMsg, node::PlanRequestMsg, GoalEvent, RobotPoseEvent,
-                           node::PathMsg, node::PlanStatusMsg, node::PlannerDebugMsg>;
+                           node::PathMsg, node::PlanStatusMsg, DebugEvent>;
+
+// The bytes a received sample holds, about: the message and the capacity of its lists and
+// strings (what grows with a run; the fixed fields are in sizeof).
+using records::list_bytes;
+size_t extra_bytes(const node::OccupancyGridMsg& m) {
+  return list_bytes(m.data());
+}
+size_t extra_bytes(const node::PlanRequestMsg& m) {
+  return m.id().capacity() + m.planner().capacity();
+}
+size_t extra_bytes(const GoalEvent&) {
+  return 0;
+}
+size_t extra_bytes(const RobotPoseEvent&) {
+  return 0;
+}
+size_t extra_bytes(const node::PathMsg& m) {
+  return list_bytes(m.poses());
+}
+size_t extra_bytes(const node::PlanStatusMsg& m) {
+  return m.request_id().capacity() + m.message().capacity() + list_bytes(m.path().poses());
+}
+size_t extra_bytes(const DebugEvent& e) {
+  return e.data.request_id.capacity() + records::debug_bytes(e.data.trace);
+}
+size_t event_bytes(const Event& event) {
+  return sizeof(Event) + std::visit([](const auto& m) { return extra_bytes(m); }, event);
+}
 
 // Every listener hands its samples to one inbox; the main thread does all the work, so the
 // run state needs no locking and a slow disk never blocks DDS threads for long.
+//
+// The samples queued count against --max-open-mb together with what the main thread holds (the
+// open runs and the runs being written, settle()): while the main thread is busy (writing a
+// large run), a debug sample that would take the total past the limit is dropped on arrival
+// instead of queuing without bound. Other samples are small (statuses, requests, poses) or rare
+// (slices) and always queued: a run is never lost for want of its status.
 class Inbox {
  public:
-  void push(Event event) {
+  struct Queued {
+    Event event;
+    size_t bytes = 0;  // counted until handled()
+  };
+
+  explicit Inbox(size_t max_bytes) : max_bytes_(max_bytes) {}
+
+  // Queues `event` of `bytes` (event_bytes); a `droppable` one only when it fits: false when it
+  // was dropped.
+  bool push(Event event, size_t bytes, bool droppable) {
     std::lock_guard<std::mutex> lock(mutex_);
-    events_.push_back(std::move(event));
+    if (droppable && queued_bytes_ + settled_bytes_ + bytes > max_bytes_) {
+      ++dropped_;
+      dropped_bytes_ += bytes;
+      return false;
+    }
+    events_.push_back({std::move(event), bytes});
+    queued_bytes_ += bytes;
+    peak_bytes_ = std::max(peak_bytes_, queued_bytes_ + settled_bytes_);
+    return true;
   }
-  std::deque<Event> take_all() {
+  size_t size() {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::deque<Event> out;
-    out.swap(events_);
-    return out;
+    return events_.size();
+  }
+  // The oldest sample, still counted: call handled() once it is handled and freed.
+  std::optional<Queued> pop() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (events_.empty()) return std::nullopt;
+    Queued front = std::move(events_.front());
+    events_.pop_front();
+    return front;
+  }
+  // The sample popped is handled: what it held has moved into a run (settle()) or been freed.
+  void handled(size_t bytes) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    queued_bytes_ -= bytes;
+    peak_bytes_ = std::max(peak_bytes_, queued_bytes_ + settled_bytes_);
+  }
+  // What the main thread holds now (open runs, runs being written), bytes. While a sample is
+  // handled its bytes count twice, in the inbox and in its run, until handled(): an admission
+  // then is only more cautious.
+  void settle(size_t bytes) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    settled_bytes_ = bytes;
+  }
+  // Debug samples dropped on arrival, their bytes, and the most ever held (queued + settled).
+  std::string summary() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return fmt::format("{} debug sample(s) ({}) dropped on arrival; at most {} held", dropped_,
+                       megabytes(dropped_bytes_), megabytes(peak_bytes_));
   }
 
  private:
   std::mutex mutex_;
-  std::deque<Event> events_;
+  std::deque<Queued> events_;
+  const size_t max_bytes_;
+  size_t queued_bytes_ = 0;
+  size_t settled_bytes_ = 0;
+  size_t peak_bytes_ = 0;
+  size_t dropped_ = 0;
+  uint64_t dropped_bytes_ = 0;
 };
 
 template <class Msg, class Wrap = Msg>
@@ -113,7 +213,16 @@ class Forwarder : public node::dds::DataReaderListener {
     try {
       while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
         if (!info.valid_data) continue;
-        inbox_.push(Event(Wrap{std::move(msg)}));
+        constexpr bool kDebug = std::is_same_v<Wrap, DebugEvent>;
+        Event event(Wrap{std::move(msg)});
+        std::string id;
+        if constexpr (kDebug) id = std::get<DebugEvent>(event).data.request_id;
+        const size_t bytes = event_bytes(event);
+        if (!inbox_.push(std::move(event), bytes, kDebug))
+          spdlog::warn(
+              "dropped the debug data of run '{}' on arrival ({} bytes): with what is held it "
+              "would exceed --max-open-mb; its picture and record will have no expansions",
+              node::printable(id, 256), bytes);
         msg = Msg();
       }
     } catch (const std::exception& e) {
@@ -135,21 +244,26 @@ struct StoredMap {
 
 using records::OpenRun;
 
-std::string megabytes(uint64_t bytes) {
-  return fmt::format("{:.3g} MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
-}
-
 class Recorder {
  public:
+  // `inbox` is told what the recorder holds after every change (Inbox::settle).
   Recorder(node::NodeConfig config, std::filesystem::path out_dir,
-           std::chrono::milliseconds debug_wait, size_t max_open_bytes)
+           std::chrono::milliseconds debug_wait, size_t max_open_bytes, Inbox& inbox)
       : config_(std::move(config)),
         out_dir_(std::move(out_dir)),
         debug_wait_(debug_wait),
-        runs_(kMaxOpenRuns, max_open_bytes) {}
+        runs_(kMaxOpenRuns, max_open_bytes),
+        inbox_(inbox) {}
 
-  void handle(Event&& event) {
-    std::visit([this](auto&& e) { on(std::move(e)); }, std::move(event));
+  // Handles the samples queued now, one at a time: each stays counted in the inbox until it is
+  // handled and freed.
+  void handle_queued() {
+    for (size_t n = inbox_.size(); n > 0; --n) {
+      std::optional<Inbox::Queued> queued = inbox_.pop();
+      if (!queued) return;
+      std::visit([this](auto&& e) { on(std::move(e)); }, std::move(queued->event));
+      inbox_.handled(queued->bytes);
+    }
   }
 
   // Writes the runs that are complete (all of them when `flush`). Returns how many were written.
@@ -164,7 +278,15 @@ class Recorder {
                             (run.record.debug || run.record.status->metrics.expanded == 0);
       return flush || complete || (has_status && now - *run.status_time >= debug_wait_);
     });
-    for (OpenRun& run : ready) written += write_run(run.record) ? 1 : 0;
+    // Taken runs stay counted until written, and are written and freed one at a time.
+    for (const OpenRun& run : ready) writing_bytes_ += run.bytes;
+    settle();
+    for (OpenRun& run : ready) {
+      written += write_run(run.record) ? 1 : 0;
+      run.record = {};
+      writing_bytes_ -= run.bytes;
+      settle();
+    }
     return written;
   }
 
@@ -181,9 +303,13 @@ class Recorder {
   }
 
  private:
+  void settle() { inbox_.settle(runs_.bytes() + writing_bytes_); }
+
   // Changes the open run of `id` (opened if new) and logs what the memory limits dropped.
   void update_run(const std::string& id, const std::function<void(OpenRun&)>& change) {
-    for (const records::DroppedPart& part : runs_.update(id, change)) {
+    const std::vector<records::DroppedPart> dropped = runs_.update(id, change);
+    settle();
+    for (const records::DroppedPart& part : dropped) {
       spdlog::warn("{}: dropped {} of run '{}' ({} bytes){}", part.reason,
                    part.whole_run ? "everything heard" : "the debug data", part.request_id,
                    part.bytes,
@@ -278,10 +404,10 @@ class Recorder {
     run.status_time = Clock::now();
   }
 
-  void on(node::PlannerDebugMsg&& msg) {
-    if (msg.request_id().empty()) return;
-    node::DebugData d = node::from_debug_msg(msg);
-    update_run(d.request_id, [&](OpenRun& run) { run.record.debug = std::move(d.trace); });
+  void on(DebugEvent&& e) {
+    if (e.data.request_id.empty()) return;
+    update_run(e.data.request_id,
+               [&](OpenRun& run) { run.record.debug = std::move(e.data.trace); });
   }
 
   // The slice a run was planned on: the one whose stamp the status names, else the newest one
@@ -338,11 +464,16 @@ class Recorder {
           !checked.is_ok())
         spdlog::warn("run '{}': {}; its picture leaves out what does not fit", record.request_id,
                      checked.message);
+      // The record streamed first (no JSON tree of its cells is built), then the picture.
       const std::string stem = records::safe_file_stem(record.request_id);
+      if (!write_file(stem + ".json", [&](const std::string& path) {
+            return records::write_json_file(path, record);
+          }))
+        return false;
       const std::string svg =
           render::render_svg(records::picture_of(record, map ? &map->grid : nullptr));
-      if (!write_file(stem + ".json", records::to_json(record).dump(1)) ||
-          !write_file(stem + ".svg", svg))
+      if (!write_file(stem + ".svg",
+                      [&](const std::string& path) { return render::write_text_file(path, svg); }))
         return false;
       ++runs_written_;
       spdlog::info("run '{}' {}: wrote {}", record.request_id,
@@ -369,10 +500,12 @@ class Recorder {
     map.file = "maps/" + stem + ".yaml";
   }
 
-  bool write_file(const std::string& name, const std::string& content) {
+  // Writes out_dir/name through `write` (given the temporary path), then renames it in place.
+  bool write_file(const std::string& name,
+                  const std::function<core::Status(const std::string&)>& write) {
     const std::filesystem::path final_path = out_dir_ / name;
     const std::filesystem::path temp = out_dir_ / ("." + name + ".tmp");
-    const core::Status written = render::write_text_file(temp.string(), content);
+    const core::Status written = write(temp.string());
     std::error_code ec;
     if (written.is_ok()) std::filesystem::rename(temp, final_path, ec);
     if (!written.is_ok() || ec) {
@@ -388,6 +521,8 @@ class Recorder {
   std::filesystem::path out_dir_;
   std::chrono::milliseconds debug_wait_;
   records::OpenRuns runs_;
+  Inbox& inbox_;
+  size_t writing_bytes_ = 0;  // of the runs taken to be written, not yet written
   std::deque<StoredMap> maps_;
   std::deque<records::RequestRecord> goals_;
   std::optional<Eigen::Vector2d> robot_pose_;
@@ -425,6 +560,12 @@ core::Status subscribe(node::Participant& bus, const node::NodeConfig& config,
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Blocks of 1 MiB and more (debug cells, pictures) are mapped each for itself and unmapped when
+  // freed. By default glibc raises its mmap threshold to the largest block freed (up to 32 MiB)
+  // and then serves such blocks from the arena of the thread asking (the DDS threads, the main
+  // one), where a freed block stays resident: the process kept several runs' worth of freed
+  // debug data besides what it held.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   node::init_logging("vnsba_recorder");
   CLI::App app{"vnsba_recorder: planning runs on the bus to SVG pictures and run records"};
   std::string out_dir, config_path = "";
@@ -447,7 +588,8 @@ int main(int argc, char** argv) {
                  "seconds to wait for a run's debug data after its status")
       ->capture_default_str();
   app.add_option("--max-open-mb", max_open_mb,
-                 "MiB at most held for runs not yet written (their debug data is dropped first)")
+                 "MiB at most held for runs not yet written and samples not yet handled (debug "
+                 "data is dropped first); twice that while a run is drawn")
       ->capture_default_str();
   auto* render_cmd = app.add_subcommand("render", "redraw a run record as SVG");
   std::string record_path, render_out;
@@ -499,7 +641,8 @@ int main(int argc, char** argv) {
     return kDdsFailure;
   }
   node::Participant& bus = **participant;
-  Inbox inbox;
+  const size_t max_open_bytes = static_cast<size_t>(max_open_mb * 1024 * 1024);
+  Inbox inbox(max_open_bytes);
   const node::TopicNames& t = config.topics;
   Forwarder<node::OccupancyGridMsg> slices(inbox, t.projected_map);
   Forwarder<node::PlanRequestMsg> requests(inbox, t.plan_request);
@@ -507,7 +650,7 @@ int main(int argc, char** argv) {
   Forwarder<node::PoseStampedMsg, RobotPoseEvent> robot_poses(inbox, t.robot_pose);
   Forwarder<node::PathMsg> plans(inbox, t.plan);
   Forwarder<node::PlanStatusMsg> statuses(inbox, t.plan_status);
-  Forwarder<node::PlannerDebugMsg> debugs(inbox, t.planner_debug);
+  Forwarder<node::PlannerDebugMsg, DebugEvent> debugs(inbox, t.planner_debug);
   using namespace nav_msgs::msg::dds_;
   using geometry_msgs::msg::dds_::PoseStamped_PubSubType;
   using namespace vnsba_msgs::msg::dds_;
@@ -536,7 +679,7 @@ int main(int argc, char** argv) {
 
   Recorder recorder(config, out_dir,
                     std::chrono::milliseconds(static_cast<int64_t>(debug_wait_s * 1000)),
-                    static_cast<size_t>(max_open_mb * 1024 * 1024));
+                    max_open_bytes, inbox);
   // No deadline: the largest time point (a plain value keeps GCC's uninitialized check quiet).
   const Clock::time_point deadline =
       duration ? Clock::now() + std::chrono::microseconds(static_cast<int64_t>(*duration * 1e6))
@@ -547,18 +690,18 @@ int main(int argc, char** argv) {
                    node::StopSignals::name(*received));
       break;
     }
-    for (Event& e : inbox.take_all()) recorder.handle(std::move(e));
+    recorder.handle_queued();
     recorder.write_ready(false);
     if (runs_wanted && recorder.runs_written() >= static_cast<size_t>(*runs_wanted)) break;
     if (Clock::now() >= deadline) break;
   }
   // No listener runs after delete_readers(); then the last samples are drained and written.
   bus.delete_readers();
-  for (Event& e : inbox.take_all()) recorder.handle(std::move(e));
+  recorder.handle_queued();
   if (!runs_wanted || recorder.runs_written() < static_cast<size_t>(*runs_wanted))
     recorder.write_ready(true);
   bus.shutdown();
-  spdlog::info("recorder: {} run(s) written to {}; {}", recorder.runs_written(), out_dir,
-               recorder.dropped_summary());
+  spdlog::info("recorder: {} run(s) written to {}; {}; {}", recorder.runs_written(), out_dir,
+               recorder.dropped_summary(), inbox.summary());
   return 0;
 }

@@ -26,16 +26,32 @@ json point(const Eigen::Vector2d& p) {
   return json::array({number(p.x()), number(p.y())});
 }
 
-json points(const std::vector<Eigen::Vector2d>& list) {
-  json out = json::array();
-  for (const auto& p : list) out.push_back(point(p));
-  return out;
+json cell(const core::Cell& c) {
+  return json::array({c.x, c.y});
 }
 
-json cells(const std::vector<core::Cell>& list) {
-  json out = json::array();
-  for (const auto& c : list) out.push_back(json::array({c.x, c.y}));
-  return out;
+// The lists of a record that grow with the run (the path, the debug data's cells and waypoints):
+// to_json puts them in the tree, write_json writes them element by element. `pointer` is where
+// they go, `key` the last part of it.
+struct BulkList {
+  const char* pointer;
+  const char* key;
+  const std::vector<core::Cell>* cells = nullptr;
+  const std::vector<Eigen::Vector2d>* points = nullptr;
+  size_t size() const { return cells ? cells->size() : points->size(); }
+  json element(size_t i) const { return cells ? cell((*cells)[i]) : point((*points)[i]); }
+};
+
+std::vector<BulkList> bulk_lists(const RunRecord& r) {
+  std::vector<BulkList> lists = {{"/path", "path", nullptr, &r.path}};
+  if (r.debug) {
+    const DebugRecord& d = *r.debug;
+    lists.push_back({"/debug/expanded_forward", "expanded_forward", &d.expanded_forward});
+    lists.push_back({"/debug/expanded_backward", "expanded_backward", &d.expanded_backward});
+    lists.push_back({"/debug/raw_path", "raw_path", &d.raw_path});
+    lists.push_back({"/debug/pruned_waypoints", "pruned_waypoints", nullptr, &d.pruned_waypoints});
+  }
+  return lists;
 }
 
 // The clearance of a path: +inf (a map without obstacles) is the string "inf", NaN (no path) null.
@@ -213,7 +229,10 @@ class Reader {
 
 }  // namespace
 
-json to_json(const RunRecord& r) {
+namespace {
+
+// The record as JSON with every bulk list (bulk_lists) empty.
+json skeleton(const RunRecord& r) {
   json j;
   j["request_id"] = r.request_id;
   if (r.request) {
@@ -244,21 +263,19 @@ json to_json(const RunRecord& r) {
   } else {
     j["status"] = nullptr;
   }
-  j["path"] = points(r.path);
+  j["path"] = json::array();
   if (r.debug) {
     const DebugRecord& d = *r.debug;
-    j["debug"] = {
-        {"planner", d.planner},
-        {"width", d.width},
-        {"height", d.height},
-        {"resolution", number(d.resolution)},
-        {"origin", point({d.origin_x, d.origin_y})},
-        {"expanded_forward", cells(d.expanded_forward)},
-        {"expanded_backward", cells(d.expanded_backward)},
-        {"meeting_cell",
-         d.meeting_cell ? json::array({d.meeting_cell->x, d.meeting_cell->y}) : json(nullptr)},
-        {"raw_path", cells(d.raw_path)},
-        {"pruned_waypoints", points(d.pruned_waypoints)}};
+    j["debug"] = {{"planner", d.planner},
+                  {"width", d.width},
+                  {"height", d.height},
+                  {"resolution", number(d.resolution)},
+                  {"origin", point({d.origin_x, d.origin_y})},
+                  {"expanded_forward", json::array()},
+                  {"expanded_backward", json::array()},
+                  {"meeting_cell", d.meeting_cell ? cell(*d.meeting_cell) : json(nullptr)},
+                  {"raw_path", json::array()},
+                  {"pruned_waypoints", json::array()}};
   } else {
     j["debug"] = nullptr;
   }
@@ -290,6 +307,62 @@ json to_json(const RunRecord& r) {
     j["options"] = nullptr;
   }
   return j;
+}
+
+}  // namespace
+
+json to_json(const RunRecord& r) {
+  json j = skeleton(r);
+  for (const BulkList& list : bulk_lists(r)) {
+    json& array = j[json::json_pointer(list.pointer)];
+    for (size_t i = 0; i < list.size(); ++i) array.push_back(list.element(i));
+  }
+  return j;
+}
+
+void write_json(std::ostream& out, const RunRecord& r) {
+  // The skeleton as to_json(r).dump(1) writes it; each bulk list's `"key": []` in it (a key
+  // written once in the document, and never inside a string, where its quotes are escaped) is
+  // replaced by its elements, 16 to a line, indented one deeper than its key.
+  const std::string text = skeleton(r).dump(1);
+  struct Place {
+    size_t at;  // of the `[]`
+    BulkList list;
+  };
+  std::vector<Place> places;
+  for (const BulkList& list : bulk_lists(r)) {
+    if (list.size() == 0) continue;
+    const std::string empty = "\"" + std::string(list.key) + "\": []";
+    const size_t at = text.find(empty);
+    if (at != std::string::npos) places.push_back({at + empty.size() - 2, list});
+  }
+  std::sort(places.begin(), places.end(),
+            [](const Place& a, const Place& b) { return a.at < b.at; });
+  constexpr size_t kPerLine = 16;
+  size_t from = 0;
+  for (const Place& place : places) {
+    const size_t line = text.rfind('\n', place.at) + 1;  // npos + 1 = 0: the first line
+    const std::string indent(text.find_first_not_of(' ', line) - line, ' ');
+    out.write(text.data() + from, static_cast<std::streamsize>(place.at - from));
+    out << '[';
+    for (size_t i = 0; i < place.list.size(); ++i) {
+      out << (i == 0 ? "" : ",");
+      if (i % kPerLine == 0) out << '\n' << indent << ' ';
+      out << place.list.element(i).dump();
+    }
+    out << '\n' << indent << ']';
+    from = place.at + 2;
+  }
+  out.write(text.data() + from, static_cast<std::streamsize>(text.size() - from));
+}
+
+core::Status write_json_file(const std::string& path, const RunRecord& record) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return core::Status::error(core::StatusCode::kInvalidRequest, "cannot write " + path);
+  write_json(out, record);
+  out.flush();
+  if (!out) return core::Status::error(core::StatusCode::kInvalidRequest, "write failed: " + path);
+  return core::Status::ok();
 }
 
 OptionsRecord options_record(const core::PlannerOptions& options) {

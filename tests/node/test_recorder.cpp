@@ -216,6 +216,40 @@ TEST(RecorderProcess, SigintWritesWhatItHeard) {
   fs::remove_all(out);
 }
 
+// The status and debug writers of a node on `cfg`'s topics, for feeding a recorder what a node
+// would not send.
+struct FakeNode {
+  explicit FakeNode(const node::NodeConfig& cfg)
+      : bus(node::Participant::create(cfg.domain_id, "fake_node").value()),
+        status_writer(bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
+                                         node::dds_topic_name(cfg, cfg.topics.plan_status))
+                                      .value(),
+                                  node::writer_qos(node::TopicQos::kStatus, false))
+                          .value()),
+        debug_writer(bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
+                                        node::dds_topic_name(cfg, cfg.topics.planner_debug))
+                                     .value(),
+                                 node::writer_qos(node::TopicQos::kDebug, true))
+                         .value()) {}
+  ~FakeNode() { bus->shutdown(); }
+  // Whether both writers are matched both ways with `recorder` (which logs its side) within 15 s.
+  bool matched(const ChildProcess& recorder) const {
+    if (!recorder.wait_for_output("planner_debug matched", 15s) ||
+        !recorder.wait_for_output("plan_status matched", 15s))
+      return false;
+    const auto deadline = std::chrono::steady_clock::now() + 10s;
+    while (node::matched_readers(debug_writer) == 0 || node::matched_readers(status_writer) == 0) {
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(10ms);
+    }
+    return true;
+  }
+
+  std::unique_ptr<node::Participant> bus;
+  node::dds::DataWriter* status_writer;
+  node::dds::DataWriter* debug_writer;
+};
+
 // A run with nonsense on the wire (absurd debug geometry, cells far outside, NaN path points)
 // is still recorded, and the run after it too.
 TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
@@ -224,22 +258,8 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
   const std::string config = write_temp_file("recbad.yaml", config_yaml(cfg));
   ChildProcess recorder(
       kRecorder, {"--out", out.string(), "--config", config, "--runs", "2", "--debug-wait", "0.2"});
-  auto bus = node::Participant::create(cfg.domain_id, "fake_node").value();
-  auto status_writer = bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(
-                                          node::dds_topic_name(cfg, cfg.topics.plan_status))
-                                       .value(),
-                                   node::writer_qos(node::TopicQos::kStatus, false))
-                           .value();
-  auto debug_writer = bus->writer(bus->topic<vnsba_msgs::msg::dds_::PlannerDebug_PubSubType>(
-                                         node::dds_topic_name(cfg, cfg.topics.planner_debug))
-                                      .value(),
-                                  node::writer_qos(node::TopicQos::kDebug, false))
-                          .value();
-  ASSERT_TRUE(recorder.wait_for_output("planner_debug matched", 15s)) << recorder.output();
-  ASSERT_TRUE(recorder.wait_for_output("plan_status matched", 15s)) << recorder.output();
-  const auto deadline = std::chrono::steady_clock::now() + 10s;
-  while (node::matched_readers(debug_writer) == 0 && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(10ms);
+  const FakeNode fake(cfg);
+  ASSERT_TRUE(fake.matched(recorder)) << recorder.output();
 
   PlannerDebugMsg junk_debug;
   junk_debug.request_id("junk");
@@ -253,7 +273,7 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
   junk_debug.raw_path({far});
   junk_debug.has_meeting_cell(true);
   junk_debug.meeting_cell(far);
-  ASSERT_TRUE(debug_writer->write(&junk_debug));
+  ASSERT_TRUE(fake.debug_writer->write(&junk_debug));
   PathMsg bad_path;
   bad_path.poses().resize(3);
   bad_path.poses()[1].pose().position().x(NAN);
@@ -261,10 +281,10 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
   const node::RequestIdentity request;  // the recorder keys runs by request_id
   PlanStatusMsg junk = node::to_status_msg("junk", &request, {node::wire::OK, ""}, "vns_bastar",
                                            nullptr, node::now_msg(), bad_path);
-  ASSERT_TRUE(status_writer->write(&junk));
+  ASSERT_TRUE(fake.status_writer->write(&junk));
   PlanStatusMsg fine = node::to_status_msg("fine", &request, {node::wire::NO_VALID_PATH, "no path"},
                                            "astar", nullptr, node::now_msg(), PathMsg());
-  ASSERT_TRUE(status_writer->write(&fine));
+  ASSERT_TRUE(fake.status_writer->write(&fine));
 
   ASSERT_EQ(recorder.wait(), 0) << recorder.output();
   for (const char* id : {"junk", "fine"}) {
@@ -276,8 +296,141 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
   }
   // What cannot be drawn is said, naming the field.
   EXPECT_NE(recorder.output().find("run 'junk': debug: "), std::string::npos) << recorder.output();
-  bus->shutdown();
   fs::remove_all(out);
+}
+
+// The peak resident memory of a running process, bytes (VmHWM in /proc/PID/status).
+size_t peak_resident_bytes(pid_t pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;  // kB
+  return 0;
+}
+
+// What a recorder capped at `cap_mb` MiB did with `runs` runs of a fake node, each a debug sample
+// of `cells` expanded cells (rows of 1,024 cells from the bottom of a 1,024 x 1,024 grid) and an
+// OK status: sent one run at a time (each once the previous one is written) or all at once.
+struct CapRun {
+  size_t peak_resident = 0;  // bytes, once every run is written
+  std::string output;
+};
+CapRun record_debug_runs(const std::string& tag, const fs::path& out, const std::string& cap_mb,
+                         int runs, size_t cells, bool one_at_a_time) {
+  const node::NodeConfig cfg = test_config(tag);
+  const std::string config = write_temp_file(tag + ".yaml", config_yaml(cfg));
+  ChildProcess recorder(kRecorder, {"--out", out.string(), "--config", config, "--max-open-mb",
+                                    cap_mb, "--debug-wait", "0.2"});
+  const FakeNode fake(cfg);
+  EXPECT_TRUE(fake.matched(recorder)) << recorder.output();
+
+  PlannerDebugMsg debug;
+  debug.info().width(1024);
+  debug.info().height(1024);
+  debug.info().resolution(0.1f);
+  std::vector<vnsba_msgs::msg::dds_::GridCell_> expanded(cells);
+  for (size_t i = 0; i < cells; ++i) {
+    expanded[i].x(static_cast<int32_t>(i % 1024));
+    expanded[i].y(static_cast<int32_t>(i / 1024));
+  }
+  debug.expanded_forward(expanded);
+  const node::RequestIdentity request;  // the recorder keys runs by request_id
+  auto written = [&](int run) { return fs::exists(out / ("run-" + std::to_string(run) + ".svg")); };
+  auto wait_written = [&](int first, int last) {
+    const auto end = std::chrono::steady_clock::now() + 60s;
+    for (int i = first; i <= last; ++i)
+      while (!written(i) && std::chrono::steady_clock::now() < end)
+        std::this_thread::sleep_for(10ms);
+  };
+  for (int i = 0; i < runs; ++i) {
+    const std::string id = "run-" + std::to_string(i);
+    debug.request_id(id);
+    EXPECT_TRUE(fake.debug_writer->write(&debug));
+    PlanStatusMsg status = node::to_status_msg(id, &request, {node::wire::OK, ""}, "astar", nullptr,
+                                               node::now_msg(), PathMsg());
+    EXPECT_TRUE(fake.status_writer->write(&status));
+    if (one_at_a_time) wait_written(i, i);
+  }
+  wait_written(0, runs - 1);
+  for (int i = 0; i < runs; ++i) EXPECT_TRUE(written(i)) << i << ":\n" << recorder.output();
+  CapRun result;
+  result.peak_resident = peak_resident_bytes(recorder.pid());
+  recorder.signal(SIGINT);
+  EXPECT_EQ(recorder.wait(), 0) << recorder.output();
+  result.output = recorder.output();
+  return result;
+}
+
+// The records of run-0 .. run-<runs - 1> in `dir` whose debug data was kept, each checked whole
+// (`cells` cells, the last one where it was sent) and written in at most 2 bytes of JSON for each
+// byte its cells take (8 a cell).
+int whole_records_with_debug(const fs::path& dir, int runs, size_t cells) {
+  int with_debug = 0;
+  for (int i = 0; i < runs; ++i) {
+    const fs::path json = dir / ("run-" + std::to_string(i) + ".json");
+    auto record = records::run_record_from_json(read_json(json));
+    EXPECT_TRUE(record) << json << ": " << record.error().message;
+    if (!record || !record->debug) continue;
+    ++with_debug;
+    EXPECT_EQ(record->debug->expanded_forward.size(), cells) << json;
+    EXPECT_EQ(record->debug->expanded_forward.back(),
+              (core::Cell{static_cast<int32_t>((cells - 1) % 1024),
+                          static_cast<int32_t>((cells - 1) / 1024)}))
+        << json;
+    EXPECT_LE(fs::file_size(json), 2 * sizeof(core::Cell) * cells) << json;
+  }
+  return with_debug;
+}
+
+constexpr size_t kMiB = 1024 * 1024;
+
+// Issue 31: capped at 512 MiB, the recorder peaked at 881 MB and wrote 1.8 GB. The cap counted a
+// run's debug cells at 8 bytes each, but writing its record built a JSON tree of them (about 100
+// bytes a cell) and wrote about 27 bytes a cell. Here 12 runs of 2 MiB of cells, one at a time, at
+// a 4 MiB cap: the peak resident memory stays within 2 times the cap (the stated bound: what is
+// held, plus the copy of one run's cells its picture makes) over the same runs at a cap no sample
+// fits in, where every debug sample is dropped and the DDS side is the same (measured: 1.5 MiB
+// over it; 36 MiB before). Every run keeps its debug data, in a record of at most 2 bytes per
+// byte of cells (27 / 8 before).
+TEST(RecorderProcess, TheByteCapBoundsWhatIsHeldAndWritten) {
+  constexpr int kRuns = 12;
+  constexpr size_t kCells = 2 * kMiB / sizeof(core::Cell);
+  const fs::path none_dir = fresh_dir("cap_none"), capped_dir = fresh_dir("cap_four");
+  const CapRun none = record_debug_runs("cap_none", none_dir, "1", kRuns, kCells, true);
+  const CapRun capped = record_debug_runs("cap_four", capped_dir, "4", kRuns, kCells, true);
+  ASSERT_GT(none.peak_resident, 0u);
+  EXPECT_LE(capped.peak_resident, none.peak_resident + 2 * 4 * kMiB)
+      << "peak " << capped.peak_resident << " bytes, against " << none.peak_resident
+      << " with nothing kept";
+  EXPECT_EQ(whole_records_with_debug(capped_dir, kRuns, kCells), kRuns) << capped.output;
+  EXPECT_EQ(whole_records_with_debug(none_dir, kRuns, kCells), 0) << none.output;
+  fs::remove_all(none_dir);
+  fs::remove_all(capped_dir);
+}
+
+// Issue 31: samples waiting for the recorder's main thread (busy writing a large run) were held
+// beyond the cap, uncounted. A burst of 12 runs of 3 MiB of cells at a 4 MiB cap: the samples that
+// would take what is held past the cap are dropped on arrival, each logged; the recorder never
+// counted more than the cap held (its summary); what it kept is whole.
+TEST(RecorderProcess, ABurstPastTheCapIsDroppedOnArrival) {
+  constexpr int kRuns = 12;
+  constexpr size_t kCells = 3 * kMiB / sizeof(core::Cell);
+  const fs::path dir = fresh_dir("burst");
+  const CapRun burst = record_debug_runs("burst", dir, "4", kRuns, kCells, false);
+  const int kept = whole_records_with_debug(dir, kRuns, kCells);
+  EXPECT_GE(kept, 1) << burst.output;
+  size_t dropped_logged = 0;
+  for (size_t at = burst.output.find("on arrival ("); at != std::string::npos;
+       at = burst.output.find("on arrival (", at + 1))
+    ++dropped_logged;
+  // (DDS may lose a sample of the burst to its keep-last histories before the recorder takes it.)
+  EXPECT_GE(dropped_logged, 1u) << burst.output;
+  EXPECT_LE(dropped_logged + kept, static_cast<size_t>(kRuns)) << burst.output;
+  // The summary: "... at most <X> MiB held".
+  const size_t at = burst.output.find(" MiB held");
+  ASSERT_NE(at, std::string::npos) << burst.output;
+  const double held_mib = std::stod(burst.output.substr(burst.output.rfind(' ', at - 1) + 1));
+  EXPECT_LE(held_mib, 4.0) << burst.output;
+  fs::remove_all(dir);
 }
 
 // `render` refuses a record whose geometry cannot be drawn: exit 2, the file and the JSON field

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 
 #include "svg_test_support.hpp"
 #include "vnsba/maps/map_io.hpp"
@@ -70,6 +71,37 @@ TEST(RunRecord, JsonRoundTripKeepsEverything) {
   EXPECT_TRUE(std::isnan(back->status->metrics.length_ratio));  // NaN travels as null
   EXPECT_EQ(back->status->metrics.clearance_m, 0.25);
   EXPECT_EQ(back->map->file, "maps/m.yaml");
+}
+
+// write_json (the recorder's and vnsba_plan's record files) is to_json's document: the same JSON
+// once parsed, for a record with every list, empty lists, strings that hold a list's key, and
+// values to_json writes as null. Issue 31: its text takes at most 2 bytes for each byte of the
+// cells it writes (to_json(r).dump(1) took about 27 for 8).
+TEST(RunRecord, WriteJsonIsToJsonsDocumentInAboutTheBytesOfItsCells) {
+  RunRecord r = full_record();
+  r.request_id = "\"path\": [] \"raw_path\": []";
+  r.status->message = "\"expanded_forward\": []";
+  r.status->metrics.length_ratio = std::numeric_limits<double>::quiet_NaN();
+  r.path.push_back({std::numeric_limits<double>::infinity(), 0.1 + 0.2});
+  r.debug->expanded_backward.clear();
+  for (const RunRecord& record : {r, RunRecord{}}) {
+    std::ostringstream text;
+    records::write_json(text, record);
+    const nlohmann::json parsed = nlohmann::json::parse(text.str(), nullptr, false);
+    ASSERT_FALSE(parsed.is_discarded()) << text.str();
+    EXPECT_EQ(parsed, records::to_json(record)) << text.str();
+  }
+
+  RunRecord large = full_record();
+  large.debug->width = large.debug->height = 1024;
+  large.debug->expanded_forward.clear();
+  for (int32_t y = 0; y < 1024; ++y)
+    for (int32_t x = 0; x < 1024; ++x) large.debug->expanded_forward.push_back({x, y});
+  std::ostringstream text;
+  records::write_json(text, large);
+  const size_t cell_bytes = large.debug->expanded_forward.size() * sizeof(core::Cell);
+  EXPECT_LE(text.str().size(), 2 * cell_bytes);
+  EXPECT_EQ(nlohmann::json::parse(text.str()), records::to_json(large));
 }
 
 // The cost gradient's settings travel with the map reference; a record written before they

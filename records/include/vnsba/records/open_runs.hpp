@@ -21,22 +21,26 @@
 
 namespace vnsba::records {
 
+// The bytes of a list's elements (its capacity).
+template <class T>
+size_t list_bytes(const std::vector<T>& list) {
+  return list.capacity() * sizeof(T);
+}
+
+// The bytes debug data holds beyond its object: its planner's name and its lists.
+inline size_t debug_bytes(const DebugRecord& d) {
+  return d.planner.capacity() + list_bytes(d.expanded_forward) + list_bytes(d.expanded_backward) +
+         list_bytes(d.raw_path) + list_bytes(d.pruned_waypoints);
+}
+
 // The bytes `record` holds, about: the objects and the capacity of their strings and lists.
 inline size_t record_bytes(const RunRecord& r) {
-  auto cells = [](const std::vector<core::Cell>& v) { return v.capacity() * sizeof(core::Cell); };
-  auto points = [](const std::vector<Eigen::Vector2d>& v) {
-    return v.capacity() * sizeof(Eigen::Vector2d);
-  };
-  size_t n = sizeof(RunRecord) + r.request_id.capacity() + points(r.path);
+  size_t n = sizeof(RunRecord) + r.request_id.capacity() + list_bytes(r.path);
   if (r.request) n += r.request->source.capacity() + r.request->planner.capacity();
   if (r.status)
     n += r.status->code_name.capacity() + r.status->message.capacity() +
          r.status->planner.capacity();
-  if (r.debug) {
-    const DebugRecord& d = *r.debug;
-    n += d.planner.capacity() + cells(d.expanded_forward) + cells(d.expanded_backward) +
-         cells(d.raw_path) + points(d.pruned_waypoints);
-  }
+  if (r.debug) n += debug_bytes(*r.debug);
   if (r.map) n += r.map->file.capacity() + r.map->frame_id.capacity();
   return n;
 }
