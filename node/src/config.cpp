@@ -175,7 +175,8 @@ class Section {
   bool get(const std::string& key, Out& out, Check check, Show show = {}) {
     const YAML::Node* node = find(key);
     if (!node) {
-      if (shown_ != nullptr && holds_value(out)) shown_->emplace_back(key_path(key), show(current(out)));
+      if (shown_ != nullptr && holds_value(out))
+        shown_->emplace_back(key_path(key), show(current(out)));
       return true;
     }
     value_of<Out> value = current(out);
@@ -239,12 +240,13 @@ class Section {
     return get(
         key, out,
         [&](const YAML::Node& node, value_of<Out>& value) {
-      if (auto parsed = node.IsScalar() ? parse(node.Scalar()) : std::nullopt) {
-        value = *parsed;
-        return std::string();
-      }
-      const std::string near = node.IsScalar() ? closest(node.Scalar(), names) : "";
-      return "one of " + join(names) + (near.empty() ? "" : " (did you mean \"" + near + "\"?)");
+          if (auto parsed = node.IsScalar() ? parse(node.Scalar()) : std::nullopt) {
+            value = *parsed;
+            return std::string();
+          }
+          const std::string near = node.IsScalar() ? closest(node.Scalar(), names) : "";
+          return "one of " + join(names) +
+                 (near.empty() ? "" : " (did you mean \"" + near + "\"?)");
         },
         show);
   }
@@ -319,8 +321,7 @@ std::vector<std::string> names_of(std::initializer_list<Enum> values) {
 
 // Reads `root` over `c`. With `shown`, also lists every key `root` leaves out with the value it
 // keeps (config_as_yaml reads an empty file so).
-void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors,
-                 Settings* shown = nullptr) {
+void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings* shown = nullptr) {
   Section top(root, "", errors, shown);
   top.integer("domain_id", c.domain_id, 0, 232);
   top.boolean("ros2_naming", c.ros2_naming);
@@ -404,9 +405,8 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors,
       std::ostringstream msg;
       const bool robot_part = robot_topic && !longest_robot.empty();
       msg << (c.ros_namespace.empty() ? "" : "namespace, ") << (robot_part ? "robots, " : "")
-          << topics.key_path(key)
-          << ": found the topic \"" << full.substr(0, 60) << "...\" of " << full.size()
-          << " characters, expected at most " << kMaxTopicNameLength
+          << topics.key_path(key) << ": found the topic \"" << full.substr(0, 60) << "...\" of "
+          << full.size() << " characters, expected at most " << kMaxTopicNameLength
           << " (ROS 2's limit for a full topic name; Fast DDS would cut it and match nothing)";
       errors.push_back(msg.str());
       break;  // one message says it: the namespace makes every name long
@@ -670,8 +670,8 @@ std::string config_as_yaml(const NodeConfig& config) {
   for (const auto& [key, value] : shown) {
     const size_t dot = key.find('.');
     const std::string section = dot == std::string::npos ? "" : key.substr(0, dot);
-    const std::string line = dot == std::string::npos ? key + ": " + value
-                                                      : "  " + key.substr(dot + 1) + ": " + value;
+    const std::string line =
+        dot == std::string::npos ? key + ": " + value : "  " + key.substr(dot + 1) + ": " + value;
     if (section.empty() || sections.empty() || sections.back().first != section)
       sections.push_back({section, {}});
     sections.back().second.push_back(line);
