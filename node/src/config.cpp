@@ -389,29 +389,8 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
     valid.emplace_back(key, name);
   }
   topics.finish();
-  // ROS 2 refuses longer names, and Fast DDS truncates a topic name past 255 characters without
-  // a word, so such a node would match nobody. The longest robot name counts (the fleet's).
-  {
-    std::string longest_robot;
-    for (const std::string& robot : c.robots)
-      if (robot.size() > longest_robot.size()) longest_robot = robot;
-    const NodeConfig view = robot_view(c, longest_robot);
-    // The map, the octomap and tf/clock are read once, under the node's namespace alone.
-    const std::set<std::string> shared = {"projected_map", "octomap", "tf", "tf_static", "clock"};
-    for (const auto& [key, name] : valid) {
-      const bool robot_topic = shared.count(key) == 0;
-      const std::string full = ros_topic_name(robot_topic ? view : c, *name);
-      if (full.size() <= kMaxTopicNameLength) continue;
-      std::ostringstream msg;
-      const bool robot_part = robot_topic && !longest_robot.empty();
-      msg << (c.ros_namespace.empty() ? "" : "namespace, ") << (robot_part ? "robots, " : "")
-          << topics.key_path(key) << ": found the topic \"" << full.substr(0, 60) << "...\" of "
-          << full.size() << " characters, expected at most " << kMaxTopicNameLength
-          << " (ROS 2's limit for a full topic name; Fast DDS would cut it and match nothing)";
-      errors.push_back(msg.str());
-      break;  // one message says it: the namespace makes every name long
-    }
-  }
+  if (std::string problem = overlong_topic_name(c); !problem.empty())
+    errors.push_back(std::move(problem));
 
   top.choice<RobotPoseSource>("robot_pose_source", c.robot_pose_source,
                               {{"topic", RobotPoseSource::kTopic}, {"tf", RobotPoseSource::kTf}});
@@ -764,6 +743,50 @@ std::string dds_topic_name(const NodeConfig& config, const std::string& name) {
 
 std::string ros_topic_name(const NodeConfig& config, const std::string& name) {
   return "/" + resolved_name(config, name);
+}
+
+std::string overlong_topic_name(const NodeConfig& c) {
+  // The longest robot name counts (the fleet's); the map, the octomap and tf/clock are read once,
+  // under the node's namespace alone.
+  std::string longest_robot;
+  for (const std::string& robot : c.robots)
+    if (robot.size() > longest_robot.size()) longest_robot = robot;
+  const NodeConfig view = robot_view(c, longest_robot);
+  const std::pair<const char*, const std::string*> shared[] = {
+      {"projected_map", &c.topics.projected_map},
+      {"octomap", &c.topics.octomap},
+      {"tf", &c.topics.tf},
+      {"tf_static", &c.topics.tf_static},
+      {"clock", &c.topics.clock}};
+  const std::pair<const char*, const std::string*> per_robot[] = {
+      {"goal_pose", &c.topics.goal_pose},
+      {"robot_pose", &c.topics.robot_pose},
+      {"plan_request", &c.topics.plan_request},
+      {"plan", &c.topics.plan},
+      {"plan_status", &c.topics.plan_status},
+      {"planner_debug", &c.topics.planner_debug},
+      {"plan_raw", &c.topics.plan_raw},
+      {"plan_pruned", &c.topics.plan_pruned},
+      {"expansions_forward", &c.topics.expansions_forward},
+      {"expansions_backward", &c.topics.expansions_backward},
+      {"meeting_point", &c.topics.meeting_point}};
+  auto check = [&](const char* key, const std::string& name, bool robot_topic) -> std::string {
+    const std::string full = ros_topic_name(robot_topic ? view : c, name);
+    if (full.size() <= kMaxTopicNameLength) return "";
+    std::ostringstream msg;
+    msg << (c.ros_namespace.empty() ? "" : "namespace, ")
+        << (robot_topic && !longest_robot.empty() ? "robots, " : "") << "topics." << key
+        << ": found the topic \"" << full.substr(0, 60) << "...\" of " << full.size()
+        << " characters, expected at most " << kMaxTopicNameLength
+        << " (ROS 2's limit for a full topic name; Fast DDS would cut it and match nothing)";
+    return msg.str();
+  };
+  // One message says it: a long namespace makes every name long.
+  for (const auto& [key, name] : shared)
+    if (std::string problem = check(key, *name, false); !problem.empty()) return problem;
+  for (const auto& [key, name] : per_robot)
+    if (std::string problem = check(key, *name, true); !problem.empty()) return problem;
+  return "";
 }
 
 NodeConfig robot_view(const NodeConfig& config, const std::string& robot) {

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 
 #include "vnsba/node/command_line.hpp"
 #include "vnsba/node/planner_node.hpp"
@@ -22,6 +23,10 @@ int main(int argc, char** argv) {
   std::optional<std::string> participant_profile;
   app.add_option("--participant-profile", participant_profile,
                  vnsba::node::kParticipantProfileOptionHelp);
+  bool print_config = false;
+  app.add_flag("--print-config", print_config,
+               "print the whole configuration the config file and flags give (every key, "
+               "default.yaml's value where the file leaves one out) as YAML, and exit");
   if (const auto exit_code = vnsba::node::parse_command_line(app, argc, argv)) return *exit_code;
 
   vnsba::node::init_logging("vnsba_node");  // logs go to stderr
@@ -29,6 +34,10 @@ int main(int argc, char** argv) {
   const auto config =
       vnsba::node::load_config_or_report(config_path, domain, ros_namespace, participant_profile);
   if (!config) return vnsba::node::kExitUsage;
+  if (print_config) {
+    std::fputs(vnsba::node::config_as_yaml(*config).c_str(), stdout);
+    return 0;
+  }
 
   vnsba::node::PlannerNode node(*config);
   if (vnsba::core::Status status = node.start(); !status.is_ok()) {

@@ -51,6 +51,10 @@ std::optional<NodeConfig> load_config_or_report(
       return std::nullopt;
     }
     config.ros_namespace = *ns;
+    if (std::string problem = overlong_topic_name(config); !problem.empty()) {
+      spdlog::error("--namespace: {}", problem);
+      return std::nullopt;
+    }
   }
   if (profile_override) config.participant_profile = *profile_override;
   if (!config.participant_profile.empty()) {

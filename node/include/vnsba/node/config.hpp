@@ -282,5 +282,8 @@ std::string ros_topic_name(const NodeConfig& config, const std::string& name);
 // ROS 2's longest full topic name (rmw's RMW_TOPIC_MAX_NAME_LENGTH: 255 less 8 characters kept for
 // the middleware's prefixes); config loading refuses a namespace, robot or topic past it.
 inline constexpr size_t kMaxTopicNameLength = 247;
+// "" when every topic of `config` (of every robot) is within kMaxTopicNameLength, else one error
+// naming the keys that made it long ("namespace, topics.projected_map: found ...").
+std::string overlong_topic_name(const NodeConfig& config);
 
 }  // namespace vnsba::node
