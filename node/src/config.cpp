@@ -319,6 +319,29 @@ std::vector<std::string> names_of(std::initializer_list<Enum> values) {
   return out;
 }
 
+// Every topics.* key with its field, in the order default.yaml lists them.
+std::vector<std::pair<const char*, std::string*>> topic_keys(TopicNames& t) {
+  return {{"projected_map", &t.projected_map},
+          {"goal_pose", &t.goal_pose},
+          {"robot_pose", &t.robot_pose},
+          {"plan_request", &t.plan_request},
+          {"plan", &t.plan},
+          {"plan_status", &t.plan_status},
+          {"planner_debug", &t.planner_debug},
+          {"octomap", &t.octomap},
+          {"plan_raw", &t.plan_raw},
+          {"plan_pruned", &t.plan_pruned},
+          {"expansions_forward", &t.expansions_forward},
+          {"expansions_backward", &t.expansions_backward},
+          {"meeting_point", &t.meeting_point},
+          {"tf", &t.tf},
+          {"tf_static", &t.tf_static},
+          {"clock", &t.clock}};
+}
+// The topics a node reads once for all its robots, under its own namespace.
+const std::set<std::string> kSharedTopicKeys = {"projected_map", "octomap", "tf", "tf_static",
+                                                "clock"};
+
 // Reads `root` over `c`. With `shown`, also lists every key `root` leaves out with the value it
 // keeps (config_as_yaml reads an empty file so).
 void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings* shown = nullptr) {
@@ -361,23 +384,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   });
 
   Section topics = top.child("topics");
-  const std::pair<const char*, std::string*> topic_fields[] = {
-      {"projected_map", &c.topics.projected_map},
-      {"goal_pose", &c.topics.goal_pose},
-      {"robot_pose", &c.topics.robot_pose},
-      {"plan_request", &c.topics.plan_request},
-      {"plan", &c.topics.plan},
-      {"plan_status", &c.topics.plan_status},
-      {"planner_debug", &c.topics.planner_debug},
-      {"octomap", &c.topics.octomap},
-      {"plan_raw", &c.topics.plan_raw},
-      {"plan_pruned", &c.topics.plan_pruned},
-      {"expansions_forward", &c.topics.expansions_forward},
-      {"expansions_backward", &c.topics.expansions_backward},
-      {"meeting_point", &c.topics.meeting_point},
-      {"tf", &c.topics.tf},
-      {"tf_static", &c.topics.tf_static},
-      {"clock", &c.topics.clock}};
+  const auto topic_fields = topic_keys(c.topics);
   std::vector<std::pair<const char*, const std::string*>> valid;  // read without error
   for (const auto& [key, name] : topic_fields) {
     if (!topics.text(key, *name, "a topic name", topic_name_problem)) continue;
@@ -752,24 +759,7 @@ std::string overlong_topic_name(const NodeConfig& c) {
   for (const std::string& robot : c.robots)
     if (robot.size() > longest_robot.size()) longest_robot = robot;
   const NodeConfig view = robot_view(c, longest_robot);
-  const std::pair<const char*, const std::string*> shared[] = {
-      {"projected_map", &c.topics.projected_map},
-      {"octomap", &c.topics.octomap},
-      {"tf", &c.topics.tf},
-      {"tf_static", &c.topics.tf_static},
-      {"clock", &c.topics.clock}};
-  const std::pair<const char*, const std::string*> per_robot[] = {
-      {"goal_pose", &c.topics.goal_pose},
-      {"robot_pose", &c.topics.robot_pose},
-      {"plan_request", &c.topics.plan_request},
-      {"plan", &c.topics.plan},
-      {"plan_status", &c.topics.plan_status},
-      {"planner_debug", &c.topics.planner_debug},
-      {"plan_raw", &c.topics.plan_raw},
-      {"plan_pruned", &c.topics.plan_pruned},
-      {"expansions_forward", &c.topics.expansions_forward},
-      {"expansions_backward", &c.topics.expansions_backward},
-      {"meeting_point", &c.topics.meeting_point}};
+
   auto check = [&](const char* key, const std::string& name, bool robot_topic) -> std::string {
     const std::string full = ros_topic_name(robot_topic ? view : c, name);
     if (full.size() <= kMaxTopicNameLength) return "";
@@ -781,11 +771,13 @@ std::string overlong_topic_name(const NodeConfig& c) {
         << " (ROS 2's limit for a full topic name; Fast DDS would cut it and match nothing)";
     return msg.str();
   };
-  // One message says it: a long namespace makes every name long.
-  for (const auto& [key, name] : shared)
-    if (std::string problem = check(key, *name, false); !problem.empty()) return problem;
-  for (const auto& [key, name] : per_robot)
-    if (std::string problem = check(key, *name, true); !problem.empty()) return problem;
+  // One message says it: a long namespace makes every name long. Topics in table order, so the
+  // map (read once, under the namespace alone) is named first.
+  TopicNames names = c.topics;
+  for (const auto& [key, name] : topic_keys(names)) {
+    const bool robot_topic = kSharedTopicKeys.count(key) == 0;
+    if (std::string problem = check(key, *name, robot_topic); !problem.empty()) return problem;
+  }
   return "";
 }
 

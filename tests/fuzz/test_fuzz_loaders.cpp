@@ -42,6 +42,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
@@ -567,8 +568,12 @@ std::optional<OccupancyGrid> read_pgm(const std::string& text, const MapYaml& y,
       const int64_t s = samples[row * *width + x];
       if (s > *maxval) return fail("sample above maxval");
       int8_t v = -1;
+      // Nav2's map_server (map_io.cpp): raw mode reads the shade on 0..255 (the sample itself
+      // in an 8-bit image); scale mode maps the thresholds' gap onto 0..100, ties to even.
       if (y.mode == "raw") {
-        v = s <= 100 ? static_cast<int8_t>(s) : int8_t{-1};
+        const double shade =
+            std::round(static_cast<double>(s) / static_cast<double>(*maxval) * 255.0);
+        v = shade <= 100 ? static_cast<int8_t>(shade) : int8_t{-1};
       } else {
         const double m = static_cast<double>(*maxval);
         const double p = y.negate ? s / m : (m - s) / m;
@@ -577,7 +582,7 @@ std::optional<OccupancyGrid> read_pgm(const std::string& text, const MapYaml& y,
         } else if (p < y.free) {
           v = 0;
         } else if (y.mode == "scale") {
-          v = static_cast<int8_t>(std::lround(99.0 * (p - y.free) / (y.occupied - y.free)));
+          v = static_cast<int8_t>(std::rint(100.0 * (p - y.free) / (y.occupied - y.free)));
         }
       }
       grid.data[(*height - 1 - row) * *width + x] = v;  // the image's top row is the top
@@ -1006,7 +1011,8 @@ YAML::Node child(const YAML::Node& map, const std::string& key) {
 // out must keep its default, and an accepted file has no unknown, repeated or empty keys.
 void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root,
                                std::vector<std::string>* p) {
-  const node::NodeConfig d;  // the defaults
+  // The defaults: config/default.yaml's, which every key a file leaves out keeps.
+  const node::NodeConfig d = node::default_config().config.value();
   std::set<std::string> known;
   auto find = [&](const std::string& section, const std::string& key) -> std::optional<YAML::Node> {
     known.insert(section.empty() ? key : section + "." + key);
@@ -1147,13 +1153,15 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   const char* const durabilities[] = {"transient_local", "volatile"};
   same_text("map", "durability", std::string(durabilities[static_cast<int>(c.map_durability)]),
             std::string(durabilities[static_cast<int>(d.map_durability)]));
-  {
-    const auto v = find("requests", "reply_wait");
-    if (scalar(v, "requests.reply_wait")) {
-      if (c.reply_wait.count() != std::llround(v->as<double>() * 1000.0))
-        p->push_back("requests.reply_wait: field differs from the file's value");
-    } else if (c.reply_wait != d.reply_wait) {
-      p->push_back("requests.reply_wait: absent but not the default");
+  for (const auto& [key, got, fallback] : {std::tuple{"reply_wait", c.reply_wait, d.reply_wait},
+                                           std::tuple{"map_wait", c.map_wait, d.map_wait}}) {
+    const std::string name = std::string("requests.") + key;
+    const auto v = find("requests", key);
+    if (scalar(v, name)) {
+      if (got.count() != std::llround(v->as<double>() * 1000.0))
+        p->push_back(name + ": field differs from the file's value");
+    } else if (got != fallback) {
+      p->push_back(name + ": absent but not the default");
     }
   }
   same_bool("network", "localhost_only", c.localhost_only, d.localhost_only);
