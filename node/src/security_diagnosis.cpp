@@ -1,17 +1,27 @@
-// diagnose_enclave (security.hpp): after Fast DDS refused a secured participant, the checks its
-// PKI-DH and Access-Permissions plugins make on local files, repeated with the same OpenSSL
-// calls, only to name the file at fault. It decides nothing: the participant was refused
-// already.
+// Why DDS Security refused something, said after the fact; neither decides anything.
+// - diagnose_enclave (security.hpp): after Fast DDS refused a secured participant of ours, the
+//   checks its PKI-DH and Access-Permissions plugins make on local files, repeated with the same
+//   OpenSSL calls, only to name the file at fault.
+// - RefusedPeers (refused_peers.hpp): the remote participants Fast DDS keeps out, one warning
+//   each, with the reason Fast DDS logged.
 #include <openssl/bio.h>
 #include <openssl/err.h>
 #include <openssl/pem.h>
 #include <openssl/pkcs7.h>
 #include <openssl/x509.h>
 #include <openssl/x509_vfy.h>
+#include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <atomic>
+#include <deque>
+#include <fastdds/dds/log/Log.hpp>
 #include <filesystem>
 #include <memory>
+#include <sstream>
 
+#include "vnsba/node/convert.hpp"
+#include "vnsba/node/refused_peers.hpp"
 #include "vnsba/node/security.hpp"
 
 namespace vnsba::node {
@@ -134,6 +144,226 @@ std::vector<std::string> diagnose_enclave(const SecurityPlan& plan) {
   }
   ERR_clear_error();
   return found;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Remote participants refused.
+
+namespace {
+
+using eprosima::fastdds::dds::Log;
+using Steady = std::chrono::steady_clock;
+
+// Fast DDS's security warnings and errors, newest last, with when they were consumed.
+struct SecurityLine {
+  Steady::time_point at;
+  std::string text;  // "SECURITY_AUTHENTICATION: Invalidation error of certificate ..."
+};
+std::mutex security_lines_mutex;
+std::deque<SecurityLine> security_lines;  // under security_lines_mutex, at most kKeptLines
+constexpr size_t kKeptLines = 64;
+std::atomic<bool> reason_log_installed{false};
+
+class SecurityReasonLog : public eprosima::fastdds::dds::LogConsumer {
+ public:
+  ~SecurityReasonLog() override { reason_log_installed = false; }  // Log::ClearConsumers
+  void Consume(const Log::Entry& entry) override {
+    const std::string category = entry.context.category != nullptr ? entry.context.category : "";
+    if (entry.kind == Log::Info || category.rfind("SECURITY", 0) != 0) return;
+    std::lock_guard<std::mutex> lock(security_lines_mutex);
+    security_lines.push_back({Steady::now(), category + ": " + entry.message});
+    if (security_lines.size() > kKeptLines) security_lines.pop_front();
+  }
+};
+
+// The security lines Fast DDS logged since `since` (all of them consumed first) that contain
+// `needle` ("" for any), newest last.
+std::vector<std::string> security_lines_since(Steady::time_point since, const std::string& needle) {
+  Log::Flush();
+  std::vector<std::string> found;
+  std::lock_guard<std::mutex> lock(security_lines_mutex);
+  for (const SecurityLine& line : security_lines)
+    if (line.at >= since && line.text.find(needle) != std::string::npos) found.push_back(line.text);
+  return found;
+}
+
+std::string prefix_of(const eprosima::fastrtps::rtps::GUID_t& guid) {
+  std::ostringstream out;
+  out << guid.guidPrefix;
+  return out.str();
+}
+
+// How a remote participant announced itself: its name, and its certificate's and CA's subjects
+// from its identity token, or that it has none (an unsecured participant).
+std::string announced(const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
+  std::string out = "'" + printable(data.m_participantName.to_string()) + "'";
+  std::string certificate, ca;
+  // X509_NAME_oneline's subjects ("/CN=\/vnsba\/node"), shown without its escapes.
+  auto subject = [](std::string text) {
+    for (size_t at = 0; (at = text.find("\\/", at)) != std::string::npos;) text.erase(at, 1);
+    return printable(text);
+  };
+  for (const auto& property : data.identity_token_.properties()) {
+    if (property.name() == "dds.cert.sn") certificate = subject(property.value());
+    if (property.name() == "dds.ca.sn") ca = subject(property.value());
+  }
+  if (data.identity_token_.class_id().empty()) return out + ", no DDS Security identity";
+  return out + ", certificate " + certificate + " of CA " + ca;
+}
+
+constexpr const char* kWithoutSecurity =
+    "it runs without DDS Security, which this participant's governance refuses";
+
+std::string seconds_text(std::chrono::milliseconds duration) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f s", duration.count() / 1000.0);
+  return text;
+}
+
+}  // namespace
+
+void install_security_reason_log() {
+  if (!reason_log_installed.exchange(true))
+    Log::RegisterConsumer(std::make_unique<SecurityReasonLog>());
+}
+
+RefusedPeers::RefusedPeers(std::chrono::milliseconds handshake_timeout)
+    : timeout_(handshake_timeout), watcher_([this] { watch(); }) {
+  install_security_reason_log();
+}
+
+RefusedPeers::~RefusedPeers() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  watcher_.join();
+}
+
+void RefusedPeers::on_participant_discovery(
+    const eprosima::fastdds::dds::DomainParticipant* local,
+    const eprosima::fastrtps::rtps::ParticipantDiscoveryInfo& info) {
+  using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+  const std::string prefix = prefix_of(info.info.m_guid);
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!secured_ && local != nullptr) {
+    // The authentication plugin is a property of the participant's QoS (security.cpp sets it).
+    const auto& properties = local->get_qos().properties().properties();
+    secured_ = std::any_of(properties.begin(), properties.end(), [](const auto& p) {
+      return p.name() == "dds.sec.auth.plugin" && !p.value().empty();
+    });
+  }
+  if (secured_ == false) return;
+  if (info.status != Status::DISCOVERED_PARTICIPANT) {
+    if (info.status != Status::CHANGED_QOS_PARTICIPANT) pending_.erase(prefix);  // it left
+    return;
+  }
+  if (reported_.count(prefix) > 0 || pending_.count(prefix) > 0) return;
+  if (pending_.size() >= kMaxPending) {
+    if (!flooded_)
+      spdlog::warn(
+          "security: more than {} remote participants waiting for authentication at once; "
+          "those beyond are not followed (refusals of them are not logged)",
+          kMaxPending);
+    flooded_ = true;
+    return;
+  }
+  pending_[prefix] = {announced(info.info), !info.info.identity_token_.class_id().empty(),
+                      Steady::now() + timeout_};
+  wake_.notify_all();
+}
+
+void RefusedPeers::on_participant_authentication(
+    const eprosima::fastrtps::rtps::ParticipantAuthenticationInfo& info) {
+  using Status = eprosima::fastrtps::rtps::ParticipantAuthenticationInfo;
+  const std::string prefix = prefix_of(info.guid);
+  Pending remote{"not announced", true, {}};
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = pending_.find(prefix);
+    if (it != pending_.end()) {
+      remote = it->second;
+      pending_.erase(it);
+    }
+    if (info.status == Status::AUTHORIZED_PARTICIPANT) {
+      // Reported after the timeout, yet authenticated: the record is put right.
+      if (reported_.erase(prefix) > 0)
+        spdlog::info("security: remote participant {} authenticated after all", prefix);
+      return;
+    }
+    if (reported_.count(prefix) > 0) return;
+  }
+  // Fast DDS logged why on this thread just before calling (its certificate check logs at
+  // warning level, which reaches consumers only when the process's Fast DDS verbosity is
+  // Warning or lower; errors always do): the newest security line is it.
+  const std::vector<std::string> lines =
+      security_lines_since(Steady::now() - std::chrono::seconds(1), "");
+  report(prefix, remote.announced,
+         (remote.has_identity ? "this participant checked its certificate and handshake and "
+                                "refused them (a certificate of another CA, expired or not yet "
+                                "valid, or a handshake that does not verify)"
+                              : std::string(kWithoutSecurity)) +
+             (lines.empty() ? std::string() : "; Fast DDS: " + printable(lines.back(), 512)));
+}
+
+void RefusedPeers::report(const std::string& prefix, const std::string& remote,
+                          const std::string& why) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (reported_.size() >= kMaxReported) {
+      if (!flooded_)
+        spdlog::warn("security: more than {} remote participants refused; no more are logged",
+                     kMaxReported);
+      flooded_ = true;
+      return;
+    }
+    if (!reported_.insert(prefix).second) return;
+  }
+  spdlog::warn("security: refused remote participant {} ({}): {}", prefix, remote, why);
+}
+
+void RefusedPeers::watch() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!stopping_) {
+    const Steady::time_point now = Steady::now();
+    std::vector<std::pair<std::string, Pending>> expired;  // by GUID prefix
+    Steady::time_point next = Steady::time_point::max();
+    for (auto it = pending_.begin(); it != pending_.end();) {
+      if (it->second.deadline <= now) {
+        expired.emplace_back(it->first, it->second);
+        it = pending_.erase(it);
+      } else {
+        next = std::min(next, it->second.deadline);
+        ++it;
+      }
+    }
+    if (!expired.empty()) {
+      lock.unlock();
+      for (const auto& [prefix, remote] : expired) {
+        // Fast DDS names the remote's GUID in the lines of a refusal after authentication
+        // (permissions); a handshake the remote never answered leaves nothing.
+        const std::vector<std::string> lines =
+            security_lines_since(Steady::now() - 2 * timeout_, prefix);
+        std::string why = "not authenticated " + seconds_text(timeout_) + " after its discovery: ";
+        if (!lines.empty())
+          why += printable(lines.back(), 512);
+        else if (!remote.has_identity)
+          why += kWithoutSecurity;
+        else
+          why +=
+              "it has not answered this participant's handshake (it refuses this participant's "
+              "certificate, e.g. one of another CA), or its governance differs";
+        report(prefix, remote.announced, why);
+      }
+      lock.lock();
+      continue;
+    }
+    if (next == Steady::time_point::max())
+      wake_.wait(lock);
+    else
+      wake_.wait_until(lock, next);
+  }
 }
 
 }  // namespace vnsba::node

@@ -15,10 +15,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
+#include <sstream>
 #include <string>
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
+#include "log_capture.hpp"
+#include "vnsba/node/refused_peers.hpp"
 #include "vnsba/node/security.hpp"
 
 namespace vnsba::test {
@@ -389,6 +393,145 @@ TEST(SecureBus, MissingKeyAndExpiredCertificateAreNamed) {
                         "identity_ca.cert.pem: certificate has expired"),
             std::string::npos)
       << output;
+}
+
+// Issue 31 item 7: a peer from another CA was rejected with no line on the node. The node's
+// participant listener hands discovery and authentication to RefusedPeers; this listener does
+// the same for a participant secured as the node is.
+class RefusalListener : public node::dds::DomainParticipantListener {
+ public:
+  explicit RefusalListener(node::RefusedPeers& peers) : peers_(peers) {}
+  void on_participant_discovery(
+      node::dds::DomainParticipant* participant,
+      eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    peers_.on_participant_discovery(participant, info);
+  }
+  void onParticipantAuthentication(
+      node::dds::DomainParticipant*,
+      eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override {
+    peers_.on_participant_authentication(info);
+  }
+
+ private:
+  node::RefusedPeers& peers_;
+};
+
+std::string prefix_text(node::Participant& participant) {
+  std::ostringstream out;
+  out << participant.get()->guid().guidPrefix;
+  return out.str();
+}
+
+node::SecurityConfig enclave_of(const std::string& store, const std::string& enclave) {
+  node::SecurityConfig s;
+  s.enable = true;
+  s.keystore = store;
+  s.enclave = enclave;
+  return s;
+}
+
+// A participant secured as the node is (this process's keystore, /vnsba/node) whose listener
+// reports to RefusedPeers, then a peer secured with `peer_security`, both on this test's domain.
+struct RefusalScene {
+  RefusalScene(std::chrono::milliseconds timeout, const node::SecurityConfig& peer_security)
+      : refused(timeout),
+        listener(refused),
+        ours(secured("vnsba_node", &listener, enclave_of(keystore(), "/vnsba/node"))),
+        peer(secured("peer", nullptr, peer_security)) {}
+  ~RefusalScene() {
+    if (peer) peer->shutdown();
+    if (ours) ours->shutdown();
+  }
+  static std::unique_ptr<node::Participant> secured(const std::string& name,
+                                                    node::dds::DomainParticipantListener* listener,
+                                                    const node::SecurityConfig& security) {
+    auto created = node::Participant::create(security_domain(), name, listener, false, security);
+    EXPECT_TRUE(created) << created.error().message;
+    return created ? std::move(created).value() : nullptr;
+  }
+  // The lines about the peer.
+  std::vector<std::string> peer_lines() const {
+    return log.matching({"refused remote participant " + prefix_text(*peer)});
+  }
+
+  const LogCapture log;  // first made, last gone: it outlives everything that logs
+  node::RefusedPeers refused;
+  RefusalListener listener;
+  std::unique_ptr<node::Participant> ours, peer;
+};
+
+// The peer has a keystore of its own (another CA). PKI-DH's handshake runs from the smaller GUID
+// to the larger, which checks the certificate first: when that is this participant, it refuses
+// the peer itself and Fast DDS logs why; otherwise the peer refuses this participant and never
+// answers, and the timeout reports it. Either way: one line, naming the peer's GUID prefix, its
+// name and certificate, and why, however often the handshake is retried.
+TEST(SecureBus, APeerFromAnotherCaIsLoggedOnceNamingItsGuidPrefixAndWhy) {
+  const std::string other_keystore =
+      fs::path(::testing::TempDir() + "/keystore_other_ca_" + std::to_string(getpid()))
+          .lexically_normal()
+          .string();
+  fs::remove_all(other_keystore);
+  const std::string command = "bash '" + kMakeKeystore + "' '" + other_keystore + "' >/dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  // A peer of this participant's own keystore authenticates: nothing is said of it, also after
+  // the timeout. (Participants of other runs on this domain may be refused, rightly.)
+  {
+    RefusalScene friendly(5s, enclave_of(keystore(), "/vnsba/send_goal"));
+    ASSERT_TRUE(friendly.ours && friendly.peer);
+    std::this_thread::sleep_for(6s);  // a handshake took 2 s on a loaded machine
+    EXPECT_TRUE(friendly.peer_lines().empty()) << friendly.peer_lines().front();
+  }
+  // Without security (or Permissive running open) no peer ever authenticates: none is followed.
+  {
+    const LogCapture log;
+    node::RefusedPeers refused(1s);
+    RefusalListener listener(refused);
+    auto open = node::Participant::create(security_domain(), "open", &listener).value();
+    auto peer = node::Participant::create(security_domain(), "open_peer").value();
+    std::this_thread::sleep_for(2s);
+    EXPECT_TRUE(log.matching({"refused remote participant " + prefix_text(*peer)}).empty());
+    peer->shutdown();
+    open->shutdown();
+  }
+  // An unsecured peer is refused at once, and said to be one.
+  {
+    RefusalScene open(1s, node::SecurityConfig());
+    ASSERT_TRUE(open.ours && open.peer);
+    ASSERT_TRUE(open.log.wait_for({"refused remote participant " + prefix_text(*open.peer)}, 10s));
+    EXPECT_NE(open.peer_lines().front().find(
+                  "('peer', no DDS Security identity): it runs without DDS Security"),
+              std::string::npos)
+        << open.peer_lines().front();
+  }
+  std::set<bool> directions;  // whether this participant checked the peer's certificate
+  // The peer's enclave decides the direction: a secured participant's GUID prefix starts with a
+  // hash of its certificate's subject. Enclaves of the other keystore until both were seen.
+  for (const char* enclave :
+       {"/vnsba/recorder", "/vnsba/send_goal", "/vnsba/slicer", "/vnsba/node"}) {
+    SCOPED_TRACE(std::string("peer enclave ") + enclave);
+    RefusalScene foreign(3s, enclave_of(other_keystore, enclave));
+    ASSERT_TRUE(foreign.ours && foreign.peer);
+    const bool we_check = foreign.peer->get()->guid() < foreign.ours->get()->guid();
+    const std::string prefix = prefix_text(*foreign.peer);
+    ASSERT_TRUE(foreign.log.wait_for({"refused remote participant " + prefix}, 20s))
+        << "no line for the peer " << prefix;
+    std::this_thread::sleep_for(2s);  // the peer's handshake is resent every 0.5 s
+    const auto lines = foreign.peer_lines();
+    ASSERT_EQ(lines.size(), 1u) << "one line per refused participant";
+    EXPECT_EQ(lines[0].rfind("[warning] security: refused remote participant " + prefix, 0), 0u)
+        << lines[0];
+    EXPECT_NE(lines[0].find("('peer', certificate /CN=" + std::string(enclave) +
+                            " of CA /CN=vnsba keystore CA)"),
+              std::string::npos)
+        << lines[0];
+    const char* why = we_check ? "this participant checked its certificate and handshake and "
+                                 "refused them (a certificate of another CA"
+                               : "has not answered this participant's handshake";
+    EXPECT_NE(lines[0].find(why), std::string::npos) << lines[0];
+    directions.insert(we_check);
+    if (directions.size() == 2) break;
+  }
+  EXPECT_EQ(directions.size(), 2u) << "both handshake directions were to be seen";
 }
 
 }  // namespace
