@@ -96,7 +96,7 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
     limit = reader ? 4096 : profile == TopicQos::kStatus ? kStatusHistory : 2048;
   } else {
     qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-    qos.history().depth = profile == TopicQos::kDebug ? 8
+    qos.history().depth = profile == TopicQos::kDebug                                    ? 8
                           : profile == TopicQos::kStream || profile == TopicQos::kStatic ? 100
                                                                                          : 1;
   }
@@ -550,7 +550,9 @@ std::string prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
 }  // namespace
 
 void ParticipantWatch::on_participant_discovery(
-    dds::DomainParticipant*, eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
+    dds::DomainParticipant* participant,
+    eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
+  refused_.on_participant_discovery(participant, info);
   std::lock_guard<std::mutex> lock(mutex_);
   names_[prefix_text(info.info.m_guid.guidPrefix)] = info.info.m_participantName.to_string();
 }

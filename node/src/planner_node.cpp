@@ -475,7 +475,12 @@ core::Status PlannerNode::Impl::start() {
             add_reader(TypeTag<rosgraph_msgs::msg::dds_::Clock_PubSubType>(),
                        name(cfg_.topics.clock), reader_qos(TopicQos::kStream),
                        make_listener<ClockMsg>([this](ClockMsg&& m, const dds::SampleInfo&) {
-                         time_.set_sim_time(m.clock());
+                         // A clock gone back (a simulation reset): transforms stamped in the
+                         // old timeline would all be "from the future", so they go, as in ROS.
+                         if (time_.set_sim_time(m.clock()) == ClockUpdate::kJumpedBack) {
+                           std::lock_guard<std::mutex> lock(tf_mutex_);
+                           transforms_.clear_dynamic();
+                         }
                        }));
         !s.is_ok())
       return s;

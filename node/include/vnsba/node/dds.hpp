@@ -31,6 +31,7 @@
 #include "vnsba/core/status.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
+#include "vnsba/node/refused_peers.hpp"
 
 namespace vnsba::node {
 
@@ -86,6 +87,12 @@ class ParticipantWatch : public dds::DomainParticipantListener {
 
   void on_participant_discovery(dds::DomainParticipant* participant,
                                 eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override;
+  // A secured node logs each remote participant it refuses, once (RefusedPeers).
+  void onParticipantAuthentication(
+      dds::DomainParticipant*,
+      eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override {
+    refused_.on_participant_authentication(info);
+  }
   void on_publisher_discovery(dds::DomainParticipant* participant,
                               eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
   void on_requested_incompatible_qos(dds::DataReader* reader,
@@ -105,6 +112,7 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   std::set<std::string> reported_;            // guid prefixes
   FixHint fix_;
   std::atomic<size_t> incompatible_qos_{0};
+  RefusedPeers refused_;
   void report_incompatible(const std::string& topic, bool ours_reads, uint32_t policy_id,
                            int32_t new_endpoints);
 };
