@@ -6,7 +6,7 @@
 #   1. vnsba_plan plans on the installed demo scene;
 #   2. vnsba_node, with no --config, reads the installed share/vnsba/default.yaml (its first log
 #      line says so), comes up, and exits 0 on SIGINT;
-#   3. the README's C++ block (the first ```cpp block under "## The core library"), extracted
+#   3. docs/core-library.md's C++ block (its first ```cpp block), extracted
 #      now, builds against the installed headers and CMake package and runs on a Moving AI map.
 # Usage: test_install.sh BUILD_DIR SOURCE_DIR DOMAIN
 set -euo pipefail
@@ -98,11 +98,11 @@ for file in identity_ca.cert.pem cert.pem key.pem permissions_ca.cert.pem govern
   [[ -s "$work/keystore/enclaves/vnsba/node/$file" ]] || fail "the node enclave has no $file"
 done
 
-echo "[install] the README's C++ block against the installed package"
+echo "[install] docs/core-library.md's C++ block against the installed package"
 mkdir snippet
-awk '/^## The core library/ {section = 1} section && /^```cpp/ {inside = 1; next}
-     inside && /^```/ {exit} inside {print}' "$source/README.md" >snippet/main.cpp
-[[ -s snippet/main.cpp ]] || fail "no C++ block found under '## The core library' in README.md"
+awk '/^```cpp/ {inside = 1; next}
+     inside && /^```/ {exit} inside {print}' "$source/docs/core-library.md" >snippet/main.cpp
+[[ -s snippet/main.cpp ]] || fail "no C++ block found in docs/core-library.md"
 cat >snippet/CMakeLists.txt <<'CMAKE'
 cmake_minimum_required(VERSION 3.22)
 project(readme_snippet LANGUAGES CXX)
