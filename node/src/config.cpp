@@ -336,8 +336,14 @@ std::vector<std::pair<const char*, std::string*>> topic_keys(TopicNames& t) {
           {"meeting_point", &t.meeting_point},
           {"tf", &t.tf},
           {"tf_static", &t.tf_static},
-          {"clock", &t.clock}};
+          {"clock", &t.clock},
+          {"compute_path_to_pose", &t.compute_path_to_pose},
+          {"compute_path_through_poses", &t.compute_path_through_poses}};
 }
+// The topics.* keys that name actions: ROS 2 derives longer names from them (kActionSuffix).
+const std::set<std::string> kActionKeys = {"compute_path_to_pose", "compute_path_through_poses"};
+// The longest name an action's services and topics add to it (rcl_action).
+constexpr const char* kActionSuffix = "/_action/cancel_goal";
 // The topics a node reads once for all its robots, under its own namespace.
 const std::set<std::string> kSharedTopicKeys = {"projected_map", "octomap", "tf", "tf_static",
                                                 "clock"};
@@ -520,19 +526,30 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   requests.integer("queue_capacity", c.queue_capacity, 1, 100000);
   requests.integer("workers", c.workers, 0, kMaxWorkers);
   // Seconds in [0, max_s], stored in milliseconds.
-  auto milliseconds_key = [&](const char* key, std::chrono::milliseconds& out, double max_s) {
+  auto milliseconds_key = [&](Section& section, const char* key, std::chrono::milliseconds& out,
+                              double max_s) {
     std::optional<double> value_s = static_cast<double>(out.count()) / 1000.0;
     std::ostringstream expected;
     expected << "a finite number of seconds in [0, " << max_s << "]";
-    if (requests.number(key, value_s, expected.str(),
+    if (section.number(key, value_s, expected.str(),
                         [max_s](double v) { return v >= 0.0 && v <= max_s; }) &&
         value_s) {
       out = std::chrono::milliseconds(std::llround(*value_s * 1000.0));
     }
   };
-  milliseconds_key("reply_wait", c.reply_wait, 10.0);
-  milliseconds_key("map_wait", c.map_wait, 60.0);
+  milliseconds_key(requests, "reply_wait", c.reply_wait, 10.0);
+  milliseconds_key(requests, "map_wait", c.map_wait, 60.0);
   requests.finish();
+
+  Section actions = top.child("actions");
+  actions.boolean("enabled", c.actions.enabled);
+  milliseconds_key(actions, "result_timeout", c.actions.result_timeout, 86400.0);
+  actions.integer("max_results", c.actions.max_results, 1, 100000);
+  actions.choice<ReplyMapping>("reply_mapping", c.actions.reply_mapping,
+                               {{"auto", ReplyMapping::kAuto},
+                                {"fastrtps", ReplyMapping::kFastRtps},
+                                {"cyclonedds", ReplyMapping::kCycloneDds}});
+  actions.finish();
 
   Section network = top.child("network");
   network.boolean("localhost_only", c.localhost_only);
@@ -776,7 +793,8 @@ std::string overlong_topic_name(const NodeConfig& c) {
   TopicNames names = c.topics;
   for (const auto& [key, name] : topic_keys(names)) {
     const bool robot_topic = kSharedTopicKeys.count(key) == 0;
-    if (std::string problem = check(key, *name, robot_topic); !problem.empty()) return problem;
+    const std::string derived = kActionKeys.count(key) > 0 ? *name + kActionSuffix : *name;
+    if (std::string problem = check(key, derived, robot_topic); !problem.empty()) return problem;
   }
   return "";
 }

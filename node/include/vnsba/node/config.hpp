@@ -38,6 +38,30 @@ struct TopicNames {
   std::string tf = "/tf";                // in: tf2_msgs/TFMessage
   std::string tf_static = "/tf_static";  // in: tf2_msgs/TFMessage, transient local
   std::string clock = "/clock";          // in: rosgraph_msgs/Clock
+  // Nav2's planner actions (ROS 2 action names; each is three services and two topics under
+  // <name>/_action/, per rcl_action), served while actions.enabled.
+  std::string compute_path_to_pose = "compute_path_to_pose";
+  std::string compute_path_through_poses = "compute_path_through_poses";
+};
+
+// How a service reply (an action's send_goal, get_result, cancel_goal) is tied to its request
+// on the wire, which differs between ROS 2 middlewares.
+enum class ReplyMapping {
+  kAuto,        // per client, from the vendor id of its participant (discovery)
+  kFastRtps,    // rmw_fastrtps: the reply's related sample identity is the request's
+  kCycloneDds,  // rmw_cyclonedds: a 16-byte header (client id, sequence) before the payload
+};
+
+// actions.*: the Nav2 action servers.
+struct ActionConfig {
+  bool enabled = true;
+  // actions.result_timeout, seconds in [0, 86400]: how long a finished goal's result is kept
+  // for a late get_result (rcl_action's default: 15 minutes), then forgotten.
+  std::chrono::milliseconds result_timeout{900000};
+  // actions.max_results, 1..100000: finished goals kept per action server at most (bounded
+  // memory whatever the rate of goals); the oldest is forgotten first.
+  int max_results = 1024;
+  ReplyMapping reply_mapping = ReplyMapping::kAuto;
 };
 
 // Where the start of a goal_pose goal comes from.
@@ -176,6 +200,8 @@ struct NodeConfig {
   // A robot's requests are planned one at a time, in order (preemption is per robot), so more
   // workers than robots are never used. Each worker keeps its own search state per map.
   int workers = 0;
+
+  ActionConfig actions;
 
   DebugPublishing debug = DebugPublishing::kAuto;
   std::string log_level = "info";  // trace, debug, info, warn, error, critical, off
