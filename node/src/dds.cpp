@@ -553,8 +553,23 @@ void ParticipantWatch::on_participant_discovery(
     dds::DomainParticipant* participant,
     eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
   refused_.on_participant_discovery(participant, info);
+  using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+  const std::string key = prefix_text(info.info.m_guid.guidPrefix);
   std::lock_guard<std::mutex> lock(mutex_);
-  names_[prefix_text(info.info.m_guid.guidPrefix)] = info.info.m_participantName.to_string();
+  if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+    vendors_.erase(key);  // bounded by the participants alive
+    return;
+  }
+  names_[key] = info.info.m_participantName.to_string();
+  vendors_[key] = info.info.m_VendorId;
+}
+
+std::optional<std::array<uint8_t, 2>> ParticipantWatch::vendor_of(
+    const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = vendors_.find(prefix_text(prefix));
+  if (it == vendors_.end()) return std::nullopt;
+  return it->second;
 }
 
 void ParticipantWatch::on_publisher_discovery(

@@ -26,6 +26,8 @@
 #include "vnsba/node/requests.hpp"
 #include "vnsba/node/security.hpp"
 #include "vnsba/node/slice_slot.hpp"
+#include "action_server.hpp"
+#include "take_listener.hpp"
 #include "vnsba/node/time_source.hpp"
 #include "vnsba/node/transforms.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
@@ -37,75 +39,6 @@ namespace vnsba::node {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// A listener whose reader can also be emptied by a thread of the node's (take_available).
-class TakingListener : public dds::DataReaderListener {
- public:
-  virtual void take_available(dds::DataReader* reader) = 0;
-};
-
-// Takes every valid sample of a reader and hands it, with its SampleInfo, to `on_sample`.
-// Nothing escapes it: an exception (resource exhaustion) is logged, the sample is lost to that
-// exception only, and the listener goes on with the next one.
-//
-// Two ways to run, one take loop:
-// - `on_arrival` empty: the DDS thread that delivers a sample takes it (maps, poses, tf, clock).
-// - `on_arrival` set (requests and goals): the DDS thread only calls it, and the node's intake
-//   thread takes, asking `may_take()` before each sample. While it says no, samples stay in the
-//   reader's history, which is bounded (keep all, reader_qos), so a full history makes the remote
-//   writer wait (reliable flow control) instead of the node holding an unbounded backlog. The
-//   take must not run on the DDS thread then: Fast DDS 2.9 calls a listener with the reader's
-//   lock held, and a second thread taking from the same reader would wait for that lock while
-//   the listener waited for the second thread (a burst of 3 x 5,000 deadlocked so).
-template <class Msg, class OnSample, class MayTake>
-class TakeListener : public TakingListener {
- public:
-  TakeListener(OnSample on_sample, MayTake may_take, std::function<void()> on_arrival)
-      : on_sample_(std::move(on_sample)),
-        may_take_(std::move(may_take)),
-        on_arrival_(std::move(on_arrival)) {}
-  void on_data_available(dds::DataReader* reader) override {
-    if (on_arrival_)
-      on_arrival_();
-    else
-      take_available(reader);
-  }
-  void take_available(dds::DataReader* reader) override {
-    std::lock_guard<std::mutex> lock(mutex_);  // one taker at a time keeps arrival order
-    Msg msg;
-    dds::SampleInfo info;
-    while (may_take_()) {
-      try {
-        if (reader->take_next_sample(&msg, &info) != ReturnCode_t::RETCODE_OK) return;
-        if (info.valid_data) on_sample_(std::move(msg), info);
-      } catch (const std::exception& e) {
-        spdlog::critical("a sample on '{}' could not be handled: {}",
-                         reader->get_topicdescription()->get_name(), e.what());
-      }
-      msg = Msg();
-    }
-  }
-
- private:
-  std::mutex mutex_;
-  OnSample on_sample_;
-  MayTake may_take_;
-  std::function<void()> on_arrival_;
-};
-
-template <class Msg, class OnSample>
-std::unique_ptr<TakingListener> make_listener(OnSample on_sample) {
-  auto always = [] { return true; };
-  return std::make_unique<TakeListener<Msg, OnSample, decltype(always)>>(std::move(on_sample),
-                                                                         always, nullptr);
-}
-// Taken by the node's intake thread, which `on_arrival` wakes, while `may_take()` holds.
-template <class Msg, class OnSample, class MayTake>
-std::unique_ptr<TakingListener> make_intake_listener(OnSample on_sample, MayTake may_take,
-                                                     std::function<void()> on_arrival) {
-  return std::make_unique<TakeListener<Msg, OnSample, MayTake>>(
-      std::move(on_sample), std::move(may_take), std::move(on_arrival));
-}
 
 // Answers a robot may owe at once beyond its queue: statuses planned but not yet handed to DDS
 // (held for a requester's reader, or waiting for room in the status writer's history). Past
@@ -203,6 +136,8 @@ class PlannerNode::Impl {
     // Statuses released by `replies` and not yet accepted by the status writer, in order. The
     // replier thread's alone.
     std::deque<HeldStatus> unwritten;
+    // Nav2's compute_path_to_pose and compute_path_through_poses (actions.enabled).
+    std::vector<std::unique_ptr<ActionServer>> actions;
     std::string topic(const std::string& configured) const {
       return dds_topic_name(cfg, configured);
     }
@@ -276,6 +211,22 @@ class PlannerNode::Impl {
     return active_map_;
   }
   void on_request(Robot& robot, Job job);
+  // A goal an action server accepted: checked like a request, then planned or answered.
+  void on_action_goal(Robot& robot, ActionServer& server, ActionGoal&& goal);
+  // Goals a client asked to cancel: waiting ones are answered CANCELED, a running one stops.
+  void on_action_cancel(Robot& robot, ActionServer& server, const std::vector<GoalUuid>& ids);
+  // An action goal's one result, instead of a plan_status (answer() calls it).
+  void finish_action(Robot& robot, const Job& job, const WireStatus& status,
+                     const core::Metrics* metrics, PathMsg path);
+  // One plan (a request, or one leg of a ComputePathThroughPoses goal) on `map`.
+  struct Leg {
+    WireStatus status;
+    std::string planner_name;
+    core::PlanResult result;
+    PathMsg path;  // set when status is OK
+    bool planned = false;  // false: refused by resolve_request (result is empty)
+  };
+  Leg plan_leg(Robot& robot, Job& job, const ActiveMap& map, size_t worker);
   // on_request after counting: checks, then queues or answers.
   void submit(Robot& robot, Job job);
   // Answers NO_MAP the requests whose map_wait has passed (all with `all`); map thread and stop.
@@ -565,6 +516,29 @@ core::Status PlannerNode::Impl::start() {
                        &robot);
         !s.is_ok())
       return s;
+    if (cfg_.actions.enabled) {
+      for (const auto& [kind, action_name] :
+           {std::pair{ActionKind::kComputePathToPose, cfg_.topics.compute_path_to_pose},
+            std::pair{ActionKind::kComputePathThroughPoses,
+                      cfg_.topics.compute_path_through_poses}}) {
+        ActionServer::Hooks hooks;
+        hooks.on_goal = [this, &robot](ActionServer& server, ActionGoal&& goal) {
+          on_action_goal(robot, server, std::move(goal));
+        };
+        hooks.on_cancel = [this, &robot](ActionServer& server, const std::vector<GoalUuid>& ids) {
+          on_action_cancel(robot, server, ids);
+        };
+        hooks.may_take = has_room;
+        hooks.wake_intake = wake;
+        hooks.now = [this] { return time_.now(); };
+        robot.actions.push_back(std::make_unique<ActionServer>(
+            kind, ros_topic_name(robot.cfg, action_name), robot.cfg, participant_watch_.get(),
+            reply_mutex_, reply_cv_, std::move(hooks)));
+        if (core::Status s = robot.actions.back()->create(*participant_, listeners_, robot.inputs);
+            !s.is_ok())
+          return s;
+      }
+    }
   }
   const Robot& first = *robots_.front();
   if (robots_.size() == 1) {
@@ -777,6 +751,101 @@ void PlannerNode::Impl::on_request(Robot& robot, Job job) {
   submit(robot, std::move(job));
 }
 
+void PlannerNode::Impl::on_action_goal(Robot& robot, ActionServer& server, ActionGoal&& goal) {
+  Job job;
+  job.id = server.name() + ":" + uuid_text(goal.id);
+  job.identity = goal.identity;
+  job.planner = std::move(goal.planner_id);
+  job.action = std::make_shared<ActionJob>();
+  job.action->server = &server;
+  job.action->goal_id = goal.id;
+  ++requests_received_;
+  ++robot.unanswered;  // until its result is stored (finish_action)
+  // Checked before the request rules: Nav2's own codes for these.
+  const size_t poses = goal.goals.size();
+  if (poses == 0 || poses > kMaxThroughPoses) {
+    const bool none = poses == 0;
+    ActionOutcome outcome;
+    outcome.state = GoalState::kAborted;
+    outcome.error_code = none ? kNoViapointsGiven : nav2_error_code(server.kind(), wire::INVALID_REQUEST, false);
+    outcome.error_msg = none ? "goals: empty (NO_VIAPOINTS_GIVEN)"
+                             : "goals: found " + std::to_string(poses) + " poses, expected at most " +
+                                   std::to_string(kMaxThroughPoses);
+    spdlog::warn("goal '{}'{}: ABORTED ({})", job.id, robot.label(), outcome.error_msg);
+    server.finish(goal.id, std::move(outcome));
+    --robot.unanswered;
+    ++statuses_published_;
+    return;
+  }
+  job.goal = std::move(goal.goals.front());
+  job.action->more_goals.assign(std::make_move_iterator(goal.goals.begin() + 1),
+                                std::make_move_iterator(goal.goals.end()));
+  if (goal.use_start) {
+    job.start = std::move(goal.start);
+  } else {
+    robot_start(robot, job);  // robot_pose_source: the topic or tf
+    job.action->tf_problem =
+        !job.missing_start.empty() && cfg_.robot_pose_source == RobotPoseSource::kTf;
+  }
+  submit(robot, std::move(job));
+}
+
+void PlannerNode::Impl::on_action_cancel(Robot& robot, ActionServer& server,
+                                         const std::vector<GoalUuid>& ids) {
+  std::vector<Job> removed;
+  const std::string reason = "canceled by its client";
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    for (const GoalUuid& id : ids) {
+      std::vector<Job> jobs = robot.queue.cancel(server.name() + ":" + uuid_text(id), reason);
+      for (Job& job : jobs) removed.push_back(std::move(job));
+    }
+  }
+  {
+    // A goal still waiting for the first map.
+    std::lock_guard<std::mutex> lock(map_mutex_);
+    for (auto it = waiting_for_map_.begin(); it != waiting_for_map_.end();) {
+      const bool canceled =
+          it->robot == &robot && it->job.action && it->job.action->server == &server &&
+          std::find(ids.begin(), ids.end(), it->job.action->goal_id) != ids.end();
+      if (canceled) {
+        removed.push_back(std::move(it->job));
+        it = waiting_for_map_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (const Job& job : removed) {
+    spdlog::info("goal '{}'{}: CANCELED ({})", job.id, robot.label(), reason);
+    answer(robot, job, {wire::CANCELED, reason});
+  }
+}
+
+void PlannerNode::Impl::finish_action(Robot& robot, const Job& job, const WireStatus& status,
+                                      const core::Metrics* metrics, PathMsg path) {
+  ActionServer& server = *job.action->server;
+  ActionOutcome outcome;
+  if (status.ok()) {
+    outcome.state = GoalState::kSucceeded;
+  } else if (status.code == wire::CANCELED && server.canceling(job.action->goal_id)) {
+    outcome.state = GoalState::kCanceled;  // the client asked; otherwise (preempted, shutdown)
+  } else {                                 // the goal is aborted, as Nav2's servers do
+    outcome.state = GoalState::kAborted;
+  }
+  outcome.error_code = nav2_error_code(server.kind(), status.code, job.action->invalid_planner);
+  if (!status.ok() && job.action->tf_problem) outcome.error_code = nav2_error_code(
+      server.kind(), wire::FRAME_MISMATCH, false);
+  outcome.error_msg = status.message;
+  if (outcome.state == GoalState::kCanceled) outcome.error_code = 0;
+  if (metrics != nullptr) outcome.planning_time_s = metrics->planning_time_us / 1e6;
+  outcome.path = std::move(path);
+  server.finish(job.action->goal_id, std::move(outcome));
+  --robot.unanswered;
+  resume_input(robot);
+  ++statuses_published_;
+}
+
 void PlannerNode::Impl::expire_waiting_for_map(bool all) {
   std::vector<WaitingForMap> expired;
   {
@@ -828,6 +897,7 @@ void PlannerNode::Impl::submit(Robot& robot, Job job) {
   }
   const ResolvedRequest resolved = resolve_request(job, robot.cfg, map ? map->grid.get() : nullptr);
   if (!resolved.status.ok()) {
+    if (job.action) job.action->invalid_planner = resolved.invalid_planner;
     spdlog::warn("request '{}'{}: {} ({})", printable(job.id), robot.label(),
                  code_name(resolved.status.code), resolved.status.message);
     answer(robot, job, resolved.status, resolved.planner_name, nullptr,
@@ -1016,10 +1086,24 @@ void PlannerNode::Impl::replier_loop() {
     const Clock::time_point drain_deadline = drain_deadline_;
     const ReplyClock::time_point now = stopping ? ReplyClock::time_point::max() : ReplyClock::now();
     bool unwritten = false;
+    // The action servers' replies and status lists due now.
+    std::vector<std::pair<ActionServer*, ActionServer::Due>> action_dues;
     for (const auto& robot : robots_) {
       for (HeldStatus& held : robot->replies.release(now, &timed_out))
         robot->unwritten.push_back(std::move(held));
       unwritten = unwritten || !robot->unwritten.empty();
+      for (const auto& action : robot->actions) {
+        ActionServer::Due due;
+        action->take_due(ReplyClock::now(), stopping, due);
+        if (!due.replies.empty() || due.status)
+          action_dues.emplace_back(action.get(), std::move(due));
+      }
+    }
+    if (!action_dues.empty()) {
+      lock.unlock();
+      for (auto& [action, due] : action_dues) action->write(due);
+      lock.lock();
+      continue;
     }
     if (unwritten) {
       lock.unlock();  // write() may block up to the writer's max_blocking_time
@@ -1077,6 +1161,10 @@ void PlannerNode::Impl::replier_loop() {
     for (const auto& robot : robots_) {
       const auto next = robot->replies.next_deadline();
       if (next && (!deadline || *next < *deadline)) deadline = next;
+      for (const auto& action : robot->actions) {
+        const auto next_action = action->next_deadline();
+        if (next_action && (!deadline || *next_action < *deadline)) deadline = next_action;
+      }
     }
     if (deadline)
       reply_cv_.wait_until(lock, *deadline);
@@ -1089,6 +1177,7 @@ void PlannerNode::Impl::answer(Robot& robot, const Job& job, const WireStatus& s
                                const std::string& planner, const core::Metrics* metrics,
                                const TimeMsg& map_stamp, PathMsg path,
                                const core::Endpoints* endpoints, const core::GridMap* map) {
+  if (job.action) return finish_action(robot, job, status, metrics, std::move(path));
   PlanStatusMsg msg = to_status_msg(echoed_id(job.id), &job.identity, status, planner, metrics,
                                     map_stamp, std::move(path), endpoints, map);
   // A plan_request's client is waited for; goal_pose goals (rviz2) have no status reader.
@@ -1156,6 +1245,56 @@ void PlannerNode::Impl::worker_loop(size_t worker) {
   }
 }
 
+PlannerNode::Impl::Leg PlannerNode::Impl::plan_leg(Robot& robot, Job& job, const ActiveMap& map,
+                                                   size_t worker) {
+  Leg leg;
+  // Checked again: the map may have changed since the request arrived.
+  ResolvedRequest resolved = resolve_request(job, robot.cfg, map.grid.get());
+  leg.planner_name = resolved.planner_name;
+  if (!resolved.status.ok()) {
+    if (job.action) job.action->invalid_planner = resolved.invalid_planner;
+    leg.status = resolved.status;
+    return leg;
+  }
+  core::PlannerOptions& options = resolved.options;
+  // The planners of a map are as many as the workers (convert_slice); one is null only after an
+  // internal error dropped it (worker_loop).
+  std::unique_ptr<core::Planner>& planner = map.planners.at(worker);
+  if (!planner) planner = std::make_unique<core::Planner>(map.grid);
+  // Recording the expansions costs time and memory: only when something will show them.
+  options.record_expansions = publishing(robot.debug_writer) ||
+                              publishing(robot.expansions_forward_writer) ||
+                              publishing(robot.expansions_backward_writer);
+  leg.result = planner->plan(resolved.query, options, &job.interruption->flag);
+  leg.planned = true;
+  leg.status = {to_wire_code(leg.result.status.code), leg.result.status.message};
+  if (leg.result.status.code == core::StatusCode::kCanceled) {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    leg.status.message = job.interruption->reason;
+  }
+  if (!leg.status.ok()) return leg;
+  // Poses at most planner.path_spacing apart (default: this map's resolution), never finer
+  // than min_path_spacing (a bound on the pose count).
+  const double resolution = map.grid->resolution();
+  const double configured = cfg_.planner.path_spacing_for(resolution);
+  const double spacing = std::max(configured, min_path_spacing(resolution));
+  std::vector<std::string> remarks;
+  if (std::string moved = describe_adjusted_endpoints(leg.result.endpoints, *map.grid, options);
+      !moved.empty())
+    remarks.push_back(std::move(moved));
+  if (!resolved.warning.empty()) remarks.push_back(resolved.warning);
+  if (spacing > configured) {
+    remarks.push_back(fmt::format(
+        "warning: planner.path_spacing {:g} m is finer than {:g} cells at this map's resolution "
+        "of {:g} m; poses are {:g} m apart",
+        configured, kMinPathSpacingCells, resolution, spacing));
+  }
+  for (const std::string& remark : remarks)
+    leg.status.message += (leg.status.message.empty() ? "" : "; ") + remark;
+  leg.path = to_path_msg(leg.result, cfg_.frame_id, time_.now(), spacing, resolved.goal_yaw);
+  return leg;
+}
+
 void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const ActiveMap>& map,
                                size_t worker) {
   const auto t0 = Clock::now();
@@ -1172,60 +1311,56 @@ void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const Act
     if (job.interruption->flag) interrupted = job.interruption->reason;
   }
   if (!interrupted.empty()) return reject({wire::CANCELED, interrupted});
+  if (job.action) job.action->server->execute(job.action->goal_id);
   map = current_map();
-  // Checked again: the map may have changed since the request arrived.
-  ResolvedRequest resolved = resolve_request(job, robot.cfg, map ? map->grid.get() : nullptr);
-  if (!resolved.status.ok())
-    return reject(resolved.status, resolved.planner_name, map ? map->stamp : TimeMsg());
-  const std::string& planner_name = resolved.planner_name;
-  core::PlannerOptions& options = resolved.options;
+  if (!map) return reject({wire::NO_MAP, "no map has been accepted yet"});
 
-  // The planners of a map are as many as the workers (convert_slice); one is null only after an
-  // internal error dropped it (worker_loop).
-  std::unique_ptr<core::Planner>& planner = map->planners.at(worker);
-  if (!planner) planner = std::make_unique<core::Planner>(map->grid);
-  // Recording the expansions costs time and memory: only when something will show them.
-  options.record_expansions = publishing(robot.debug_writer) ||
-                              publishing(robot.expansions_forward_writer) ||
-                              publishing(robot.expansions_backward_writer);
-  core::PlanResult result = planner->plan(resolved.query, options, &job.interruption->flag);
-
-  WireStatus status{to_wire_code(result.status.code), result.status.message};
-  if (result.status.code == core::StatusCode::kCanceled) {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    status.message = job.interruption->reason;
-  }
-  const TimeMsg stamp = time_.now();
-  PathMsg path;
-  if (status.ok()) {
-    // Poses at most planner.path_spacing apart (default: this map's resolution), never finer
-    // than min_path_spacing (a bound on the pose count).
-    const double resolution = map->grid->resolution();
-    const double configured = cfg_.planner.path_spacing_for(resolution);
-    const double spacing = std::max(configured, min_path_spacing(resolution));
-    std::vector<std::string> remarks;
-    if (std::string moved = describe_adjusted_endpoints(result.endpoints, *map->grid, options);
-        !moved.empty())
-      remarks.push_back(std::move(moved));
-    if (!resolved.warning.empty()) remarks.push_back(resolved.warning);
-    if (spacing > configured) {
-      remarks.push_back(fmt::format(
-          "warning: planner.path_spacing {:g} m is finer than {:g} cells at this map's resolution "
-          "of {:g} m; poses are {:g} m apart",
-          configured, kMinPathSpacingCells, resolution, spacing));
+  Leg leg = plan_leg(robot, job, *map, worker);
+  if (!leg.planned) return reject(leg.status, leg.planner_name, map->stamp);
+  // ComputePathThroughPoses: the next legs start where the previous one ended (the goal it
+  // actually used) and their paths are joined; the first failure ends the goal with its code.
+  const size_t legs = job.action ? 1 + job.action->more_goals.size() : 1;
+  core::Metrics total = leg.result.metrics;
+  for (size_t k = 1; k < legs && leg.status.ok(); ++k) {
+    Job next = job;  // the same id, client, planner, interruption and action
+    next.start = leg.path.poses().back();
+    next.goal = job.action->more_goals[k - 1];
+    Leg following = plan_leg(robot, next, *map, worker);
+    total.length_m += following.result.metrics.length_m;
+    total.planning_time_us += following.result.metrics.planning_time_us;
+    total.expanded += following.result.metrics.expanded;
+    total.turns += following.result.metrics.turns;
+    total.turn_angle_deg += following.result.metrics.turn_angle_deg;
+    total.clearance_m = std::min(total.clearance_m, following.result.metrics.clearance_m);
+    if (!following.status.ok()) {
+      following.status.message = fmt::format("leg {} of {} (to goals[{}]): {}", k + 1, legs, k,
+                                             following.status.message);
+      leg.status = following.status;
+      leg.path = PathMsg();
+      break;
     }
-    for (const std::string& remark : remarks)
-      status.message += (status.message.empty() ? "" : "; ") + remark;
-    path = to_path_msg(result, cfg_.frame_id, stamp, spacing, resolved.goal_yaw);
-    if (!robot.plan_writer->write(&path))
+    auto& poses = leg.path.poses();
+    poses.insert(poses.end(), following.path.poses().begin() + 1, following.path.poses().end());
+    if (!following.status.message.empty())
+      leg.status.message += (leg.status.message.empty() ? "" : "; ") +
+                            fmt::format("leg {}: {}", k + 1, following.status.message);
+  }
+  if (legs > 1) leg.result.metrics = total;
+  const std::string& planner_name = leg.planner_name;
+  const core::PlanResult& result = leg.result;
+  WireStatus& status = leg.status;
+  const TimeMsg stamp = time_.now();
+  if (status.ok()) {
+    if (!robot.plan_writer->write(&leg.path))
       spdlog::error("could not publish the path of '{}'{}", id, robot.label());
     ++plans_ok_;
   }
   // The endpoints are the plan's once core resolved them: every outcome but a refusal of the
   // query itself (which resolve_request normally catches first).
-  const bool resolved_endpoints = status.ok() || status.code == wire::NO_VALID_PATH ||
-                                  status.code == wire::TIMEOUT || status.code == wire::CANCELED;
-  answer(robot, job, status, planner_name, &result.metrics, map->stamp, std::move(path),
+  const bool resolved_endpoints = legs == 1 && (status.ok() || status.code == wire::NO_VALID_PATH ||
+                                                status.code == wire::TIMEOUT ||
+                                                status.code == wire::CANCELED);
+  answer(robot, job, status, planner_name, &result.metrics, map->stamp, std::move(leg.path),
          resolved_endpoints ? &result.endpoints : nullptr, map->grid.get());
   publish_debug(robot, job.id, result, *map->grid, stamp);
   const auto total_us =

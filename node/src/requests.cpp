@@ -88,6 +88,7 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
       std::string known;
       for (core::PlannerKind k : core::all_planner_kinds())
         known += (known.empty() ? "" : ", ") + std::string(core::to_string(k));
+      out.invalid_planner = true;
       return fail(wire::INVALID_REQUEST, "planner: unknown planner '" + printable(job.planner) +
                                              "' (known: " + known + ")");
     }
@@ -111,6 +112,7 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   // The configuration is valid for its own planner (checked at load); a request's planner may
   // not accept it (jps with a corner_policy it cannot search with).
   if (core::Status s = core::validate(out.options); !s.is_ok()) {
+    out.invalid_planner = true;
     return fail(wire::INVALID_REQUEST,
                 "planner: " + out.planner_name +
                     " cannot plan with the node's planner.* settings: " + s.message);
@@ -229,6 +231,21 @@ std::optional<Job> RequestQueue::next() {
 
 void RequestQueue::interrupt_current(const std::string& reason) {
   if (current_) interrupt(*current_->interruption, reason);
+}
+
+std::vector<Job> RequestQueue::cancel(const std::string& id, const std::string& reason) {
+  std::vector<Job> removed;
+  for (auto it = queue_.begin(); it != queue_.end();) {
+    if (it->id == id) {
+      interrupt(*it->interruption, reason);
+      removed.push_back(std::move(*it));
+      it = queue_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (current_ && current_->id == id) interrupt(*current_->interruption, reason);
+  return removed;
 }
 
 }  // namespace vnsba::node

@@ -25,6 +25,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -103,6 +104,10 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   size_t incompatible_qos() const;
   // Remote participants seen writing the topic so far.
   size_t count() const;
+  // The vendor id a remote participant announced (eProsima 01.0f, Eclipse Cyclone 01.10), while
+  // it is known: the action servers pick each client's reply mapping by it (service_wire.hpp).
+  std::optional<std::array<uint8_t, 2>> vendor_of(
+      const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
 
  private:
   const std::set<std::string> topic_names_;
@@ -110,6 +115,7 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   mutable std::mutex mutex_;
   std::map<std::string, std::string> names_;  // guid prefix -> participant name
   std::set<std::string> reported_;            // guid prefixes
+  std::map<std::string, std::array<uint8_t, 2>> vendors_;  // guid prefix -> vendor id
   FixHint fix_;
   std::atomic<size_t> incompatible_qos_{0};
   RefusedPeers refused_;

@@ -26,6 +26,7 @@
 
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/node/action_goals.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 
@@ -43,6 +44,19 @@ struct Interruption {
   std::string reason;             // the CANCELED message
 };
 
+class ActionServer;
+
+// A goal of a Nav2 action (action_server.hpp): who answers it, and what the answer needs.
+struct ActionJob {
+  ActionServer* server = nullptr;
+  GoalUuid goal_id{};
+  // ComputePathThroughPoses: the poses after the first (Job::goal), planned leg by leg.
+  std::vector<PoseStampedMsg> more_goals;
+  // Set when the request fails for these reasons: Nav2 has codes of their own for them.
+  bool invalid_planner = false;  // planner_id unknown or unusable (INVALID_PLANNER)
+  bool tf_problem = false;       // the robot's pose could not be looked up (TF_ERROR)
+};
+
 struct Job {
   std::string id;
   RequestIdentity identity;
@@ -51,6 +65,9 @@ struct Job {
   std::string planner;        // empty: the configured planner
   std::string missing_start;  // set when a goal_pose came before any robot_pose
   std::shared_ptr<Interruption> interruption = std::make_shared<Interruption>();
+  // Set for a Nav2 action goal, answered on its action; shared by the legs of a
+  // ComputePathThroughPoses goal.
+  std::shared_ptr<ActionJob> action;
 };
 
 // The id as a status echoes it: at most kMaxIdBytes of it.
@@ -72,6 +89,8 @@ struct ResolvedRequest {
   std::optional<double> goal_yaw;
   // Non-fatal remarks for the status message of an OK plan ("warning: ..."), "" when none.
   std::string warning;
+  // The request failed because of its planner (unknown, or unusable with the node's settings).
+  bool invalid_planner = false;
 };
 // `map` may be null (no map yet: NO_MAP). Checks, first failure wins: the string fields' lengths,
 // the id, the planner name, the options the planner would run with (core::validate: e.g. jps with
@@ -99,6 +118,9 @@ class RequestQueue {
   void finish_current() { current_.reset(); }
   // Flags the one being planned (shutdown); the waiting ones are answered by the worker.
   void interrupt_current(const std::string& reason);
+  // A client canceled request `id` (an action goal): a waiting one is removed and returned, to
+  // be answered CANCELED now; the one being planned is flagged with `reason`.
+  std::vector<Job> cancel(const std::string& id, const std::string& reason);
 
   size_t waiting() const { return queue_.size(); }
   // Whether a request is being planned (between next() and finish_current()).

@@ -1,0 +1,519 @@
+#include "action_server.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <fastdds/dds/topic/TopicDataType.hpp>
+#include <fastdds/rtps/common/WriteParams.h>
+#include <set>
+
+#include "action_msgs/msg/GoalStatusArrayPubSubTypes.h"
+#include "action_msgs/srv/CancelGoalPubSubTypes.h"
+#include "nav2_msgs/action/ComputePathThroughPosesPubSubTypes.h"
+#include "nav2_msgs/action/ComputePathToPosePubSubTypes.h"
+
+namespace vnsba::node {
+
+namespace {
+
+using eprosima::fastrtps::rtps::GUID_t;
+using eprosima::fastrtps::rtps::SampleIdentity;
+using eprosima::fastrtps::rtps::SerializedPayload_t;
+using eprosima::fastrtps::rtps::InstanceHandle_t;
+
+// The nav2_msgs types of each action.
+struct ToPoseTypes {
+  using SendGoalRequest = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Request_;
+  using SendGoalRequestType = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Request_PubSubType;
+  using SendGoalResponse = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Response_;
+  using SendGoalResponseType =
+      nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Response_PubSubType;
+  using GetResultRequest = nav2_msgs::action::dds_::ComputePathToPose_GetResult_Request_;
+  using GetResultRequestType =
+      nav2_msgs::action::dds_::ComputePathToPose_GetResult_Request_PubSubType;
+  using GetResultResponse = nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_;
+  using GetResultResponseType =
+      nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_PubSubType;
+  using FeedbackMessageType = nav2_msgs::action::dds_::ComputePathToPose_FeedbackMessage_PubSubType;
+  static std::vector<PoseStampedMsg> goals(const SendGoalRequest& r) { return {r.goal().goal()}; }
+};
+struct ThroughPosesTypes {
+  using SendGoalRequest = nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Request_;
+  using SendGoalRequestType =
+      nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Request_PubSubType;
+  using SendGoalResponse = nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Response_;
+  using SendGoalResponseType =
+      nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Response_PubSubType;
+  using GetResultRequest = nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Request_;
+  using GetResultRequestType =
+      nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Request_PubSubType;
+  using GetResultResponse = nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Response_;
+  using GetResultResponseType =
+      nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Response_PubSubType;
+  using FeedbackMessageType =
+      nav2_msgs::action::dds_::ComputePathThroughPoses_FeedbackMessage_PubSubType;
+  static std::vector<PoseStampedMsg> goals(const SendGoalRequest& r) { return r.goal().goals(); }
+};
+using CancelRequest = action_msgs::srv::dds_::CancelGoal_Request_;
+using CancelResponse = action_msgs::srv::dds_::CancelGoal_Response_;
+using GoalInfoMsg = action_msgs::msg::dds_::GoalInfo_;
+
+// A type whose samples are their serialized bytes (RawSample), under the DDS type name of
+// `Generated` (a fastddsgen PubSubType): the server decodes a request only once it knows its
+// client's mapping, and writes a reply with or without rmw_cyclonedds's header.
+template <class Generated>
+class RawOf : public dds::TopicDataType {
+ public:
+  RawOf() {
+    Generated generated;
+    setName(generated.getName());
+    m_typeSize = 1024;  // a first allocation; PREALLOCATED_WITH_REALLOC grows it per sample
+    m_isGetKeyDefined = false;
+  }
+  bool serialize(void* data, SerializedPayload_t* payload) override {
+    const auto& bytes = static_cast<RawSample*>(data)->bytes;
+    if (bytes.size() < 4 || bytes.size() > payload->max_size) return false;
+    std::copy(bytes.begin(), bytes.end(), payload->data);
+    payload->length = static_cast<uint32_t>(bytes.size());
+    payload->encapsulation = bytes[1] == 0 ? CDR_BE : CDR_LE;
+    return true;
+  }
+  bool deserialize(SerializedPayload_t* payload, void* data) override {
+    auto& bytes = static_cast<RawSample*>(data)->bytes;
+    bytes.assign(payload->data, payload->data + payload->length);
+    return true;
+  }
+  std::function<uint32_t()> getSerializedSizeProvider(void* data) override {
+    return [data] { return static_cast<uint32_t>(static_cast<RawSample*>(data)->bytes.size()); };
+  }
+  void* createData() override { return new RawSample(); }
+  void deleteData(void* data) override { delete static_cast<RawSample*>(data); }
+  bool getKey(void*, InstanceHandle_t*, bool) override { return false; }
+};
+
+GuidPrefix prefix_of(const GUID_t& guid) {
+  GuidPrefix prefix;
+  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), prefix.begin());
+  return prefix;
+}
+
+std::string prefix_hex(const GuidPrefix& prefix) {
+  std::string out;
+  char buf[4];
+  for (uint8_t b : prefix) {
+    std::snprintf(buf, sizeof buf, "%02x", b);
+    out += buf;
+  }
+  return out;
+}
+
+// Feeds a reply writer's gate with its matched readers (per remote participant).
+class MatchedReaders : public dds::DataWriterListener {
+ public:
+  MatchedReaders(std::mutex& mutex, std::condition_variable& cv, ReplyGate<ActionServer::Reply>& gate)
+      : mutex_(mutex), cv_(cv), gate_(gate) {}
+  void on_publication_matched(dds::DataWriter*,
+                              const dds::PublicationMatchedStatus& status) override {
+    if (status.current_count_change == 0) return;
+    GuidPrefix prefix;  // an endpoint's instance handle is its GUID
+    for (size_t i = 0; i < prefix.size(); ++i) prefix[i] = status.last_subscription_handle.value[i];
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      gate_.reader_matched(prefix, status.current_count_change);
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  std::mutex& mutex_;
+  std::condition_variable& cv_;
+  ReplyGate<ActionServer::Reply>& gate_;
+};
+
+}  // namespace
+
+uint16_t nav2_error_code(ActionKind kind, uint8_t wire_code, bool invalid_planner) {
+  const uint16_t unknown = kind == ActionKind::kComputePathToPose ? 200 : 300;
+  if (wire_code == wire::OK) return 0;
+  if (invalid_planner) return unknown + 1;
+  switch (wire_code) {
+    case wire::FRAME_MISMATCH:
+      return unknown + 2;  // TF_ERROR
+    case wire::START_OUTSIDE_MAP:
+      return unknown + 3;
+    case wire::GOAL_OUTSIDE_MAP:
+      return unknown + 4;
+    case wire::START_OCCUPIED:
+      return unknown + 5;
+    case wire::GOAL_OCCUPIED:
+      return unknown + 6;
+    case wire::TIMEOUT:
+      return unknown + 7;
+    case wire::NO_VALID_PATH:
+      return unknown + 8;
+    default:
+      return unknown;  // NO_MAP, INVALID_MAP, INVALID_REQUEST, CANCELED, INTERNAL_ERROR
+  }
+}
+
+std::string uuid_text(const GoalUuid& id) {
+  std::string out;
+  char buf[4];
+  for (uint8_t b : id) {
+    std::snprintf(buf, sizeof buf, "%02x", b);
+    out += buf;
+  }
+  return out;
+}
+
+// Where a reply goes: the client's mapping, its header (rmw_cyclonedds) or the identity to
+// relate the reply to (rmw_fastrtps), and its participant (the reply gate).
+struct ReplyAddress {
+  WireMapping mapping = WireMapping::kSampleIdentity;
+  RequestHeader header{};
+  SampleIdentity related;
+  GuidPrefix prefix{};
+};
+
+class ActionServer::Impl {
+ public:
+  enum Service { kSendGoal = 0, kGetResult = 1, kCancel = 2 };
+  static constexpr const char* kServiceNames[3] = {"send_goal", "get_result", "cancel_goal"};
+
+  Impl(ActionServer& self, const NodeConfig& config, const ParticipantWatch* vendors,
+       std::mutex& mutex, std::condition_variable& cv, Hooks hooks)
+      : self_(self),
+        cfg_(config),
+        vendors_(vendors),
+        mutex_(mutex),
+        cv_(cv),
+        hooks_(std::move(hooks)),
+        goals_(config.actions.result_timeout, static_cast<size_t>(config.actions.max_results)),
+        gates_{ReplyGate<Reply>(config.reply_wait), ReplyGate<Reply>(config.reply_wait),
+               ReplyGate<Reply>(config.reply_wait)} {}
+
+  ActionServer& self_;
+  const NodeConfig& cfg_;
+  const ParticipantWatch* vendors_;
+  std::mutex& mutex_;
+  std::condition_variable& cv_;
+  Hooks hooks_;
+  ActionGoals<ActionOutcome, ReplyAddress> goals_;  // under mutex_
+  std::array<ReplyGate<Reply>, 3> gates_;           // under mutex_
+  std::array<dds::DataWriter*, 3> reply_writers_{};
+  std::array<std::unique_ptr<MatchedReaders>, 3> matched_;
+  dds::DataWriter* status_writer_ = nullptr;
+  dds::DataWriter* feedback_writer_ = nullptr;
+  bool status_dirty_ = true;  // under mutex_; the first pass publishes the (empty) list
+  std::set<GuidPrefix> warned_;  // clients whose undecodable requests were logged, under mutex_
+
+  std::string topic(const char* service, bool request) const {
+    return std::string(request ? "rq" : "rr") + self_.ros_name_ + "/_action/" + service +
+           (request ? "Request" : "Reply");
+  }
+
+  ReplyAddress address_of(const dds::SampleInfo& info) const {
+    ReplyAddress address;
+    const GUID_t& writer = info.sample_identity.writer_guid();
+    address.prefix = prefix_of(writer);
+    const bool has_related = info.related_sample_identity.writer_guid() != GUID_t::unknown();
+    std::optional<VendorId> vendor;
+    if (vendors_ != nullptr) vendor = vendors_->vendor_of(writer.guidPrefix);
+    address.mapping = choose_mapping(cfg_.actions.reply_mapping, vendor, has_related);
+    // As rmw_fastrtps's server: the request's identity, with the client's reply reader as the
+    // writer GUID when the request names it.
+    address.related = info.sample_identity;
+    if (has_related) address.related.writer_guid() = info.related_sample_identity.writer_guid();
+    return address;
+  }
+
+  // Holds a reply for the replier thread; under mutex_.
+  template <class Msg>
+  void hold(Service service, const ReplyAddress& to, const Msg& msg, std::string what) {
+    Reply reply;
+    reply.writer = reply_writers_[service];
+    reply.sample = encode_reply(msg, to.mapping, to.header);
+    if (to.mapping == WireMapping::kSampleIdentity) reply.related = to.related;
+    reply.what = std::move(what);
+    gates_[service].hold(to.prefix, std::move(reply), ReplyGate<Reply>::Clock::now());
+  }
+
+  // A request that cannot be decoded: logged once per client, never answered (without its
+  // goal id there is nothing to answer, as in rcl_action).
+  void refuse(const ReplyAddress& from, const char* service, const std::string& problem) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (warned_.size() >= 1000 || !warned_.insert(from.prefix).second) return;
+    }
+    spdlog::warn("{}: a {} request from participant {} dropped: {} (mapping {})",
+                 self_.ros_name_, service, prefix_hex(from.prefix), problem,
+                 to_string(from.mapping));
+  }
+
+  template <class T>
+  void on_send_goal(RawSample&& raw, const dds::SampleInfo& info) {
+    ReplyAddress from = address_of(info);
+    typename T::SendGoalRequest request;
+    if (std::string problem = decode_request(raw, from.mapping, request, from.header);
+        !problem.empty())
+      return refuse(from, "send_goal", problem);
+    raw = RawSample();  // a ThroughPoses goal may be megabytes: the decoded copy is enough
+    ActionGoal goal;
+    goal.id = request.goal_id().uuid();
+    goal.goals = T::goals(request);
+    goal.start = std::move(request.goal().start());
+    goal.use_start = request.goal().use_start();
+    goal.planner_id = std::move(request.goal().planner_id());
+    goal.identity = identity_of(info, wire::SUBJECT_REQUEST);
+    const TimeMsg stamp = hooks_.now();
+    bool accepted = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      accepted = goals_.accept(goal.id, GoalStamp{stamp.sec(), stamp.nanosec()});
+      typename T::SendGoalResponse response;
+      response.accepted(accepted);
+      response.stamp(stamp);
+      hold(kSendGoal, from, response, "the send_goal reply of goal " + uuid_text(goal.id));
+      status_dirty_ = status_dirty_ || accepted;
+    }
+    cv_.notify_all();
+    if (!accepted) {
+      spdlog::warn("{}: goal {} rejected: a goal with this id is running or its result is kept",
+                   self_.ros_name_, uuid_text(goal.id));
+      return;
+    }
+    hooks_.on_goal(self_, std::move(goal));
+  }
+
+  template <class T>
+  void on_get_result(RawSample&& raw, const dds::SampleInfo& info) {
+    ReplyAddress from = address_of(info);
+    typename T::GetResultRequest request;
+    if (std::string problem = decode_request(raw, from.mapping, request, from.header);
+        !problem.empty())
+      return refuse(from, "get_result", problem);
+    const GoalUuid id = request.goal_id().uuid();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto answer = goals_.result_or_wait(id, from);
+      if (!answer) return;  // answered when the goal finishes
+      hold(kGetResult, from, result_response<T>(answer->state, answer->result),
+           "the result of goal " + uuid_text(id));
+    }
+    cv_.notify_all();
+  }
+
+  void on_cancel(RawSample&& raw, const dds::SampleInfo& info) {
+    ReplyAddress from = address_of(info);
+    CancelRequest request;
+    if (std::string problem = decode_request(raw, from.mapping, request, from.header);
+        !problem.empty())
+      return refuse(from, "cancel_goal", problem);
+    const GoalUuid id = request.goal_info().goal_id().uuid();
+    const GoalStamp stamp{request.goal_info().stamp().sec(), request.goal_info().stamp().nanosec()};
+    std::vector<GoalUuid> canceling;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto outcome = goals_.cancel(id, stamp);
+      CancelResponse response;
+      response.return_code(static_cast<int8_t>(outcome.code));
+      for (const auto& entry : outcome.canceling) {
+        GoalInfoMsg info_msg;
+        info_msg.goal_id().uuid(entry.id);
+        info_msg.stamp().sec(entry.stamp.sec);
+        info_msg.stamp().nanosec(entry.stamp.nanosec);
+        response.goals_canceling().push_back(info_msg);
+        canceling.push_back(entry.id);
+      }
+      hold(kCancel, from, response, "a cancel_goal reply");
+      status_dirty_ = status_dirty_ || !canceling.empty();
+    }
+    cv_.notify_all();
+    if (!canceling.empty()) hooks_.on_cancel(self_, canceling);
+  }
+
+  template <class T>
+  typename T::GetResultResponse result_response(GoalState state, const ActionOutcome& outcome) {
+    typename T::GetResultResponse response;
+    response.status(static_cast<int8_t>(state));
+    auto& result = response.result();
+    result.path(outcome.path);
+    const double seconds = std::max(0.0, outcome.planning_time_s);
+    const auto whole = static_cast<int32_t>(std::min(seconds, 2147483647.0));
+    result.planning_time().sec(whole);
+    result.planning_time().nanosec(
+        static_cast<uint32_t>(std::min(999999999.0, std::round((seconds - whole) * 1e9))));
+    result.error_code(outcome.error_code);
+    result.error_msg(outcome.error_msg);
+    return response;
+  }
+  void hold_result(const ReplyAddress& to, const GoalUuid& id, GoalState state,
+                   const ActionOutcome& outcome) {
+    const std::string what = "the result of goal " + uuid_text(id);
+    if (self_.kind_ == ActionKind::kComputePathToPose)
+      hold(kGetResult, to, result_response<ToPoseTypes>(state, outcome), what);
+    else
+      hold(kGetResult, to, result_response<ThroughPosesTypes>(state, outcome), what);
+  }
+
+  template <class T>
+  core::Status create(Participant& participant,
+                      std::vector<std::unique_ptr<TakingListener>>& listeners,
+                      std::vector<std::pair<TakingListener*, dds::DataReader*>>& inputs) {
+    // Writers first, so that every request read can be answered.
+    auto reply_writer = [&](auto type, Service service, bool large) -> core::Status {
+      matched_[service] = std::make_unique<MatchedReaders>(mutex_, cv_, gates_[service]);
+      auto writer = participant.writer_on<RawOf<typename decltype(type)::type>>(
+          topic(kServiceNames[service], false), writer_qos(TopicQos::kStatus, large),
+          matched_[service].get());
+      if (!writer) return writer.error();
+      reply_writers_[service] = *writer;
+      return core::Status::ok();
+    };
+    if (auto s = reply_writer(Tag<typename T::SendGoalResponseType>(), kSendGoal, false);
+        !s.is_ok())
+      return s;
+    if (auto s = reply_writer(Tag<typename T::GetResultResponseType>(), kGetResult, true);
+        !s.is_ok())
+      return s;
+    if (auto s = reply_writer(Tag<action_msgs::srv::dds_::CancelGoal_Response_PubSubType>(),
+                              kCancel, false);
+        !s.is_ok())
+      return s;
+    auto status = participant.writer_on<action_msgs::msg::dds_::GoalStatusArray_PubSubType>(
+        "rt" + self_.ros_name_ + "/_action/status", writer_qos(TopicQos::kLatched, false));
+    if (!status) return status.error();
+    status_writer_ = *status;
+    auto feedback = participant.writer_on<typename T::FeedbackMessageType>(
+        "rt" + self_.ros_name_ + "/_action/feedback", writer_qos(TopicQos::kLatest, false));
+    if (!feedback) return feedback.error();
+    feedback_writer_ = *feedback;
+
+    auto add_reader = [&](auto type, Service service,
+                          std::unique_ptr<TakingListener> listener) -> core::Status {
+      listeners.push_back(std::move(listener));
+      auto reader = participant.reader_on<RawOf<typename decltype(type)::type>>(
+          topic(kServiceNames[service], true), reader_qos(TopicQos::kEvents),
+          listeners.back().get());
+      if (!reader) return reader.error();
+      if (service == kSendGoal) inputs.emplace_back(listeners.back().get(), *reader);
+      return core::Status::ok();
+    };
+    // Goals are taken by the node's intake thread, as requests are (bounded by the robot's
+    // answers owed); results and cancels are cheap and taken as they come.
+    if (auto s = add_reader(Tag<typename T::SendGoalRequestType>(), kSendGoal,
+                            make_intake_listener<RawSample>(
+                                [this](RawSample&& raw, const dds::SampleInfo& info) {
+                                  on_send_goal<T>(std::move(raw), info);
+                                },
+                                hooks_.may_take, hooks_.wake_intake));
+        !s.is_ok())
+      return s;
+    if (auto s = add_reader(Tag<typename T::GetResultRequestType>(), kGetResult,
+                            make_listener<RawSample>(
+                                [this](RawSample&& raw, const dds::SampleInfo& info) {
+                                  on_get_result<T>(std::move(raw), info);
+                                }));
+        !s.is_ok())
+      return s;
+    return add_reader(Tag<action_msgs::srv::dds_::CancelGoal_Request_PubSubType>(), kCancel,
+                      make_listener<RawSample>([this](RawSample&& raw, const dds::SampleInfo& info) {
+                        on_cancel(std::move(raw), info);
+                      }));
+  }
+
+  template <class U>
+  struct Tag {
+    using type = U;
+  };
+};
+
+ActionServer::ActionServer(ActionKind kind, std::string ros_name, const NodeConfig& config,
+                           const ParticipantWatch* vendors, std::mutex& reply_mutex,
+                           std::condition_variable& reply_cv, Hooks hooks)
+    : kind_(kind), ros_name_(std::move(ros_name)) {
+  impl_ = std::make_unique<Impl>(*this, config, vendors, reply_mutex, reply_cv, std::move(hooks));
+}
+
+ActionServer::~ActionServer() = default;
+
+core::Status ActionServer::create(Participant& participant,
+                                  std::vector<std::unique_ptr<TakingListener>>& listeners,
+                                  std::vector<std::pair<TakingListener*, dds::DataReader*>>& inputs) {
+  return kind_ == ActionKind::kComputePathToPose
+             ? impl_->create<ToPoseTypes>(participant, listeners, inputs)
+             : impl_->create<ThroughPosesTypes>(participant, listeners, inputs);
+}
+
+void ActionServer::execute(const GoalUuid& id) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex_);
+    if (!impl_->goals_.execute(id)) return;
+    impl_->status_dirty_ = true;
+  }
+  impl_->cv_.notify_all();
+}
+
+bool ActionServer::canceling(const GoalUuid& id) const {
+  std::lock_guard<std::mutex> lock(impl_->mutex_);
+  return impl_->goals_.state(id) == GoalState::kCanceling;
+}
+
+void ActionServer::finish(const GoalUuid& id, ActionOutcome outcome) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex_);
+    const GoalState state = outcome.state;
+    const std::vector<ReplyAddress> waiting =
+        impl_->goals_.finish(id, state, std::move(outcome), Clock::now());
+    const auto answer = impl_->goals_.answer(id);
+    for (const ReplyAddress& to : waiting) impl_->hold_result(to, id, answer.state, answer.result);
+    impl_->status_dirty_ = true;
+  }
+  impl_->cv_.notify_all();
+}
+
+void ActionServer::take_due(Clock::time_point now, bool all, Due& out) {
+  const auto release_at = all ? ReplyGate<Reply>::Clock::time_point::max() : now;
+  for (auto& gate : impl_->gates_)
+    for (Reply& reply : gate.release(release_at)) out.replies.push_back(std::move(reply));
+  if (impl_->goals_.expire(now) > 0) impl_->status_dirty_ = true;
+  if (!impl_->status_dirty_) return;
+  impl_->status_dirty_ = false;
+  GoalStatusArrayMsg msg;
+  for (const auto& entry : impl_->goals_.statuses()) {
+    action_msgs::msg::dds_::GoalStatus_ status;
+    status.goal_info().goal_id().uuid(entry.id);
+    status.goal_info().stamp().sec(entry.stamp.sec);
+    status.goal_info().stamp().nanosec(entry.stamp.nanosec);
+    status.status(static_cast<int8_t>(entry.state));
+    msg.status_list().push_back(status);
+  }
+  out.status = std::move(msg);
+}
+
+void ActionServer::write(Due& due) {
+  for (Reply& reply : due.replies) {
+    if (reply.writer == nullptr) continue;
+    eprosima::fastrtps::rtps::WriteParams params;
+    if (reply.related) params.related_sample_identity(*reply.related);
+    if (!write_sample(reply.writer, &reply.sample, params))
+      spdlog::error("{}: could not write {}", ros_name_, reply.what);
+  }
+  if (due.status && impl_->status_writer_ != nullptr &&
+      !impl_->status_writer_->write(&*due.status))
+    spdlog::error("{}: could not publish the goal status list", ros_name_);
+}
+
+std::optional<ActionServer::Clock::time_point> ActionServer::next_deadline() const {
+  std::optional<Clock::time_point> earliest = impl_->goals_.next_expiry();
+  for (const auto& gate : impl_->gates_)
+    if (auto next = gate.next_deadline(); next && (!earliest || *next < *earliest))
+      earliest = next;
+  return earliest;
+}
+
+size_t ActionServer::goals() const {
+  return impl_->goals_.size();
+}
+
+}  // namespace vnsba::node

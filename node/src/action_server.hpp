@@ -1,0 +1,141 @@
+// Nav2's planner actions on the bus (issue 32): one ActionServer per action and robot, speaking
+// rcl_action's protocol on the DDS topics ROS 2 derives from the action's name:
+//
+//   rq/<name>/_action/send_goalRequest   -> rr/<name>/_action/send_goalReply
+//   rq/<name>/_action/get_resultRequest  -> rr/<name>/_action/get_resultReply
+//   rq/<name>/_action/cancel_goalRequest -> rr/<name>/_action/cancel_goalReply
+//   rt/<name>/_action/status (action_msgs/GoalStatusArray, transient local)
+//   rt/<name>/_action/feedback (written never: Nav2's planner feedback is empty, but a ROS 2
+//   client waits for the server's feedback and status writers before it sends a goal)
+//
+// The server only carries bytes and keeps the goals (action_goals.hpp); a goal it accepts is
+// handed to the node, which plans it like a plan_request (same queue, preemption, budgets) and
+// calls finish(). Replies go out on the node's replier thread, each once a reply reader of the
+// client's participant is matched (at most requests.reply_wait), as plan_status does; the
+// mapping of a reply to its request is chosen per client (service_wire.hpp).
+#pragma once
+
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "action_msgs/msg/GoalStatusArray.h"
+#include "take_listener.hpp"
+#include "vnsba/node/action_goals.hpp"
+#include "vnsba/node/config.hpp"
+#include "vnsba/node/convert.hpp"
+#include "vnsba/node/dds.hpp"
+#include "vnsba/node/reply_gate.hpp"
+#include "vnsba/node/service_wire.hpp"
+
+namespace vnsba::node {
+
+using GoalStatusArrayMsg = action_msgs::msg::dds_::GoalStatusArray_;
+
+enum class ActionKind { kComputePathToPose, kComputePathThroughPoses };
+
+// A goal the server accepted, as the node plans it.
+struct ActionGoal {
+  GoalUuid id{};
+  std::vector<PoseStampedMsg> goals;  // one for ComputePathToPose; the poses in order otherwise
+  PoseStampedMsg start;
+  bool use_start = false;
+  std::string planner_id;
+  RequestIdentity identity;  // of the send_goal request (its client)
+};
+
+// How a goal ended, as its result says it.
+struct ActionOutcome {
+  GoalState state = GoalState::kAborted;  // SUCCEEDED, ABORTED or CANCELED
+  PathMsg path;
+  double planning_time_s = 0.0;
+  uint16_t error_code = 0;
+  std::string error_msg;
+};
+
+// Nav2's error code for a plan's wire code (ROS 2 Jazzy nav2_msgs: ComputePathToPose 200-208,
+// ComputePathThroughPoses 300-309): `invalid_planner` when the planner could not be chosen.
+uint16_t nav2_error_code(ActionKind kind, uint8_t wire_code, bool invalid_planner);
+// ComputePathThroughPoses's NO_VIAPOINTS_GIVEN (an empty goals list).
+constexpr uint16_t kNoViapointsGiven = 309;
+// At most this many poses in a ComputePathThroughPoses goal (each is a leg to plan); more is
+// ABORTED naming the field.
+constexpr size_t kMaxThroughPoses = 1000;
+
+// The goal's id as text, for ids and logs: 32 hex digits.
+std::string uuid_text(const GoalUuid& id);
+
+class ActionServer {
+ public:
+  using Clock = std::chrono::steady_clock;
+  struct Hooks {
+    // An accepted goal (the intake thread); the node plans it and calls finish().
+    std::function<void(ActionServer&, ActionGoal&&)> on_goal;
+    // Goals a client asked to cancel (a DDS thread); the node interrupts their plans.
+    std::function<void(ActionServer&, const std::vector<GoalUuid>&)> on_cancel;
+    // Whether the intake may take another goal now, and the intake's wake-up.
+    std::function<bool()> may_take;
+    std::function<void()> wake_intake;
+    // The node's clock, for the acceptance stamps.
+    std::function<TimeMsg()> now;
+  };
+
+  // `ros_name`: the action's full ROS 2 name ("/compute_path_to_pose", "/robot3/..."). The
+  // reply gates and goals are guarded by `reply_mutex`, and `reply_cv` wakes the node's replier.
+  ActionServer(ActionKind kind, std::string ros_name, const NodeConfig& config,
+               const ParticipantWatch* vendors, std::mutex& reply_mutex,
+               std::condition_variable& reply_cv, Hooks hooks);
+  ~ActionServer();
+
+  // Writers (replies, status, feedback), then readers; each step checked. The readers'
+  // listeners go to `listeners` (the node deletes them after the participant); the send_goal
+  // reader is the intake's (`inputs`).
+  core::Status create(Participant& participant,
+                      std::vector<std::unique_ptr<TakingListener>>& listeners,
+                      std::vector<std::pair<TakingListener*, dds::DataReader*>>& inputs);
+
+  // A worker took the goal: ACCEPTED -> EXECUTING.
+  void execute(const GoalUuid& id);
+  // The goal's end: its result is kept and sent to every get_result that waits for it.
+  void finish(const GoalUuid& id, ActionOutcome outcome);
+  // Whether the goal was asked to cancel (its plan ends CANCELED rather than ABORTED).
+  bool canceling(const GoalUuid& id) const;
+
+  // The replier thread, under reply_mutex: moves what may be written at `now` (replies whose
+  // client is matched or whose reply_wait has passed; a status array when goals changed) out of
+  // the server. With `all`, everything held (shutdown).
+  struct Due;
+  void take_due(Clock::time_point now, bool all, Due& out);
+  // Writes them (the replier thread, without the lock).
+  void write(Due& due);
+  // When something held next falls due (reply_wait, a result's expiry); under reply_mutex.
+  std::optional<Clock::time_point> next_deadline() const;
+
+  ActionKind kind() const { return kind_; }
+  const std::string& name() const { return ros_name_; }
+  // Goals known (running and kept), under reply_mutex.
+  size_t goals() const;
+
+  struct Reply {
+    dds::DataWriter* writer = nullptr;
+    RawSample sample;
+    std::optional<eprosima::fastrtps::rtps::SampleIdentity> related;  // rmw_fastrtps
+    std::string what;  // for the log
+  };
+  struct Due {
+    std::vector<Reply> replies;
+    std::optional<GoalStatusArrayMsg> status;
+  };
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+  ActionKind kind_;
+  std::string ros_name_;
+};
+
+}  // namespace vnsba::node
