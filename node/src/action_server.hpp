@@ -36,8 +36,6 @@ namespace vnsba::node {
 
 using GoalStatusArrayMsg = action_msgs::msg::dds_::GoalStatusArray_;
 
-enum class ActionKind { kComputePathToPose, kComputePathThroughPoses };
-
 // A goal the server accepted, as the node plans it.
 struct ActionGoal {
   GoalUuid id{};

@@ -1403,6 +1403,11 @@ PlannerNode::Stats PlannerNode::stats() const {
   s.other_status_writers = impl_->participant_watch_ ? impl_->participant_watch_->count() : 0;
   s.incompatible_qos =
       impl_->participant_watch_ ? impl_->participant_watch_->incompatible_qos() : 0;
+  {
+    std::lock_guard<std::mutex> lock(impl_->reply_mutex_);
+    for (const auto& robot : impl_->robots_)
+      for (const auto& action : robot->actions) s.action_goals += action->goals();
+  }
   for (const auto& robot : impl_->robots_) {
     if (robot->plan_writer != nullptr)
       s.plan_readers += static_cast<size_t>(matched_readers(robot->plan_writer));

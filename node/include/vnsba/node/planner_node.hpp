@@ -58,6 +58,9 @@ class PlannerNode {
     size_t status_readers = 0;
     // Remote endpoints whose QoS can never match one of the node's (each is logged once).
     size_t incompatible_qos = 0;
+    // Goals the action servers know: running, or finished and kept for a late get_result
+    // (actions.result_timeout, actions.max_results).
+    size_t action_goals = 0;
   };
   Stats stats() const;
 

@@ -1,0 +1,93 @@
+// A client of the node's Nav2 actions, as a ROS 2 action client (rclcpp_action on rcl_action)
+// puts them on the wire, in either middleware's mapping (service_wire.hpp): vnsba_send_goal
+// --action, the tests and the benchmark use it. It creates its endpoints on a Participant the
+// caller owns, and is thread-safe.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vnsba/core/status.hpp"
+#include "vnsba/node/action_goals.hpp"
+#include "vnsba/node/convert.hpp"
+#include "vnsba/node/dds.hpp"
+#include "vnsba/node/service_wire.hpp"
+
+namespace vnsba::node {
+
+// What a goal asks (nav2_msgs ComputePathToPose: one pose in `goals`; ThroughPoses: the list).
+struct ActionGoalSpec {
+  std::vector<PoseStampedMsg> goals;
+  PoseStampedMsg start;
+  std::string planner_id;
+  bool use_start = true;
+};
+
+// A get_result reply.
+struct ActionResultReply {
+  GoalState status = GoalState::kUnknown;
+  PathMsg path;
+  double planning_time_s = 0.0;
+  uint16_t error_code = 0;
+  std::string error_msg;
+};
+
+// A cancel_goal reply.
+struct CancelReply {
+  CancelCode code = CancelCode::kNone;
+  std::vector<GoalUuid> canceling;
+};
+
+class ActionClient {
+ public:
+  using Duration = std::chrono::milliseconds;
+  // `ros_name`: the action's full name, e.g. "/compute_path_to_pose".
+  static core::Expected<std::unique_ptr<ActionClient>> create(Participant& participant,
+                                                              const std::string& ros_name,
+                                                              ActionKind kind,
+                                                              WireMapping mapping);
+  ~ActionClient();
+
+  // Until the three services' request readers and reply writers and the status and feedback
+  // writers of a server are matched (what rclcpp_action's wait_for_action_server checks).
+  bool wait_for_server(Duration timeout);
+
+  // A fresh random goal id.
+  static GoalUuid random_id();
+
+  // Each request returns its sequence number; the matching wait_* returns its reply (nullopt on
+  // timeout).
+  int64_t send_goal(const GoalUuid& id, const ActionGoalSpec& goal);
+  std::optional<bool> wait_accepted(int64_t request, Duration timeout);
+  int64_t request_result(const GoalUuid& id);
+  std::optional<ActionResultReply> wait_result(int64_t request, Duration timeout);
+  int64_t request_cancel(const GoalUuid& id, const GoalStamp& stamp = {});
+  std::optional<CancelReply> wait_cancel(int64_t request, Duration timeout);
+
+  // send_goal, then get_result once accepted: the whole round trip. nullopt: no reply in time;
+  // a rejected goal gives status UNKNOWN and error_msg "rejected".
+  std::optional<ActionResultReply> plan(const GoalUuid& id, const ActionGoalSpec& goal,
+                                        Duration timeout);
+
+  // The state of `id` in the newest status list received (UNKNOWN when absent), and a wait for
+  // a state.
+  GoalState status_of(const GoalUuid& id) const;
+  bool wait_status(const GoalUuid& id, GoalState state, Duration timeout) const;
+
+  // Replies the client received that answer none of its requests: every reply reaches every
+  // client's reply reader, and each client keeps its own (by identity or header), as the rmw do.
+  size_t unmatched_replies() const;
+  // Replies to a request that had been answered already (never, from a correct server).
+  size_t duplicate_replies() const;
+
+ private:
+  ActionClient();
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vnsba::node

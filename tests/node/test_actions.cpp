@@ -1,0 +1,437 @@
+// Nav2's planner actions over loopback, with real participants: the node's action servers and
+// ActionClient (the rcl_action protocol in rmw_fastrtps's mapping, and in rmw_cyclonedds's with
+// the node told to use it; the Cyclone DDS client itself is in tests/interop). Oracles: the same
+// plan asked through plan_request (one conversion, one planner: the paths must be equal), a
+// brute-force walk of every path segment over the map's cells, and Nav2's error code table.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+#include "bus_client.hpp"
+#include "vnsba/node/action_client.hpp"
+#include "vnsba/node/planner_node.hpp"
+
+namespace vnsba::test {
+namespace {
+
+using node::ActionClient;
+using node::ActionGoalSpec;
+using node::ActionKind;
+using node::GoalState;
+using node::WireMapping;
+
+// 40 x 30 cells of 0.1 m, origin (0, 0): a wall at x = 20 with a door (y 12..17), a closed box
+// around (5..9, 22..27) with a free inside, and an occupied block at (30..33, 5..8).
+core::OccupancyGrid office() {
+  core::OccupancyGrid g;
+  g.width = 40;
+  g.height = 30;
+  g.resolution = 0.1;
+  g.data.assign(static_cast<size_t>(g.width * g.height), core::kOccupancyFree);
+  auto set = [&](int x, int y) { g.data[static_cast<size_t>(y * g.width + x)] = 100; };
+  for (int y = 0; y < g.height; ++y)
+    if (y < 12 || y > 17) set(20, y);
+  for (int x = 5; x <= 9; ++x) {
+    set(x, 22);
+    set(x, 27);
+  }
+  for (int y = 22; y <= 27; ++y) {
+    set(5, y);
+    set(9, y);
+  }
+  for (int x = 30; x <= 33; ++x)
+    for (int y = 5; y <= 8; ++y) set(x, y);
+  return g;
+}
+
+// Every point of every segment, sampled 1/64 cell apart, lies in a free cell of `g`.
+bool path_free(const core::OccupancyGrid& g, const node::PathMsg& path) {
+  const auto& poses = path.poses();
+  auto free_at = [&](double x, double y) {
+    const int cx = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
+    const int cy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
+    return cx >= 0 && cy >= 0 && cx < g.width && cy < g.height && g.at(cx, cy) < 65;
+  };
+  for (size_t i = 0; i + 1 < poses.size(); ++i) {
+    const auto& a = poses[i].pose().position();
+    const auto& b = poses[i + 1].pose().position();
+    const double len = std::hypot(b.x() - a.x(), b.y() - a.y()) / g.resolution;
+    const int n = std::max(2, static_cast<int>(std::ceil(len * 64)) + 1);
+    for (int k = 0; k < n; ++k) {
+      const double t = static_cast<double>(k) / (n - 1);
+      if (!free_at(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()))) return false;
+    }
+  }
+  return !poses.empty();
+}
+
+node::PoseStampedMsg pose(double x, double y, const std::string& frame = "map") {
+  return node::to_pose_msg(x, y, 0.0, frame, node::now_msg());
+}
+
+ActionGoalSpec to_pose(double sx, double sy, double gx, double gy,
+                       const std::string& planner = "") {
+  ActionGoalSpec spec;
+  spec.goals = {pose(gx, gy)};
+  spec.start = pose(sx, sy);
+  spec.planner_id = planner;
+  spec.use_start = true;
+  return spec;
+}
+
+struct ActionRun {
+  ActionRun(const std::string& tag, WireMapping mapping, node::NodeConfig cfg_in = {})
+      : cfg(configure(tag, mapping, std::move(cfg_in))), node(cfg), client(cfg) {
+    participant = node::Participant::create(cfg.domain_id, "vnsba_action_client").value();
+    to_pose = ActionClient::create(*participant,
+                                   node::ros_topic_name(cfg, cfg.topics.compute_path_to_pose),
+                                   ActionKind::kComputePathToPose, mapping)
+                  .value();
+    through = ActionClient::create(*participant,
+                                   node::ros_topic_name(cfg, cfg.topics.compute_path_through_poses),
+                                   ActionKind::kComputePathThroughPoses, mapping)
+                  .value();
+  }
+  ~ActionRun() {
+    node.stop();
+    to_pose.reset();
+    through.reset();
+    participant->shutdown();
+  }
+  static node::NodeConfig configure(const std::string& tag, WireMapping mapping,
+                                    node::NodeConfig base) {
+    node::NodeConfig cfg = test_config(tag);
+    cfg.planner = base.planner;
+    cfg.planner.settings.max_planning_time = std::chrono::seconds(10);
+    cfg.map = base.map;
+    cfg.preempt = base.preempt;
+    cfg.actions = base.actions;
+    // A Fast DDS client is announced as eProsima's: the node would answer it in rmw_fastrtps's
+    // mapping. Told so, it answers every client in rmw_cyclonedds's.
+    cfg.actions.reply_mapping = mapping == WireMapping::kRequestHeader
+                                    ? node::ReplyMapping::kCycloneDds
+                                    : node::ReplyMapping::kAuto;
+    return cfg;
+  }
+  bool start(const core::OccupancyGrid& grid) {
+    const core::Status s = node.start();
+    EXPECT_TRUE(s.is_ok()) << s.message;
+    if (!s.is_ok() || !client.wait_for_match(node)) return false;
+    client.publish_slice(grid);
+    return node.wait_for_map(20s) && to_pose->wait_for_server(10s) &&
+           through->wait_for_server(10s);
+  }
+  node::NodeConfig cfg;
+  node::PlannerNode node;
+  BusClient client;
+  std::unique_ptr<node::Participant> participant;
+  std::unique_ptr<ActionClient> to_pose;
+  std::unique_ptr<ActionClient> through;
+};
+
+class BothMappings : public ::testing::TestWithParam<WireMapping> {};
+
+std::string mapping_name(const ::testing::TestParamInfo<WireMapping>& info) {
+  return info.param == WireMapping::kRequestHeader ? "RequestHeader" : "SampleIdentity";
+}
+
+TEST_P(BothMappings, ComputePathToPoseGivesThePlanRequestsPathEndingAtTheGoal) {
+  ActionRun run("act_ok", GetParam());
+  const core::OccupancyGrid grid = office();
+  ASSERT_TRUE(run.start(grid));
+  for (const std::string planner : {"", "astar", "jps"}) {
+    SCOPED_TRACE("planner '" + planner + "'");
+    const auto id = ActionClient::random_id();
+    const auto result = run.to_pose->plan(id, to_pose(0.55, 0.45, 3.73, 2.61, planner), 15s);
+    ASSERT_TRUE(result.has_value()) << "no result";
+    EXPECT_EQ(result->status, GoalState::kSucceeded) << result->error_msg;
+    EXPECT_EQ(result->error_code, 0);
+    ASSERT_GE(result->path.poses().size(), 2u);
+    const auto& first = result->path.poses().front().pose().position();
+    const auto& last = result->path.poses().back().pose().position();
+    EXPECT_NEAR(first.x(), 0.55, 1e-9);
+    EXPECT_NEAR(first.y(), 0.45, 1e-9);
+    EXPECT_NEAR(last.x(), 3.73, 1e-9);
+    EXPECT_NEAR(last.y(), 2.61, 1e-9);
+    EXPECT_TRUE(path_free(grid, result->path));
+    EXPECT_GT(result->planning_time_s, 0.0);
+    EXPECT_LT(result->planning_time_s, 10.0);
+    EXPECT_TRUE(run.to_pose->wait_status(id, GoalState::kSucceeded, 5s))
+        << "the status topic shows the goal succeeded";
+    // The same plan through plan_request: the same path.
+    run.client.publish_request("same_" + planner, 0.55, 0.45, 3.73, 2.61, planner);
+    const auto status = run.client.wait_status("same_" + planner);
+    ASSERT_TRUE(status.has_value());
+    ASSERT_EQ(status->path().poses().size(), result->path.poses().size());
+    for (size_t i = 0; i < result->path.poses().size(); ++i) {
+      EXPECT_DOUBLE_EQ(status->path().poses()[i].pose().position().x(),
+                       result->path.poses()[i].pose().position().x());
+      EXPECT_DOUBLE_EQ(status->path().poses()[i].pose().position().y(),
+                       result->path.poses()[i].pose().position().y());
+    }
+  }
+  EXPECT_EQ(run.to_pose->duplicate_replies(), 0u);
+}
+
+TEST_P(BothMappings, ComputePathThroughPosesPassesThroughEveryPoseInOrder) {
+  ActionRun run("act_through", GetParam());
+  const core::OccupancyGrid grid = office();
+  ASSERT_TRUE(run.start(grid));
+  ActionGoalSpec spec;
+  spec.start = pose(0.55, 0.45);
+  spec.goals = {pose(1.05, 2.55), pose(3.55, 2.05), pose(3.65, 0.35)};
+  const auto result = run.through->plan(ActionClient::random_id(), spec, 15s);
+  ASSERT_TRUE(result.has_value());
+  EXPECT_EQ(result->status, GoalState::kSucceeded) << result->error_msg;
+  EXPECT_EQ(result->error_code, 0);
+  EXPECT_TRUE(path_free(grid, result->path));
+  // Each pose is on the path, in order.
+  size_t from = 0;
+  for (const auto& goal : spec.goals) {
+    bool found = false;
+    for (; from < result->path.poses().size() && !found; ++from) {
+      const auto& p = result->path.poses()[from].pose().position();
+      found = std::hypot(p.x() - goal.pose().position().x(), p.y() - goal.pose().position().y()) <
+              1e-9;
+    }
+    EXPECT_TRUE(found) << "goal (" << goal.pose().position().x() << ", "
+                       << goal.pose().position().y() << ") not on the path after the previous one";
+  }
+  // An empty list: NO_VIAPOINTS_GIVEN.
+  ActionGoalSpec empty;
+  empty.start = pose(0.55, 0.45);
+  const auto none = run.through->plan(ActionClient::random_id(), empty, 15s);
+  ASSERT_TRUE(none.has_value());
+  EXPECT_EQ(none->status, GoalState::kAborted);
+  EXPECT_EQ(none->error_code, 309);
+  // A leg that fails: its code, plus 100, and which leg.
+  spec.goals[1] = pose(3.15, 0.65);  // in the occupied block
+  const auto blocked = run.through->plan(ActionClient::random_id(), spec, 15s);
+  ASSERT_TRUE(blocked.has_value());
+  EXPECT_EQ(blocked->status, GoalState::kAborted);
+  EXPECT_EQ(blocked->error_code, 306) << blocked->error_msg;
+  EXPECT_NE(blocked->error_msg.find("leg 2 of 3"), std::string::npos) << blocked->error_msg;
+}
+
+INSTANTIATE_TEST_SUITE_P(NavActions, BothMappings,
+                         ::testing::Values(WireMapping::kSampleIdentity,
+                                           WireMapping::kRequestHeader),
+                         mapping_name);
+
+// Every failure the node can produce, with Nav2's code (ROS 2 Jazzy nav2_msgs).
+TEST(NavActions, EachFailureGetsNav2sErrorCodeAndAMessageNamingTheProblem) {
+  node::NodeConfig base;
+  base.planner.settings.max_planning_time = std::chrono::seconds(10);
+  ActionRun run("act_codes", WireMapping::kSampleIdentity, base);
+  ASSERT_TRUE(run.start(office()));
+  struct Case {
+    const char* what;
+    ActionGoalSpec spec;
+    uint16_t code;
+    const char* in_message;
+  };
+  ActionGoalSpec nan_goal = to_pose(0.55, 0.45, 1.0, 1.0);
+  nan_goal.goals[0].pose().position().x(std::nan(""));
+  ActionGoalSpec empty_frame = to_pose(0.55, 0.45, 1.0, 1.0);
+  empty_frame.goals[0].header().frame_id("");
+  ActionGoalSpec other_frame = to_pose(0.55, 0.45, 1.0, 1.0);
+  other_frame.goals[0].header().frame_id("odom");
+  const std::vector<Case> cases = {
+      {"start outside", to_pose(-1.0, 0.45, 1.0, 1.0), 203, "start"},
+      {"goal outside", to_pose(0.55, 0.45, 9.0, 1.0), 204, "goal"},
+      {"start occupied", to_pose(2.05, 0.45, 1.0, 1.0), 205, "start"},
+      {"goal occupied", to_pose(0.55, 0.45, 3.15, 0.65), 206, "goal"},
+      {"no valid path", to_pose(0.55, 0.45, 0.75, 2.45), 208, ""},
+      {"unknown planner", to_pose(0.55, 0.45, 1.0, 1.0, "dstar"), 201, "astar"},
+      {"NaN goal", nan_goal, 200, "goal.pose.position.x"},
+      {"another frame", other_frame, 202, "odom"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const auto result = run.to_pose->plan(ActionClient::random_id(), c.spec, 15s);
+    ASSERT_TRUE(result.has_value()) << "no result";
+    EXPECT_EQ(result->status, GoalState::kAborted);
+    EXPECT_EQ(result->error_code, c.code) << result->error_msg;
+    EXPECT_NE(result->error_msg.find(c.in_message), std::string::npos) << result->error_msg;
+    EXPECT_TRUE(result->path.poses().empty());
+  }
+  // The node keeps serving; an empty frame_id means the map's frame, as for plan_request.
+  const auto ok = run.to_pose->plan(ActionClient::random_id(), empty_frame, 15s);
+  ASSERT_TRUE(ok.has_value());
+  EXPECT_EQ(ok->status, GoalState::kSucceeded) << ok->error_msg;
+}
+
+TEST(NavActions, TooManyPosesAndAReusedIdAreRefusedAndTheNodeKeepsServing) {
+  ActionRun run("act_bad", WireMapping::kSampleIdentity);
+  ASSERT_TRUE(run.start(office()));
+  ActionGoalSpec many;
+  many.start = pose(0.55, 0.45);
+  many.goals.assign(100000, pose(1.0, 1.0));
+  const auto too_many = run.through->plan(ActionClient::random_id(), many, 30s);
+  ASSERT_TRUE(too_many.has_value());
+  EXPECT_EQ(too_many->status, GoalState::kAborted);
+  EXPECT_EQ(too_many->error_code, 300);
+  EXPECT_NE(too_many->error_msg.find("goals: found 100000 poses"), std::string::npos)
+      << too_many->error_msg;
+  // A reused id while its goal is kept: rejected; the first keeps its result.
+  const auto id = ActionClient::random_id();
+  const auto first = run.to_pose->plan(id, to_pose(0.55, 0.45, 1.0, 1.0), 15s);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(first->status, GoalState::kSucceeded);
+  const auto again = run.to_pose->wait_accepted(run.to_pose->send_goal(id, to_pose(0.55, 0.45, 2.0, 1.0)), 15s);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_FALSE(*again);
+  const auto kept = run.to_pose->wait_result(run.to_pose->request_result(id), 15s);
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_EQ(kept->status, GoalState::kSucceeded);
+  EXPECT_NEAR(kept->path.poses().back().pose().position().x(), 1.0, 1e-9) << "the first goal's";
+}
+
+// A map whose plan takes long: 1600 x 1600 cells with walls every 40 rows, each open at
+// alternate ends, so A* from one corner to the far corner walks the whole serpentine.
+core::OccupancyGrid serpentine() {
+  core::OccupancyGrid g;
+  g.width = 1600;
+  g.height = 1600;
+  g.resolution = 0.05;
+  g.data.assign(static_cast<size_t>(g.width) * g.height, core::kOccupancyFree);
+  for (int y = 40, k = 0; y < g.height; y += 40, ++k)
+    for (int x = 0; x < g.width; ++x)
+      if ((k % 2 == 0) ? x < g.width - 3 : x >= 3)
+        g.data[static_cast<size_t>(y) * g.width + x] = 100;
+  return g;
+}
+
+TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
+  node::NodeConfig base;
+  base.preempt = false;
+  ActionRun run("act_cancel", WireMapping::kSampleIdentity, base);
+  const core::OccupancyGrid grid = serpentine();
+  ASSERT_TRUE(run.start(grid));
+  const double far = 1600 * 0.05 - 0.025;
+  // get_result right after acceptance, while the plan runs: answered when it ends.
+  const auto early = ActionClient::random_id();
+  ASSERT_EQ(run.to_pose->wait_accepted(
+                run.to_pose->send_goal(early, to_pose(0.025, 0.025, far, far, "astar")), 15s),
+            std::optional<bool>(true));
+  const int64_t result_request = run.to_pose->request_result(early);
+  EXPECT_TRUE(run.to_pose->wait_status(early, GoalState::kExecuting, 10s))
+      << "the status topic never showed the goal executing";
+  const auto done = run.to_pose->wait_result(result_request, 60s);
+  ASSERT_TRUE(done.has_value());
+  EXPECT_EQ(done->status, GoalState::kSucceeded) << done->error_msg;
+  EXPECT_TRUE(path_free(grid, done->path));
+  EXPECT_GT(done->planning_time_s, 0.05) << "too quick to test a cancel on";
+
+  // Cancel while it runs.
+  const auto id = ActionClient::random_id();
+  ASSERT_EQ(run.to_pose->wait_accepted(
+                run.to_pose->send_goal(id, to_pose(0.025, 0.025, far, far, "astar")), 15s),
+            std::optional<bool>(true));
+  const int64_t pending = run.to_pose->request_result(id);
+  ASSERT_TRUE(run.to_pose->wait_status(id, GoalState::kExecuting, 10s));
+  const auto cancel = run.to_pose->wait_cancel(run.to_pose->request_cancel(id), 15s);
+  ASSERT_TRUE(cancel.has_value());
+  EXPECT_EQ(cancel->code, node::CancelCode::kNone);
+  EXPECT_EQ(cancel->canceling, std::vector<node::GoalUuid>{id});
+  const auto canceled = run.to_pose->wait_result(pending, 15s);
+  ASSERT_TRUE(canceled.has_value());
+  EXPECT_EQ(canceled->status, GoalState::kCanceled) << canceled->error_msg;
+  EXPECT_TRUE(canceled->path.poses().empty());
+  EXPECT_TRUE(run.to_pose->wait_status(id, GoalState::kCanceled, 5s));
+  // Canceling a finished goal: GOAL_TERMINATED; an unknown one: UNKNOWN_GOAL_ID.
+  const auto late = run.to_pose->wait_cancel(run.to_pose->request_cancel(id), 15s);
+  ASSERT_TRUE(late.has_value());
+  EXPECT_EQ(late->code, node::CancelCode::kGoalTerminated);
+  const auto unknown =
+      run.to_pose->wait_cancel(run.to_pose->request_cancel(ActionClient::random_id()), 15s);
+  ASSERT_TRUE(unknown.has_value());
+  EXPECT_EQ(unknown->code, node::CancelCode::kUnknownGoalId);
+}
+
+TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
+  node::NodeConfig base;
+  base.preempt = false;
+  ActionRun run("act_many", WireMapping::kSampleIdentity, base);
+  const core::OccupancyGrid grid = office();
+  ASSERT_TRUE(run.start(grid));
+  constexpr int kClients = 5, kGoals = 4;
+  std::vector<std::thread> threads;
+  std::atomic<int> succeeded{0}, failed{0};
+  std::atomic<size_t> duplicates{0};
+  for (int c = 0; c < kClients; ++c) {
+    threads.emplace_back([&, c] {
+      auto participant = node::Participant::create(run.cfg.domain_id, "client").value();
+      auto client = ActionClient::create(
+                        *participant, node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
+                        ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
+                        .value();
+      if (!client->wait_for_server(15s)) {
+        failed += kGoals;
+        return;
+      }
+      // All goals at once; each get_result once its goal is accepted, as rclcpp_action does
+      // (a get_result before the acceptance would find no goal: UNKNOWN).
+      std::vector<std::pair<node::GoalUuid, int64_t>> sent;
+      for (int g = 0; g < kGoals; ++g) {
+        const auto id = ActionClient::random_id();
+        sent.emplace_back(id, client->send_goal(id, to_pose(0.55, 0.45, 3.55 + 0.01 * g,
+                                                             0.35 + 0.1 * c)));
+      }
+      for (auto& [id, request] : sent) {
+        const auto accepted = client->wait_accepted(request, 15s);
+        request = accepted.value_or(false) ? client->request_result(id) : -1;
+      }
+      for (const auto& [id, request] : sent) {
+        const auto result = client->wait_result(request, 30s);
+        if (result && result->status == GoalState::kSucceeded && path_free(grid, result->path))
+          ++succeeded;
+        else
+          ++failed;
+      }
+      std::this_thread::sleep_for(300ms);  // a duplicate would arrive by now
+      duplicates += client->duplicate_replies();
+      client.reset();
+      participant->shutdown();
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(succeeded, kClients * kGoals);
+  EXPECT_EQ(failed, 0);
+  EXPECT_EQ(duplicates, 0u);
+}
+
+TEST(NavActions, AClientThatVanishesMidGoalLeavesNothingBehindAfterTheResultTimeout) {
+  node::NodeConfig base;
+  base.actions.result_timeout = std::chrono::milliseconds(500);
+  ActionRun run("act_vanish", WireMapping::kSampleIdentity, base);
+  ASSERT_TRUE(run.start(serpentine()));
+  const double far = 1600 * 0.05 - 0.025;
+  {
+    auto participant = node::Participant::create(run.cfg.domain_id, "vanishing").value();
+    auto client = ActionClient::create(
+                      *participant, node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
+                      ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
+                      .value();
+    ASSERT_TRUE(client->wait_for_server(15s));
+    const auto id = ActionClient::random_id();
+    ASSERT_EQ(client->wait_accepted(client->send_goal(id, to_pose(0.025, 0.025, far, far, "astar")), 15s),
+              std::optional<bool>(true));
+    client->request_result(id);
+    client.reset();
+    participant->shutdown();  // gone mid-goal
+  }
+  EXPECT_GE(run.node.stats().action_goals, 1u);
+  const auto end = std::chrono::steady_clock::now() + 60s;
+  while (run.node.stats().action_goals > 0 && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(50ms);
+  EXPECT_EQ(run.node.stats().action_goals, 0u) << "the finished goal was never forgotten";
+  // The node still serves.
+  const auto ok = run.to_pose->plan(ActionClient::random_id(), to_pose(0.025, 0.025, 1.0, 1.0), 15s);
+  ASSERT_TRUE(ok.has_value());
+  EXPECT_EQ(ok->status, GoalState::kSucceeded);
+}
+
+}  // namespace
+}  // namespace vnsba::test
