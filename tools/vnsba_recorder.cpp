@@ -442,11 +442,13 @@ class Recorder {
         ref.resolution = map->grid.resolution;
         ref.origin_x = map->grid.origin_x;
         ref.origin_y = map->grid.origin_y;
-        ref.occupied_threshold = config_.map.occupied_threshold;
-        ref.allow_unknown = config_.map.allow_unknown;
-        ref.robot_radius = config_.map.robot_radius;
-        ref.inflation_radius = config_.map.inflation_radius;
-        ref.cost_scaling_factor = config_.map.cost_scaling_factor;
+        // As the node built its grid (map.cost_source costmap: the costmap's own values).
+        const core::GridBuildOptions grid = node::planning_grid_options(config_);
+        ref.occupied_threshold = grid.occupied_threshold;
+        ref.allow_unknown = grid.allow_unknown;
+        ref.robot_radius = grid.robot_radius;
+        ref.inflation_radius = grid.inflation_radius;
+        ref.cost_scaling_factor = grid.cost_scaling_factor;
         record.map = ref;
       }
       // The options the node plans with: its config's for the planner the run names (a

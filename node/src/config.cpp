@@ -446,6 +446,8 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   map.choice("durability", c.map_durability,
              {{"transient_local", MapDurability::kTransientLocal},
               {"volatile", MapDurability::kVolatile}});
+  map.choice("cost_source", c.map_cost_source,
+             {{"own", MapCostSource::kOwn}, {"costmap", MapCostSource::kCostmap}});
   map.finish();
 
   // Every key the file gives becomes a setting; a key left out stays unset, so that it follows
@@ -797,6 +799,16 @@ std::string overlong_topic_name(const NodeConfig& c) {
     if (std::string problem = check(key, derived, robot_topic); !problem.empty()) return problem;
   }
   return "";
+}
+
+core::GridBuildOptions planning_grid_options(const NodeConfig& config) {
+  core::GridBuildOptions options = config.map;
+  if (config.map_cost_source == MapCostSource::kCostmap) {
+    options.occupied_threshold = kCostmapInscribed;
+    options.robot_radius = 0.0;
+    options.inflation_radius = 0.0;
+  }
+  return options;
 }
 
 NodeConfig robot_view(const NodeConfig& config, const std::string& robot) {

@@ -540,6 +540,10 @@ core::Status PlannerNode::Impl::start() {
       }
     }
   }
+  if (cfg_.map_cost_source == MapCostSource::kCostmap)
+    spdlog::info(
+        "map.cost_source costmap: slices are Nav2 costmaps, planned on as they are (99 and 100 "
+        "blocked, 1..98 costs); occupied_threshold, robot_radius and inflation_radius not applied");
   const Robot& first = *robots_.front();
   if (robots_.size() == 1) {
     spdlog::info("vnsba_node up on domain {}: slices on '{}', requests on '{}', goals on '{}'",
@@ -976,7 +980,7 @@ WireStatus PlannerNode::Impl::convert_slice(SliceSlot::Taken taken) {
   // against the map) comes before any allocation; the conversion is then linear in the cells.
   SliceCheck check = from_slice_msg(std::move(taken.slice), cfg_.frame_id, cfg_.map.max_cells);
   if (!check.status.ok()) return check.status;
-  auto built = core::GridMap::build(check.grid, cfg_.map, superseded);
+  auto built = core::GridMap::build(check.grid, planning_grid_options(cfg_), superseded);
   if (!built) {
     return {to_wire_code(built.error().code),
             built.error().code == core::StatusCode::kCanceled

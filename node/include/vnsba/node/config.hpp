@@ -83,6 +83,15 @@ enum class DebugPublishing {
 
 enum class MapDurability { kTransientLocal, kVolatile };
 
+// map.cost_source: what the slice's values mean.
+enum class MapCostSource {
+  kOwn,      // an occupancy map: occupied_threshold, robot_radius and the gradient apply
+  kCostmap,  // Nav2's costmap as it publishes it: planned on as it is (planning_grid_options)
+};
+// Nav2's costmap in an OccupancyGrid (its cost_translation_table): 0 free, 1..98 graded costs,
+// 99 inscribed, 100 lethal, -1 unknown. Cells at or above this are blocked.
+inline constexpr int kCostmapInscribed = 99;
+
 // security.*: DDS Security with an SROS2 keystore (node/security.hpp: the ROS_SECURITY_*
 // environment applied on top, the enclave checked, the participant's properties).
 enum class SecurityStrategy {
@@ -180,6 +189,8 @@ struct NodeConfig {
   // that started first, but never matches a volatile one (octomap_server with latch:=false, any
   // QoS(10) publisher); volatile matches both and receives maps published after it joined.
   MapDurability map_durability = MapDurability::kTransientLocal;
+  // map.cost_source: own (default) or costmap (Nav2's global costmap on topics.projected_map).
+  MapCostSource map_cost_source = MapCostSource::kOwn;
 
   // The planner and what the file configured of its options (max_planning_time is read in
   // seconds, 0 = unlimited; compute_length_ratio costs a second, optimal A* search per plan;
@@ -248,6 +259,12 @@ int planning_workers(const NodeConfig& config);
 // The configuration as robot `robot` (an entry of `robots`, or "" for the node's own) sees it:
 // ros_namespace is the robot's namespace, so dds_topic_name gives the robot's topics.
 NodeConfig robot_view(const NodeConfig& config, const std::string& robot);
+
+// How a slice becomes the planning grid under `config`: its map.* options, or for map.cost_source
+// costmap the costmap's own values (blocked from kCostmapInscribed, a cost c = v / 100 below it)
+// with no second inflation (robot_radius and inflation_radius 0: the costmap is inflated
+// already). The node and vnsba_plan both build their grids with it.
+core::GridBuildOptions planning_grid_options(const NodeConfig& config);
 
 struct ConfigResult {
   std::optional<NodeConfig> config;  // set when there are no errors
