@@ -1103,6 +1103,10 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_text("topics", "expansions_backward", c.topics.expansions_backward,
             d.topics.expansions_backward);
   same_text("topics", "meeting_point", c.topics.meeting_point, d.topics.meeting_point);
+  same_text("topics", "compute_path_to_pose", c.topics.compute_path_to_pose,
+            d.topics.compute_path_to_pose);
+  same_text("topics", "compute_path_through_poses", c.topics.compute_path_through_poses,
+            d.topics.compute_path_through_poses);
   same_text("topics", "tf", c.topics.tf, d.topics.tf);
   same_text("topics", "tf_static", c.topics.tf_static, d.topics.tf_static);
   same_text("topics", "clock", c.topics.clock, d.topics.clock);
@@ -1153,6 +1157,24 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   const char* const durabilities[] = {"transient_local", "volatile"};
   same_text("map", "durability", std::string(durabilities[static_cast<int>(c.map_durability)]),
             std::string(durabilities[static_cast<int>(d.map_durability)]));
+  const char* const cost_sources[] = {"own", "costmap"};
+  same_text("map", "cost_source", std::string(cost_sources[static_cast<int>(c.map_cost_source)]),
+            std::string(cost_sources[static_cast<int>(d.map_cost_source)]));
+  same_bool("actions", "enabled", c.actions.enabled, d.actions.enabled);
+  same_int("actions", "max_results", c.actions.max_results, d.actions.max_results);
+  const char* const mappings[] = {"auto", "fastrtps", "cyclonedds"};
+  same_text("actions", "reply_mapping",
+            std::string(mappings[static_cast<int>(c.actions.reply_mapping)]),
+            std::string(mappings[static_cast<int>(d.actions.reply_mapping)]));
+  {
+    const auto v = find("actions", "result_timeout");
+    if (scalar(v, "actions.result_timeout")) {
+      if (c.actions.result_timeout.count() != std::llround(v->as<double>() * 1000.0))
+        p->push_back("actions.result_timeout: field differs from the file's value");
+    } else if (c.actions.result_timeout != d.actions.result_timeout) {
+      p->push_back("actions.result_timeout: absent but not the default");
+    }
+  }
   for (const auto& [key, got, fallback] : {std::tuple{"reply_wait", c.reply_wait, d.reply_wait},
                                            std::tuple{"map_wait", c.map_wait, d.map_wait}}) {
     const std::string name = std::string("requests.") + key;
@@ -1224,7 +1246,9 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       c.workers <= node::kMaxWorkers && !c.frame_id.empty() && !c.base_frame.empty() &&
       node::without_leading_slash(c.base_frame) != node::without_leading_slash(c.frame_id) &&
       c.transform_tolerance_s >= 0 && c.transform_tolerance_s <= 60 && c.reply_wait.count() >= 0 &&
-      c.reply_wait.count() <= 10000 && std::isfinite(c.slicer.z_min) &&
+      c.reply_wait.count() <= 10000 && c.actions.result_timeout.count() >= 0 &&
+      c.actions.result_timeout.count() <= 86400000 && c.actions.max_results >= 1 &&
+      c.actions.max_results <= 100000 && std::isfinite(c.slicer.z_min) &&
       std::isfinite(c.slicer.z_max) && c.slicer.z_min <= c.slicer.z_max &&
       std::isfinite(c.slicer.resolution) && c.slicer.resolution >= 0 &&
       std::isfinite(c.map.inflation_radius) &&
@@ -1239,8 +1263,9 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   if (!in_range) p->push_back("an accepted value is outside its documented range");
 
   // Every key of the file is known, given once, and has a value.
-  const std::set<std::string> sections = {"topics", "map",     "planner",  "requests",  "debug",
-                                          "slicer", "network", "security", "discovery", "dds"};
+  const std::set<std::string> sections = {"topics",   "map",       "planner", "requests",
+                                          "actions",  "debug",     "slicer",  "network",
+                                          "security", "discovery", "dds"};
   auto walk = [&](const YAML::Node& map, const std::string& prefix) {
     std::set<std::string> seen;
     for (const auto& kv : map) {
