@@ -1,7 +1,7 @@
 /* CHECK(condition, printf format, ...): when the condition is false, prints "FAILED: ..." with
- * the file and line on stderr and counts it in the including file's `static int failures`. The
- * interop client and its oracle's test report every failed check this way and exit 1 at the end
- * when any failed. */
+ * the file and line on stderr and counts it in `failures`: the clients' shared counter
+ * (client_common.h), or the including file's own `static int failures` (the oracle's test). Each
+ * reports every failed check this way and exits 1 at the end when any failed. */
 #ifndef VNSBA_INTEROP_CHECK_H
 #define VNSBA_INTEROP_CHECK_H
 

@@ -39,7 +39,6 @@
  *   first status, and how many first statuses were lost (see kLostFirstStatus); with
  *   --strict-fresh a lost one fails the run.
  */
-#include <errno.h>
 #include <math.h>
 #include <spawn.h>
 #include <stdbool.h>
@@ -47,49 +46,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "check.h"
+#include "client_common.h"
 #include "dds/dds.h"
-#include "dds/ddsi/ddsi_serdata.h"
 #include "geometry_msgs/msg/PointStamped.h"
-#include "geometry_msgs/msg/PoseStamped.h"
-#include "grid_oracle.h"
-#include "nav_msgs/msg/OccupancyGrid.h"
-#include "nav_msgs/msg/Path.h"
-#include "vnsba_msgs/msg/PlanRequest.h"
-#include "vnsba_msgs/msg/PlanStatus.h"
 
 extern char** environ;
-
-#define STATUS(name) vnsba_msgs_msg_PlanStatus_Constants_##name
-
-/* ---------------------------------------------------------------------------------------------
- * The client's map: 40 x 30 cells of 0.1 m, origin (-1, -0.5), a wall across x in [1.0, 1.1) m
- * (column 20) with a gap of 6 cells (rows 12..17, y in [0.7, 1.3) m). Every start and goal below
- * lies on opposite sides of the wall with the straight line between them blocked, so each path
- * must find the gap; on the node's binary grid (run_interop.sh: robot_radius 0) the shortest
- * paths pass the wall's ends within centimetres.
- */
-enum { kWidth = 40, kHeight = 30, kWallColumn = 20, kGapFirstRow = 12, kGapLastRow = 17 };
-static int8_t cells[kWidth * kHeight];
-static const Grid grid = {kWidth, kHeight, 0.1, -1.0, -0.5, 65, cells};
-
-static void make_map(void) {
-  memset(cells, 0, sizeof cells);
-  for (int y = 0; y < kHeight; ++y)
-    if (y < kGapFirstRow || y > kGapLastRow) cells[y * kWidth + kWallColumn] = 100;
-}
-
-/* Request: cell (5, 3) to cell (34, 3); goal tool: robot at (4, 26), goal at (36, 25) facing +y. */
-static void centre(int cx, int cy, double* x, double* y) {
-  grid_cell_centre(&grid, cx, cy, x, y);
-}
-
-/* Poses at a cell centre come back within float rounding of it (the map's resolution is a
- * float32 on the wire). */
-static const double kAtTolerance = 1e-4;
 
 /* Cyclone DDS 0.10 with a writer of another vendor: a volatile reader starts after the highest
  * sequence number of the first heartbeat it receives from a newly matched writer
@@ -103,265 +67,24 @@ static const double kAtTolerance = 1e-4;
 static const char* const kLostFirstStatus =
     "the first heartbeat the client's volatile status reader got from the node already counted it";
 
-/* --------------------------------------------------------------------------------------------- */
-
-static int failures = 0;
-
-static double now_s(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static void die(const char* what, dds_return_t rc) {
-  fprintf(stderr, "%s: %s\n", what, dds_strretcode(rc < 0 ? -rc : rc));
-  exit(2);
-}
-
-static dds_entity_t participant;
-static const char* ros_namespace = "";
-
-/* The topics, with the type names Fast DDS registers (fastddsgen's names of idl/). */
-typedef struct {
-  const char* name; /* ROS 2 topic name, relative to the namespace */
-  const dds_topic_descriptor_t* desc;
-  const char* type_name;
-} TopicSpec;
-
-static const TopicSpec kMap = {"projected_map", &nav_msgs_msg_dds__OccupancyGrid__desc,
-                               "nav_msgs::msg::dds_::OccupancyGrid_"};
-static const TopicSpec kRequest = {"plan_request", &vnsba_msgs_msg_dds__PlanRequest__desc,
-                                   "vnsba_msgs::msg::dds_::PlanRequest_"};
-static const TopicSpec kRobotPose = {"robot_pose", &geometry_msgs_msg_dds__PoseStamped__desc,
-                                     "geometry_msgs::msg::dds_::PoseStamped_"};
+/* The topics only this client uses (client_common.h has the shared ones). */
 static const TopicSpec kGoal = {"goal_pose", &geometry_msgs_msg_dds__PoseStamped__desc,
-                                "geometry_msgs::msg::dds_::PoseStamped_"};
-static const TopicSpec kStatus = {"plan_status", &vnsba_msgs_msg_dds__PlanStatus__desc,
-                                  "vnsba_msgs::msg::dds_::PlanStatus_"};
-static const TopicSpec kPlan = {"plan", &nav_msgs_msg_dds__Path__desc,
-                                "nav_msgs::msg::dds_::Path_"};
+                                "geometry_msgs::msg::dds_::PoseStamped_", NULL};
+static const TopicSpec kPlan = {"plan", &nav_msgs_msg_dds__Path__desc, "nav_msgs::msg::dds_::Path_",
+                                NULL};
 static const TopicSpec kRaw = {"plan_raw", &nav_msgs_msg_dds__Path__desc,
-                               "nav_msgs::msg::dds_::Path_"};
+                               "nav_msgs::msg::dds_::Path_", NULL};
 static const TopicSpec kPruned = {"plan_pruned", &nav_msgs_msg_dds__Path__desc,
-                                  "nav_msgs::msg::dds_::Path_"};
+                                  "nav_msgs::msg::dds_::Path_", NULL};
 static const TopicSpec kForward = {"planner_expansions_forward",
                                    &nav_msgs_msg_dds__OccupancyGrid__desc,
-                                   "nav_msgs::msg::dds_::OccupancyGrid_"};
+                                   "nav_msgs::msg::dds_::OccupancyGrid_", NULL};
 static const TopicSpec kBackward = {"planner_expansions_backward",
                                     &nav_msgs_msg_dds__OccupancyGrid__desc,
-                                    "nav_msgs::msg::dds_::OccupancyGrid_"};
+                                    "nav_msgs::msg::dds_::OccupancyGrid_", NULL};
 static const TopicSpec kMeeting = {"planner_meeting_point",
                                    &geometry_msgs_msg_dds__PointStamped__desc,
-                                   "geometry_msgs::msg::dds_::PointStamped_"};
-
-/* "rt/<ns>/<name>", as a ROS 2 node in namespace /<ns> names the DDS topic. */
-static void dds_topic_name(const TopicSpec* spec, char* out, size_t size) {
-  snprintf(out, size, "rt/%s%s%s", ros_namespace, *ros_namespace ? "/" : "", spec->name);
-}
-
-static dds_entity_t topic(const TopicSpec* spec) {
-  char name[256];
-  dds_topic_name(spec, name, sizeof name);
-  const dds_entity_t t = dds_create_topic(participant, spec->desc, name, NULL, NULL);
-  if (t < 0) die(name, t);
-  /* idlc's name for the type is the one Fast DDS registers: topics and types both match. */
-  char type_name[256];
-  CHECK(dds_get_type_name(t, type_name, sizeof type_name) >= 0 &&
-            strcmp(type_name, spec->type_name) == 0,
-        "%s: Cyclone's type name is \"%s\", Fast DDS registers \"%s\"", name, type_name,
-        spec->type_name);
-  return t;
-}
-
-/* ROS 2's QoS profiles as rclcpp sets them. */
-static dds_qos_t* qos_of(bool transient_local, int32_t depth) {
-  dds_qos_t* qos = dds_create_qos();
-  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_durability(qos,
-                      transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
-  return qos;
-}
-/* rclcpp::QoS(10), the default of publishers and subscriptions: reliable, volatile, keep last 10.
- */
-static dds_qos_t* ros_default_qos(void) {
-  return qos_of(false, 10);
-}
-
-static dds_entity_t writer(const TopicSpec* spec, dds_qos_t* qos) {
-  const dds_entity_t w = dds_create_writer(participant, topic(spec), qos, NULL);
-  dds_delete_qos(qos);
-  if (w < 0) die(spec->name, w);
-  dds_set_status_mask(w, DDS_PUBLICATION_MATCHED_STATUS);
-  return w;
-}
-
-static dds_entity_t reader(const TopicSpec* spec, dds_qos_t* qos) {
-  const dds_entity_t r = dds_create_reader(participant, topic(spec), qos, NULL);
-  dds_delete_qos(qos);
-  if (r < 0) die(spec->name, r);
-  dds_set_status_mask(r, DDS_SUBSCRIPTION_MATCHED_STATUS | DDS_DATA_AVAILABLE_STATUS);
-  return r;
-}
-
-static bool is_matched(dds_entity_t e) {
-  dds_publication_matched_status_t p;
-  if (dds_get_publication_matched_status(e, &p) == DDS_RETCODE_OK) return p.current_count > 0;
-  dds_subscription_matched_status_t s;
-  return dds_get_subscription_matched_status(e, &s) == DDS_RETCODE_OK && s.current_count > 0;
-}
-
-/* Waits until every entity has matched a remote endpoint (woken by the match, not polling);
- * returns the time it happened, or a negative number after `timeout` seconds. */
-static double wait_matched(const dds_entity_t* entities, int n, double timeout) {
-  const dds_entity_t ws = dds_create_waitset(participant);
-  for (int i = 0; i < n; ++i) dds_waitset_attach(ws, entities[i], entities[i]);
-  const double end = now_s() + timeout;
-  double done = -1;
-  for (;;) {
-    bool all = true;
-    for (int i = 0; i < n && all; ++i) all = is_matched(entities[i]);
-    if (all) {
-      done = now_s();
-      break;
-    }
-    const double left = end - now_s();
-    if (left <= 0) break;
-    dds_waitset_wait(ws, NULL, 0, (dds_duration_t)(fmin(left, 0.05) * 1e9));
-  }
-  dds_delete(ws);
-  return done;
-}
-
-/* Sleeps until `r` has data or `until` (monotonic seconds) passes. */
-static void wait_data(dds_entity_t r, double until) {
-  const double left = until - now_s();
-  if (left <= 0) return;
-  const dds_entity_t ws = dds_create_waitset(participant);
-  const dds_entity_t cond = dds_create_readcondition(r, DDS_ANY_STATE);
-  dds_waitset_attach(ws, cond, r);
-  dds_waitset_wait(ws, NULL, 0, (dds_duration_t)(left * 1e9));
-  dds_delete(cond);
-  dds_delete(ws);
-}
-
-/* ------------------------------------------------------------------------------------------ */
-/* Copies of received messages. */
-
-typedef struct {
-  int n;
-  double* xy; /* 2n values */
-  double last_yaw;
-  int32_t sec;
-  uint32_t nanosec;
-  char frame[64];
-} Path;
-
-static void free_path(Path* p) {
-  free(p->xy);
-  memset(p, 0, sizeof *p);
-}
-
-static double yaw_of(const geometry_msgs_msg_dds__Quaternion_* q) {
-  return atan2(2.0 * (q->w * q->z + q->x * q->y), 1.0 - 2.0 * (q->y * q->y + q->z * q->z));
-}
-
-static void copy_path(const nav_msgs_msg_dds__Path_* msg, Path* p) {
-  free_path(p);
-  p->n = (int)msg->poses._length;
-  p->xy = malloc(sizeof(double) * 2 * (size_t)(p->n > 0 ? p->n : 1));
-  for (int i = 0; i < p->n; ++i) {
-    p->xy[2 * i] = msg->poses._buffer[i].pose.position.x;
-    p->xy[2 * i + 1] = msg->poses._buffer[i].pose.position.y;
-  }
-  if (p->n > 0) p->last_yaw = yaw_of(&msg->poses._buffer[p->n - 1].pose.orientation);
-  p->sec = msg->header.stamp.sec;
-  p->nanosec = msg->header.stamp.nanosec;
-  snprintf(p->frame, sizeof p->frame, "%s", msg->header.frame_id ? msg->header.frame_id : "");
-}
-
-static bool same_path(const Path* a, const Path* b) {
-  if (a->n != b->n || a->sec != b->sec || a->nanosec != b->nanosec) return false;
-  return a->n == 0 || memcmp(a->xy, b->xy, sizeof(double) * 2 * (size_t)a->n) == 0;
-}
-
-typedef struct {
-  bool found;
-  int code, subject;
-  char request_id[128], code_name[64], message[512];
-  uint8_t writer_guid[16];
-  long long sequence_number, planning_time_us, expanded;
-  Path path;
-} Answer;
-
-static void free_answer(Answer* a) {
-  free_path(&a->path);
-  memset(a, 0, sizeof *a);
-}
-
-/* What the answer to one sample must carry: its writer and sequence number (the DDS sample
- * identity), and for a request its id. A status with either is taken as the answer, and
- * check_answer then checks both. */
-typedef struct {
-  const char* request_id; /* NULL: any (a goal's status, request_id "goal-<n>") */
-  int subject;
-  dds_guid_t writer_guid;
-  long long sequence_number;
-} Awaited;
-
-static bool answers(const vnsba_msgs_msg_dds__PlanStatus_* s, const Awaited* w) {
-  if (s->subject != w->subject) return false;
-  const bool identity = memcmp(s->request_writer_guid, w->writer_guid.v, 16) == 0 &&
-                        s->request_sequence_number == w->sequence_number;
-  return identity || (w->request_id != NULL && strcmp(s->request_id, w->request_id) == 0);
-}
-
-/* The status answering `w` within `timeout` seconds; statuses about anything else are skipped. */
-static Answer wait_status(dds_entity_t statuses, const Awaited* w, double timeout) {
-  Answer a;
-  memset(&a, 0, sizeof a);
-  const double end = now_s() + timeout;
-  while (!a.found) {
-    void* samples[16] = {NULL};
-    dds_sample_info_t infos[16];
-    const int n = dds_take(statuses, samples, infos, 16, 16);
-    for (int i = 0; i < n; ++i) {
-      const vnsba_msgs_msg_dds__PlanStatus_* s = samples[i];
-      if (!infos[i].valid_data || a.found || !answers(s, w)) continue;
-      a.found = true;
-      a.code = s->code;
-      a.subject = s->subject;
-      snprintf(a.request_id, sizeof a.request_id, "%s", s->request_id);
-      snprintf(a.code_name, sizeof a.code_name, "%s", s->code_name);
-      snprintf(a.message, sizeof a.message, "%s", s->message);
-      memcpy(a.writer_guid, s->request_writer_guid, 16);
-      a.sequence_number = (long long)s->request_sequence_number;
-      a.planning_time_us = (long long)s->planning_time_us;
-      a.expanded = (long long)s->expanded;
-      copy_path(&s->path, &a.path);
-    }
-    if (n > 0) dds_return_loan(statuses, samples, n);
-    if (a.found || now_s() >= end) break;
-    if (n <= 0) wait_data(statuses, end);
-  }
-  return a;
-}
-
-/* Takes samples from `r` until `accept` takes one (returns true) or `until` passes. */
-typedef bool (*Accept)(const void* sample, void* ctx);
-static bool take_until(dds_entity_t r, Accept accept, void* ctx, double until) {
-  for (;;) {
-    void* samples[8] = {NULL};
-    dds_sample_info_t infos[8];
-    const int n = dds_take(r, samples, infos, 8, 8);
-    bool done = false;
-    for (int i = 0; i < n && !done; ++i) done = infos[i].valid_data && accept(samples[i], ctx);
-    if (n > 0) dds_return_loan(r, samples, n);
-    if (done) return true;
-    if (now_s() >= until) return false;
-    if (n <= 0) wait_data(r, until);
-  }
-}
+                                   "geometry_msgs::msg::dds_::PointStamped_", NULL};
 
 /* A path message equal to `want` (same stamp and positions). */
 static bool accept_same_path(const void* sample, void* ctx) {
@@ -436,128 +159,12 @@ static bool accept_point_stamped(const void* sample, void* ctx) {
 }
 
 /* ------------------------------------------------------------------------------------------ */
-/* Wire format and discovery. */
-
-/* XCDR1 encapsulations: CDR_BE 0, CDR_LE 1, PL_CDR_BE 2, PL_CDR_LE 3 (XCDR2 uses 6..11). */
-static void check_xcdr1(dds_entity_t cdr_reader, const char* what, double timeout) {
-  struct ddsi_serdata* data[8] = {NULL};
-  dds_sample_info_t infos[8];
-  const double end = now_s() + timeout;
-  int seen = 0;
-  while (seen == 0 && now_s() < end) {
-    const int n = dds_takecdr(cdr_reader, data, 8, infos, DDS_ANY_STATE);
-    for (int i = 0; i < n; ++i) {
-      if (infos[i].valid_data) {
-        unsigned char header[4];
-        ddsi_serdata_to_ser(data[i], 0, sizeof header, header);
-        const unsigned id = (unsigned)header[0] << 8 | header[1];
-        CHECK(id <= 3, "%s: encapsulation 0x%04x on the wire, expected XCDR1 (0x0000..0x0003)",
-              what, id);
-        if (seen++ == 0) printf("wire: %s in encapsulation 0x%04x (XCDR1)\n", what, id);
-      }
-      ddsi_serdata_unref(data[i]);
-    }
-    if (n <= 0) wait_data(cdr_reader, end);
-  }
-  CHECK(seen > 0, "%s: no sample to check the encapsulation of", what);
-}
-
-/* The node's endpoints on `spec`'s topic, as it announced them in discovery: their type name
- * must be the one Cyclone uses; counts them. */
-static int check_remote_type_names(dds_entity_t builtin, const TopicSpec* spec) {
-  char name[256];
-  dds_topic_name(spec, name, sizeof name);
-  dds_guid_t own;
-  dds_get_guid(participant, &own);
-  void* samples[64] = {NULL};
-  dds_sample_info_t infos[64];
-  const int n = dds_read(builtin, samples, infos, 64, 64);
-  int found = 0;
-  for (int i = 0; i < n; ++i) {
-    const dds_builtintopic_endpoint_t* e = samples[i];
-    if (!infos[i].valid_data || strcmp(e->topic_name, name) != 0 ||
-        memcmp(e->participant_key.v, own.v, 12) == 0)
-      continue;
-    ++found;
-    CHECK(strcmp(e->type_name, spec->type_name) == 0,
-          "%s: the node announces type \"%s\", Cyclone uses \"%s\"", name, e->type_name,
-          spec->type_name);
-  }
-  if (n > 0) dds_return_loan(builtin, samples, n);
-  return found;
-}
-
-/* ------------------------------------------------------------------------------------------ */
 
 typedef struct {
   bool map_volatile, debug_layers;
   int bench, fresh, fresh_delay_ms;
   bool strict_fresh; /* a lost first answer fails the run */
 } Options;
-
-/* The writers and readers of one run. */
-typedef struct {
-  dds_entity_t map, request, robot_pose, goal;          /* writers */
-  dds_entity_t status, plan;                            /* readers, ROS 2 default QoS */
-  dds_entity_t raw, pruned, forward, backward, meeting; /* debug readers (--debug-layers) */
-  long long request_writes, goal_writes;
-} Bus;
-
-static nav_msgs_msg_dds__OccupancyGrid_ map_message(void) {
-  nav_msgs_msg_dds__OccupancyGrid_ m;
-  memset(&m, 0, sizeof m);
-  m.header.frame_id = "map";
-  m.info.resolution = (float)grid.resolution;
-  m.info.width = kWidth;
-  m.info.height = kHeight;
-  m.info.origin.position.x = grid.origin_x;
-  m.info.origin.position.y = grid.origin_y;
-  m.info.origin.orientation.w = 1.0;
-  m.data._length = m.data._maximum = kWidth * kHeight;
-  m.data._buffer = cells;
-  m.data._release = false;
-  return m;
-}
-
-static void set_pose(geometry_msgs_msg_dds__PoseStamped_* p, double x, double y, double yaw) {
-  memset(p, 0, sizeof *p);
-  p->header.frame_id = "map";
-  p->pose.position.x = x;
-  p->pose.position.y = y;
-  p->pose.orientation.z = sin(yaw / 2);
-  p->pose.orientation.w = cos(yaw / 2);
-}
-
-static dds_guid_t guid_of(dds_entity_t e) {
-  dds_guid_t g;
-  memset(&g, 0, sizeof g);
-  dds_get_guid(e, &g);
-  return g;
-}
-
-/* Writes one PlanRequest from (sx, sy) to (gx, gy) and returns what its status must carry. */
-static Awaited send_request(Bus* bus, const char* id, double sx, double sy, double gx, double gy) {
-  vnsba_msgs_msg_dds__PlanRequest_ request;
-  memset(&request, 0, sizeof request);
-  request.id = (char*)id;
-  set_pose(&request.start, sx, sy, 0.0);
-  set_pose(&request.goal, gx, gy, 0.0);
-  request.planner = "";
-  const dds_return_t rc = dds_write(bus->request, &request);
-  CHECK(rc == DDS_RETCODE_OK, "writing request %s: %s", id, dds_strretcode(-rc));
-  /* Cyclone numbers a writer's samples 1, 2, ...: the sample identity the node echoes. */
-  const Awaited w = {id, STATUS(SUBJECT_REQUEST), guid_of(bus->request), ++bus->request_writes};
-  return w;
-}
-
-/* The checks every path of the node passes: see grid_oracle.h. */
-static void check_path(const char* what, const Path* p, double sx, double sy, double gx,
-                       double gy) {
-  CHECK(strcmp(p->frame, "map") == 0, "%s: frame_id \"%s\", expected \"map\"", what, p->frame);
-  /* The node's default path_spacing is the map's resolution. */
-  failures += grid_check_polyline(&grid, what, p->xy, p->n, sx, sy, gx, gy, kAtTolerance,
-                                  grid.resolution * (1 + 1e-6), stderr);
-}
 
 static void check_answer(const char* what, const Answer* a, const Awaited* w) {
   CHECK(a->found, "%s: no status within the timeout", what);
@@ -576,7 +183,7 @@ static void check_answer(const char* what, const Answer* a, const Awaited* w) {
 static Answer plan_request(Bus* bus, const Options* o, double sx, double sy, double gx, double gy,
                            Path* debug_paths /* [2]: raw, pruned */, Layer* layers /* [2] */,
                            Point* meeting) {
-  const nav_msgs_msg_dds__OccupancyGrid_ map = map_message();
+  const nav_msgs_msg_dds__OccupancyGrid_ map = map_message(&client_map);
   Answer a;
   memset(&a, 0, sizeof a);
   char id[96];
@@ -679,7 +286,7 @@ static void goal_tool(Bus* bus) {
     free_answer(&a);
     return;
   }
-  check_path("goal_pose status path", &a.path, rx, ry, gx, gy);
+  check_path(&client_map, "goal_pose status path", &a.path, rx, ry, gx, gy);
   CHECK(fabs(remainder(a.path.last_yaw - yaw, 2 * M_PI)) < 1e-6,
         "goal_pose: the last pose faces %.4f rad, the goal %.4f rad", a.path.last_yaw, yaw);
   CHECK(take_until(bus->plan, accept_same_path, &a.path, now_s() + 1.0),
@@ -690,11 +297,13 @@ static void goal_tool(Bus* bus) {
 }
 
 static void check_layer(const char* what, const Layer* l, int end_cx, int end_cy) {
-  CHECK(l->width == kWidth && l->height == kHeight && l->resolution == (float)grid.resolution &&
-            fabs(l->origin_x - grid.origin_x) < 1e-9 && fabs(l->origin_y - grid.origin_y) < 1e-9,
+  CHECK(l->width == kWidth && l->height == kHeight &&
+            l->resolution == (float)client_map.resolution &&
+            fabs(l->origin_x - client_map.origin_x) < 1e-9 &&
+            fabs(l->origin_y - client_map.origin_y) < 1e-9,
         "%s: %ux%u cells of %g m at (%g, %g), the map is %dx%d of %g m at (%g, %g)", what, l->width,
-        l->height, l->resolution, l->origin_x, l->origin_y, kWidth, kHeight, grid.resolution,
-        grid.origin_x, grid.origin_y);
+        l->height, l->resolution, l->origin_x, l->origin_y, kWidth, kHeight, client_map.resolution,
+        client_map.origin_x, client_map.origin_y);
   CHECK(strcmp(l->frame, "map") == 0, "%s: frame_id \"%s\"", what, l->frame);
   CHECK(l->length == (uint32_t)(kWidth * kHeight), "%s: %u values for %d cells", what, l->length,
         kWidth * kHeight);
@@ -705,7 +314,7 @@ static void check_layer(const char* what, const Layer* l, int end_cx, int end_cy
     if (v < 0 || v > 100) ++out_of_range;
     if (v == 0) continue;
     ++expanded;
-    if (!grid_cell_free(&grid, i % kWidth, i / kWidth)) {
+    if (!grid_cell_free(&client_map, i % kWidth, i / kWidth)) {
       if (blocked++ == 0)
         fprintf(stderr, "FAILED: %s: cell (%d, %d) expanded (%d) but blocked on the map\n", what,
                 i % kWidth, i / kWidth, v);
@@ -724,8 +333,8 @@ static void check_layer(const char* what, const Layer* l, int end_cx, int end_cy
 static void check_debug_layers(const Answer* a, const Path* paths, const Layer* layers,
                                const Point* meeting, double sx, double sy, double gx, double gy) {
   int scx, scy, gcx, gcy;
-  grid_cell_of(&grid, sx, sy, &scx, &scy);
-  grid_cell_of(&grid, gx, gy, &gcx, &gcy);
+  grid_cell_of(&client_map, sx, sy, &scx, &scy);
+  grid_cell_of(&client_map, gx, gy, &gcx, &gcy);
   check_layer("planner_expansions_forward", &layers[0], scx, scy);
   check_layer("planner_expansions_backward", &layers[1], gcx, gcy);
   int cells_expanded = 0;
@@ -737,14 +346,15 @@ static void check_debug_layers(const Answer* a, const Path* paths, const Layer* 
   const char* names[2] = {"plan_raw", "plan_pruned"};
   for (int k = 0; k < 2; ++k) {
     CHECK(strcmp(paths[k].frame, "map") == 0, "%s: frame_id \"%s\"", names[k], paths[k].frame);
-    failures += grid_check_polyline(&grid, names[k], paths[k].xy, paths[k].n, sx, sy, gx, gy,
+    failures += grid_check_polyline(&client_map, names[k], paths[k].xy, paths[k].n, sx, sy, gx, gy,
                                     kAtTolerance, 0.0, stderr);
     printf("%s: %d poses from start to goal over free cells\n", names[k], paths[k].n);
   }
   CHECK(strcmp(meeting->frame, "map") == 0, "planner_meeting_point: frame_id \"%s\"",
         meeting->frame);
   int mx = -1, my = -1;
-  CHECK(grid_cell_of(&grid, meeting->x, meeting->y, &mx, &my) && grid_cell_free(&grid, mx, my),
+  CHECK(grid_cell_of(&client_map, meeting->x, meeting->y, &mx, &my) &&
+            grid_cell_free(&client_map, mx, my),
         "planner_meeting_point (%.4f, %.4f) is not in a free cell", meeting->x, meeting->y);
   bool on_raw = false;
   for (int i = 0; i < paths[0].n; ++i)
@@ -757,29 +367,6 @@ static void check_debug_layers(const Answer* a, const Path* paths, const Layer* 
 
 /* ------------------------------------------------------------------------------------------ */
 /* Measurements. */
-
-static int compare_doubles(const void* a, const void* b) {
-  const double x = *(const double*)a, y = *(const double*)b;
-  return (x > y) - (x < y);
-}
-
-/* Nearest-rank percentile; sorts v. */
-static double percentile(double* v, int n, double p) {
-  qsort(v, (size_t)n, sizeof *v, compare_doubles);
-  int i = (int)ceil(p * n) - 1;
-  return v[i < 0 ? 0 : i];
-}
-
-static void print_stats(const char* what, double* v, int n) {
-  printf("  %-34s p50 %7.3f  p90 %7.3f  p99 %7.3f  max %7.3f ms\n", what, percentile(v, n, 0.5),
-         percentile(v, n, 0.9), percentile(v, n, 0.99), percentile(v, n, 1.0));
-}
-
-/* The request's start and goal: cell (5, 3) to cell (34, 3), the wall between them. */
-static void request_ends(double* sx, double* sy, double* gx, double* gy) {
-  centre(5, 3, sx, sy);
-  centre(34, 3, gx, gy);
-}
 
 /* --fresh-client (run by --bench): one fresh client, a process of its own with a participant, a
  * request writer and a status reader (ROS 2's default QoS) and nothing else. Prints
@@ -857,7 +444,7 @@ static int bench(const Options* o, int domain) {
   Bus bus;
   memset(&bus, 0, sizeof bus);
   bus.map = writer(&kMap, o->map_volatile ? ros_default_qos() : qos_of(true, 1));
-  const nav_msgs_msg_dds__OccupancyGrid_ map = map_message();
+  const nav_msgs_msg_dds__OccupancyGrid_ map = map_message(&client_map);
   if (!o->map_volatile) dds_write(bus.map, &map);
   bus.request = writer(&kRequest, ros_default_qos());
   bus.status = reader(&kStatus, ros_default_qos());
@@ -956,7 +543,7 @@ static int bench(const Options* o, int domain) {
 static int run_checks(const Options* o) {
   Bus bus;
   memset(&bus, 0, sizeof bus);
-  const nav_msgs_msg_dds__OccupancyGrid_ map = map_message();
+  const nav_msgs_msg_dds__OccupancyGrid_ map = map_message(&client_map);
   /* A latched map (map_server, octomap_server): transient local, keep last 1, written once now,
    * before the node is discovered; it must still reach the node. A volatile map: ROS 2's
    * QoS(10) (octomap_server latch:=false). */
@@ -1028,7 +615,7 @@ static int run_checks(const Options* o) {
   if (o->map_volatile) check_xcdr1(own_map, "the client's OccupancyGrid (volatile)", 1.0);
   check_xcdr1(own_request, "the client's PlanRequest", 1.0);
   if (a.found) {
-    check_path("plan_request status path", &a.path, sx, sy, gx, gy);
+    check_path(&client_map, "plan_request status path", &a.path, sx, sy, gx, gy);
     printf("plan_request: status path checked against the client's map; rt/plan carries it\n");
     if (o->debug_layers) check_debug_layers(&a, debug_paths, layers, &meeting, sx, sy, gx, gy);
   }
@@ -1049,15 +636,6 @@ static int run_checks(const Options* o) {
   }
   printf("interop: all checks passed\n");
   return 0;
-}
-
-static bool parse_int(const char* text, int lo, int hi, int* out) {
-  char* end = NULL;
-  errno = 0;
-  const long v = strtol(text, &end, 10);
-  if (errno != 0 || end == text || *end != '\0' || v < lo || v > hi) return false;
-  *out = (int)v;
-  return true;
 }
 
 int main(int argc, char** argv) {

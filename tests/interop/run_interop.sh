@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# One interop run: vnsba_node (Fast DDS) with a temporary config and vnsba_cyclone_client
-# (Cyclone DDS) on a domain and a namespace of their own; then the node is stopped with SIGTERM
-# and must exit 0. Prints the node's log when anything failed.
+# One interop run: vnsba_node (Fast DDS) with a temporary config and a Cyclone DDS client on a
+# domain and a namespace of their own; then the node is stopped with SIGTERM and must exit 0.
+# Prints the node's log when anything failed.
 #   run_interop.sh NODE CLIENT MODE [client args...]
-#   MODE: transient_local | volatile | localhost | debug_layers | fresh_clients
+#   MODE: transient_local | volatile | localhost | debug_layers | fresh_clients, CLIENT
+#         vnsba_cyclone_client; action | action_cancel, CLIENT vnsba_cyclone_action_client
 # Measurements (nothing asserted), over loopback:
 #   run_interop.sh NODE CLIENT localhost --bench 2000 --fresh 40
+#   run_interop.sh NODE ACTION_CLIENT action --bench 1000
 set -euo pipefail
 node_bin=$1 client_bin=$2 mode=$3
 shift 3
@@ -15,13 +17,19 @@ case "$mode" in
   localhost) domain=215 durability=transient_local localhost=true ;;
   debug_layers) domain=212 durability=transient_local localhost=false ;;
   fresh_clients) domain=211 durability=transient_local localhost=true ;;
+  action) domain=216 durability=transient_local localhost=false ;;
+  action_cancel) domain=217 durability=transient_local localhost=false ;;
   *)
-    echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers or" \
-      "fresh_clients" >&2
+    echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
+      "fresh_clients, action or action_cancel" >&2
     exit 2
     ;;
 esac
-client_args=(--domain "$domain" --map-durability "$durability")
+case "$mode" in
+  action) client_args=(--domain "$domain") ;;
+  action_cancel) client_args=(--domain "$domain" --cancel) ;;
+  *) client_args=(--domain "$domain" --map-durability "$durability") ;;
+esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi
 # 20 fresh client processes over loopback, each sending its request the moment it matched the
 # node: every one must get its first status.
@@ -54,6 +62,19 @@ map:
 network:
   localhost_only: $localhost
 YAML
+if [[ "$mode" == action* ]]; then
+  # goal_tolerance 0: a goal in a wall cell is GOAL_OCCUPIED, not moved to the free cell beside
+  # it. action_cancel's A* plans on its 2000 x 2000 maze take 0.3-0.6 s here: a budget (s) they
+  # never hit, and time (s) for its 4 MB map to arrive and be installed (0.6-1.3 s here) before
+  # its first goal would be refused.
+  cat >>"$work/node.yaml" <<YAML
+planner:
+  goal_tolerance: 0
+  max_planning_time: 30
+requests:
+  map_wait: 30
+YAML
+fi
 if [[ "$localhost" == true ]]; then
   # Cyclone on the loopback interface only; loopback has no multicast, so discovery is unicast
   # to the node's well-known ports on 127.0.0.1 (Peer), as for a ROS 2 system on rmw_cyclonedds
