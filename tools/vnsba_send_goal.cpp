@@ -1,12 +1,14 @@
 // vnsba_send_goal: one planning request from the command line, answered by one line.
 //
-//   vnsba_send_goal [--config FILE] [--domain N] [--namespace NS] --start X Y --goal X Y [--yaw
-//   RAD]
-//                   [--planner NAME] [--id ID] [--wait SECONDS] [--min-readers N]
+//   vnsba_send_goal [--config FILE] [--domain N] [--namespace NS] --start X Y --goal X Y
+//                   [--yaw RAD] [--planner NAME] [--id ID] [--wait SECONDS] [--min-readers N]
+//   vnsba_send_goal --action [to_pose | through_poses] [--start X Y] --goal X Y [--goal X Y ...]
+//                   [--yaw RAD] [--planner NAME] [--mapping fastrtps | cyclonedds]
+//                   [--cancel-after SECONDS] [--wait SECONDS] [--config FILE] [--domain N] ...
 //
-// Publishes one vnsba_msgs/PlanRequest (start and goal in metres, in the config's frame_id; the
-// goal facing --yaw radians, 0 = +x) and prints the PlanStatus the node answers it with as one
-// line on stdout:
+// Without --action it publishes one vnsba_msgs/PlanRequest (start and goal in metres, in the
+// config's frame_id; the goal facing --yaw radians, 0 = +x) and prints the PlanStatus the node
+// answers it with as one line on stdout:
 //
 //   <id> <status> <length_m> <clearance_m> <turns> <planning_time_us>[ start_used=X,Y
 //   start_moved_m=D][ goal_used=X,Y goal_moved_m=D]
@@ -16,12 +18,32 @@
 // metres) appear only when the node's start_tolerance / goal_tolerance moved that end. The
 // status message of an OK plan (what was moved, warnings) goes to stderr.
 //
+// With --action it calls the node's Nav2 action as a ROS 2 action client does (rclcpp_action:
+// send_goal, get_result once the goal is accepted, cancel_goal), through node::ActionClient:
+// to_pose (the default) is nav2_msgs/action/ComputePathToPose on topics.compute_path_to_pose,
+// through_poses is ComputePathThroughPoses on topics.compute_path_through_poses with one pose per
+// --goal, in order. Without --start the goal has use_start false and the node starts from the
+// robot's pose (robot_pose_source). The last goal faces --yaw; each earlier one faces the next
+// goal. --mapping is how replies are tied to requests: fastrtps (rmw_fastrtps's sample identity)
+// or cyclonedds (rmw_cyclonedds's request header); left out, the config's actions.reply_mapping
+// when it forces one, else fastrtps (what a node on `auto` answers a Fast DDS client with).
+// --cancel-after S cancels the goal S seconds after it was accepted. The result is one line:
+//
+//   <goal_id> <status> <error_code> <error_name> <length_m> <poses> <planning_time_us>
+//
+// goal_id is the goal's UUID in hex; status is the action's (SUCCEEDED, ABORTED, CANCELED, or
+// REJECTED when the server refused the goal); error_code and error_name are Nav2's (206
+// GOAL_OCCUPIED); length_m is the result path's length and poses its pose count. error_msg goes
+// to stderr. A goal given up on (--wait ran out, SIGINT or SIGTERM) is canceled first, as
+// `ros2 action send_goal` cancels its goal on Ctrl-C.
+//
 // Exit codes (kExitCodesHelp, also in --help), so that a script can tell a refused plan from a
-// mistake of its own: 0 the node answered OK; 1 the node answered with another status (the line
-// is printed, its message goes to stderr); 2 usage error: the command line or the config is bad
-// (stderr names the option or key), nothing was sent; 3 no answer: no node matched or no status
-// came within --wait seconds (no node, wrong domain or topic names), or SIGINT or SIGTERM came
-// first; 4 DDS failure (a participant, endpoint or write refused).
+// mistake of its own: 0 the node answered OK (--action: the goal SUCCEEDED); 1 the node answered
+// with another status (the line is printed, its message goes to stderr; --action: the goal was
+// rejected, ABORTED or CANCELED); 2 usage error: the command line or the config is bad (stderr
+// names the option or key), nothing was sent; 3 no answer: no node (action server) matched or no
+// status (result) came within --wait seconds (no node, wrong domain or topic names), or SIGINT or
+// SIGTERM came first; 4 DDS failure (a participant, endpoint or write refused).
 //
 // Order matters on the bus: the status reader exists and has matched the node's status writer
 // before the request goes out (the reader is volatile, as ROS 2's default; the node holds our
@@ -29,6 +51,8 @@
 // request is written only once the node's request reader has matched our writer (requests are
 // volatile: a request written before that would be lost). --min-readers N also waits for N
 // request readers in all (the node plus, say, a recorder that should hear the request too).
+// An action goal goes out once the server's endpoints of all three services and both topics
+// have matched ours (what rclcpp_action's wait_for_action_server checks).
 #include <fastdds/rtps/common/WriteParams.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -42,6 +66,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -49,7 +74,9 @@
 #include <thread>
 #include <vector>
 
+#include "vnsba/core/geometry.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/node/action_client.hpp"
 #include "vnsba/node/command_line.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
@@ -72,12 +99,74 @@ constexpr int kBadInput = node::kExitUsage;
 constexpr int kNoStatus = 3;
 constexpr int kDdsFailure = 4;
 constexpr const char* kExitCodesHelp =
-    "Exit codes: 0 the node answered OK; 1 it answered with another status (printed); 2 bad "
-    "command line or config, nothing sent; 3 no answer within --wait (no node matched, no "
-    "status) or interrupted; 4 DDS failure.";
+    "Exit codes: 0 the node answered OK (--action: the goal SUCCEEDED); 1 it answered with "
+    "another status (printed; --action: the goal was rejected, ABORTED or CANCELED); 2 bad "
+    "command line or config, nothing sent; 3 no answer within --wait (no node or action server "
+    "matched, no status or result) or interrupted; 4 DDS failure.";
 
-// Longest --wait accepted, seconds: an hour is far beyond any planning budget.
+// Longest --wait and --cancel-after accepted, seconds: an hour is far beyond any planning
+// budget.
 constexpr double kMaxWaitSeconds = 3600.0;
+// Most --goal poses accepted on the command line: far beyond the node's 1000 per
+// ComputePathThroughPoses goal, so that the node, not this tool, names its limit.
+constexpr size_t kMaxGoalPoses = 100000;
+
+// Poll in short steps, milliseconds: quick to notice discovery, a reply or a signal, cheap while
+// waiting.
+constexpr auto kPollStep = std::chrono::milliseconds(10);
+// How long a goal given up on waits for its cancel to be answered: a server on the bus answers
+// in milliseconds, and the user who pressed Ctrl-C should not wait longer than this.
+constexpr auto kCancelWait = std::chrono::seconds(1);
+
+// The whole budget of a run, from discovery to the answer (--wait), and the stop signals polled
+// while waiting for it.
+class Budget {
+ public:
+  Budget(double seconds, const node::StopSignals& signals)
+      : seconds_(seconds),
+        deadline_(Clock::now() + std::chrono::microseconds(static_cast<int64_t>(seconds * 1e6))),
+        signals_(signals) {}
+  double seconds() const { return seconds_; }  // --wait
+  // Whether SIGINT or SIGTERM came (polled; stays true once seen).
+  bool interrupted() {
+    stopped_ = stopped_ || signals_.wait_for(std::chrono::milliseconds(0)).has_value();
+    return stopped_;
+  }
+  bool stopped_by_signal() const { return stopped_; }
+  bool expired() const { return Clock::now() >= deadline_; }
+  // Time left, never negative.
+  std::chrono::milliseconds left() const {
+    return std::max(
+        std::chrono::milliseconds(0),
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - Clock::now()));
+  }
+  // One wait of at most `step`, within the budget.
+  std::chrono::milliseconds slice(std::chrono::milliseconds step) const {
+    return std::min(left(), step);
+  }
+
+ private:
+  double seconds_;
+  Clock::time_point deadline_;
+  const node::StopSignals& signals_;
+  bool stopped_ = false;
+};
+
+// Shuts the participant down when it goes out of scope: declared after the listeners its readers
+// call, it runs before they are destroyed, so no listener is called after that.
+// Participant::shutdown is idempotent.
+struct ShutdownOnExit {
+  node::Participant& bus;
+  ~ShutdownOnExit() { bus.shutdown(); }
+};
+
+// What to plan, as the command line gave it: metres in the config's frame_id.
+struct GoalRequest {
+  std::optional<std::array<double, 2>> start;  // nullopt: the robot's pose (--action only)
+  std::vector<std::array<double, 2>> goals;    // one, or several for through_poses
+  double yaw = 0.0;                            // radians, the last goal's orientation
+  std::string planner;                         // "" = the node's planner.name
+};
 
 // The 12-byte GUID prefix of an endpoint's instance handle names its participant.
 using ParticipantKey = std::array<unsigned char, 12>;
@@ -214,116 +303,225 @@ std::string default_request_id() {
   return "send_goal-" + std::to_string(getpid()) + "-" + std::to_string(ms);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  // SIGINT/SIGTERM are blocked before DDS starts its threads and polled while waiting, so an
-  // interrupt still tears the participant down cleanly.
-  const node::StopSignals stop_signals;
-  node::init_logging("vnsba_send_goal");
-  CLI::App app{"vnsba_send_goal: send one plan request and print the status it gets"};
-  app.footer(kExitCodesHelp);
-  std::string config_path = "", planner, request_id;
-  std::optional<int> domain;
-  std::vector<double> start, goal;
-  double yaw = 0.0;
-  double wait_seconds = 10.0;
-  int min_readers = 1;
-  app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)")
-      ->check(CLI::Range(0, 232));
-  std::optional<std::string> ros_namespace;
-  app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
-  std::optional<std::string> participant_profile;
-  app.add_option("--participant-profile", participant_profile, node::kParticipantProfileOptionHelp);
-  app.add_option("--start", start, "start X Y in metres, in the config's frame_id")
-      ->expected(2)
-      ->required();
-  app.add_option("--goal", goal, "goal X Y in metres, in the config's frame_id")
-      ->expected(2)
-      ->required();
-  app.add_option("--yaw", yaw,
-                 "goal orientation in radians (0 = facing +x, counter-clockwise): the last "
-                 "pose of the path")
-      ->capture_default_str();
-  app.add_option("--planner", planner,
-                 "astar, weighted_astar, bidirectional_astar, alternating_bidirectional_astar, "
-                 "vns_bastar or jps (default: the node's configured planner)");
-  app.add_option("--id", request_id, "request id (default: send_goal-<pid>-<unix ms>)");
-  app.add_option("--wait", wait_seconds,
-                 "seconds to wait for the node and its answer, in (0, 3600]")
-      ->capture_default_str();
-  app.add_option("--min-readers", min_readers,
-                 "send only once this many request readers matched (the node counts as one)")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
-
-  auto bad_input = [](const std::string& message) {
-    spdlog::error("{}", message);
-    return kBadInput;
-  };
-  for (const auto& [option, xy] : {std::pair{"--start", &start}, std::pair{"--goal", &goal}}) {
-    for (size_t i = 0; i < 2; ++i) {
-      if (!std::isfinite((*xy)[i])) {
-        return bad_input(std::string(option) + ": " + (i == 0 ? "X" : "Y") + " is " +
-                         std::to_string((*xy)[i]) + ", must be a finite number of metres");
-      }
-    }
+// action_msgs/GoalStatus's names, with REJECTED for a goal the server did not accept.
+const char* goal_state_name(node::GoalState state) {
+  switch (state) {
+    case node::GoalState::kUnknown:
+      return "UNKNOWN";
+    case node::GoalState::kAccepted:
+      return "ACCEPTED";
+    case node::GoalState::kExecuting:
+      return "EXECUTING";
+    case node::GoalState::kCanceling:
+      return "CANCELING";
+    case node::GoalState::kSucceeded:
+      return "SUCCEEDED";
+    case node::GoalState::kCanceled:
+      return "CANCELED";
+    case node::GoalState::kAborted:
+      return "ABORTED";
   }
-  if (!std::isfinite(yaw))
-    return bad_input("--yaw: " + std::to_string(yaw) + ", must be a finite number of radians");
-  if (!planner.empty() && !core::planner_kind_from_string(planner)) {
-    std::string known;
-    for (core::PlannerKind kind : core::all_planner_kinds())
-      known += (known.empty() ? "" : ", ") + std::string(core::to_string(kind));
-    return bad_input("--planner: unknown planner '" + planner + "', expected one of " + known);
+  return "UNKNOWN";
+}
+
+// The name nav2_msgs (ROS 2 Jazzy) gives a result's error_code: ComputePathToPose's 0 and
+// 200..208, ComputePathThroughPoses's 0 and 300..309 (the same names, plus NO_VIAPOINTS_GIVEN).
+std::string nav2_error_name(node::ActionKind kind, uint16_t code) {
+  static constexpr const char* kNames[] = {
+      "UNKNOWN",        "INVALID_PLANNER", "TF_ERROR", "START_OUTSIDE_MAP", "GOAL_OUTSIDE_MAP",
+      "START_OCCUPIED", "GOAL_OCCUPIED",   "TIMEOUT",  "NO_VALID_PATH",     "NO_VIAPOINTS_GIVEN"};
+  if (code == 0) return "NONE";
+  const bool to_pose = kind == node::ActionKind::kComputePathToPose;
+  const uint16_t base = to_pose ? 200 : 300;
+  const size_t count = to_pose ? 9 : 10;  // ComputePathToPose has no NO_VIAPOINTS_GIVEN
+  if (code >= base && static_cast<size_t>(code - base) < count) return kNames[code - base];
+  return "NOT_A_NAV2_CODE";
+}
+
+// action_msgs/srv/CancelGoal's return codes.
+const char* cancel_code_name(node::CancelCode code) {
+  switch (code) {
+    case node::CancelCode::kNone:
+      return "ERROR_NONE";
+    case node::CancelCode::kRejected:
+      return "ERROR_REJECTED";
+    case node::CancelCode::kUnknownGoalId:
+      return "ERROR_UNKNOWN_GOAL_ID";
+    case node::CancelCode::kGoalTerminated:
+      return "ERROR_GOAL_TERMINATED";
   }
-  if (!(wait_seconds > 0.0 && wait_seconds <= kMaxWaitSeconds)) {
-    return bad_input(fmt::format("--wait: {} seconds, expected a number in (0, {}]", wait_seconds,
-                                 kMaxWaitSeconds));
+  return "ERROR_REJECTED";
+}
+
+std::string uuid_hex(const node::GoalUuid& id) {
+  std::string hex;
+  for (uint8_t byte : id) hex += fmt::format("{:02x}", byte);
+  return hex;
+}
+
+// Metres along a path's poses.
+double path_length(const node::PathMsg& path) {
+  std::vector<core::Point2> points;
+  points.reserve(path.poses().size());
+  for (const auto& pose : path.poses())
+    points.emplace_back(pose.pose().position().x(), pose.pose().position().y());
+  return core::polyline_length(points);
+}
+
+// The goal as nav2_msgs has it: each pose in frame_id, the last facing `yaw`, each earlier one
+// facing the next (a through_poses path passes its poses on the way to the next).
+node::ActionGoalSpec action_goal(const GoalRequest& request, const std::string& frame_id) {
+  node::ActionGoalSpec spec;
+  const node::TimeMsg stamp = node::now_msg();
+  for (size_t i = 0; i < request.goals.size(); ++i) {
+    const core::Point2 here(request.goals[i][0], request.goals[i][1]);
+    const double yaw =
+        i + 1 == request.goals.size()
+            ? request.yaw
+            : core::heading(here, {request.goals[i + 1][0], request.goals[i + 1][1]});
+    spec.goals.push_back(node::to_pose_msg(here.x(), here.y(), yaw, frame_id, stamp));
   }
-  if (app.count("--id") > 0 && request_id.empty()) return bad_input("--id: must not be empty");
-  if (request_id.size() > node::kMaxIdBytes) {
-    return bad_input("--id: " + std::to_string(request_id.size()) +
-                     " bytes, longer than the node's limit of " +
-                     std::to_string(node::kMaxIdBytes) + " bytes");
-  }
-  if (request_id.empty()) request_id = default_request_id();
+  spec.use_start = request.start.has_value();
+  if (request.start)
+    spec.start = node::to_pose_msg((*request.start)[0], (*request.start)[1], 0.0, frame_id, stamp);
+  spec.planner_id = request.planner;
+  return spec;
+}
 
-  const std::optional<node::NodeConfig> loaded = node::load_config_or_report(
-      config_path, domain.value_or(-1), ros_namespace, participant_profile);
-  if (!loaded) return kBadInput;
-  const node::NodeConfig& config = *loaded;
-  // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one
-  // status line, stderr only says what went wrong.
-  const auto configured_level = spdlog::level::from_str(config.log_level);
-  spdlog::set_level(configured_level <= spdlog::level::debug
-                        ? configured_level
-                        : std::max(configured_level, spdlog::level::warn));
-
-  // The whole budget, from discovery to the answer.
-  const auto deadline =
-      Clock::now() + std::chrono::microseconds(static_cast<int64_t>(wait_seconds * 1e6));
-
-  bool stopped_by_signal = false;
-  auto interrupted = [&] {
-    stopped_by_signal = stopped_by_signal || stop_signals.wait_for(std::chrono::milliseconds(0));
-    return stopped_by_signal;
-  };
-
-  // The listeners outlive every entity that calls them (the participant is destroyed first).
-  StatusReaderListener status_events;
-  RequestWriterListener request_events;
-  auto participant =
-      node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
-                                node::with_default_enclave(config.security, node::kSendGoalEnclave),
-                                config.discovery_servers, config.participant_profile);
-  if (!participant) {
-    spdlog::error("{}", participant.error().message);
+// The goal as an action goal through `kind`'s server. Returns the exit code.
+int run_action(node::Participant& bus, const node::NodeConfig& config, node::ActionKind kind,
+               node::WireMapping mapping, const GoalRequest& request,
+               std::optional<double> cancel_after, Budget& budget) {
+  const bool to_pose = kind == node::ActionKind::kComputePathToPose;
+  const std::string action_name =
+      node::ros_topic_name(config, to_pose ? config.topics.compute_path_to_pose
+                                           : config.topics.compute_path_through_poses);
+  const char* const action_type =
+      to_pose ? "nav2_msgs/action/ComputePathToPose" : "nav2_msgs/action/ComputePathThroughPoses";
+  // The --mapping value that names `mapping`.
+  const char* const mapping_flag =
+      mapping == node::WireMapping::kRequestHeader ? "cyclonedds" : "fastrtps";
+  auto created = node::ActionClient::create(bus, action_name, kind, mapping);
+  if (!created) {
+    spdlog::error("{}", created.error().message);
     return kDdsFailure;
   }
-  auto& bus = **participant;
+  // The participant outlives the client, whose destructor deletes its endpoints (and so stops
+  // their calls into it) before its listeners go.
+  const std::unique_ptr<node::ActionClient> client = std::move(*created);
+
+  bool matched = false;
+  while (!matched && !budget.expired() && !budget.interrupted())
+    matched = client->wait_for_server(budget.slice(kPollStep));
+  if (!matched) {
+    if (budget.stopped_by_signal())
+      spdlog::error("interrupted before a {} server matched: nothing was sent", action_type);
+    else
+      spdlog::error(
+          "no {} server on domain {} matched '{}' within {} s (no node, another domain "
+          "or action name, or a node with actions.enabled false)",
+          action_type, config.domain_id, action_name, budget.seconds());
+    return kNoStatus;
+  }
+
+  const node::GoalUuid id = node::ActionClient::random_id();
+  const std::string goal = uuid_hex(id);
+  // A goal given up on is canceled first, so the node does not plan for nobody. `what`: "answer
+  // to" (the goal was sent, no acceptance came) or "result of".
+  auto give_up = [&](const std::string& what) {
+    if (budget.stopped_by_signal()) {
+      spdlog::error("interrupted before the {} goal {} came", what, goal);
+    } else {
+      spdlog::error("no {} goal {} on '{}' within {} s", what, goal, action_name, budget.seconds());
+      if (what == "answer to")
+        spdlog::error(
+            "the server matched but did not answer: one that ties replies to requests "
+            "otherwise than --mapping {} (its actions.reply_mapping; a node on auto "
+            "answers this Fast DDS client in fastrtps's) never answers this client",
+            mapping_flag);
+    }
+    if (client->unmatched_replies() > 0) {
+      spdlog::error(
+          "{} replies came that answer no request of this client (other clients', or "
+          "the server's in another mapping than --mapping {})",
+          client->unmatched_replies(), mapping_flag);
+    }
+    const auto cancel = client->wait_cancel(client->request_cancel(id), kCancelWait);
+    if (cancel)
+      spdlog::error("cancel of goal {}: {}", goal, cancel_code_name(cancel->code));
+    else
+      spdlog::error("cancel of goal {}: no answer within {} s", goal,
+                    std::chrono::duration<double>(kCancelWait).count());
+    return kNoStatus;
+  };
+
+  const int64_t goal_request = client->send_goal(id, action_goal(request, config.frame_id));
+  if (goal_request < 0) {
+    spdlog::error("could not write the goal on '{}'", action_name);
+    return kDdsFailure;
+  }
+  spdlog::debug("sent goal {} to '{}' (domain {}, {} mapping)", goal, action_name, config.domain_id,
+                node::to_string(mapping));
+  std::optional<bool> accepted;
+  while (!accepted && !budget.expired() && !budget.interrupted())
+    accepted = client->wait_accepted(goal_request, budget.slice(10 * kPollStep));
+  if (!accepted) return give_up("answer to");
+  if (!*accepted) {
+    std::printf("%s REJECTED 0 NONE %s 0 0\n", goal.c_str(), render::format_metres(0.0).c_str());
+    spdlog::warn("the server rejected goal {}", goal);
+    return kRefused;
+  }
+  const auto accepted_at = Clock::now();
+  // As rclcpp_action asks for the result: once the goal is accepted (asked before, it would find
+  // no goal).
+  const int64_t result_request = client->request_result(id);
+  if (result_request < 0) {
+    spdlog::error("could not write the get_result request on '{}'", action_name);
+    return kDdsFailure;
+  }
+  std::optional<Clock::time_point> cancel_at;
+  if (cancel_after)
+    cancel_at = accepted_at + std::chrono::microseconds(static_cast<int64_t>(*cancel_after * 1e6));
+  std::optional<node::ActionResultReply> result;
+  while (!result && !budget.expired() && !budget.interrupted()) {
+    if (cancel_at && Clock::now() >= *cancel_at) {
+      cancel_at.reset();
+      const auto cancel = client->wait_cancel(client->request_cancel(id), budget.left());
+      if (!cancel) break;
+      std::fprintf(stderr, "cancel of goal %s after %s s: %s\n", goal.c_str(),
+                   fmt::format("{:.3f}", *cancel_after).c_str(), cancel_code_name(cancel->code));
+    }
+    auto step = budget.slice(10 * kPollStep);
+    if (cancel_at)
+      step = std::min(step, std::max(std::chrono::milliseconds(0),
+                                     std::chrono::duration_cast<std::chrono::milliseconds>(
+                                         *cancel_at - Clock::now())));
+    result = client->wait_result(result_request, step);
+  }
+  if (!result) return give_up("result of");
+
+  const uint16_t code = result->error_code;
+  std::printf("%s %s %u %s %s %zu %lld\n", goal.c_str(), goal_state_name(result->status),
+              static_cast<unsigned>(code), nav2_error_name(kind, code).c_str(),
+              render::format_metres(path_length(result->path)).c_str(), result->path.poses().size(),
+              std::llround(result->planning_time_s * 1e6));
+  const std::string message = node::printable(result->error_msg, 4096);
+  if (result->status != node::GoalState::kSucceeded) {
+    spdlog::warn("{}", message);
+    return kRefused;
+  }
+  if (!message.empty()) std::fprintf(stderr, "%s\n", message.c_str());
+  return kStatusOk;
+}
+
+// The goal as one vnsba_msgs/PlanRequest, answered by one PlanStatus. Returns the exit code.
+int run_plan_request(node::Participant& bus, const node::NodeConfig& config,
+                     const GoalRequest& goal_request, const std::string& request_id,
+                     int min_readers, Budget& budget) {
+  // The listeners outlive every entity that calls them (the participant is shut down first).
+  StatusReaderListener status_events;
+  RequestWriterListener request_events;
+  const ShutdownOnExit shutdown{bus};
   const std::string request_topic_name = node::dds_topic_name(config, config.topics.plan_request);
   const std::string status_topic_name = node::dds_topic_name(config, config.topics.plan_status);
   auto request_topic = bus.topic<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(request_topic_name);
@@ -375,8 +573,6 @@ int main(int argc, char** argv) {
     return kDdsFailure;
   }
 
-  // Poll in short steps, milliseconds: quick to notice discovery, cheap while waiting.
-  constexpr auto kPollStep = std::chrono::milliseconds(10);
   // Events lag their counts by a moment; should they disagree for longer than this, enough
   // readers plus a status writer is the best answer left.
   constexpr auto kEventLag = std::chrono::milliseconds(500);
@@ -389,33 +585,31 @@ int main(int argc, char** argv) {
     if (ready) unsure_since.reset();
     if (!ready && !unsure_since) unsure_since = now;
     matched = ready ? *ready : now - *unsure_since >= kEventLag;
-    if (matched || now >= deadline || interrupted()) break;
+    if (matched || budget.expired() || budget.interrupted()) break;
     std::this_thread::sleep_for(kPollStep);
   }
-  if (!matched && stopped_by_signal) {
+  if (!matched && budget.stopped_by_signal()) {
     spdlog::error("interrupted before a planner node matched: nothing was sent");
   } else if (!matched) {
     spdlog::error(
         "no planner node (with {} request reader(s) in all) on domain {} matched '{}' "
         "within {} s",
-        min_readers, config.domain_id, request_topic_name, wait_seconds);
+        min_readers, config.domain_id, request_topic_name, budget.seconds());
   }
-  if (!matched) {
-    bus.shutdown();
-    return kNoStatus;
-  }
+  if (!matched) return kNoStatus;
 
   node::PlanRequestMsg request;
   request.id(request_id);
   const node::TimeMsg stamp = node::now_msg();
+  const auto& start = *goal_request.start;
+  const auto& goal = goal_request.goals.front();
   request.start(node::to_pose_msg(start[0], start[1], 0.0, config.frame_id, stamp));
   // z = sin(yaw / 2), w = cos(yaw / 2): a rotation of `yaw` about the vertical.
-  request.goal(node::to_pose_msg(goal[0], goal[1], yaw, config.frame_id, stamp));
-  request.planner(planner);
+  request.goal(node::to_pose_msg(goal[0], goal[1], goal_request.yaw, config.frame_id, stamp));
+  request.planner(goal_request.planner);
   eprosima::fastrtps::rtps::WriteParams write_params;  // gets the request's sample identity
   if (!node::write_sample(request_writer, &request, write_params)) {
     spdlog::error("could not write the request on '{}'", request_topic_name);
-    bus.shutdown();
     return kDdsFailure;
   }
   status_events.expect(node::identity_of(write_params, node::wire::SUBJECT_REQUEST));
@@ -423,19 +617,15 @@ int main(int argc, char** argv) {
                 config.domain_id);
 
   std::optional<node::PlanStatusMsg> status;
-  while (!status) {
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-    if (left.count() <= 0 || interrupted()) break;
-    status = status_events.wait(std::min<std::chrono::milliseconds>(left, 10 * kPollStep));
-  }
+  while (!status && !budget.expired() && !budget.interrupted())
+    status = status_events.wait(budget.slice(10 * kPollStep));
   bus.shutdown();
   if (!status) {
-    if (stopped_by_signal) {
+    if (budget.stopped_by_signal()) {
       spdlog::error("interrupted before the status of '{}' came", node::printable(request_id));
     } else {
       spdlog::error("no status for '{}' on '{}' within {} s", node::printable(request_id),
-                    status_topic_name, wait_seconds);
+                    status_topic_name, budget.seconds());
     }
     return kNoStatus;
   }
@@ -463,4 +653,179 @@ int main(int argc, char** argv) {
   if (!status->message().empty())
     std::fprintf(stderr, "%s\n", node::printable(status->message(), 4096).c_str());
   return kStatusOk;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  // SIGINT/SIGTERM are blocked before DDS starts its threads and polled while waiting, so an
+  // interrupt still tears the participant down cleanly.
+  const node::StopSignals stop_signals;
+  node::init_logging("vnsba_send_goal");
+  CLI::App app{"vnsba_send_goal: send one plan request (or Nav2 action goal) and print the answer"};
+  app.footer(kExitCodesHelp);
+  std::string config_path = "", planner, request_id;
+  std::optional<int> domain;
+  std::vector<double> start, goal_values;
+  double yaw = 0.0;
+  double wait_seconds = 10.0;
+  int min_readers = 1;
+  std::optional<std::string> action, mapping_name;
+  std::optional<double> cancel_after;
+  app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
+  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)")
+      ->check(CLI::Range(0, 232));
+  std::optional<std::string> ros_namespace;
+  app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
+  std::optional<std::string> participant_profile;
+  app.add_option("--participant-profile", participant_profile, node::kParticipantProfileOptionHelp);
+  CLI::Option* action_option =
+      app.add_option("--action", action,
+                     "call the node's Nav2 action instead of sending a plan_request: to_pose "
+                     "(ComputePathToPose, the default) or through_poses (ComputePathThroughPoses)")
+          ->expected(0, 1)
+          ->default_str("to_pose")
+          ->check(CLI::IsMember({"to_pose", "through_poses"}));
+  app.add_option("--start", start,
+                 "start X Y in metres, in the config's frame_id; required without --action, "
+                 "where leaving it out plans from the robot's pose (use_start false)")
+      ->expected(2);
+  app.add_option("--goal", goal_values,
+                 "goal X Y in metres, in the config's frame_id; with --action through_poses one "
+                 "--goal per pose, in order")
+      ->type_size(2)
+      ->expected(1, static_cast<int>(kMaxGoalPoses))
+      ->required();
+  app.add_option("--yaw", yaw,
+                 "goal orientation in radians (0 = facing +x, counter-clockwise): the last "
+                 "pose of the path")
+      ->capture_default_str();
+  app.add_option("--planner", planner,
+                 "astar, weighted_astar, bidirectional_astar, alternating_bidirectional_astar, "
+                 "vns_bastar or jps (default: the node's configured planner)");
+  app.add_option("--id", request_id, "request id (default: send_goal-<pid>-<unix ms>)")
+      ->excludes(action_option);
+  app.add_option("--wait", wait_seconds,
+                 "seconds to wait for the node and its answer, in (0, 3600]")
+      ->capture_default_str();
+  app.add_option("--min-readers", min_readers,
+                 "send only once this many request readers matched (the node counts as one)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str()
+      ->excludes(action_option);
+  app.add_option("--mapping", mapping_name,
+                 "with --action: how replies are tied to requests, fastrtps (rmw_fastrtps) or "
+                 "cyclonedds (rmw_cyclonedds; the node must answer so: actions.reply_mapping "
+                 "cyclonedds) (default: the config's actions.reply_mapping if it names one, "
+                 "else fastrtps)")
+      ->check(CLI::IsMember({"fastrtps", "cyclonedds"}))
+      ->needs(action_option);
+  app.add_option("--cancel-after", cancel_after,
+                 "with --action: cancel the goal this many seconds after it was accepted, in "
+                 "[0, 3600]")
+      ->needs(action_option);
+  if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
+
+  auto bad_input = [](const std::string& message) {
+    spdlog::error("{}", message);
+    return kBadInput;
+  };
+  const bool use_action = action.has_value();
+  const node::ActionKind action_kind = action == "through_poses"
+                                           ? node::ActionKind::kComputePathThroughPoses
+                                           : node::ActionKind::kComputePathToPose;
+  GoalRequest goal_request;
+  if (start.empty() && !use_action) {
+    return bad_input(
+        "--start is required (with --action it may be left out: the node then plans from the "
+        "robot's pose)");
+  }
+  if (goal_values.size() % 2 != 0) {
+    return bad_input("--goal: " + std::to_string(goal_values.size()) +
+                     " numbers, expected X Y for each goal");
+  }
+  const size_t goal_count = goal_values.size() / 2;
+  if (goal_count > 1 &&
+      !(use_action && action_kind == node::ActionKind::kComputePathThroughPoses)) {
+    return bad_input("--goal: " + std::to_string(goal_count) +
+                     " goals, expected one (several only with --action through_poses)");
+  }
+  auto finite_point = [&](const std::string& option, const double* xy,
+                          std::optional<std::array<double, 2>>& out) -> bool {
+    for (size_t i = 0; i < 2; ++i) {
+      if (!std::isfinite(xy[i])) {
+        spdlog::error("{}: {} is {}, must be a finite number of metres", option, i == 0 ? "X" : "Y",
+                      std::to_string(xy[i]));
+        return false;
+      }
+    }
+    out = std::array<double, 2>{xy[0], xy[1]};
+    return true;
+  };
+  if (!start.empty() && !finite_point("--start", start.data(), goal_request.start))
+    return kBadInput;
+  for (size_t k = 0; k < goal_count; ++k) {
+    std::optional<std::array<double, 2>> point;
+    const std::string option = goal_count == 1 ? "--goal" : "--goal #" + std::to_string(k + 1);
+    if (!finite_point(option, goal_values.data() + 2 * k, point)) return kBadInput;
+    goal_request.goals.push_back(*point);
+  }
+  if (!std::isfinite(yaw))
+    return bad_input("--yaw: " + std::to_string(yaw) + ", must be a finite number of radians");
+  goal_request.yaw = yaw;
+  if (!planner.empty() && !core::planner_kind_from_string(planner)) {
+    std::string known;
+    for (core::PlannerKind kind : core::all_planner_kinds())
+      known += (known.empty() ? "" : ", ") + std::string(core::to_string(kind));
+    return bad_input("--planner: unknown planner '" + planner + "', expected one of " + known);
+  }
+  goal_request.planner = planner;
+  if (!(wait_seconds > 0.0 && wait_seconds <= kMaxWaitSeconds)) {
+    return bad_input(fmt::format("--wait: {} seconds, expected a number in (0, {}]", wait_seconds,
+                                 kMaxWaitSeconds));
+  }
+  if (cancel_after && !(*cancel_after >= 0.0 && *cancel_after <= kMaxWaitSeconds)) {
+    return bad_input(fmt::format("--cancel-after: {} seconds, expected a number in [0, {}]",
+                                 *cancel_after, kMaxWaitSeconds));
+  }
+  if (app.count("--id") > 0 && request_id.empty()) return bad_input("--id: must not be empty");
+  if (request_id.size() > node::kMaxIdBytes) {
+    return bad_input("--id: " + std::to_string(request_id.size()) +
+                     " bytes, longer than the node's limit of " +
+                     std::to_string(node::kMaxIdBytes) + " bytes");
+  }
+  if (request_id.empty()) request_id = default_request_id();
+
+  const std::optional<node::NodeConfig> loaded = node::load_config_or_report(
+      config_path, domain.value_or(-1), ros_namespace, participant_profile);
+  if (!loaded) return kBadInput;
+  const node::NodeConfig& config = *loaded;
+  // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one
+  // result line, stderr only says what went wrong.
+  const auto configured_level = spdlog::level::from_str(config.log_level);
+  spdlog::set_level(configured_level <= spdlog::level::debug
+                        ? configured_level
+                        : std::max(configured_level, spdlog::level::warn));
+  // A node on `auto` answers this Fast DDS client in rmw_fastrtps's mapping; one told to use a
+  // mapping answers every client in it.
+  const node::WireMapping mapping =
+      mapping_name ? (*mapping_name == "cyclonedds" ? node::WireMapping::kRequestHeader
+                                                    : node::WireMapping::kSampleIdentity)
+      : config.actions.reply_mapping == node::ReplyMapping::kCycloneDds
+          ? node::WireMapping::kRequestHeader
+          : node::WireMapping::kSampleIdentity;
+
+  Budget budget(wait_seconds, stop_signals);
+  auto participant =
+      node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
+                                node::with_default_enclave(config.security, node::kSendGoalEnclave),
+                                config.discovery_servers, config.participant_profile);
+  if (!participant) {
+    spdlog::error("{}", participant.error().message);
+    return kDdsFailure;
+  }
+  if (use_action) {
+    return run_action(**participant, config, action_kind, mapping, goal_request, cancel_after,
+                      budget);
+  }
+  return run_plan_request(**participant, config, goal_request, request_id, min_readers, budget);
 }

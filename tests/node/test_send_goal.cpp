@@ -1,16 +1,24 @@
 // vnsba_send_goal as a process against a planner node over real loopback DDS: the one status
 // line and the exit codes (0 OK, 1 another status, 2 bad input, 3 no answer in time, 4 DDS
-// failure).
+// failure), for a plan_request and for the Nav2 actions (--action). Oracles for the actions: the
+// same plan asked through plan_request (the path the node answers there, its poses counted and
+// its length summed here), the legs of a through_poses goal asked one by one, and nav2_msgs's
+// error code table.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "bus_client.hpp"
@@ -81,11 +89,13 @@ class SendGoal : public ::testing::Test {
   // before anything is sent (the tests read the node's statuses with this client's volatile
   // reader too; under ctest -j3 the node once answered send_goal before that reader had
   // matched), and the walled room as its map.
-  void run_node(const node::NodeConfig& node_config) {
+  // `with_map` false: the node gets no map (a goal then waits requests.map_wait for one).
+  void run_node(const node::NodeConfig& node_config, bool with_map = true) {
     node_ = std::make_unique<node::PlannerNode>(node_config);
     ASSERT_TRUE(node_->start().is_ok());
     client_ = std::make_unique<BusClient>(config_);
     ASSERT_TRUE(client_->wait_for_match(*node_)) << "the node and the test client never matched";
+    if (!with_map) return;
     client_->publish_slice(walled_room());
     ASSERT_TRUE(node_->wait_for_map(10s)) << "the node never got the slice";
   }
@@ -278,6 +288,266 @@ TEST_F(SendGoal, FreshClientsWithVolatileStatusReadersLoseNoAnswer) {
   for (const std::string& f : failures) ADD_FAILURE() << f;
 }
 
+// --- --action: the Nav2 actions, called as a ROS 2 action client does ---------------------------
+
+// config_yaml's text plus the action names of `cfg`, which config_yaml leaves to default.yaml's.
+// They go at the end of its `topics:` block, which must therefore be the file's last section.
+std::string action_config_yaml(const node::NodeConfig& cfg) {
+  const std::string yaml = config_yaml(cfg);
+  const size_t topics = yaml.rfind("\ntopics:\n");
+  EXPECT_NE(topics, std::string::npos) << yaml;
+  for (size_t line = yaml.find('\n', topics + 1); line + 1 < yaml.size();
+       line = yaml.find('\n', line + 1)) {
+    EXPECT_EQ(yaml.compare(line + 1, 2, "  "), 0) << "topics: is not the last section of:\n"
+                                                  << yaml;
+  }
+  return yaml + "  compute_path_to_pose: " + cfg.topics.compute_path_to_pose +
+         "\n  compute_path_through_poses: " + cfg.topics.compute_path_through_poses + "\n";
+}
+
+// The result line of --action: "<goal_id> <status> <error_code> <error_name> <length_m> <poses>
+// <planning_time_us>", the goal id 32 hex digits.
+struct ActionLine {
+  std::string goal_id, status, error_name;
+  int error_code = -1;
+  double length_m = -1.0;
+  size_t poses = 0;
+  long long time_us = -1;
+};
+std::optional<ActionLine> find_action_line(const std::string& output) {
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);) {
+    ActionLine parsed;
+    std::istringstream fields(line);
+    std::string rest;
+    if (!(fields >> parsed.goal_id >> parsed.status >> parsed.error_code >> parsed.error_name >>
+          parsed.length_m >> parsed.poses >> parsed.time_us) ||
+        (fields >> rest) || parsed.goal_id.size() != 32 ||
+        !std::all_of(parsed.goal_id.begin(), parsed.goal_id.end(),
+                     [](unsigned char c) { return std::isxdigit(c) && !std::isupper(c); })) {
+      continue;
+    }
+    return parsed;
+  }
+  return std::nullopt;
+}
+
+// Metres along a path's poses: the oracle of the line's length_m.
+double path_length(const node::PathMsg& path) {
+  double length = 0.0;
+  for (size_t i = 1; i < path.poses().size(); ++i) {
+    const auto& a = path.poses()[i - 1].pose().position();
+    const auto& b = path.poses()[i].pose().position();
+    length += std::hypot(b.x() - a.x(), b.y() - a.y());
+  }
+  return length;
+}
+
+class SendGoalAction : public SendGoal {
+ protected:
+  // The node (config_ as `configure` changes it), the walled room as its map unless `with_map` is
+  // false, and a config file for the tool with config_'s topics and action names.
+  void start_action_node(const std::string& tag,
+                         const std::function<void(node::NodeConfig&)>& configure = {},
+                         bool with_map = true, const std::string& extra_yaml = "") {
+    config_ = test_config(tag);
+    config_path_ = write_temp_file(tag + ".yaml", action_config_yaml(config_) + extra_yaml);
+    node::NodeConfig cfg = config_;
+    if (configure) configure(cfg);
+    run_node(cfg, with_map);
+  }
+  // --action `action` with `goals` (x, y pairs), and a start unless `start` is empty.
+  std::vector<std::string> action_args(const std::string& action, std::vector<double> start,
+                                       const std::vector<std::pair<double, double>>& goals,
+                                       const std::string& wait = "20") const {
+    std::vector<std::string> a = {
+        "--config", config_path_, "--domain", std::to_string(test_domain()),
+        "--action", action,       "--wait",   wait};
+    if (!start.empty())
+      a.insert(a.end(), {"--start", std::to_string(start[0]), std::to_string(start[1])});
+    for (const auto& [x, y] : goals)
+      a.insert(a.end(), {"--goal", std::to_string(x), std::to_string(y)});
+    return a;
+  }
+  // The node's path for start -> goal through plan_request: the oracle of an action's result.
+  node::PathMsg plan_request_path(const std::string& id, double sx, double sy, double gx,
+                                  double gy) {
+    client_->publish_request(id, sx, sy, gx, gy);
+    const auto status = client_->wait_status(id, 15s);
+    EXPECT_TRUE(status) << "no status for " << id;
+    if (!status) return {};
+    EXPECT_EQ(status->code(), node::wire::OK) << status->message();
+    return status->path();
+  }
+};
+
+TEST_F(SendGoalAction, ToPoseSucceedsWithThePathAPlanRequestGets) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node("sga_ok"));
+  const auto [code, output] =
+      run_to_exit(kSendGoal, action_args("to_pose", {0.55, 0.55}, {{3.55, 0.55}}));
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << "no result line in:\n" << output;
+  EXPECT_EQ(line->status, "SUCCEEDED");
+  EXPECT_EQ(line->error_code, 0);
+  EXPECT_EQ(line->error_name, "NONE");
+  EXPECT_GT(line->time_us, 0);
+  const node::PathMsg oracle = plan_request_path("sga-oracle", 0.55, 0.55, 3.55, 0.55);
+  EXPECT_EQ(line->poses, oracle.poses().size());
+  EXPECT_NEAR(line->length_m, path_length(oracle), 0.0005);
+  EXPECT_GT(line->length_m, 3.0) << "around the wall, not through it";
+}
+
+// Issue 32: a goal the node cannot plan gets Nav2's error code and its name, exit 1 as any other
+// refused plan; through_poses adds 100 and names the leg.
+TEST_F(SendGoalAction, AGoalInAWallIsAbortedWithNav2sCodeAndExitsOne) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node("sga_wall"));
+  const auto [code, output] =
+      run_to_exit(kSendGoal, action_args("to_pose", {0.55, 0.55}, {{2.05, 1.05}}));
+  EXPECT_EQ(code, 1) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "ABORTED");
+  EXPECT_EQ(line->error_code, 206);
+  EXPECT_EQ(line->error_name, "GOAL_OCCUPIED");
+  EXPECT_EQ(line->poses, 0u);
+  EXPECT_NE(output.find("goal (2.050, 1.050) m"), std::string::npos) << "error_msg:\n" << output;
+
+  const auto [leg_code, leg_output] = run_to_exit(
+      kSendGoal, action_args("through_poses", {0.55, 0.55}, {{3.55, 0.55}, {2.05, 1.05}}));
+  EXPECT_EQ(leg_code, 1) << leg_output;
+  const auto leg = find_action_line(leg_output);
+  ASSERT_TRUE(leg) << leg_output;
+  EXPECT_EQ(leg->status, "ABORTED");
+  EXPECT_EQ(leg->error_code, 306);
+  EXPECT_EQ(leg->error_name, "GOAL_OCCUPIED");
+  EXPECT_NE(leg_output.find("leg 2 of 2"), std::string::npos) << leg_output;
+}
+
+// Each leg of a through_poses goal starts where the last ended: the joined path is the legs'
+// plan_request paths end to end (the shared pose counted once).
+TEST_F(SendGoalAction, ThroughPosesIsItsLegsPlannedOneByOne) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node("sga_through"));
+  const auto [code, output] = run_to_exit(
+      kSendGoal, action_args("through_poses", {0.55, 0.55}, {{3.55, 0.55}, {0.55, 2.55}}));
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "SUCCEEDED");
+  EXPECT_EQ(line->error_code, 0);
+  const node::PathMsg first = plan_request_path("sga-leg1", 0.55, 0.55, 3.55, 0.55);
+  const node::PathMsg second = plan_request_path("sga-leg2", 3.55, 0.55, 0.55, 2.55);
+  ASSERT_FALSE(first.poses().empty());
+  ASSERT_FALSE(second.poses().empty());
+  EXPECT_EQ(line->poses, first.poses().size() + second.poses().size() - 1);
+  EXPECT_NEAR(line->length_m, path_length(first) + path_length(second), 0.0005);
+}
+
+// Without --start the goal has use_start false: the node plans from the robot's pose, and
+// answers 200 UNKNOWN (its INVALID_REQUEST) while it has none.
+TEST_F(SendGoalAction, WithoutAStartTheNodePlansFromTheRobotsPose) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node("sga_robot"));
+  const auto [none_code, none_output] =
+      run_to_exit(kSendGoal, action_args("to_pose", {}, {{3.55, 0.55}}));
+  EXPECT_EQ(none_code, 1) << none_output;
+  const auto none = find_action_line(none_output);
+  ASSERT_TRUE(none) << none_output;
+  EXPECT_EQ(none->error_code, 200);
+  EXPECT_EQ(none->error_name, "UNKNOWN");
+  EXPECT_NE(none_output.find("robot_pose"), std::string::npos) << none_output;
+
+  // A goal_pose goal plans from the robot's pose too: once it is answered OK, the node has it,
+  // and its path is the oracle.
+  client_->publish_robot_pose(0.55, 0.55);
+  std::this_thread::sleep_for(300ms);  // robot_pose is keep-last: let it land before the goal
+  client_->publish_goal(3.55, 0.55);
+  const auto goal_status = client_->wait_status("goal-1", 15s);
+  ASSERT_TRUE(goal_status);
+  ASSERT_EQ(goal_status->code(), node::wire::OK) << goal_status->message();
+  const auto [code, output] = run_to_exit(kSendGoal, action_args("to_pose", {}, {{3.55, 0.55}}));
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->poses, goal_status->path().poses().size());
+  EXPECT_NEAR(line->length_m, path_length(goal_status->path()), 0.0005);
+}
+
+// rmw_cyclonedds's mapping (a request header): against a node that answers every client so,
+// --mapping cyclonedds plans, and so does a config whose actions.reply_mapping says cyclonedds;
+// --mapping fastrtps gets no answer (exit 3) and is told why.
+TEST_F(SendGoalAction, TheCycloneDdsMappingNeedsANodeThatAnswersInIt) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node("sga_cyclone", [](node::NodeConfig& cfg) {
+    cfg.actions.reply_mapping = node::ReplyMapping::kCycloneDds;
+  }));
+  const auto base = action_args("to_pose", {0.55, 0.55}, {{3.55, 0.55}});
+  std::vector<std::string> flagged = base;
+  flagged.insert(flagged.end(), {"--mapping", "cyclonedds"});
+  const auto [code, output] = run_to_exit(kSendGoal, flagged);
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "SUCCEEDED");
+  const node::PathMsg oracle = plan_request_path("sga-cyclone-oracle", 0.55, 0.55, 3.55, 0.55);
+  EXPECT_EQ(line->poses, oracle.poses().size());
+
+  std::vector<std::string> from_config = base;
+  *(std::find(from_config.begin(), from_config.end(), "--config") + 1) =
+      write_temp_file("sga_cyclone_cfg.yaml",
+                      action_config_yaml(config_) + "actions:\n  reply_mapping: cyclonedds\n");
+  const auto [config_code, config_output] = run_to_exit(kSendGoal, from_config);
+  EXPECT_EQ(config_code, 0) << config_output;
+
+  std::vector<std::string> wrong = action_args("to_pose", {0.55, 0.55}, {{3.55, 0.55}}, "2");
+  wrong.insert(wrong.end(), {"--mapping", "fastrtps"});
+  const auto [wrong_code, wrong_output] = run_to_exit(kSendGoal, wrong);
+  EXPECT_EQ(wrong_code, 3) << wrong_output;
+  EXPECT_NE(wrong_output.find("the server matched but did not answer"), std::string::npos)
+      << wrong_output;
+  EXPECT_FALSE(find_action_line(wrong_output)) << wrong_output;
+}
+
+// --cancel-after: a goal waiting for the node's first map (requests.map_wait 30 s) is canceled
+// half a second after its acceptance: CANCELED with error code 0, exit 1, long before the wait.
+TEST_F(SendGoalAction, CancelAfterCancelsTheGoal) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node(
+      "sga_cancel", [](node::NodeConfig& cfg) { cfg.map_wait = 30s; }, /*with_map=*/false));
+  std::vector<std::string> a = action_args("to_pose", {0.55, 0.55}, {{3.55, 0.55}});
+  a.insert(a.end(), {"--cancel-after", "0.5"});
+  const auto began = std::chrono::steady_clock::now();
+  const auto [code, output] = run_to_exit(kSendGoal, a);
+  const auto took = std::chrono::steady_clock::now() - began;
+  EXPECT_EQ(code, 1) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "CANCELED");
+  EXPECT_EQ(line->error_code, 0);
+  EXPECT_EQ(line->poses, 0u);
+  EXPECT_NE(output.find("cancel of goal " + line->goal_id + " after 0.500 s: ERROR_NONE"),
+            std::string::npos)
+      << output;
+  EXPECT_LT(took, 20s) << "ended by the map wait, not by the cancel";
+}
+
+// A goal given up on is canceled, as `ros2 action send_goal` cancels its goal on Ctrl-C: SIGTERM
+// while it waits for the node's first map gives exit 3, and the server accepts the cancel.
+TEST_F(SendGoalAction, AnInterruptedGoalIsCanceledFirst) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node(
+      "sga_interrupt", [](node::NodeConfig& cfg) { cfg.map_wait = 30s; }, /*with_map=*/false));
+  ChildProcess child(kSendGoal, action_args("to_pose", {0.55, 0.55}, {{3.55, 0.55}}));
+  const auto end = std::chrono::steady_clock::now() + 20s;
+  while (node_->stats().action_goals == 0 && std::chrono::steady_clock::now() < end)
+    std::this_thread::sleep_for(20ms);
+  ASSERT_EQ(node_->stats().action_goals, 1u) << "the goal never reached the node:\n"
+                                             << child.output();
+  child.signal(SIGTERM);
+  EXPECT_EQ(child.wait(), 3) << child.output();
+  const std::string output = child.output();
+  EXPECT_NE(output.find("interrupted before the result of goal"), std::string::npos) << output;
+  EXPECT_NE(output.find(": ERROR_NONE"), std::string::npos) << "the cancel was not accepted:\n"
+                                                            << output;
+  EXPECT_FALSE(find_action_line(output)) << output;
+}
+
 TEST(SendGoalWithoutNode, NoAnswerExitsThreeWithinTheWait) {
   const node::NodeConfig cfg = test_config("sg_nobody");
   const std::string path = write_temp_file("sg_nobody.yaml", config_yaml(cfg));
@@ -290,6 +560,18 @@ TEST(SendGoalWithoutNode, NoAnswerExitsThreeWithinTheWait) {
   EXPECT_NE(output.find("no planner node"), std::string::npos) << output;
   // One second of waiting, plus process start and DDS teardown.
   EXPECT_LT(took, 6s);
+}
+
+TEST(SendGoalWithoutNode, NoActionServerExitsThreeNamingTheAction) {
+  node::NodeConfig cfg = test_config("sga_nobody");
+  const std::string path = write_temp_file("sga_nobody.yaml", action_config_yaml(cfg));
+  const auto [code, output] =
+      run_to_exit(kSendGoal, {"--config", path, "--domain", std::to_string(test_domain()),
+                              "--action", "through_poses", "--goal", "1.5", "0.5", "--wait", "1"});
+  EXPECT_EQ(code, 3) << output;
+  EXPECT_NE(output.find("no nav2_msgs/action/ComputePathThroughPoses server"), std::string::npos)
+      << output;
+  EXPECT_NE(output.find(cfg.topics.compute_path_through_poses), std::string::npos) << output;
 }
 
 // Issue 31: a DDS failure exits 4 (it was 1, which now means a plan refused): here the
@@ -312,37 +594,23 @@ TEST(SendGoalArguments, HelpListsTheExitCodes) {
   EXPECT_EQ(code, 0) << output;
   for (const char* said :
        {"0 the node answered OK", "1 it answered with another status",
-        "2 bad command line or config", "3 no answer within --wait", "4 DDS failure"})
+        "2 bad command line or config", "3 no answer within --wait", "4 DDS failure",
+        "--action: the goal SUCCEEDED", "--action: the goal was rejected, ABORTED or CANCELED"})
     EXPECT_NE(output.find(said), std::string::npos) << said << " not in:\n" << output;
 }
 
-TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
-  const node::NodeConfig cfg = test_config("sg_args");
-  const std::string path = write_temp_file("sg_args.yaml", config_yaml(cfg));
-  const std::string bad_config = write_temp_file("sg_bad.yaml", "planner:\n  name: dijkstra\n");
-  struct Case {
-    std::vector<std::string> args;
-    std::string named;  // what the message must name
-  };
-  const std::vector<Case> cases = {
-      {{"--start", "0", "0"}, "--goal"},
-      {{"--goal", "1", "1"}, "--start"},
-      {{"--start", "nan", "0", "--goal", "1", "1"}, "--start"},
-      {{"--start", "0", "0", "--goal", "1", "inf"}, "--goal"},
-      {{"--start", "0", "--goal", "1", "1"}, "--start"},
-      {{"--start", "0", "zero", "--goal", "1", "1"}, "--start"},
-      {{"--start", "0", "0", "--goal", "1", "1", "--planner", "dijkstra"}, "--planner"},
-      {{"--start", "0", "0", "--goal", "1", "1", "--wait", "-1"}, "--wait"},
-      {{"--start", "0", "0", "--goal", "1", "1", "--domain", "999"}, "--domain"},
-      {{"--start", "0", "0", "--goal", "1", "1", "--id", ""}, "--id"},
-      {{"--start", "0", "0", "--goal", "1", "1", "--id", std::string(300, 'x')}, "--id: 300 bytes"},
-      {{"--start", "0", "0", "--goal", "1", "1", "--config", "no/such/file.yaml"},
-       "no/such/file.yaml"},
-      {{"--start", "0", "0", "--goal", "1", "1", "--config", bad_config}, "planner.name"},
-  };
-  for (const Case& c : cases) {
+// A command line that must exit 2 with a message naming `named`.
+struct UsageCase {
+  std::vector<std::string> args;
+  std::string named;
+};
+// Runs each case (with --config `config` unless it gives its own) and expects exit 2 and its
+// name in the output.
+void expect_usage_errors(const std::vector<UsageCase>& cases, const std::string& config) {
+  for (const UsageCase& c : cases) {
     std::vector<std::string> a = c.args;
-    if (std::find(a.begin(), a.end(), "--config") == a.end()) a.insert(a.end(), {"--config", path});
+    if (std::find(a.begin(), a.end(), "--config") == a.end())
+      a.insert(a.end(), {"--config", config});
     const auto [code, output] = run_to_exit(kSendGoal, a);
     std::string joined;
     for (const auto& s : c.args) joined += s + " ";
@@ -351,6 +619,54 @@ TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
         << joined << ": '" << c.named << "' not named in:\n"
         << output;
   }
+}
+
+TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
+  const node::NodeConfig cfg = test_config("sg_args");
+  const std::string path = write_temp_file("sg_args.yaml", config_yaml(cfg));
+  const std::string bad_config = write_temp_file("sg_bad.yaml", "planner:\n  name: dijkstra\n");
+  expect_usage_errors(
+      {
+          {{"--start", "0", "0"}, "--goal"},
+          {{"--goal", "1", "1"}, "--start"},
+          {{"--start", "nan", "0", "--goal", "1", "1"}, "--start"},
+          {{"--start", "0", "0", "--goal", "1", "inf"}, "--goal"},
+          {{"--start", "0", "--goal", "1", "1"}, "--start"},
+          {{"--start", "0", "zero", "--goal", "1", "1"}, "--start"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--planner", "dijkstra"}, "--planner"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--wait", "-1"}, "--wait"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--domain", "999"}, "--domain"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--id", ""}, "--id"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--id", std::string(300, 'x')},
+           "--id: 300 bytes"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--config", "no/such/file.yaml"},
+           "no/such/file.yaml"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--config", bad_config}, "planner.name"},
+      },
+      path);
+}
+
+// The flags of --action, checked before anything is sent: each mistake exits 2 naming the flag.
+TEST(SendGoalArguments, BadActionFlagsExitTwoNamingTheFlag) {
+  expect_usage_errors(
+      {
+          {{"--action", "to_the_moon", "--goal", "1", "1"}, "--action"},
+          {{"--action", "--mapping", "zenoh", "--goal", "1", "1"}, "--mapping"},
+          {{"--mapping", "cyclonedds", "--start", "0", "0", "--goal", "1", "1"}, "--mapping"},
+          {{"--cancel-after", "1", "--start", "0", "0", "--goal", "1", "1"}, "--cancel-after"},
+          {{"--action", "--cancel-after", "-1", "--goal", "1", "1"}, "--cancel-after"},
+          {{"--action", "--cancel-after", "nan", "--goal", "1", "1"}, "--cancel-after"},
+          {{"--action", "--id", "x", "--goal", "1", "1"}, "--id"},
+          {{"--action", "--min-readers", "2", "--goal", "1", "1"}, "--min-readers"},
+          {{"--action", "--goal", "1", "1", "--goal", "2", "2"}, "--goal: 2 goals"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--goal", "2", "2"}, "--goal: 2 goals"},
+          {{"--action", "through_poses", "--goal", "1", "1", "2"}, "--goal: 3 numbers"},
+          {{"--action", "through_poses", "--goal", "1", "1", "--goal", "nan", "2"}, "--goal #2"},
+          {{"--action", "--start", "0", "inf", "--goal", "1", "1"}, "--start"},
+          {{"--goal", "1", "1"}, "--start is required"},
+          {{"--acton", "--goal", "1", "1"}, "unknown option --acton (did you mean --action?)"},
+      },
+      write_temp_file("sga_args.yaml", config_yaml(test_config("sga_args"))));
 }
 
 // Issue 31: `--goal-pose 16 -6.5` was reported as "--goal is required". The unknown flag comes
