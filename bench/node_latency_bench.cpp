@@ -20,6 +20,7 @@
 
 #include "bench/indoor_map.hpp"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
+#include "vnsba/node/action_client.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -71,8 +72,9 @@ using bench::percentile;
 void isolate(node::NodeConfig& cfg, const std::string& prefix) {
   cfg.domain_id = 1 + static_cast<int>(getpid() % 200);
   auto& t = cfg.topics;
-  for (std::string* name : {&t.projected_map, &t.plan_request, &t.plan_status, &t.plan,
-                            &t.planner_debug, &t.goal_pose, &t.robot_pose, &t.octomap}) {
+  for (std::string* name :
+       {&t.projected_map, &t.plan_request, &t.plan_status, &t.plan, &t.planner_debug, &t.goal_pose,
+        &t.robot_pose, &t.octomap, &t.compute_path_to_pose, &t.compute_path_through_poses}) {
     *name = prefix + *name;
   }
 }
@@ -202,6 +204,81 @@ void run_map(const char* label, int size, int queries, core::PlannerKind planner
               failures);
 }
 
+// The ComputePathToPose action against plan_request on the same queries, interleaved (request,
+// then the same plan as a goal), in one reply mapping: rmw_fastrtps's (the node decides it from
+// this client's vendor) or rmw_cyclonedds's (the node told so by actions.reply_mapping). The
+// action's round trip is send_goal -> accepted -> get_result -> result, as a ROS 2 client does it.
+void run_actions(const char* label, int size, int queries, node::WireMapping mapping) {
+  Setup s;
+  isolate(s.cfg, "bench" + std::to_string(getpid()) + "_act" + std::to_string(size) + "_" +
+                     (mapping == node::WireMapping::kRequestHeader ? "h" : "i") + "_");
+  s.cfg.debug = node::DebugPublishing::kNever;
+  s.cfg.map.max_cells = std::max<int64_t>(s.cfg.map.max_cells, int64_t{size} * size);
+  s.cfg.actions.reply_mapping = mapping == node::WireMapping::kRequestHeader
+                                    ? node::ReplyMapping::kCycloneDds
+                                    : node::ReplyMapping::kAuto;
+  node::PlannerNode planner_node(s.cfg);
+  if (!planner_node.start().is_ok() || !connect(s)) {
+    std::printf("%-10s could not start the node or connect\n", label);
+    return;
+  }
+  auto action = node::ActionClient::create(
+      *s.client, node::ros_topic_name(s.cfg, s.cfg.topics.compute_path_to_pose),
+      node::ActionKind::kComputePathToPose, mapping);
+  if (!action || !(*action)->wait_for_server(std::chrono::seconds(10))) {
+    std::printf("%-10s the action server did not match\n", label);
+    return;
+  }
+  const core::OccupancyGrid grid = indoor_map(size, 0.05);
+  auto slice = node::to_slice_msg(grid, "map", node::now_msg());
+  if (!s.slice->write(&slice) || !planner_node.wait_for_map(std::chrono::seconds(30))) return;
+  const core::OccupancyGrid received =
+      node::from_slice_msg(std::move(slice), "map", s.cfg.map.max_cells).grid;
+  auto map = std::make_shared<const core::GridMap>(
+      core::GridMap::build(received, node::planning_grid_options(s.cfg)).value());
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(0, size - 1);
+  std::vector<double> request_us, action_us, difference_us;
+  int failures = 0;
+  for (int q = 0; q < queries;) {
+    const core::Cell a{coord(rng), coord(rng)}, b{coord(rng), coord(rng)};
+    if (map->blocked(a) || map->blocked(b)) continue;
+    ++q;
+    const auto ca = map->cell_centre_world(a), cb = map->cell_centre_world(b);
+    node::PlanRequestMsg request;
+    request.id("a" + std::to_string(q));
+    request.start(node::to_pose_msg(ca.x(), ca.y(), 0, "map", node::now_msg()));
+    request.goal(node::to_pose_msg(cb.x(), cb.y(), 0, "map", node::now_msg()));
+    const auto sent = Clock::now();
+    bool ok = false;
+    std::optional<Clock::time_point> answered;
+    if (node::write_sample(s.request, &request)) answered = s.waiter.wait(request.id(), &ok);
+    if (!answered || !ok) {
+      ++failures;
+      continue;
+    }
+    node::ActionGoalSpec goal;
+    goal.start = request.start();
+    goal.goals = {request.goal()};
+    const auto goal_sent = Clock::now();
+    const auto result =
+        (*action)->plan(node::ActionClient::random_id(), goal, std::chrono::seconds(30));
+    const auto goal_done = Clock::now();
+    if (!result || result->status != node::GoalState::kSucceeded) {
+      ++failures;
+      continue;
+    }
+    request_us.push_back(std::chrono::duration<double, std::micro>(*answered - sent).count());
+    action_us.push_back(std::chrono::duration<double, std::micro>(goal_done - goal_sent).count());
+    difference_us.push_back(action_us.back() - request_us.back());
+  }
+  if (action_us.empty()) return;
+  std::printf("%-10s %-16s %8zu %14.0f %14.0f %14.0f %14.0f %9d\n", label,
+              mapping == node::WireMapping::kRequestHeader ? "rmw_cyclonedds" : "rmw_fastrtps",
+              action_us.size(), percentile(request_us, 0.5), percentile(action_us, 0.5),
+              percentile(difference_us, 0.5), percentile(action_us, 0.99), failures);
+}
+
 void run_large_slice() {
   Setup s;
   isolate(s.cfg, "bench" + std::to_string(getpid()) + "_large_");
@@ -240,14 +317,29 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  if (argc != 1) {
-    std::fprintf(stderr, "usage: vnsba_node_latency_bench [--security KEYSTORE]\n");
+  // --actions: only the action section below.
+  const bool actions_only = argc == 2 && std::string(argv[1]) == "--actions";
+  if (argc != 1 && !actions_only) {
+    std::fprintf(stderr, "usage: vnsba_node_latency_bench [--security KEYSTORE | --actions]\n");
     return 2;
   }
-  run_map("100x100", 100, 300, configured);
-  run_map("1000x1000", 1000, 60, configured);
-  // An exact plan across a 200 m office floor: what jps is for.
-  run_map("4000x4000", 4000, 40, core::PlannerKind::kJps);
-  run_large_slice();
+  if (!actions_only) {
+    run_map("100x100", 100, 300, configured);
+    run_map("1000x1000", 1000, 60, configured);
+    // An exact plan across a 200 m office floor: what jps is for.
+    run_map("4000x4000", 4000, 40, core::PlannerKind::kJps);
+    run_large_slice();
+  }
+  // Nav2's action against plan_request, same plans; target: the action within 0.5 ms (p50) of
+  // the request. action - request is the median of per-query differences.
+  std::printf(
+      "\nComputePathToPose action vs plan_request round trip (same queries, interleaved)\n");
+  std::printf("%-10s %-16s %8s %14s %14s %14s %14s %9s\n", "map", "mapping", "queries",
+              "request_p50_us", "action_p50_us", "action-request", "action_p99_us", "failures");
+  for (node::WireMapping mapping :
+       {node::WireMapping::kSampleIdentity, node::WireMapping::kRequestHeader}) {
+    run_actions("100x100", 100, 300, mapping);
+    run_actions("1000x1000", 1000, 60, mapping);
+  }
   return 0;
 }

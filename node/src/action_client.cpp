@@ -2,6 +2,8 @@
 
 #include <condition_variable>
 #include <cstring>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/rtps/common/WriteParams.h>
 #include <map>
 #include <mutex>
@@ -214,7 +216,20 @@ class ActionClient::Impl {
 };
 
 ActionClient::ActionClient() : impl_(std::make_unique<Impl>()) {}
-ActionClient::~ActionClient() = default;
+
+// The client's endpoints go before its listeners: the participant outlives the client, and a
+// reader deleted later would call a listener already freed.
+ActionClient::~ActionClient() {
+  for (dds::DataReader* reader : impl_->reply_readers)
+    if (reader != nullptr)
+      const_cast<dds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
+  for (dds::DataReader* reader : {impl_->status_reader, impl_->feedback_reader})
+    if (reader != nullptr)
+      const_cast<dds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
+  for (dds::DataWriter* writer : impl_->request_writers)
+    if (writer != nullptr)
+      const_cast<dds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
+}
 
 GoalUuid ActionClient::random_id() {
   static thread_local std::mt19937_64 engine{std::random_device{}()};

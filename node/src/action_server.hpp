@@ -63,6 +63,8 @@ constexpr uint16_t kNoViapointsGiven = 309;
 // At most this many poses in a ComputePathThroughPoses goal (each is a leg to plan); more is
 // ABORTED naming the field.
 constexpr size_t kMaxThroughPoses = 1000;
+// The status list is published at most this often (every change in between is in the next one).
+constexpr std::chrono::milliseconds kStatusPeriod{50};
 
 // The goal's id as text, for ids and logs: 32 hex digits.
 std::string uuid_text(const GoalUuid& id);
@@ -108,8 +110,10 @@ class ActionServer {
   // the server. With `all`, everything held (shutdown).
   struct Due;
   void take_due(Clock::time_point now, bool all, Due& out);
-  // Writes them (the replier thread, without the lock).
-  void write(Due& due);
+  // Writes them (the replier thread, without the lock). A reply the writer's full history
+  // refuses is kept, with those after it, for the next take_due; false when any was kept. With
+  // `give_up` (a shutdown out of time) nothing is kept.
+  bool write(Due& due, bool give_up = false);
   // When something held next falls due (reply_wait, a result's expiry); under reply_mutex.
   std::optional<Clock::time_point> next_deadline() const;
 

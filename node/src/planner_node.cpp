@@ -1105,8 +1105,12 @@ void PlannerNode::Impl::replier_loop() {
     }
     if (!action_dues.empty()) {
       lock.unlock();
-      for (auto& [action, due] : action_dues) action->write(due);
+      const bool give_up = stopping && Clock::now() >= drain_deadline;
+      bool all_written = true;
+      for (auto& [action, due] : action_dues) all_written = action->write(due, give_up) && all_written;
       lock.lock();
+      // Kept back by a full history (the write waited max_blocking_time already): again soon.
+      if (!all_written) reply_cv_.wait_for(lock, std::chrono::milliseconds(10));
       continue;
     }
     if (unwritten) {
@@ -1353,7 +1357,8 @@ void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const Act
   const std::string& planner_name = leg.planner_name;
   const core::PlanResult& result = leg.result;
   WireStatus& status = leg.status;
-  const TimeMsg stamp = time_.now();
+  // The debug layers carry the path's stamp: a client ties them to its plan by it.
+  const TimeMsg stamp = status.ok() ? leg.path.header().stamp() : time_.now();
   if (status.ok()) {
     if (!robot.plan_writer->write(&leg.path))
       spdlog::error("could not publish the path of '{}'{}", id, robot.label());

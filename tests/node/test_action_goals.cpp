@@ -115,6 +115,25 @@ TEST(ActionGoals, FinishedGoalsAreForgottenAfterTheTimeoutOrBeyondTheCap) {
   EXPECT_TRUE(goals.accept(id(1), {9, 0})) << "a forgotten id may be used again";
 }
 
+TEST(ActionGoals, OverTheCapADeliveredResultGoesBeforeOneNobodyHasAskedFor) {
+  Goals goals(1000s, 2);
+  const auto t0 = Goals::Clock::now();
+  for (uint8_t n = 1; n <= 2; ++n) {
+    goals.accept(id(n), {n, 0});
+    goals.finish(id(n), GoalState::kSucceeded, "r", t0);
+  }
+  ASSERT_TRUE(goals.result_or_wait(id(2), 0).has_value());  // 2's client has its result
+  goals.accept(id(3), {3, 0});
+  goals.finish(id(3), GoalState::kSucceeded, "r", t0);
+  EXPECT_EQ(goals.expire(t0), 1u);
+  EXPECT_EQ(goals.state(id(2)), GoalState::kUnknown) << "the delivered one went";
+  EXPECT_EQ(goals.state(id(1)), GoalState::kSucceeded) << "the undelivered older one stays";
+  goals.accept(id(4), {4, 0});
+  goals.finish(id(4), GoalState::kSucceeded, "r", t0);
+  EXPECT_EQ(goals.expire(t0), 1u);
+  EXPECT_EQ(goals.state(id(1)), GoalState::kUnknown) << "none delivered: the oldest goes";
+}
+
 TEST(ServiceWire, TheMappingFollowsTheVendorThenTheRequestThenTheOverride) {
   using node::ReplyMapping;
   using node::WireMapping;

@@ -106,6 +106,7 @@ struct ActionRun {
     cfg.planner.settings.max_planning_time = std::chrono::seconds(10);
     cfg.map = base.map;
     cfg.preempt = base.preempt;
+    cfg.queue_capacity = base.queue_capacity;
     cfg.actions = base.actions;
     // A Fast DDS client is announced as eProsima's: the node would answer it in rmw_fastrtps's
     // mapping. Told so, it answers every client in rmw_cyclonedds's.
@@ -431,6 +432,68 @@ TEST(NavActions, AClientThatVanishesMidGoalLeavesNothingBehindAfterTheResultTime
   const auto ok = run.to_pose->plan(ActionClient::random_id(), to_pose(0.025, 0.025, 1.0, 1.0), 15s);
   ASSERT_TRUE(ok.has_value());
   EXPECT_EQ(ok->status, GoalState::kSucceeded);
+}
+
+}  // namespace
+}  // namespace vnsba::test
+
+namespace vnsba::test {
+namespace {
+
+// 10 clients x 1,000 goals each, all sent at once, results requested as each goal is accepted:
+// every goal gets exactly one result (label stress: about a minute on two cores).
+TEST(StressBursts, TenThousandActionGoalsFromTenClientsEachGetOneResult) {
+  node::NodeConfig base;
+  base.preempt = false;
+  base.queue_capacity = 100000;
+  base.planner.kind = core::PlannerKind::kJps;
+  ActionRun run("act_stress", WireMapping::kSampleIdentity, base);
+  const core::OccupancyGrid grid = office();
+  ASSERT_TRUE(run.start(grid));
+  constexpr int kClients = 10, kGoals = 1000;
+  std::atomic<int> results{0}, succeeded{0};
+  std::atomic<size_t> duplicates{0};
+  std::vector<std::thread> threads;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int c = 0; c < kClients; ++c) {
+    threads.emplace_back([&, c] {
+      auto participant = node::Participant::create(run.cfg.domain_id, "stress_client").value();
+      auto client = ActionClient::create(
+                        *participant,
+                        node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
+                        ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
+                        .value();
+      if (!client->wait_for_server(15s)) return;
+      std::vector<std::pair<node::GoalUuid, int64_t>> sent;
+      for (int g = 0; g < kGoals; ++g) {
+        const auto id = ActionClient::random_id();
+        sent.emplace_back(id, client->send_goal(id, to_pose(0.55, 0.45, 3.55, 0.35 + 0.02 * c)));
+      }
+      for (auto& [id, request] : sent) {
+        const auto accepted = client->wait_accepted(request, 120s);
+        request = accepted.value_or(false) ? client->request_result(id) : -1;
+      }
+      for (const auto& [id, request] : sent) {
+        const auto result = client->wait_result(request, 120s);
+        if (!result) continue;
+        ++results;
+        if (result->status == GoalState::kSucceeded) ++succeeded;
+      }
+      std::this_thread::sleep_for(500ms);
+      duplicates += client->duplicate_replies();
+      client.reset();
+      participant->shutdown();
+    });
+  }
+  for (auto& t : threads) t.join();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%d goals from %d clients: %d results, %d succeeded, %zu duplicates, %.1f s\n",
+              kClients * kGoals, kClients, results.load(), succeeded.load(), duplicates.load(),
+              seconds);
+  EXPECT_EQ(results, kClients * kGoals) << "goals without a result";
+  EXPECT_EQ(succeeded, kClients * kGoals);
+  EXPECT_EQ(duplicates, 0u);
 }
 
 }  // namespace

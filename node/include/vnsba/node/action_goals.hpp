@@ -14,12 +14,15 @@
 //   that goal; both, that goal and every goal at or before the stamp. Only goals not yet
 //   finished can be canceled; return codes 0 (none: some goals are canceling), 2 (unknown goal
 //   id), 3 (that goal has already finished).
-// - Finished goals are kept for `result_timeout`, at most `max_results` of them (the oldest is
-//   forgotten first), so memory is bounded whatever the rate of goals and whether or not their
-//   clients ever ask for the result. A goal not yet finished is never forgotten.
+// - Finished goals are kept for `result_timeout`, at most `max_results` of them, so memory is
+//   bounded whatever the rate of goals and whether or not their clients ever ask for the result.
+//   Over the cap, the oldest result already delivered goes first, then the oldest of the rest
+//   (under a burst a client's get_result can trail its goal's end by many goals). A goal not yet
+//   finished is never forgotten.
 // Not thread-safe: the node holds its lock.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -124,6 +127,7 @@ class ActionGoals {
     it->second.result = std::move(result);
     it->second.finished_at = now;
     finished_.push_back(id);
+    it->second.delivered = !it->second.waiting.empty();
     return std::exchange(it->second.waiting, {});
   }
   // get_result: the answer now (finished or unknown goal), or nullopt with `requester` parked
@@ -131,7 +135,10 @@ class ActionGoals {
   std::optional<Answer> result_or_wait(const GoalUuid& id, Requester requester) {
     auto it = goals_.find(id);
     if (it == goals_.end()) return Answer{};
-    if (is_terminal(it->second.state)) return Answer{it->second.state, it->second.result};
+    if (is_terminal(it->second.state)) {
+      it->second.delivered = true;
+      return Answer{it->second.state, it->second.result};
+    }
     it->second.waiting.push_back(std::move(requester));
     return std::nullopt;
   }
@@ -179,24 +186,29 @@ class ActionGoals {
   // how many went (the status list changed when > 0).
   size_t expire(Clock::time_point now) {
     size_t forgotten = 0;
+    // By age: finished_ is in order of finishing.
     while (!finished_.empty()) {
       auto it = goals_.find(finished_.front());
-      const bool too_old = it != goals_.end() && now - it->second.finished_at >= result_timeout_;
-      if (it != goals_.end() && !too_old && finished_.size() <= max_results_) break;
-      if (it != goals_.end()) {
-        goals_.erase(it);
-        ++forgotten;
-      }
+      if (now - it->second.finished_at < result_timeout_) break;
+      goals_.erase(it);
       finished_.pop_front();
+      ++forgotten;
+    }
+    // By number: the oldest delivered result first, else the oldest.
+    while (finished_.size() > max_results_) {
+      auto victim = std::find_if(finished_.begin(), finished_.end(),
+                                 [&](const GoalUuid& id) { return goals_.at(id).delivered; });
+      if (victim == finished_.end()) victim = finished_.begin();
+      goals_.erase(*victim);
+      finished_.erase(victim);
+      ++forgotten;
     }
     return forgotten;
   }
   // When the oldest finished goal is due to be forgotten (none: nothing finished).
   std::optional<Clock::time_point> next_expiry() const {
     if (finished_.empty()) return std::nullopt;
-    auto it = goals_.find(finished_.front());
-    if (it == goals_.end()) return Clock::time_point::min();
-    return it->second.finished_at + result_timeout_;
+    return goals_.at(finished_.front()).finished_at + result_timeout_;
   }
 
   // Every goal known, in id order (the status topic's list).
@@ -215,6 +227,7 @@ class ActionGoals {
     GoalState state = GoalState::kAccepted;
     Result result{};
     Clock::time_point finished_at{};
+    bool delivered = false;          // a get_result has been answered with the result
     std::vector<Requester> waiting;  // get_result requests parked until the goal finishes
   };
   std::chrono::milliseconds result_timeout_;
