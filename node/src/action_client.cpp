@@ -357,6 +357,11 @@ size_t ActionClient::unmatched_replies() const {
   return impl_->unmatched;
 }
 
+void ActionClient::send_raw(ActionService service, const RawSample& payload) {
+  RawSample copy = payload;
+  write_sample(impl_->request_writers[static_cast<size_t>(service)], &copy);
+}
+
 size_t ActionClient::duplicate_replies() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->duplicates;

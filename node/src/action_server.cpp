@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fastdds/dds/topic/TopicDataType.hpp>
 #include <fastdds/rtps/common/WriteParams.h>
 #include <deque>
@@ -90,6 +91,22 @@ std::string uuid_text(const GoalUuid& id) {
     out += buf;
   }
   return out;
+}
+
+// A ComputePathThroughPoses send_goal whose `goals` count cannot fit in its bytes: refused before
+// decoding, which would allocate every announced pose first (a count of 2^31 in a 40-byte
+// sample). A PoseStamped takes at least 68 bytes on the wire (stamp 8, frame_id length 4, pose
+// 56). The count follows the header (rmw_cyclonedds) and the 16-byte goal id.
+std::string announced_poses_problem(const RawSample& raw, WireMapping mapping) {
+  const size_t at = 4 + (mapping == WireMapping::kRequestHeader ? 16 : 0) + 16;
+  if (raw.bytes.size() < at + 4) return "";  // too short: decoding says so
+  uint32_t count = 0;
+  std::memcpy(&count, raw.bytes.data() + at, 4);
+  if (raw.bytes[1] == 0) count = __builtin_bswap32(count);  // big-endian CDR
+  const size_t room = (raw.bytes.size() - at - 4) / 68;
+  if (count <= room) return "";
+  return "goals: announces " + std::to_string(count) + " poses in " +
+         std::to_string(raw.bytes.size()) + " bytes (at most " + std::to_string(room) + " fit)";
 }
 
 // Where a reply goes: the client's mapping, its header (rmw_cyclonedds) or the identity to
@@ -183,6 +200,9 @@ class ActionServer::Impl {
   void on_send_goal(RawSample&& raw, const dds::SampleInfo& info) {
     ReplyAddress from = address_of(info);
     typename T::SendGoalRequest request;
+    if (self_.kind_ == ActionKind::kComputePathThroughPoses)
+      if (std::string problem = announced_poses_problem(raw, from.mapping); !problem.empty())
+        return refuse(from, "send_goal", problem);
     if (std::string problem = decode_request(raw, from.mapping, request, from.header);
         !problem.empty())
       return refuse(from, "send_goal", problem);

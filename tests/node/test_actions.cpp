@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <thread>
 
 #include "bus_client.hpp"
@@ -494,6 +495,59 @@ TEST(StressBursts, TenThousandActionGoalsFromTenClientsEachGetOneResult) {
   EXPECT_EQ(results, kClients * kGoals) << "goals without a result";
   EXPECT_EQ(succeeded, kClients * kGoals);
   EXPECT_EQ(duplicates, 0u);
+}
+
+}  // namespace
+}  // namespace vnsba::test
+
+namespace vnsba::test {
+namespace {
+
+// Bytes that are no request: garbage, truncated requests, another encapsulation, a sequence
+// count far beyond the sample. Each is dropped with a log line (nothing to answer without a goal
+// id); the node keeps serving and answers a valid goal afterwards.
+TEST(NavActions, MalformedRequestBytesAreDroppedAndTheNodeKeepsServing) {
+  ActionRun run("act_garbage", WireMapping::kSampleIdentity);
+  ASSERT_TRUE(run.start(office()));
+  std::mt19937 rng(5);
+  using Service = node::ActionService;
+  for (ActionClient* client : {run.to_pose.get(), run.through.get()}) {
+    for (Service service : {Service::kSendGoal, Service::kGetResult, Service::kCancelGoal}) {
+      for (int i = 0; i < 40; ++i) {
+        node::RawSample garbage;
+        garbage.bytes.resize(rng() % 120);
+        for (uint8_t& b : garbage.bytes) b = static_cast<uint8_t>(rng());
+        if (i % 2 == 0 && garbage.bytes.size() >= 2) {  // plain CDR, so decoding is attempted
+          garbage.bytes[0] = 0;
+          garbage.bytes[1] = 1;
+        }
+        client->send_raw(service, garbage);
+      }
+    }
+  }
+  // ThroughPoses announcing 2^31 - 1 poses in 44 bytes.
+  node::RawSample huge;
+  huge.bytes = {0, 1, 0, 0};
+  huge.bytes.resize(4 + 16, 7);
+  for (uint8_t b : {0xff, 0xff, 0xff, 0x7f}) huge.bytes.push_back(b);
+  huge.bytes.resize(44, 0);
+  run.through->send_raw(Service::kSendGoal, huge);
+  // A valid request cut short.
+  node::RawSample cut;
+  cut.bytes = {0, 1, 0, 0};
+  cut.bytes.resize(30, 1);
+  run.to_pose->send_raw(Service::kSendGoal, cut);
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(run.node.stats().action_goals, 0u) << "no goal came of the garbage";
+  const auto ok = run.to_pose->plan(ActionClient::random_id(), to_pose(0.55, 0.45, 1.0, 1.0), 15s);
+  ASSERT_TRUE(ok.has_value());
+  EXPECT_EQ(ok->status, GoalState::kSucceeded);
+  ActionGoalSpec through;
+  through.start = pose(0.55, 0.45);
+  through.goals = {pose(1.0, 1.0), pose(1.5, 0.5)};
+  const auto ok2 = run.through->plan(ActionClient::random_id(), through, 15s);
+  ASSERT_TRUE(ok2.has_value());
+  EXPECT_EQ(ok2->status, GoalState::kSucceeded);
 }
 
 }  // namespace

@@ -42,6 +42,9 @@ struct CancelReply {
   std::vector<GoalUuid> canceling;
 };
 
+// An action's three services.
+enum class ActionService { kSendGoal = 0, kGetResult = 1, kCancelGoal = 2 };
+
 class ActionClient {
  public:
   using Duration = std::chrono::milliseconds;
@@ -77,6 +80,10 @@ class ActionClient {
   // a state.
   GoalState status_of(const GoalUuid& id) const;
   bool wait_status(const GoalUuid& id, GoalState state, Duration timeout) const;
+
+  // Sends `payload` as it is (the encapsulation and what follows) as a request of `service`:
+  // for tests of malformed requests.
+  void send_raw(ActionService service, const RawSample& payload);
 
   // Replies the client received that answer none of its requests: every reply reaches every
   // client's reply reader, and each client keeps its own (by identity or header), as the rmw do.
