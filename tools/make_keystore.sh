@@ -136,16 +136,32 @@ fi
 [ -f "$dir/enclaves/governance.p7s" ] || sign "$governance" "$dir/enclaves/governance.p7s"
 chmod 644 "$governance" "$dir/enclaves/governance.p7s"
 
-# "plan,/tf" -> <topic>rt/plan</topic><topic>rt/tf</topic> (ROS 2's DDS names).
+# "plan,/tf" -> <topic>rt/plan</topic><topic>rt/tf</topic> (ROS 2's DDS names). A name that
+# already has a DDS prefix (rq/, rr/: a service's request and reply) is taken as it is.
 topics_xml() {
   local list="$1" out="" t
   [ "$list" = "-" ] && return 0
   IFS=',' read -r -a names <<<"$list"
   for t in "${names[@]}"; do
     [[ "$t" =~ ^/?[A-Za-z_][A-Za-z0-9_/]*$ ]] || fail "topic '$t': expected a ROS topic name"
-    out+="<topic>rt/${t#/}</topic>"
+    if [[ "$t" =~ ^(rq|rr)/ ]]; then out+="<topic>$t</topic>"; else out+="<topic>rt/${t#/}</topic>"; fi
   done
   printf '%s' "$out"
+}
+
+# The DDS topics of ROS 2 action NAME on one side (rcl_action): "server out", "server in",
+# "client out" or "client in". Requests go rq/<name>/_action/<service>Request, replies
+# rr/.../<service>Reply; the status and feedback topics are the server's.
+action_topics() {
+  local name="$1" side="$2" s out=""
+  for s in send_goal get_result cancel_goal; do
+    case "$side" in
+      "server out" | "client in") out+=",rr/$name/_action/${s}Reply" ;;
+      "server in" | "client out") out+=",rq/$name/_action/${s}Request" ;;
+    esac
+  done
+  case "$side" in "server out" | "client in") out+=",$name/_action/status,$name/_action/feedback" ;; esac
+  printf '%s' "${out#,}"
 }
 
 # An ISO 8601 time (UTC) from an openssl date ("Jun  1 16:57:53 2034 GMT").
@@ -209,10 +225,18 @@ enclave() {  # NAME PUBLISH SUBSCRIBE
 node_out="plan,plan_status,planner_debug,plan_raw,plan_pruned"
 node_out+=",planner_expansions_forward,planner_expansions_backward,planner_meeting_point"
 node_in="projected_map,goal_pose,robot_pose,plan_request,tf,tf_static,clock"
+# Nav2's planner actions (actions.enabled): the node serves them, vnsba_send_goal --action calls.
+send_goal_out="plan_request" send_goal_in="plan_status"
+for action in compute_path_to_pose compute_path_through_poses; do
+  node_out+=",$(action_topics "$action" "server out")"
+  node_in+=",$(action_topics "$action" "server in")"
+  send_goal_out+=",$(action_topics "$action" "client out")"
+  send_goal_in+=",$(action_topics "$action" "client in")"
+done
 enclave /vnsba/node "$node_out" "$node_in"
 enclave /vnsba/slicer projected_map octomap_binary
 enclave /vnsba/recorder - "projected_map,plan_request,goal_pose,robot_pose,plan,plan_status,planner_debug"
-enclave /vnsba/send_goal plan_request plan_status
+enclave /vnsba/send_goal "$send_goal_out" "$send_goal_in"
 for ((i = 0; i < ${#extra[@]}; i += 3)); do
   enclave "${extra[i]}" "${extra[i + 1]}" "${extra[i + 2]}"
 done

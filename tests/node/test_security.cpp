@@ -212,10 +212,16 @@ TEST(SecureBus, SecuredNodeAndClientsPlan) {
                               "--goal", "16", "-6.5", "--wait", "15"});
   EXPECT_EQ(code, 0) << output;
   EXPECT_NE(output.find(" OK "), std::string::npos) << output;
+  // Nav2's action through the secured bus: the keystore grants its rq/ rr/ rt/ topics.
+  const auto [action_code, action_output] =
+      run_to_exit(kSendGoal, {"--config", secured_config("send_goal.yaml"), "--action",
+                              "--start", "2", "-6", "--goal", "16", "-6.5", "--wait", "15"});
+  EXPECT_EQ(action_code, 0) << action_output;
+  EXPECT_NE(action_output.find("SUCCEEDED"), std::string::npos) << action_output;
   slicer.signal(SIGINT);
   EXPECT_EQ(slicer.wait(), 0) << slicer.output();
   EXPECT_EQ(stop_and_summary(node_process),
-            "stopped: 1 requests, 1 statuses, 1 maps accepted, 0 rejected");
+            "stopped: 2 requests, 2 statuses, 1 maps accepted, 0 rejected");
 }
 
 // An open participant on the secured node's domain and topics: it matches nothing, gets no
