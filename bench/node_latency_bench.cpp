@@ -79,6 +79,30 @@ void isolate(node::NodeConfig& cfg, const std::string& prefix) {
   }
 }
 
+// `count` start and goal cells, both free, drawn uniformly from `map` with `seed`.
+std::vector<std::pair<core::Cell, core::Cell>> free_queries(const core::GridMap& map, int count,
+                                                           unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> x(0, map.width() - 1), y(0, map.height() - 1);
+  std::vector<std::pair<core::Cell, core::Cell>> out;
+  while (static_cast<int>(out.size()) < count) {
+    const core::Cell a{x(rng), y(rng)}, b{x(rng), y(rng)};
+    if (!map.blocked(a) && !map.blocked(b)) out.emplace_back(a, b);
+  }
+  return out;
+}
+
+// A plan_request between the centres of two cells of `map`.
+node::PlanRequestMsg request_between(const core::GridMap& map, const core::Cell& a,
+                                     const core::Cell& b, const std::string& id) {
+  const auto ca = map.cell_centre_world(a), cb = map.cell_centre_world(b);
+  node::PlanRequestMsg request;
+  request.id(id);
+  request.start(node::to_pose_msg(ca.x(), ca.y(), 0, "map", node::now_msg()));
+  request.goal(node::to_pose_msg(cb.x(), cb.y(), 0, "map", node::now_msg()));
+  return request;
+}
+
 struct Setup {
   node::NodeConfig cfg;
   // With security, the slice comes from a participant with the slicer's enclave and requests
@@ -166,19 +190,11 @@ void run_map(const char* label, int size, int queries, core::PlannerKind planner
       std::make_shared<const core::GridMap>(core::GridMap::build(received, s.cfg.map).value());
   core::Planner reference(map);
 
-  std::mt19937 rng(7);
-  std::uniform_int_distribution<int> coord(0, size - 1);
   std::vector<double> e2e_us, core_us;
   int failures = 0;
-  for (int q = 0; q < queries;) {
-    const core::Cell a{coord(rng), coord(rng)}, b{coord(rng), coord(rng)};
-    if (map->blocked(a) || map->blocked(b)) continue;
-    ++q;
-    const auto ca = map->cell_centre_world(a), cb = map->cell_centre_world(b);
-    node::PlanRequestMsg request;
-    request.id("q" + std::to_string(q));
-    request.start(node::to_pose_msg(ca.x(), ca.y(), 0, "map", node::now_msg()));
-    request.goal(node::to_pose_msg(cb.x(), cb.y(), 0, "map", node::now_msg()));
+  int q = 0;
+  for (const auto& [a, b] : free_queries(*map, queries, 7)) {
+    node::PlanRequestMsg request = request_between(*map, a, b, "q" + std::to_string(++q));
     const auto sent = Clock::now();
     if (!node::write_sample(s.request, &request)) {  // counted, never silently dropped
       ++failures;
@@ -236,19 +252,11 @@ void run_actions(const char* label, int size, int queries, node::WireMapping map
       node::from_slice_msg(std::move(slice), "map", s.cfg.map.max_cells).grid;
   auto map = std::make_shared<const core::GridMap>(
       core::GridMap::build(received, node::planning_grid_options(s.cfg)).value());
-  std::mt19937 rng(11);
-  std::uniform_int_distribution<int> coord(0, size - 1);
   std::vector<double> request_us, action_us, difference_us;
   int failures = 0;
-  for (int q = 0; q < queries;) {
-    const core::Cell a{coord(rng), coord(rng)}, b{coord(rng), coord(rng)};
-    if (map->blocked(a) || map->blocked(b)) continue;
-    ++q;
-    const auto ca = map->cell_centre_world(a), cb = map->cell_centre_world(b);
-    node::PlanRequestMsg request;
-    request.id("a" + std::to_string(q));
-    request.start(node::to_pose_msg(ca.x(), ca.y(), 0, "map", node::now_msg()));
-    request.goal(node::to_pose_msg(cb.x(), cb.y(), 0, "map", node::now_msg()));
+  int q = 0;
+  for (const auto& [a, b] : free_queries(*map, queries, 11)) {
+    node::PlanRequestMsg request = request_between(*map, a, b, "a" + std::to_string(++q));
     const auto sent = Clock::now();
     bool ok = false;
     std::optional<Clock::time_point> answered;

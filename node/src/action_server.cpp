@@ -24,10 +24,12 @@ GuidPrefix prefix_of(const GUID_t& guid) {
   return prefix;
 }
 
-std::string prefix_hex(const GuidPrefix& prefix) {
+// Bytes as lowercase hex digits, for ids in messages.
+template <size_t N>
+std::string hex(const std::array<uint8_t, N>& bytes) {
   std::string out;
   char buf[4];
-  for (uint8_t b : prefix) {
+  for (uint8_t b : bytes) {
     std::snprintf(buf, sizeof buf, "%02x", b);
     out += buf;
   }
@@ -84,13 +86,7 @@ uint16_t nav2_error_code(ActionKind kind, uint8_t wire_code, bool invalid_planne
 }
 
 std::string uuid_text(const GoalUuid& id) {
-  std::string out;
-  char buf[4];
-  for (uint8_t b : id) {
-    std::snprintf(buf, sizeof buf, "%02x", b);
-    out += buf;
-  }
-  return out;
+  return hex(id);
 }
 
 // A ComputePathThroughPoses send_goal whose `goals` count cannot fit in its bytes: refused before
@@ -192,7 +188,7 @@ class ActionServer::Impl {
       if (warned_.size() >= 1000 || !warned_.insert(from.prefix).second) return;
     }
     spdlog::warn("{}: a {} request from participant {} dropped: {} (mapping {})",
-                 self_.ros_name_, service, prefix_hex(from.prefix), problem,
+                 self_.ros_name_, service, hex(from.prefix), problem,
                  to_string(from.mapping));
   }
 
