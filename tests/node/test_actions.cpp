@@ -104,7 +104,8 @@ struct ActionRun {
                                     node::NodeConfig base) {
     node::NodeConfig cfg = test_config(tag);
     cfg.planner = base.planner;
-    cfg.planner.settings.max_planning_time = std::chrono::seconds(10);
+    if (!cfg.planner.settings.max_planning_time)
+      cfg.planner.settings.max_planning_time = std::chrono::seconds(10);
     cfg.map = base.map;
     cfg.preempt = base.preempt;
     cfg.queue_capacity = base.queue_capacity;
@@ -350,6 +351,28 @@ TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
       run.to_pose->wait_cancel(run.to_pose->request_cancel(ActionClient::random_id()), 15s);
   ASSERT_TRUE(unknown.has_value());
   EXPECT_EQ(unknown->code, node::CancelCode::kUnknownGoalId);
+}
+
+TEST(NavActions, ARunOutPlanningBudgetIsNav2sTimeoutOnBothActions) {
+  node::NodeConfig base;
+  base.planner.settings.max_planning_time = std::chrono::milliseconds(1);
+  ActionRun run("act_timeout", WireMapping::kSampleIdentity, base);
+  ASSERT_TRUE(run.start(serpentine()));
+  const double far = 1600 * 0.05 - 0.025;
+  const auto to_pose_result =
+      run.to_pose->plan(ActionClient::random_id(), to_pose(0.025, 0.025, far, far, "astar"), 30s);
+  ASSERT_TRUE(to_pose_result.has_value());
+  EXPECT_EQ(to_pose_result->status, GoalState::kAborted);
+  EXPECT_EQ(to_pose_result->error_code, 207) << to_pose_result->error_msg;
+  ActionGoalSpec through;
+  through.start = pose(0.025, 0.025);
+  through.goals = {pose(0.5, 0.5), pose(far, far)};
+  const auto through_result = run.through->plan(ActionClient::random_id(), through, 30s);
+  ASSERT_TRUE(through_result.has_value());
+  EXPECT_EQ(through_result->status, GoalState::kAborted);
+  EXPECT_EQ(through_result->error_code, 307) << through_result->error_msg;
+  EXPECT_NE(through_result->error_msg.find("leg 2 of 2"), std::string::npos)
+      << through_result->error_msg;
 }
 
 TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
