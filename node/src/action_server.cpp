@@ -489,6 +489,10 @@ std::optional<ActionServer::Clock::time_point> ActionServer::next_deadline() con
   return earliest;
 }
 
+std::array<dds::DataWriter*, 3> ActionServer::reply_writers() const {
+  return impl_->reply_writers_;
+}
+
 size_t ActionServer::goals() const {
   return impl_->goals_.size();
 }

@@ -121,6 +121,8 @@ class ActionServer {
   const std::string& name() const { return ros_name_; }
   // Goals known (running and kept), under reply_mutex.
   size_t goals() const;
+  // The three services' reply writers (null before create), for the shutdown's drain.
+  std::array<dds::DataWriter*, 3> reply_writers() const;
 
   struct Reply {
     dds::DataWriter* writer = nullptr;

@@ -602,18 +602,26 @@ void PlannerNode::Impl::stop() {
   if (replier_.joinable()) replier_.join();  // writes every status still held
   // Written is not delivered: a reader that lost a packet needs it again, and deleting the
   // writer would take the status with it (a SIGTERM mid-burst lost 226 of one client's 1,764).
-  // Wait for every reader's acknowledgement of every status, within the drain's bound.
-  for (const auto& robot : robots_) {
-    if (robot->status_writer == nullptr || !started_) continue;
+  // Wait for every reader's acknowledgement of every status and action reply, within the
+  // drain's bound.
+  auto acknowledged = [&](dds::DataWriter* writer) {
     const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(
         std::max(Clock::duration::zero(), drain_deadline - Clock::now()));
     const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(left);
     const eprosima::fastrtps::Duration_t wait(static_cast<int32_t>(seconds.count()),
                                               static_cast<uint32_t>((left - seconds).count()));
-    if (robot->status_writer->wait_for_acknowledgments(wait) != ReturnCode_t::RETCODE_OK)
+    return writer->wait_for_acknowledgments(wait) == ReturnCode_t::RETCODE_OK;
+  };
+  for (const auto& robot : robots_) {
+    if (robot->status_writer == nullptr || !started_) continue;
+    bool all = acknowledged(robot->status_writer);
+    for (const auto& action : robot->actions)
+      for (dds::DataWriter* writer : action->reply_writers())
+        if (writer != nullptr) all = acknowledged(writer) && all;
+    if (!all)
       spdlog::warn(
-          "shutdown{}: statuses written but not acknowledged by every reader within the drain's "
-          "{} s",
+          "shutdown{}: statuses or action replies written but not acknowledged by every reader "
+          "within the drain's {} s",
           robot->label(), kDrainTimeout.count());
   }
   if (participant_) participant_->shutdown();

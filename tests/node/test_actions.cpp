@@ -375,6 +375,35 @@ TEST(NavActions, ARunOutPlanningBudgetIsNav2sTimeoutOnBothActions) {
       << through_result->error_msg;
 }
 
+// A shutdown with goals running and waiting: each gets its result (ABORTED, the node shutting
+// down) before the node's writers go.
+TEST(NavActions, AShutdownAnswersEveryAcceptedGoal) {
+  node::NodeConfig base;
+  base.preempt = false;
+  ActionRun run("act_stop", WireMapping::kSampleIdentity, base);
+  ASSERT_TRUE(run.start(serpentine()));
+  const double far = 1600 * 0.05 - 0.025;
+  std::vector<int64_t> pending;
+  std::vector<node::GoalUuid> ids;
+  for (int g = 0; g < 3; ++g) {
+    const auto id = ActionClient::random_id();
+    ASSERT_EQ(run.to_pose->wait_accepted(
+                  run.to_pose->send_goal(id, to_pose(0.025, 0.025, far, far - g, "astar")), 15s),
+              std::optional<bool>(true));
+    pending.push_back(run.to_pose->request_result(id));
+    ids.push_back(id);
+  }
+  ASSERT_TRUE(run.to_pose->wait_status(ids[0], GoalState::kExecuting, 10s));
+  run.node.stop();  // returns once every reply is acknowledged (or the drain's 10 s passed)
+  for (int64_t request : pending) {
+    const auto result = run.to_pose->wait_result(request, 0ms);
+    ASSERT_TRUE(result.has_value()) << "a goal without a result after the shutdown";
+    EXPECT_EQ(result->status, GoalState::kAborted);
+    EXPECT_EQ(result->error_code, 200);
+    EXPECT_NE(result->error_msg.find("shutting down"), std::string::npos) << result->error_msg;
+  }
+}
+
 TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
   node::NodeConfig base;
   base.preempt = false;
