@@ -366,3 +366,13 @@ bool parse_int(const char* text, int lo, int hi, int* out) {
   *out = (int)v;
   return true;
 }
+
+int report_run(dds_entity_t participant, const char* what) {
+  dds_delete(participant);
+  if (failures > 0) {
+    fprintf(stderr, "%d check(s) failed\n", failures);
+    return 1;
+  }
+  printf("%s: all checks passed\n", what);
+  return 0;
+}

@@ -24,6 +24,10 @@
 /* Failed checks so far (check.h's CHECK counts here); a client exits 1 when it is not 0. */
 extern int failures;
 
+/* Deletes `participant` and reports the run: 0 when every check passed ("<what>: all checks
+ * passed"), 1 with the count of failed checks otherwise. */
+int report_run(dds_entity_t participant, const char* what);
+
 /* ---------------------------------------------------------------------------------------------
  * The client's map: 40 x 30 cells of 0.1 m, origin (-1, -0.5), a wall across x in [1.0, 1.1) m
  * (column 20) with a gap of 6 cells (rows 12..17, y in [0.7, 1.3) m). Every start and goal the

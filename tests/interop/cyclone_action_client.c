@@ -854,13 +854,7 @@ static int run_checks(void) {
   unknown_goal(&to_pose);
   through_poses(&through);
 
-  dds_delete(participant);
-  if (failures > 0) {
-    fprintf(stderr, "%d check(s) failed\n", failures);
-    return 1;
-  }
-  printf("interop actions: all checks passed\n");
-  return 0;
+  return report_run(participant, "interop actions");
 }
 
 /* ---------------------------------------------------------------------------------------------
@@ -900,18 +894,26 @@ static bool still_running(int state) {
   return state == kStateAccepted || state == kStateExecuting;
 }
 
+/* Sends the maze goal under a fresh id (into `g`, `id`, sent at `sent`) and waits for its
+ * acceptance; false (with a failed check naming `what`) when it is not accepted. */
+static bool send_maze_goal(Action* a, const char* what, GoalSpec* g, GoalId* id, double* sent) {
+  maze_goal(g);
+  *id = new_goal_id();
+  *sent = now_s();
+  const int64_t seq = send_goal(a, id, g);
+  Acceptance acc;
+  memset(&acc, 0, sizeof acc);
+  if (wait_reply(a, &a->service[kSendGoal], seq, copy_acceptance, &acc, 10.0) < 0) return false;
+  CHECK(acc.accepted, "%s: not accepted", what);
+  return acc.accepted;
+}
+
 /* A get_result sent right after acceptance, while the plan runs, is answered when it ends. */
 static void result_while_running(Action* a) {
   GoalSpec g;
-  maze_goal(&g);
-  const GoalId id = new_goal_id();
-  const double sent = now_s();
-  const int64_t seq = send_goal(a, &id, &g);
-  Acceptance acc;
-  memset(&acc, 0, sizeof acc);
-  if (wait_reply(a, &a->service[kSendGoal], seq, copy_acceptance, &acc, 10.0) < 0) return;
-  CHECK(acc.accepted, "maze goal: not accepted");
-  if (!acc.accepted) return;
+  GoalId id;
+  double sent;
+  if (!send_maze_goal(a, "maze goal", &g, &id, &sent)) return;
   const int64_t result_seq = send_get_result(a, &id);
   /* Acknowledged: the node holds the get_result request now. */
   CHECK(dds_wait_for_acks(a->service[kGetResult].request, DDS_SECS(5)) == DDS_RETCODE_OK,
@@ -952,15 +954,9 @@ static void result_while_running(Action* a) {
 /* A goal cancelled while it runs. */
 static void cancel_running(Action* a) {
   GoalSpec g;
-  maze_goal(&g);
-  const GoalId id = new_goal_id();
-  const double sent = now_s();
-  const int64_t seq = send_goal(a, &id, &g);
-  Acceptance acc;
-  memset(&acc, 0, sizeof acc);
-  if (wait_reply(a, &a->service[kSendGoal], seq, copy_acceptance, &acc, 10.0) < 0) return;
-  CHECK(acc.accepted, "goal to cancel: not accepted");
-  if (!acc.accepted) return;
+  GoalId id;
+  double sent;
+  if (!send_maze_goal(a, "goal to cancel", &g, &id, &sent)) return;
   /* rclcpp_action asks for the result as soon as the goal is accepted; it stays pending. */
   const int64_t result_seq = send_get_result(a, &id);
   Track t = track(&id);
@@ -1331,13 +1327,7 @@ static int run_wire(void) {
   check_request_writer(&through.service[kSendGoal], &th_goal,
                        "compute_path_through_poses send_goal");
   CHECK(last_sequence == 4, "sequence numbers: %" PRId64 " after 4 requests", last_sequence);
-  dds_delete(participant);
-  if (failures > 0) {
-    fprintf(stderr, "%d check(s) failed\n", failures);
-    return 1;
-  }
-  printf("interop action wire: all checks passed\n");
-  return 0;
+  return report_run(participant, "interop action wire");
 }
 
 /* --------------------------------------------------------------------------------------------- */

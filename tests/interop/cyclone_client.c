@@ -629,13 +629,7 @@ static int run_checks(const Options* o) {
   check_xcdr1(own_goal, "the client's goal PoseStamped", 1.0);
   check_xcdr1(node_status, "the node's PlanStatus", 1.0);
 
-  dds_delete(participant);
-  if (failures > 0) {
-    fprintf(stderr, "%d check(s) failed\n", failures);
-    return 1;
-  }
-  printf("interop: all checks passed\n");
-  return 0;
+  return report_run(participant, "interop");
 }
 
 int main(int argc, char** argv) {
