@@ -1115,11 +1115,15 @@ void PlannerNode::Impl::replier_loop() {
       lock.unlock();
       const bool give_up = stopping && Clock::now() >= drain_deadline;
       bool all_written = true;
-      for (auto& [action, due] : action_dues) all_written = action->write(due, give_up) && all_written;
+      for (auto& [action, due] : action_dues)
+        all_written = action->write(due, give_up) && all_written;
       lock.lock();
-      // Kept back by a full history (the write waited max_blocking_time already): again soon.
-      if (!all_written) reply_cv_.wait_for(lock, std::chrono::milliseconds(10));
-      continue;
+      // Statuses released this pass go out below, in the same pass.
+      if (!unwritten) {
+        // Kept back by a full history (the write waited max_blocking_time already): again soon.
+        if (!all_written) reply_cv_.wait_for(lock, std::chrono::milliseconds(10));
+        continue;
+      }
     }
     if (unwritten) {
       lock.unlock();  // write() may block up to the writer's max_blocking_time
