@@ -2,6 +2,8 @@
 // per request, geometry equal to what the node published, a clean SIGINT that writes what it
 // heard, and bad data for one run that does not stop the others.
 #include <gtest/gtest.h>
+
+#include <cstdio>
 #include <tinyxml2.h>
 
 #include <cmath>
@@ -398,9 +400,16 @@ TEST(RecorderProcess, TheByteCapBoundsWhatIsHeldAndWritten) {
   const CapRun none = record_debug_runs("cap_none", none_dir, "1", kRuns, kCells, true);
   const CapRun capped = record_debug_runs("cap_four", capped_dir, "4", kRuns, kCells, true);
   ASSERT_GT(none.peak_resident, 0u);
+#if defined(__SANITIZE_ADDRESS__)
+  // Resident memory under AddressSanitizer includes its quarantine of freed blocks (up to 256 MB
+  // by default) and shadow memory: it says nothing about what the recorder holds. The records'
+  // checks below still run; the memory bound is checked by the Release stage.
+  std::printf("peak resident memory not compared under AddressSanitizer\n");
+#else
   EXPECT_LE(capped.peak_resident, none.peak_resident + 2 * 4 * kMiB)
       << "peak " << capped.peak_resident << " bytes, against " << none.peak_resident
       << " with nothing kept";
+#endif
   EXPECT_EQ(whole_records_with_debug(capped_dir, kRuns, kCells), kRuns) << capped.output;
   EXPECT_EQ(whole_records_with_debug(none_dir, kRuns, kCells), 0) << none.output;
   fs::remove_all(none_dir);

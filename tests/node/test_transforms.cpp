@@ -2,9 +2,11 @@
 // composed as (x, y, yaw) triples with trigonometry, never through Eigen's isometries.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "bus_client.hpp"
@@ -401,7 +403,25 @@ TEST(TfOnTheBus, AGoalAfterAFloodOfChainedFramesGetsItsStatus) {
   }
   const std::string tf_topic = node::dds_topic_name(run.config, run.config.topics.tf);
   ASSERT_TRUE(log.wait_for({"'" + tf_topic + "': refused"}, 20s)) << "the flood never arrived";
-  ASSERT_TRUE(run.broadcast(tf, base_link_at(0.25, 0.35, node::now_msg())));
+  // Then it goes on broadcasting, as a robot does (at 20 Hz here): the node may still be working
+  // through the flood when the goal comes (seconds under the sanitizers), and a single transform
+  // would be older than transform_tolerance (0.5 s) by then, a stale start rather than a lost one.
+  struct Broadcaster {
+    std::atomic<bool> stop{false};
+    std::thread thread;
+    ~Broadcaster() {
+      stop = true;
+      if (thread.joinable()) thread.join();
+    }
+  } robot;
+  robot.thread = std::thread([&] {
+    while (!robot.stop) {
+      node::TFMessageMsg msg = base_link_at(0.25, 0.35, node::now_msg());
+      tf->write(&msg);
+      std::this_thread::sleep_for(50ms);
+    }
+  });
+  std::this_thread::sleep_for(200ms);
   const auto start = std::chrono::steady_clock::now();
   const auto status = run.goal("goal-1");
   ASSERT_TRUE(status) << "no status for the goal after the flood";
