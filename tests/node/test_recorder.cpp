@@ -2,11 +2,10 @@
 // per request, geometry equal to what the node published, a clean SIGINT that writes what it
 // heard, and bad data for one run that does not stop the others.
 #include <gtest/gtest.h>
-
-#include <cstdio>
 #include <tinyxml2.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
