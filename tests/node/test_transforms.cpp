@@ -393,21 +393,13 @@ TEST(TfOnTheBus, AGoalAfterAFloodOfChainedFramesGetsItsStatus) {
   TfNode run("tfflood");
   ASSERT_TRUE(run.start());
   auto* tf = run.writer<tf2_msgs::msg::dds_::TFMessage_PubSubType>(run.config.topics.tf);
-  // The robot broadcasts before the flood, as it does from its start.
-  ASSERT_TRUE(run.broadcast(tf, base_link_at(0.15, 0.15, node::now_msg())));
-  const node::TFMessageMsg flood = node::chained_frames(20000, node::now_msg());
-  for (int message = 0; message < 20; ++message) {
-    node::TFMessageMsg copy = flood;
-    ASSERT_TRUE(tf->write(&copy));
-    std::this_thread::sleep_for(20ms);  // best effort on the node's side: room to take each
-  }
-  const std::string tf_topic = node::dds_topic_name(run.config, run.config.topics.tf);
-  ASSERT_TRUE(log.wait_for({"'" + tf_topic + "': refused"}, 20s)) << "the flood never arrived";
-  // Then it goes on broadcasting, as a robot does (at 20 Hz here): the node may still be working
-  // through the flood when the goal comes (seconds under the sanitizers), and a single transform
-  // would be older than transform_tolerance (0.5 s) by then, a stale start rather than a lost one.
+  // The robot broadcasts its transform from its start, at 20 Hz, as robots do: the node's tf
+  // reader is best effort (one sample may be lost), and the node may still be working through
+  // the flood when the goal comes (seconds under the sanitizers), where a single transform would
+  // be older than transform_tolerance (0.5 s) by then.
   struct Broadcaster {
     std::atomic<bool> stop{false};
+    std::atomic<bool> moved{false};  // (0.15, 0.15) before the flood, (0.25, 0.35) after it
     std::thread thread;
     ~Broadcaster() {
       stop = true;
@@ -416,14 +408,28 @@ TEST(TfOnTheBus, AGoalAfterAFloodOfChainedFramesGetsItsStatus) {
   } robot;
   robot.thread = std::thread([&] {
     while (!robot.stop) {
-      node::TFMessageMsg msg = base_link_at(0.25, 0.35, node::now_msg());
+      node::TFMessageMsg msg = robot.moved ? base_link_at(0.25, 0.35, node::now_msg())
+                                           : base_link_at(0.15, 0.15, node::now_msg());
       tf->write(&msg);
       std::this_thread::sleep_for(50ms);
     }
   });
+  // The node knows the robot's frame before the flood: a goal is planned from it.
+  std::this_thread::sleep_for(200ms);
+  const auto before = run.goal("goal-1");
+  ASSERT_TRUE(before && before->code() == OK) << (before ? before->message() : "no status");
+  const node::TFMessageMsg flood = node::chained_frames(20000, node::now_msg());
+  for (int message = 0; message < 20; ++message) {
+    node::TFMessageMsg copy = flood;
+    ASSERT_TRUE(tf->write(&copy));
+    std::this_thread::sleep_for(20ms);  // best effort on the node's side: room to take each
+  }
+  const std::string tf_topic = node::dds_topic_name(run.config, run.config.topics.tf);
+  ASSERT_TRUE(log.wait_for({"'" + tf_topic + "': refused"}, 20s)) << "the flood never arrived";
+  robot.moved = true;
   std::this_thread::sleep_for(200ms);
   const auto start = std::chrono::steady_clock::now();
-  const auto status = run.goal("goal-1");
+  const auto status = run.goal("goal-2");
   ASSERT_TRUE(status) << "no status for the goal after the flood";
   EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
   ASSERT_EQ(status->code(), OK) << status->message();
