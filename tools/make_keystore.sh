@@ -16,8 +16,9 @@
 #
 #   tools/make_keystore.sh DIR [--domain N] [--days N] [--enclave NAME PUBLISH SUBSCRIBE]...
 #
-#   --domain N      the one DDS domain the governance and the permissions allow (default: every
-#                   domain, 0..232)
+#   --domain N      the one DDS domain the governance and the permissions allow (default: domains
+#                   0..230, as sros2's templates: Cyclone DDS refuses a governance or permissions
+#                   file naming a domain above 230, Fast DDS accepts up to 232)
 #   --days N        validity of new certificates and of the permissions (default 3650)
 #   --enclave NAME PUBLISH SUBSCRIBE
 #                   one more enclave (NAME like /vnsba/viewer), allowed to publish and subscribe
@@ -66,7 +67,7 @@ mkdir -p "$dir/public" "$dir/private" "$dir/enclaves"
 if [ -n "$domain" ]; then
   domains_xml="<id>$domain</id>"
 else
-  domains_xml="<id_range><min>0</min><max>232</max></id_range>"
+  domains_xml="<id_range><min>0</min><max>230</max></id_range>"
 fi
 
 # An EC P-256 key (what SROS2 makes; Fast DDS's PKI-DH signs with ECDSA-SHA256).

@@ -4,9 +4,9 @@
 // without permission to publish requests reach nothing; broken enclaves stop the executable
 // naming the file.
 //
-// Domains 201..232 (201 + pid % 32): the other bus tests use 1..200 and the demo 100..199. Each
-// test process makes its own keystore (its own CA), so two runs that share a domain cannot
-// authenticate each other and stay apart.
+// Domains 201..230 (201 + pid % 30; the keystore allows 0..230): the other bus tests use 1..200
+// and the demo 100..199. Each test process makes its own keystore (its own CA), so two runs that
+// share a domain cannot authenticate each other and stay apart.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <unistd.h>
@@ -37,7 +37,7 @@ const std::string kMakeKeystore = VNSBA_MAKE_KEYSTORE;
 const std::string kScene = std::string(VNSBA_CONFIG_DIR) + "/scenes/geb079.bt";
 
 int security_domain() {
-  return 201 + static_cast<int>(getpid() % 32);
+  return 201 + static_cast<int>(getpid() % 30);
 }
 
 // The keystore of this test process: the four enclaves of the script and /test/no_request, which
