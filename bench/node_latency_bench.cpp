@@ -81,7 +81,7 @@ void isolate(node::NodeConfig& cfg, const std::string& prefix) {
 
 // `count` start and goal cells, both free, drawn uniformly from `map` with `seed`.
 std::vector<std::pair<core::Cell, core::Cell>> free_queries(const core::GridMap& map, int count,
-                                                           unsigned seed) {
+                                                            unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> x(0, map.width() - 1), y(0, map.height() - 1);
   std::vector<std::pair<core::Cell, core::Cell>> out;

@@ -542,7 +542,8 @@ int main(int argc, char** argv) {
   settings.record_expansions = out.any_picture();
   // The scenario files give the optimum; a second A* per line would double the run.
   settings.compute_length_ratio = !scen_mode;
-  core::GridBuildOptions build = config ? node::planning_grid_options(*config) : core::GridBuildOptions{};
+  core::GridBuildOptions build =
+      config ? node::planning_grid_options(*config) : core::GridBuildOptions{};
   if (*occupied_threshold_flag) build.occupied_threshold = cli.occupied_threshold;
   if (*allow_unknown_flag) build.allow_unknown = cli.allow_unknown;
   if (*robot_radius_flag) build.robot_radius = cli.robot_radius;

@@ -1,10 +1,11 @@
 #include "vnsba/node/action_client.hpp"
 
+#include <fastdds/rtps/common/WriteParams.h>
+
 #include <condition_variable>
 #include <cstring>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
-#include <fastdds/rtps/common/WriteParams.h>
 #include <map>
 #include <mutex>
 #include <random>
@@ -44,12 +45,12 @@ class ActionClient::Impl {
   uint64_t client_id = 0;  // rmw_cyclonedds's header: the client's id
   mutable std::mutex mutex;
   mutable std::condition_variable cv;
-  int64_t next_sequence = 0;                              // header mapping, under mutex
-  std::array<std::map<int64_t, RawSample>, 3> replies;    // by request sequence, under mutex
-  std::map<GoalUuid, GoalState> statuses;                 // newest status list, under mutex
-  size_t unmatched = 0;                                   // under mutex
-  size_t duplicates = 0;                                  // under mutex
-  std::array<std::set<int64_t>, 3> answered;              // sequences replied to, under mutex
+  int64_t next_sequence = 0;                            // header mapping, under mutex
+  std::array<std::map<int64_t, RawSample>, 3> replies;  // by request sequence, under mutex
+  std::map<GoalUuid, GoalState> statuses;               // newest status list, under mutex
+  size_t unmatched = 0;                                 // under mutex
+  size_t duplicates = 0;                                // under mutex
+  std::array<std::set<int64_t>, 3> answered;            // sequences replied to, under mutex
 
   // Takes the replies of one service; keeps those that answer this client's requests.
   void on_reply(Service service, RawSample&& raw, const dds::SampleInfo& info) {
@@ -93,7 +94,8 @@ class ActionClient::Impl {
     if (mapping == WireMapping::kSampleIdentity)
       params.related_sample_identity().writer_guid() = reply_readers[service]->guid();
     if (!write_sample(request_writers[service], &sample, params)) return -1;
-    return mapping == WireMapping::kRequestHeader ? sequence : sequence_of(params.sample_identity());
+    return mapping == WireMapping::kRequestHeader ? sequence
+                                                  : sequence_of(params.sample_identity());
   }
 
   // The reply to `request`, decoded as Msg, or nullopt when none came in time.
@@ -120,8 +122,8 @@ class ActionClient::Impl {
     };
     // Readers first: a request names its reply reader.
     auto add_reply_reader = [&](auto type, Service service) -> core::Status {
-      listeners.push_back(make_listener<RawSample>(
-          [this, service](RawSample&& raw, const dds::SampleInfo& info) {
+      listeners.push_back(
+          make_listener<RawSample>([this, service](RawSample&& raw, const dds::SampleInfo& info) {
             on_reply(service, std::move(raw), info);
           }));
       auto reader = participant.reader_on<RawOf<typename decltype(type)::type>>(
@@ -132,23 +134,22 @@ class ActionClient::Impl {
     };
     if (auto s = add_reply_reader(Tag<typename T::SendGoalResponseType>(), kSendGoal); !s.is_ok())
       return s;
-    if (auto s = add_reply_reader(Tag<typename T::GetResultResponseType>(), kGetResult);
-        !s.is_ok())
+    if (auto s = add_reply_reader(Tag<typename T::GetResultResponseType>(), kGetResult); !s.is_ok())
       return s;
     if (auto s = add_reply_reader(Tag<action_msgs::srv::dds_::CancelGoal_Response_PubSubType>(),
                                   kCancel);
         !s.is_ok())
       return s;
-    listeners.push_back(make_listener<GoalStatusArrayMsg>(
-        [this](GoalStatusArrayMsg&& msg, const dds::SampleInfo&) {
-          {
-            std::lock_guard<std::mutex> lock(mutex);
-            statuses.clear();
-            for (const auto& status : msg.status_list())
-              statuses[status.goal_info().goal_id().uuid()] = static_cast<GoalState>(status.status());
-          }
-          cv.notify_all();
-        }));
+    listeners.push_back(make_listener<GoalStatusArrayMsg>([this](GoalStatusArrayMsg&& msg,
+                                                                 const dds::SampleInfo&) {
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        statuses.clear();
+        for (const auto& status : msg.status_list())
+          statuses[status.goal_info().goal_id().uuid()] = static_cast<GoalState>(status.status());
+      }
+      cv.notify_all();
+    }));
     auto status = participant.reader_on<action_msgs::msg::dds_::GoalStatusArray_PubSubType>(
         "rt" + name + "/_action/status", reader_qos(TopicQos::kLatched), listeners.back().get());
     if (!status) return status.error();
@@ -202,8 +203,8 @@ class ActionClient::Impl {
     ActionResultReply out;
     out.status = static_cast<GoalState>(reply->status());
     out.path = std::move(reply->result().path());
-    out.planning_time_s = reply->result().planning_time().sec() +
-                          reply->result().planning_time().nanosec() * 1e-9;
+    out.planning_time_s =
+        reply->result().planning_time().sec() + reply->result().planning_time().nanosec() * 1e-9;
     out.error_code = reply->result().error_code();
     out.error_msg = std::move(reply->result().error_msg());
     return out;
@@ -296,8 +297,9 @@ std::optional<bool> ActionClient::wait_accepted(int64_t request, Duration timeou
              : impl_->wait_accepted<ThroughPosesTypes>(request, timeout);
 }
 int64_t ActionClient::request_result(const GoalUuid& id) {
-  return impl_->kind == ActionKind::kComputePathToPose ? impl_->request_result<ToPoseTypes>(id)
-                                                       : impl_->request_result<ThroughPosesTypes>(id);
+  return impl_->kind == ActionKind::kComputePathToPose
+             ? impl_->request_result<ToPoseTypes>(id)
+             : impl_->request_result<ThroughPosesTypes>(id);
 }
 std::optional<ActionResultReply> ActionClient::wait_result(int64_t request, Duration timeout) {
   return impl_->kind == ActionKind::kComputePathToPose
@@ -324,9 +326,8 @@ std::optional<ActionResultReply> ActionClient::plan(const GoalUuid& id, const Ac
                                                     Duration timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   auto left = [&] {
-    return std::chrono::duration_cast<Duration>(
-        std::max(std::chrono::steady_clock::duration::zero(),
-                 deadline - std::chrono::steady_clock::now()));
+    return std::chrono::duration_cast<Duration>(std::max(
+        std::chrono::steady_clock::duration::zero(), deadline - std::chrono::steady_clock::now()));
   };
   const auto accepted = wait_accepted(send_goal(id, goal), left());
   if (!accepted) return std::nullopt;

@@ -1,12 +1,12 @@
 #include "action_server.hpp"
 
+#include <fastdds/rtps/common/WriteParams.h>
 #include <spdlog/spdlog.h>
 
 #include <cstdio>
 #include <cstring>
-#include <fastdds/dds/topic/TopicDataType.hpp>
-#include <fastdds/rtps/common/WriteParams.h>
 #include <deque>
+#include <fastdds/dds/topic/TopicDataType.hpp>
 #include <set>
 
 #include "action_types.hpp"
@@ -39,7 +39,8 @@ std::string hex(const std::array<uint8_t, N>& bytes) {
 // Feeds a reply writer's gate with its matched readers (per remote participant).
 class MatchedReaders : public dds::DataWriterListener {
  public:
-  MatchedReaders(std::mutex& mutex, std::condition_variable& cv, ReplyGate<ActionServer::Reply>& gate)
+  MatchedReaders(std::mutex& mutex, std::condition_variable& cv,
+                 ReplyGate<ActionServer::Reply>& gate)
       : mutex_(mutex), cv_(cv), gate_(gate) {}
   void on_publication_matched(dds::DataWriter*,
                               const dds::PublicationMatchedStatus& status) override {
@@ -143,7 +144,7 @@ class ActionServer::Impl {
   std::array<std::unique_ptr<MatchedReaders>, 3> matched_;
   dds::DataWriter* status_writer_ = nullptr;
   dds::DataWriter* feedback_writer_ = nullptr;
-  bool status_dirty_ = true;  // under mutex_; the first pass publishes the (empty) list
+  bool status_dirty_ = true;         // under mutex_; the first pass publishes the (empty) list
   Clock::time_point last_status_{};  // when the list was last published, under mutex_
   // Replies a full writer history refused, retried first on the next pass (replier thread).
   std::deque<Reply> unwritten_;
@@ -187,9 +188,8 @@ class ActionServer::Impl {
       std::lock_guard<std::mutex> lock(mutex_);
       if (warned_.size() >= 1000 || !warned_.insert(from.prefix).second) return;
     }
-    spdlog::warn("{}: a {} request from participant {} dropped: {} (mapping {})",
-                 self_.ros_name_, service, hex(from.prefix), problem,
-                 to_string(from.mapping));
+    spdlog::warn("{}: a {} request from participant {} dropped: {} (mapping {})", self_.ros_name_,
+                 service, hex(from.prefix), problem, to_string(from.mapping));
   }
 
   template <class T>
@@ -354,17 +354,18 @@ class ActionServer::Impl {
                                 hooks_.may_take, hooks_.wake_intake));
         !s.is_ok())
       return s;
-    if (auto s = add_reader(Tag<typename T::GetResultRequestType>(), kGetResult,
-                            make_listener<RawSample>(
-                                [this](RawSample&& raw, const dds::SampleInfo& info) {
-                                  on_get_result<T>(std::move(raw), info);
-                                }));
+    if (auto s = add_reader(
+            Tag<typename T::GetResultRequestType>(), kGetResult,
+            make_listener<RawSample>([this](RawSample&& raw, const dds::SampleInfo& info) {
+              on_get_result<T>(std::move(raw), info);
+            }));
         !s.is_ok())
       return s;
-    return add_reader(Tag<action_msgs::srv::dds_::CancelGoal_Request_PubSubType>(), kCancel,
-                      make_listener<RawSample>([this](RawSample&& raw, const dds::SampleInfo& info) {
-                        on_cancel(std::move(raw), info);
-                      }));
+    return add_reader(
+        Tag<action_msgs::srv::dds_::CancelGoal_Request_PubSubType>(), kCancel,
+        make_listener<RawSample>([this](RawSample&& raw, const dds::SampleInfo& info) {
+          on_cancel(std::move(raw), info);
+        }));
   }
 
   template <class U>
@@ -382,9 +383,9 @@ ActionServer::ActionServer(ActionKind kind, std::string ros_name, const NodeConf
 
 ActionServer::~ActionServer() = default;
 
-core::Status ActionServer::create(Participant& participant,
-                                  std::vector<std::unique_ptr<TakingListener>>& listeners,
-                                  std::vector<std::pair<TakingListener*, dds::DataReader*>>& inputs) {
+core::Status ActionServer::create(
+    Participant& participant, std::vector<std::unique_ptr<TakingListener>>& listeners,
+    std::vector<std::pair<TakingListener*, dds::DataReader*>>& inputs) {
   return kind_ == ActionKind::kComputePathToPose
              ? impl_->create<ToPoseTypes>(participant, listeners, inputs)
              : impl_->create<ThroughPosesTypes>(participant, listeners, inputs);
@@ -471,8 +472,7 @@ bool ActionServer::write(Due& due, bool give_up) {
     due.replies.clear();
     break;
   }
-  if (due.status && impl_->status_writer_ != nullptr &&
-      !impl_->status_writer_->write(&*due.status))
+  if (due.status && impl_->status_writer_ != nullptr && !impl_->status_writer_->write(&*due.status))
     spdlog::error("{}: could not publish the goal status list", ros_name_);
   return impl_->unwritten_.empty();
 }
@@ -484,8 +484,7 @@ std::optional<ActionServer::Clock::time_point> ActionServer::next_deadline() con
     if (!earliest || list_due < *earliest) earliest = list_due;
   }
   for (const auto& gate : impl_->gates_)
-    if (auto next = gate.next_deadline(); next && (!earliest || *next < *earliest))
-      earliest = next;
+    if (auto next = gate.next_deadline(); next && (!earliest || *next < *earliest)) earliest = next;
   return earliest;
 }
 

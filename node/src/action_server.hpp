@@ -128,7 +128,7 @@ class ActionServer {
     dds::DataWriter* writer = nullptr;
     RawSample sample;
     std::optional<eprosima::fastrtps::rtps::SampleIdentity> related;  // rmw_fastrtps
-    std::string what;  // for the log
+    std::string what;                                                 // for the log
   };
   struct Due {
     std::vector<Reply> replies;

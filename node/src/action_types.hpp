@@ -21,7 +21,8 @@ using eprosima::fastrtps::rtps::SerializedPayload_t;
 // The nav2_msgs types of each action.
 struct ToPoseTypes {
   using SendGoalRequest = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Request_;
-  using SendGoalRequestType = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Request_PubSubType;
+  using SendGoalRequestType =
+      nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Request_PubSubType;
   using SendGoalResponse = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Response_;
   using SendGoalResponseType =
       nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Response_PubSubType;

@@ -534,7 +534,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
     std::ostringstream expected;
     expected << "a finite number of seconds in [0, " << max_s << "]";
     if (section.number(key, value_s, expected.str(),
-                        [max_s](double v) { return v >= 0.0 && v <= max_s; }) &&
+                       [max_s](double v) { return v >= 0.0 && v <= max_s; }) &&
         value_s) {
       out = std::chrono::milliseconds(std::llround(*value_s * 1000.0));
     }

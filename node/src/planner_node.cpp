@@ -13,12 +13,14 @@
 #include <thread>
 #include <utility>
 
+#include "action_server.hpp"
 #include "geometry_msgs/msg/PointStampedPubSubTypes.h"
 #include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
 #include "geometry_msgs/msg/PoseWithCovarianceStampedPubSubTypes.h"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "nav_msgs/msg/PathPubSubTypes.h"
 #include "rosgraph_msgs/msg/ClockPubSubTypes.h"
+#include "take_listener.hpp"
 #include "tf2_msgs/msg/TFMessagePubSubTypes.h"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -26,8 +28,6 @@
 #include "vnsba/node/requests.hpp"
 #include "vnsba/node/security.hpp"
 #include "vnsba/node/slice_slot.hpp"
-#include "action_server.hpp"
-#include "take_listener.hpp"
 #include "vnsba/node/time_source.hpp"
 #include "vnsba/node/transforms.hpp"
 #include "vnsba_msgs/msg/PlanRequestPubSubTypes.h"
@@ -223,7 +223,7 @@ class PlannerNode::Impl {
     WireStatus status;
     std::string planner_name;
     core::PlanResult result;
-    PathMsg path;  // set when status is OK
+    PathMsg path;          // set when status is OK
     bool planned = false;  // false: refused by resolve_request (result is empty)
   };
   Leg plan_leg(Robot& robot, Job& job, const ActiveMap& map, size_t worker);
@@ -779,10 +779,11 @@ void PlannerNode::Impl::on_action_goal(Robot& robot, ActionServer& server, Actio
     const bool none = poses == 0;
     ActionOutcome outcome;
     outcome.state = GoalState::kAborted;
-    outcome.error_code = none ? kNoViapointsGiven : nav2_error_code(server.kind(), wire::INVALID_REQUEST, false);
+    outcome.error_code =
+        none ? kNoViapointsGiven : nav2_error_code(server.kind(), wire::INVALID_REQUEST, false);
     outcome.error_msg = none ? "goals: empty (NO_VIAPOINTS_GIVEN)"
-                             : "goals: found " + std::to_string(poses) + " poses, expected at most " +
-                                   std::to_string(kMaxThroughPoses);
+                             : "goals: found " + std::to_string(poses) +
+                                   " poses, expected at most " + std::to_string(kMaxThroughPoses);
     spdlog::warn("goal '{}'{}: ABORTED ({})", job.id, robot.label(), outcome.error_msg);
     server.finish(goal.id, std::move(outcome));
     --robot.unanswered;
@@ -817,9 +818,9 @@ void PlannerNode::Impl::on_action_cancel(Robot& robot, ActionServer& server,
     // A goal still waiting for the first map.
     std::lock_guard<std::mutex> lock(map_mutex_);
     for (auto it = waiting_for_map_.begin(); it != waiting_for_map_.end();) {
-      const bool canceled =
-          it->robot == &robot && it->job.action && it->job.action->server == &server &&
-          std::find(ids.begin(), ids.end(), it->job.action->goal_id) != ids.end();
+      const bool canceled = it->robot == &robot && it->job.action &&
+                            it->job.action->server == &server &&
+                            std::find(ids.begin(), ids.end(), it->job.action->goal_id) != ids.end();
       if (canceled) {
         removed.push_back(std::move(it->job));
         it = waiting_for_map_.erase(it);
@@ -846,8 +847,8 @@ void PlannerNode::Impl::finish_action(Robot& robot, const Job& job, const WireSt
     outcome.state = GoalState::kAborted;
   }
   outcome.error_code = nav2_error_code(server.kind(), status.code, job.action->invalid_planner);
-  if (!status.ok() && job.action->tf_problem) outcome.error_code = nav2_error_code(
-      server.kind(), wire::FRAME_MISMATCH, false);
+  if (!status.ok() && job.action->tf_problem)
+    outcome.error_code = nav2_error_code(server.kind(), wire::FRAME_MISMATCH, false);
   outcome.error_msg = status.message;
   if (outcome.state == GoalState::kCanceled) outcome.error_code = 0;
   if (metrics != nullptr) outcome.planning_time_s = metrics->planning_time_us / 1e6;
@@ -1353,8 +1354,8 @@ void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const Act
     total.turn_angle_deg += following.result.metrics.turn_angle_deg;
     total.clearance_m = std::min(total.clearance_m, following.result.metrics.clearance_m);
     if (!following.status.ok()) {
-      following.status.message = fmt::format("leg {} of {} (to goals[{}]): {}", k + 1, legs, k,
-                                             following.status.message);
+      following.status.message =
+          fmt::format("leg {} of {} (to goals[{}]): {}", k + 1, legs, k, following.status.message);
       leg.status = following.status;
       leg.path = PathMsg();
       break;
@@ -1378,9 +1379,9 @@ void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const Act
   }
   // The endpoints are the plan's once core resolved them: every outcome but a refusal of the
   // query itself (which resolve_request normally catches first).
-  const bool resolved_endpoints = legs == 1 && (status.ok() || status.code == wire::NO_VALID_PATH ||
-                                                status.code == wire::TIMEOUT ||
-                                                status.code == wire::CANCELED);
+  const bool resolved_endpoints =
+      legs == 1 && (status.ok() || status.code == wire::NO_VALID_PATH ||
+                    status.code == wire::TIMEOUT || status.code == wire::CANCELED);
   answer(robot, job, status, planner_name, &result.metrics, map->stamp, std::move(leg.path),
          resolved_endpoints ? &result.endpoints : nullptr, map->grid.get());
   publish_debug(robot, job.id, result, *map->grid, stamp);

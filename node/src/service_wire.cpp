@@ -17,12 +17,11 @@ WireMapping choose_mapping(ReplyMapping configured, const std::optional<VendorId
     case ReplyMapping::kAuto:
       break;
   }
-  if (vendor) return *vendor == kVendorCyclone ? WireMapping::kRequestHeader
-                                               : WireMapping::kSampleIdentity;
+  if (vendor)
+    return *vendor == kVendorCyclone ? WireMapping::kRequestHeader : WireMapping::kSampleIdentity;
   // Discovery has not told the vendor (it always does before a request can arrive; this is a
   // fallback): rmw_fastrtps names its reply reader in every request, rmw_cyclonedds never.
-  return request_has_related_identity ? WireMapping::kSampleIdentity
-                                      : WireMapping::kRequestHeader;
+  return request_has_related_identity ? WireMapping::kSampleIdentity : WireMapping::kRequestHeader;
 }
 
 }  // namespace vnsba::node

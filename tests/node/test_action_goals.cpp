@@ -10,8 +10,8 @@ namespace vnsba::test {
 namespace {
 
 using node::CancelCode;
-using node::GoalState;
 using node::GoalStamp;
+using node::GoalState;
 using node::GoalUuid;
 using Goals = node::ActionGoals<std::string, int>;
 using namespace std::chrono_literals;

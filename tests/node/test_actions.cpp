@@ -122,8 +122,7 @@ struct ActionRun {
     EXPECT_TRUE(s.is_ok()) << s.message;
     if (!s.is_ok() || !client.wait_for_match(node)) return false;
     client.publish_slice(grid);
-    return node.wait_for_map(20s) && to_pose->wait_for_server(10s) &&
-           through->wait_for_server(10s);
+    return node.wait_for_map(20s) && to_pose->wait_for_server(10s) && through->wait_for_server(10s);
   }
   node::NodeConfig cfg;
   node::PlannerNode node;
@@ -195,8 +194,8 @@ TEST_P(BothMappings, ComputePathThroughPosesPassesThroughEveryPoseInOrder) {
     bool found = false;
     for (; from < result->path.poses().size() && !found; ++from) {
       const auto& p = result->path.poses()[from].pose().position();
-      found = std::hypot(p.x() - goal.pose().position().x(), p.y() - goal.pose().position().y()) <
-              1e-9;
+      found =
+          std::hypot(p.x() - goal.pose().position().x(), p.y() - goal.pose().position().y()) < 1e-9;
     }
     EXPECT_TRUE(found) << "goal (" << goal.pose().position().x() << ", "
                        << goal.pose().position().y() << ") not on the path after the previous one";
@@ -282,7 +281,8 @@ TEST(NavActions, TooManyPosesAndAReusedIdAreRefusedAndTheNodeKeepsServing) {
   const auto first = run.to_pose->plan(id, to_pose(0.55, 0.45, 1.0, 1.0), 15s);
   ASSERT_TRUE(first.has_value());
   EXPECT_EQ(first->status, GoalState::kSucceeded);
-  const auto again = run.to_pose->wait_accepted(run.to_pose->send_goal(id, to_pose(0.55, 0.45, 2.0, 1.0)), 15s);
+  const auto again =
+      run.to_pose->wait_accepted(run.to_pose->send_goal(id, to_pose(0.55, 0.45, 2.0, 1.0)), 15s);
   ASSERT_TRUE(again.has_value());
   EXPECT_FALSE(*again);
   const auto kept = run.to_pose->wait_result(run.to_pose->request_result(id), 15s);
@@ -417,10 +417,11 @@ TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
   for (int c = 0; c < kClients; ++c) {
     threads.emplace_back([&, c] {
       auto participant = node::Participant::create(run.cfg.domain_id, "client").value();
-      auto client = ActionClient::create(
-                        *participant, node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
-                        ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
-                        .value();
+      auto client =
+          ActionClient::create(*participant,
+                               node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
+                               ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
+              .value();
       if (!client->wait_for_server(15s)) {
         failed += kGoals;
         return;
@@ -430,8 +431,8 @@ TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
       std::vector<std::pair<node::GoalUuid, int64_t>> sent;
       for (int g = 0; g < kGoals; ++g) {
         const auto id = ActionClient::random_id();
-        sent.emplace_back(id, client->send_goal(id, to_pose(0.55, 0.45, 3.55 + 0.01 * g,
-                                                             0.35 + 0.1 * c)));
+        sent.emplace_back(
+            id, client->send_goal(id, to_pose(0.55, 0.45, 3.55 + 0.01 * g, 0.35 + 0.1 * c)));
       }
       for (auto& [id, request] : sent) {
         const auto accepted = client->wait_accepted(request, 15s);
@@ -464,14 +465,16 @@ TEST(NavActions, AClientThatVanishesMidGoalLeavesNothingBehindAfterTheResultTime
   const double far = 1600 * 0.05 - 0.025;
   {
     auto participant = node::Participant::create(run.cfg.domain_id, "vanishing").value();
-    auto client = ActionClient::create(
-                      *participant, node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
-                      ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
-                      .value();
+    auto client =
+        ActionClient::create(*participant,
+                             node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
+                             ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
+            .value();
     ASSERT_TRUE(client->wait_for_server(15s));
     const auto id = ActionClient::random_id();
-    ASSERT_EQ(client->wait_accepted(client->send_goal(id, to_pose(0.025, 0.025, far, far, "astar")), 15s),
-              std::optional<bool>(true));
+    ASSERT_EQ(
+        client->wait_accepted(client->send_goal(id, to_pose(0.025, 0.025, far, far, "astar")), 15s),
+        std::optional<bool>(true));
     client->request_result(id);
     client.reset();
     participant->shutdown();  // gone mid-goal
@@ -482,7 +485,8 @@ TEST(NavActions, AClientThatVanishesMidGoalLeavesNothingBehindAfterTheResultTime
     std::this_thread::sleep_for(50ms);
   EXPECT_EQ(run.node.stats().action_goals, 0u) << "the finished goal was never forgotten";
   // The node still serves.
-  const auto ok = run.to_pose->plan(ActionClient::random_id(), to_pose(0.025, 0.025, 1.0, 1.0), 15s);
+  const auto ok =
+      run.to_pose->plan(ActionClient::random_id(), to_pose(0.025, 0.025, 1.0, 1.0), 15s);
   ASSERT_TRUE(ok.has_value());
   EXPECT_EQ(ok->status, GoalState::kSucceeded);
 }
@@ -511,11 +515,11 @@ TEST(StressBursts, TenThousandActionGoalsFromTenClientsEachGetOneResult) {
   for (int c = 0; c < kClients; ++c) {
     threads.emplace_back([&, c] {
       auto participant = node::Participant::create(run.cfg.domain_id, "stress_client").value();
-      auto client = ActionClient::create(
-                        *participant,
-                        node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
-                        ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
-                        .value();
+      auto client =
+          ActionClient::create(*participant,
+                               node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
+                               ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
+              .value();
       if (!client->wait_for_server(15s)) return;
       std::vector<std::pair<node::GoalUuid, int64_t>> sent;
       for (int g = 0; g < kGoals; ++g) {

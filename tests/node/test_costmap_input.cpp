@@ -75,8 +75,8 @@ bool crosses_blocked(const core::OccupancyGrid& g, const PlanStatusMsg& status) 
   for (size_t i = 0; i + 1 < poses.size(); ++i) {
     const auto& a = poses[i].pose().position();
     const auto& b = poses[i + 1].pose().position();
-    const int n = std::max(2, static_cast<int>(std::hypot(b.x() - a.x(), b.y() - a.y()) /
-                                               g.resolution * 64) + 1);
+    const int n = std::max(
+        2, static_cast<int>(std::hypot(b.x() - a.x(), b.y() - a.y()) / g.resolution * 64) + 1);
     for (int k = 0; k < n; ++k) {
       const double t = static_cast<double>(k) / (n - 1);
       const int cx = static_cast<int>(std::floor((a.x() + t * (b.x() - a.x())) / g.resolution));

@@ -214,8 +214,8 @@ TEST(SecureBus, SecuredNodeAndClientsPlan) {
   EXPECT_NE(output.find(" OK "), std::string::npos) << output;
   // Nav2's action through the secured bus: the keystore grants its rq/ rr/ rt/ topics.
   const auto [action_code, action_output] =
-      run_to_exit(kSendGoal, {"--config", secured_config("send_goal.yaml"), "--action",
-                              "--start", "2", "-6", "--goal", "16", "-6.5", "--wait", "15"});
+      run_to_exit(kSendGoal, {"--config", secured_config("send_goal.yaml"), "--action", "--start",
+                              "2", "-6", "--goal", "16", "-6.5", "--wait", "15"});
   EXPECT_EQ(action_code, 0) << action_output;
   EXPECT_NE(action_output.find("SUCCEEDED"), std::string::npos) << action_output;
   slicer.signal(SIGINT);

@@ -51,8 +51,7 @@ class ActionClient {
   // `ros_name`: the action's full name, e.g. "/compute_path_to_pose".
   static core::Expected<std::unique_ptr<ActionClient>> create(Participant& participant,
                                                               const std::string& ros_name,
-                                                              ActionKind kind,
-                                                              WireMapping mapping);
+                                                              ActionKind kind, WireMapping mapping);
   ~ActionClient();
 
   // Until the three services' request readers and reply writers and the status and feedback

@@ -113,8 +113,8 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   const std::set<std::string> topic_names_;
   OnOther on_other_;
   mutable std::mutex mutex_;
-  std::map<std::string, std::string> names_;  // guid prefix -> participant name
-  std::set<std::string> reported_;            // guid prefixes
+  std::map<std::string, std::string> names_;               // guid prefix -> participant name
+  std::set<std::string> reported_;                         // guid prefixes
   std::map<std::string, std::array<uint8_t, 2>> vendors_;  // guid prefix -> vendor id
   FixHint fix_;
   std::atomic<size_t> incompatible_qos_{0};

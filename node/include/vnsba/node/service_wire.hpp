@@ -14,10 +14,11 @@
 // configuration's actions.reply_mapping.
 #pragma once
 
-#include <array>
-#include <cstdint>
 #include <fastcdr/Cdr.h>
 #include <fastcdr/FastBuffer.h>
+
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -81,8 +82,7 @@ RawSample encode_reply(const T& msg, WireMapping mapping, const RequestHeader& h
   const size_t extra = mapping == WireMapping::kRequestHeader ? header.size() : 0;
   RawSample out;
   out.bytes.resize(4 + extra + T::getCdrSerializedSize(msg) + 8);
-  eprosima::fastcdr::FastBuffer buffer(reinterpret_cast<char*>(out.bytes.data()),
-                                       out.bytes.size());
+  eprosima::fastcdr::FastBuffer buffer(reinterpret_cast<char*>(out.bytes.data()), out.bytes.size());
   eprosima::fastcdr::Cdr cdr(buffer, eprosima::fastcdr::Cdr::LITTLE_ENDIANNESS,
                              eprosima::fastcdr::Cdr::DDS_CDR);
   cdr.serialize_encapsulation();
