@@ -305,6 +305,55 @@ core::OccupancyGrid serpentine() {
         g.data[static_cast<size_t>(y) * g.width + x] = 100;
   return g;
 }
+// The centre of the serpentine's far corner cell, metres (x and y).
+constexpr double kFar = 1600 * 0.05 - 0.025;
+
+// A goal across the serpentine with astar (a plan of seconds), sent by `client`: its id once the
+// node accepted it, nullopt otherwise.
+std::optional<node::GoalUuid> long_goal_accepted(ActionClient& client, double goal_y = kFar) {
+  const auto id = ActionClient::random_id();
+  const auto accepted =
+      client.wait_accepted(client.send_goal(id, to_pose(0.025, 0.025, kFar, goal_y, "astar")), 15s);
+  if (!accepted.value_or(false)) return std::nullopt;
+  return id;
+}
+
+// A ComputePathToPose client on a participant of its own; the client goes first (its endpoints
+// before the participant).
+struct OwnClient {
+  OwnClient(const node::NodeConfig& cfg, const char* name)
+      : participant(node::Participant::create(cfg.domain_id, name).value()),
+        client(ActionClient::create(*participant,
+                                    node::ros_topic_name(cfg, cfg.topics.compute_path_to_pose),
+                                    ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
+                   .value()) {}
+  ~OwnClient() {
+    client.reset();
+    participant->shutdown();
+  }
+  std::unique_ptr<node::Participant> participant;
+  std::unique_ptr<ActionClient> client;
+};
+
+// Sends `goals` at once, then asks for each result once its goal is accepted, as rclcpp_action
+// does (a get_result before the acceptance would find no goal: UNKNOWN); the results received,
+// each within `timeout`, in the goals' order.
+std::vector<std::optional<node::ActionResultReply>> burst_of_goals(
+    ActionClient& client, const std::vector<ActionGoalSpec>& goals,
+    std::chrono::milliseconds timeout) {
+  std::vector<std::pair<node::GoalUuid, int64_t>> sent;
+  for (const ActionGoalSpec& goal : goals) {
+    const auto id = ActionClient::random_id();
+    sent.emplace_back(id, client.send_goal(id, goal));
+  }
+  for (auto& [id, request] : sent) {
+    const auto accepted = client.wait_accepted(request, timeout);
+    request = accepted.value_or(false) ? client.request_result(id) : -1;
+  }
+  std::vector<std::optional<node::ActionResultReply>> results;
+  for (const auto& [id, request] : sent) results.push_back(client.wait_result(request, timeout));
+  return results;
+}
 
 TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
   node::NodeConfig base;
@@ -312,12 +361,10 @@ TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
   ActionRun run("act_cancel", WireMapping::kSampleIdentity, base);
   const core::OccupancyGrid grid = serpentine();
   ASSERT_TRUE(run.start(grid));
-  const double far = 1600 * 0.05 - 0.025;
   // get_result right after acceptance, while the plan runs: answered when it ends.
-  const auto early = ActionClient::random_id();
-  ASSERT_EQ(run.to_pose->wait_accepted(
-                run.to_pose->send_goal(early, to_pose(0.025, 0.025, far, far, "astar")), 15s),
-            std::optional<bool>(true));
+  const auto accepted_early = long_goal_accepted(*run.to_pose);
+  ASSERT_TRUE(accepted_early.has_value());
+  const node::GoalUuid early = *accepted_early;
   const int64_t result_request = run.to_pose->request_result(early);
   EXPECT_TRUE(run.to_pose->wait_status(early, GoalState::kExecuting, 10s))
       << "the status topic never showed the goal executing";
@@ -328,10 +375,9 @@ TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
   EXPECT_GT(done->planning_time_s, 0.05) << "too quick to test a cancel on";
 
   // Cancel while it runs.
-  const auto id = ActionClient::random_id();
-  ASSERT_EQ(run.to_pose->wait_accepted(
-                run.to_pose->send_goal(id, to_pose(0.025, 0.025, far, far, "astar")), 15s),
-            std::optional<bool>(true));
+  const auto accepted = long_goal_accepted(*run.to_pose);
+  ASSERT_TRUE(accepted.has_value());
+  const node::GoalUuid id = *accepted;
   const int64_t pending = run.to_pose->request_result(id);
   ASSERT_TRUE(run.to_pose->wait_status(id, GoalState::kExecuting, 10s));
   const auto cancel = run.to_pose->wait_cancel(run.to_pose->request_cancel(id), 15s);
@@ -358,15 +404,14 @@ TEST(NavActions, ARunOutPlanningBudgetIsNav2sTimeoutOnBothActions) {
   base.planner.settings.max_planning_time = std::chrono::milliseconds(1);
   ActionRun run("act_timeout", WireMapping::kSampleIdentity, base);
   ASSERT_TRUE(run.start(serpentine()));
-  const double far = 1600 * 0.05 - 0.025;
   const auto to_pose_result =
-      run.to_pose->plan(ActionClient::random_id(), to_pose(0.025, 0.025, far, far, "astar"), 30s);
+      run.to_pose->plan(ActionClient::random_id(), to_pose(0.025, 0.025, kFar, kFar, "astar"), 30s);
   ASSERT_TRUE(to_pose_result.has_value());
   EXPECT_EQ(to_pose_result->status, GoalState::kAborted);
   EXPECT_EQ(to_pose_result->error_code, 207) << to_pose_result->error_msg;
   ActionGoalSpec through;
   through.start = pose(0.025, 0.025);
-  through.goals = {pose(0.5, 0.5), pose(far, far)};
+  through.goals = {pose(0.5, 0.5), pose(kFar, kFar)};
   const auto through_result = run.through->plan(ActionClient::random_id(), through, 30s);
   ASSERT_TRUE(through_result.has_value());
   EXPECT_EQ(through_result->status, GoalState::kAborted);
@@ -382,16 +427,13 @@ TEST(NavActions, AShutdownAnswersEveryAcceptedGoal) {
   base.preempt = false;
   ActionRun run("act_stop", WireMapping::kSampleIdentity, base);
   ASSERT_TRUE(run.start(serpentine()));
-  const double far = 1600 * 0.05 - 0.025;
   std::vector<int64_t> pending;
   std::vector<node::GoalUuid> ids;
   for (int g = 0; g < 3; ++g) {
-    const auto id = ActionClient::random_id();
-    ASSERT_EQ(run.to_pose->wait_accepted(
-                  run.to_pose->send_goal(id, to_pose(0.025, 0.025, far, far - g, "astar")), 15s),
-              std::optional<bool>(true));
-    pending.push_back(run.to_pose->request_result(id));
-    ids.push_back(id);
+    const auto id = long_goal_accepted(*run.to_pose, kFar - g);
+    ASSERT_TRUE(id.has_value());
+    pending.push_back(run.to_pose->request_result(*id));
+    ids.push_back(*id);
   }
   ASSERT_TRUE(run.to_pose->wait_status(ids[0], GoalState::kExecuting, 10s));
   run.node.stop();  // returns once every reply is acknowledged (or the drain's 10 s passed)
@@ -416,39 +458,22 @@ TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
   std::atomic<size_t> duplicates{0};
   for (int c = 0; c < kClients; ++c) {
     threads.emplace_back([&, c] {
-      auto participant = node::Participant::create(run.cfg.domain_id, "client").value();
-      auto client =
-          ActionClient::create(*participant,
-                               node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
-                               ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
-              .value();
-      if (!client->wait_for_server(15s)) {
+      OwnClient own(run.cfg, "client");
+      if (!own.client->wait_for_server(15s)) {
         failed += kGoals;
         return;
       }
-      // All goals at once; each get_result once its goal is accepted, as rclcpp_action does
-      // (a get_result before the acceptance would find no goal: UNKNOWN).
-      std::vector<std::pair<node::GoalUuid, int64_t>> sent;
-      for (int g = 0; g < kGoals; ++g) {
-        const auto id = ActionClient::random_id();
-        sent.emplace_back(
-            id, client->send_goal(id, to_pose(0.55, 0.45, 3.55 + 0.01 * g, 0.35 + 0.1 * c)));
-      }
-      for (auto& [id, request] : sent) {
-        const auto accepted = client->wait_accepted(request, 15s);
-        request = accepted.value_or(false) ? client->request_result(id) : -1;
-      }
-      for (const auto& [id, request] : sent) {
-        const auto result = client->wait_result(request, 30s);
+      std::vector<ActionGoalSpec> goals;
+      for (int g = 0; g < kGoals; ++g)
+        goals.push_back(to_pose(0.55, 0.45, 3.55 + 0.01 * g, 0.35 + 0.1 * c));
+      for (const auto& result : burst_of_goals(*own.client, goals, 30s)) {
         if (result && result->status == GoalState::kSucceeded && path_free(grid, result->path))
           ++succeeded;
         else
           ++failed;
       }
       std::this_thread::sleep_for(300ms);  // a duplicate would arrive by now
-      duplicates += client->duplicate_replies();
-      client.reset();
-      participant->shutdown();
+      duplicates += own.client->duplicate_replies();
     });
   }
   for (auto& t : threads) t.join();
@@ -462,23 +487,13 @@ TEST(NavActions, AClientThatVanishesMidGoalLeavesNothingBehindAfterTheResultTime
   base.actions.result_timeout = std::chrono::milliseconds(500);
   ActionRun run("act_vanish", WireMapping::kSampleIdentity, base);
   ASSERT_TRUE(run.start(serpentine()));
-  const double far = 1600 * 0.05 - 0.025;
   {
-    auto participant = node::Participant::create(run.cfg.domain_id, "vanishing").value();
-    auto client =
-        ActionClient::create(*participant,
-                             node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
-                             ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
-            .value();
-    ASSERT_TRUE(client->wait_for_server(15s));
-    const auto id = ActionClient::random_id();
-    ASSERT_EQ(
-        client->wait_accepted(client->send_goal(id, to_pose(0.025, 0.025, far, far, "astar")), 15s),
-        std::optional<bool>(true));
-    client->request_result(id);
-    client.reset();
-    participant->shutdown();  // gone mid-goal
-  }
+    OwnClient vanishing(run.cfg, "vanishing");
+    ASSERT_TRUE(vanishing.client->wait_for_server(15s));
+    const auto id = long_goal_accepted(*vanishing.client);
+    ASSERT_TRUE(id.has_value());
+    vanishing.client->request_result(*id);
+  }  // gone mid-goal
   EXPECT_GE(run.node.stats().action_goals, 1u);
   const auto end = std::chrono::steady_clock::now() + 60s;
   while (run.node.stats().action_goals > 0 && std::chrono::steady_clock::now() < end)
@@ -514,32 +529,16 @@ TEST(StressBursts, TenThousandActionGoalsFromTenClientsEachGetOneResult) {
   const auto t0 = std::chrono::steady_clock::now();
   for (int c = 0; c < kClients; ++c) {
     threads.emplace_back([&, c] {
-      auto participant = node::Participant::create(run.cfg.domain_id, "stress_client").value();
-      auto client =
-          ActionClient::create(*participant,
-                               node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose),
-                               ActionKind::kComputePathToPose, WireMapping::kSampleIdentity)
-              .value();
-      if (!client->wait_for_server(15s)) return;
-      std::vector<std::pair<node::GoalUuid, int64_t>> sent;
-      for (int g = 0; g < kGoals; ++g) {
-        const auto id = ActionClient::random_id();
-        sent.emplace_back(id, client->send_goal(id, to_pose(0.55, 0.45, 3.55, 0.35 + 0.02 * c)));
-      }
-      for (auto& [id, request] : sent) {
-        const auto accepted = client->wait_accepted(request, 120s);
-        request = accepted.value_or(false) ? client->request_result(id) : -1;
-      }
-      for (const auto& [id, request] : sent) {
-        const auto result = client->wait_result(request, 120s);
+      OwnClient own(run.cfg, "stress_client");
+      if (!own.client->wait_for_server(15s)) return;
+      const std::vector<ActionGoalSpec> goals(kGoals, to_pose(0.55, 0.45, 3.55, 0.35 + 0.02 * c));
+      for (const auto& result : burst_of_goals(*own.client, goals, 120s)) {
         if (!result) continue;
         ++results;
         if (result->status == GoalState::kSucceeded) ++succeeded;
       }
       std::this_thread::sleep_for(500ms);
-      duplicates += client->duplicate_replies();
-      client.reset();
-      participant->shutdown();
+      duplicates += own.client->duplicate_replies();
     });
   }
   for (auto& t : threads) t.join();
