@@ -315,4 +315,23 @@ class BusClient {
   node::dds::DataReader* debug_reader_ = nullptr;
 };
 
+// A node and a BusClient on `cfg`, started and matched.
+struct Running {
+  explicit Running(node::NodeConfig cfg) : config(std::move(cfg)), node(config), client(config) {}
+  node::NodeConfig config;
+  node::PlannerNode node;
+  BusClient client;
+  bool start() {
+    const core::Status s = node.start();
+    EXPECT_TRUE(s.is_ok()) << s.message;
+    return s.is_ok() && client.wait_for_match(node);
+  }
+  // start(), then `grid` as the node's map.
+  bool start_with_map(const core::OccupancyGrid& grid) {
+    if (!start()) return false;
+    client.publish_slice(grid);
+    return node.wait_for_map(10s);
+  }
+};
+
 }  // namespace vnsba::test

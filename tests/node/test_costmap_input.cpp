@@ -50,18 +50,6 @@ core::OccupancyGrid nav2_costmap() {
   return g;
 }
 
-struct Node {
-  explicit Node(node::NodeConfig c) : cfg(std::move(c)), planner(cfg), client(cfg) {}
-  node::NodeConfig cfg;
-  node::PlannerNode planner;
-  BusClient client;
-  bool start(const core::OccupancyGrid& grid) {
-    if (!planner.start().is_ok() || !client.wait_for_match(planner)) return false;
-    client.publish_slice(grid);
-    return planner.wait_for_map(10s);
-  }
-};
-
 node::NodeConfig with_topics(node::NodeConfig base, const std::string& tag) {
   const node::NodeConfig names = test_config(tag);
   base.domain_id = names.domain_id;
@@ -97,10 +85,10 @@ TEST(CostmapInput, PlansOnTheCostmapAsItIsLikeAnOwnMapOfTheSameCostsWithoutInfla
   own_cfg.map.occupied_threshold = node::kCostmapInscribed;
   own_cfg.map.robot_radius = 0.0;
   own_cfg.map.inflation_radius = 0.0;
-  Node costmap(with_topics(costmap_cfg, "costmap_in"));
-  Node own(with_topics(own_cfg, "costmap_own"));
-  ASSERT_TRUE(costmap.start(grid));
-  ASSERT_TRUE(own.start(grid));
+  Running costmap(with_topics(costmap_cfg, "costmap_in"));
+  Running own(with_topics(own_cfg, "costmap_own"));
+  ASSERT_TRUE(costmap.start_with_map(grid));
+  ASSERT_TRUE(own.start_with_map(grid));
   int compared = 0;
   for (const std::string planner : {"", "astar", "vns_bastar"}) {
     for (const auto& [gx, gy] : {std::pair{5.3, 1.0}, std::pair{5.5, 2.9}, std::pair{4.1, 3.6}}) {
@@ -132,10 +120,10 @@ TEST(CostmapInput, NarrowDoorsOfACostmapStayOpenOnlyWhenReadAsACostmap) {
   const core::OccupancyGrid grid = nav2_costmap();
   node::NodeConfig costmap_cfg = *node::default_config().config;
   costmap_cfg.map_cost_source = node::MapCostSource::kCostmap;
-  Node costmap(with_topics(costmap_cfg, "door_costmap"));
-  Node own(with_topics(*node::default_config().config, "door_own"));
-  ASSERT_TRUE(costmap.start(grid));
-  ASSERT_TRUE(own.start(grid));
+  Running costmap(with_topics(costmap_cfg, "door_costmap"));
+  Running own(with_topics(*node::default_config().config, "door_own"));
+  ASSERT_TRUE(costmap.start_with_map(grid));
+  ASSERT_TRUE(own.start_with_map(grid));
   // Through the 0.5 m door (y 0.75..1.25 m) and the 0.7 m one (y 2.5..3.2 m): a start and goal
   // level with each door, far enough from the wall that both are free either way.
   const std::pair<double, double> doors[] = {{1.0, 1.0}, {2.85, 2.85}};

@@ -71,24 +71,6 @@ bool wait_until(Pred pred, std::chrono::milliseconds timeout) {
   return true;
 }
 
-struct Running {
-  explicit Running(node::NodeConfig cfg) : config(std::move(cfg)), node(config), client(config) {}
-  node::NodeConfig config;
-  node::PlannerNode node;
-  BusClient client;
-  bool start() {
-    const core::Status s = node.start();
-    EXPECT_TRUE(s.is_ok()) << s.message;
-    return s.is_ok() && client.wait_for_match(node);
-  }
-  // start(), then `grid` as the node's map.
-  bool start_with_map(const core::OccupancyGrid& grid) {
-    if (!start()) return false;
-    client.publish_slice(grid);
-    return node.wait_for_map(10s);
-  }
-};
-
 // A map publisher with its own durability (octomap_server with latch:=false publishes volatile),
 // on its own participant: it publishes `grid` until `node` has a map or `timeout` passes.
 bool publish_until_accepted(const node::NodeConfig& cfg, node::PlannerNode& planner_node,
