@@ -11,7 +11,7 @@ namespace vnsba::node {
 
 namespace {
 
-std::string quoted(std::string_view frame) {
+std::string frame_quoted(std::string_view frame) {
   return "'" + std::string(frame) + "'";
 }
 
@@ -31,7 +31,8 @@ TransformTree::SetResult TransformTree::set(std::string_view parent_frame,
                                             bool is_static) {
   const std::string_view parent = without_leading_slash(parent_frame);
   const std::string_view child = without_leading_slash(child_frame);
-  const std::string what = "transform " + quoted(parent) + " -> " + quoted(child) + ": ";
+  const std::string what =
+      "transform " + frame_quoted(parent) + " -> " + frame_quoted(child) + ": ";
   auto refuse = [&](Refusal refusal, const std::string& why) {
     return SetResult{refusal, what + why};
   };
@@ -53,8 +54,8 @@ TransformTree::SetResult TransformTree::set(std::string_view parent_frame,
     const auto up = parent_of_.find(frame);
     if (up == parent_of_.end()) break;
     if (up->second.parent == child)
-      return refuse(Refusal::kLoop, "would close a loop (" + quoted(child) +
-                                        " is already an ancestor of " + quoted(parent) + ")");
+      return refuse(Refusal::kLoop, "would close a loop (" + frame_quoted(child) +
+                                        " is already an ancestor of " + frame_quoted(parent) + ")");
     if (depth >= kMaxDepth)
       return refuse(Refusal::kTooDeep, "would make a chain of more than " +
                                            std::to_string(kMaxDepth) +
@@ -89,7 +90,8 @@ TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
   const std::string_view target = without_leading_slash(target_frame);
   const std::string_view source = without_leading_slash(source_frame);
   Lookup result;
-  const std::string what = "no transform from " + quoted(target) + " to " + quoted(source) + ": ";
+  const std::string what =
+      "no transform from " + frame_quoted(target) + " to " + frame_quoted(source) + ": ";
   if (target == source) {
     result.ok = true;
     return result;
@@ -102,9 +104,9 @@ TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
   };
   // Every walk stops after kMaxDepth transforms: set() keeps chains within it, but a frame
   // given a new parent carries its own subtree along, which can make a deeper one.
-  const std::string too_deep = what + "the chain above " + quoted(source) + " and " +
-                               quoted(target) + " holds more than " + std::to_string(kMaxDepth) +
-                               " transforms (the limit)";
+  const std::string too_deep = what + "the chain above " + frame_quoted(source) + " and " +
+                               frame_quoted(target) + " holds more than " +
+                               std::to_string(kMaxDepth) + " transforms (the limit)";
   std::vector<Step> up_from_source{{source, Eigen::Isometry3d::Identity(), nullptr}};
   for (;;) {
     const auto it = parent_of_.find(up_from_source.back().frame);
@@ -135,12 +137,12 @@ TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
       if (parent_of_.empty())
         result.problem = what + "no transform has been received";
       else if (up_from_source.size() == 1)
-        result.problem =
-            what + "no transform with child frame " + quoted(source) + " has been " + "received";
+        result.problem = what + "no transform with child frame " + frame_quoted(source) +
+                         " has been " + "received";
       else
-        result.problem = what + "the received transforms join " + quoted(source) + " up to " +
-                         quoted(source_root) + " and " + quoted(target) + " up to " +
-                         quoted(frame) + ", and none joins those two";
+        result.problem = what + "the received transforms join " + frame_quoted(source) + " up to " +
+                         frame_quoted(source_root) + " and " + frame_quoted(target) + " up to " +
+                         frame_quoted(frame) + ", and none joins those two";
       return result;
     }
     if (used.size() >= kMaxDepth) {
@@ -161,19 +163,21 @@ TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
     if (newest == nullptr || edge->second.stamp_s > newest->second.stamp_s) newest = edge;
   }
   if (newest != nullptr && newest->second.stamp_s - now_s > kMaxAheadS) {
-    result.problem = "transform from " + quoted(target) + " to " + quoted(source) +
-                     " is in the future: " + quoted(newest->second.parent) + " -> " +
-                     quoted(newest->first) + " is stamped " + seconds(newest->second.stamp_s) +
-                     ", " + seconds(newest->second.stamp_s - now_s) + " after the node's clock (" +
+    result.problem = "transform from " + frame_quoted(target) + " to " + frame_quoted(source) +
+                     " is in the future: " + frame_quoted(newest->second.parent) + " -> " +
+                     frame_quoted(newest->first) + " is stamped " +
+                     seconds(newest->second.stamp_s) + ", " +
+                     seconds(newest->second.stamp_s - now_s) + " after the node's clock (" +
                      seconds(now_s) + "; at most " + seconds(kMaxAheadS) +
                      " ahead is taken, as tf2 does not extrapolate into the future)";
     return result;
   }
   if (oldest != nullptr && now_s - oldest->second.stamp_s > tolerance_s) {
-    result.problem = "transform from " + quoted(target) + " to " + quoted(source) +
-                     " is stale: " + quoted(oldest->second.parent) + " -> " +
-                     quoted(oldest->first) + " is " + seconds(now_s - oldest->second.stamp_s) +
-                     " old (transform_tolerance " + seconds(tolerance_s) + ")";
+    result.problem = "transform from " + frame_quoted(target) + " to " + frame_quoted(source) +
+                     " is stale: " + frame_quoted(oldest->second.parent) + " -> " +
+                     frame_quoted(oldest->first) + " is " +
+                     seconds(now_s - oldest->second.stamp_s) + " old (transform_tolerance " +
+                     seconds(tolerance_s) + ")";
     return result;
   }
   result.ok = true;

@@ -14,16 +14,17 @@ namespace {
 
 // At least 8 maps from every class (game, maze, room, random, street), 200 scenarios each,
 // spread evenly over the file so short and long queries are both covered.
-const char* const kMaps[] = {"arena",      "den312d",        "brc202d",        "lak303d",
-                             "ost003d",    "AR0011SR",       "BigGameHunters", "maze512-16-0",
-                             "16room_000", "random512-20-0", "Berlin_0_256",   "Boston_0_512"};
+const char* const kOptimalityMaps[] = {"arena",          "den312d",      "brc202d",
+                                       "lak303d",        "ost003d",      "AR0011SR",
+                                       "BigGameHunters", "maze512-16-0", "16room_000",
+                                       "random512-20-0", "Berlin_0_256", "Boston_0_512"};
 constexpr size_t kScenariosPerMap = 200;
 
 TEST(MovingAiOptimality, AStarMatchesPublishedOptima) {
   const std::string dir = data_path("movingai");
   if (!std::filesystem::exists(dir)) GTEST_SKIP() << "Moving AI data not found at " << dir;
   size_t checked = 0, maps = 0;
-  for (const char* name : kMaps) {
+  for (const char* name : kOptimalityMaps) {
     MovingAiCase loaded;
     ASSERT_TRUE(load_movingai(dir + "/" + name + ".map", &loaded));
     const auto* scenarios = &loaded.scenarios;

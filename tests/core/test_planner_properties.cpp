@@ -19,7 +19,7 @@ using core::PlannerKind;
 using core::PlannerOptions;
 using core::PlanResult;
 
-constexpr int kMaps = 2000;
+constexpr int kRandomMaps = 2000;
 
 // "" when no cell occurs twice in `path`, else the cell and its two positions.
 std::string first_revisit(const std::vector<Cell>& path) {
@@ -103,7 +103,7 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
   std::uniform_int_distribution<int> size(8, 200);
   std::uniform_real_distribution<double> density(0.0, 0.45);
   Tally tally;
-  for (int m = 0; m < kMaps; ++m) {
+  for (int m = 0; m < kRandomMaps; ++m) {
     const int w = size(rng), h = size(rng);
     auto built = GridMap::from_rows(random_rows(rng, w, h, density(rng)));
     ASSERT_TRUE(built);
@@ -138,9 +138,9 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
     }
   }
   // The sample must exercise both outcomes and real smoothing for the properties to mean much.
-  EXPECT_GT(tally.solvable, kMaps / 3);
-  EXPECT_GT(tally.unsolvable, kMaps / 20);
-  EXPECT_GT(tally.smoothed_corners, kMaps);
+  EXPECT_GT(tally.solvable, kRandomMaps / 3);
+  EXPECT_GT(tally.unsolvable, kRandomMaps / 20);
+  EXPECT_GT(tally.smoothed_corners, kRandomMaps);
 }
 
 // ALGORITHM.md section 3: the joined raw path of a bidirectional search never visits a cell

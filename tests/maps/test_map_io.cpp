@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "temp_files.hpp"
 #include "vnsba/maps/map_io.hpp"
 
 namespace {
@@ -29,27 +30,12 @@ using vnsba::maps::load_movingai_map;
 using vnsba::maps::load_movingai_scenarios;
 using vnsba::maps::MovingAiScenario;
 using vnsba::maps::save_map_server;
+using vnsba::test::FreshTempDir;
+using vnsba::test::ReadBytes;
+using vnsba::test::WriteBytes;
 
 std::string Fixture(const std::string& relative) {
   return std::string(VNSBA_FIXTURE_DIR) + "/" + relative;
-}
-
-// A fresh, empty folder under the gtest temp dir.
-fs::path FreshTempDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("vnsba_map_io_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string ReadBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void WriteBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << bytes;
 }
 
 std::vector<int> Bytes(const std::string& bytes) {

@@ -24,6 +24,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "temp_files.hpp"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
@@ -40,6 +41,9 @@ using vnsba::core::StatusCode;
 using vnsba::maps::slice_octree;
 using vnsba::maps::SliceBounds;
 using vnsba::maps::SliceOptions;
+using vnsba::test::FreshTempDir;
+using vnsba::test::ReadBytes;
+using vnsba::test::WriteBytes;
 
 constexpr float kOccupied = 2.0f;  // log-odds written into synthetic voxels
 constexpr float kFree = -2.0f;
@@ -48,23 +52,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string OctomapDir() {
   return std::string(VNSBA_DATA_DIR) + "/octomap";
-}
-
-fs::path FreshTempDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("vnsba_octomap_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-void WriteBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
 // Sets the voxels [x0, x1) x [y0, y1) x [z0, z1), in leaf units counted from 0, without pruning.

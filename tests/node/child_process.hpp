@@ -16,6 +16,20 @@
 
 namespace vnsba::test {
 
+// The executables under test, where this test target is given their paths.
+#ifdef VNSBA_NODE_BINARY
+inline const std::string kNode = VNSBA_NODE_BINARY;
+#endif
+#ifdef VNSBA_SLICER_BINARY
+inline const std::string kSlicer = VNSBA_SLICER_BINARY;
+#endif
+#ifdef VNSBA_RECORDER_BINARY
+inline const std::string kRecorder = VNSBA_RECORDER_BINARY;
+#endif
+#ifdef VNSBA_SEND_GOAL_BINARY
+inline const std::string kSendGoal = VNSBA_SEND_GOAL_BINARY;
+#endif
+
 class ChildProcess {
  public:
   ChildProcess(const std::string& binary, const std::vector<std::string>& args) {

@@ -11,8 +11,6 @@
 namespace vnsba::test {
 namespace {
 
-const std::string kNode = VNSBA_NODE_BINARY;
-
 TEST(NodeProcess, RefusesToStartOnABadConfigNamingEveryKey) {
   const std::string path = write_temp_file("bad.yaml", R"(
 domain_id: 999

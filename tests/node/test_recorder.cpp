@@ -21,7 +21,6 @@ namespace vnsba::test {
 namespace {
 
 namespace fs = std::filesystem;
-const std::string kRecorder = VNSBA_RECORDER_BINARY;
 
 fs::path fresh_dir(const std::string& tag) {
   const fs::path dir =

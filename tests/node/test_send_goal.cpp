@@ -28,8 +28,6 @@
 namespace vnsba::test {
 namespace {
 
-const std::string kSendGoal = VNSBA_SEND_GOAL_BINARY;
-
 // 4 m x 3 m at 0.1 m, origin (0, 0): a wall at x in [2.0, 2.1) m from y = 0 to 2 m, so paths
 // from the left half to the right half go around its top end.
 core::OccupancyGrid walled_room() {

@@ -18,8 +18,6 @@
 namespace vnsba::test {
 namespace {
 
-const std::string kSlicer = VNSBA_SLICER_BINARY;
-
 // A 6 m x 4 m room at 0.1 m: free air from z = 0.05 to 1.0 m, a wall at x = 3 m with a door at
 // y in [3, 3.5) m, and a pillar. `extra` adds a second wall so a changed file slices differently.
 std::shared_ptr<octomap::OcTree> room_tree(bool extra = false) {

@@ -19,8 +19,6 @@
 namespace vnsba::test {
 namespace {
 
-const std::string kNode = VNSBA_NODE_BINARY;
-
 // Resident set size of process `pid`, megabytes (VmRSS of /proc/<pid>/status); -1 if unknown.
 double rss_mb(pid_t pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");

@@ -428,10 +428,20 @@ TEST(TfOnTheBus, AGoalAfterAFloodOfChainedFramesGetsItsStatus) {
   ASSERT_TRUE(log.wait_for({"'" + tf_topic + "': refused"}, 20s)) << "the flood never arrived";
   robot.moved = true;
   std::this_thread::sleep_for(200ms);
-  const auto start = std::chrono::steady_clock::now();
-  const auto status = run.goal("goal-2");
-  ASSERT_TRUE(status) << "no status for the goal after the flood";
-  EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
+  // Every goal gets its status at once. While the node still works through the flood (seconds
+  // under the sanitizers: the robot's newer broadcasts wait behind it in the tf reader) the
+  // honest answer is a stale transform; once it is through, the goal plans from the new pose.
+  std::optional<PlanStatusMsg> status;
+  const auto give_up = std::chrono::steady_clock::now() + 30s;
+  for (int goal = 2; std::chrono::steady_clock::now() < give_up; ++goal) {
+    const auto start = std::chrono::steady_clock::now();
+    status = run.goal("goal-" + std::to_string(goal));
+    ASSERT_TRUE(status) << "no status for goal-" << goal << " after the flood";
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);
+    if (status->code() == OK) break;
+    ASSERT_NE(status->message().find("stale"), std::string::npos) << status->message();
+    std::this_thread::sleep_for(250ms);
+  }
   ASSERT_EQ(status->code(), OK) << status->message();
   EXPECT_NEAR(status->path().poses().front().pose().position().x(), 0.25, 1e-9);
   EXPECT_NEAR(status->path().poses().front().pose().position().y(), 0.35, 1e-9);

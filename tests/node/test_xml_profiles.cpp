@@ -79,11 +79,6 @@ std::string profiles_xml(const std::string& participant_profile, const std::stri
 )";
 }
 
-const std::string kNode = VNSBA_NODE_BINARY;
-const std::string kSlicer = VNSBA_SLICER_BINARY;
-const std::string kRecorder = VNSBA_RECORDER_BINARY;
-const std::string kSendGoal = VNSBA_SEND_GOAL_BINARY;
-
 // The value of property `name` in `properties`, or nullopt.
 std::optional<std::string> property_of(const eprosima::fastrtps::rtps::PropertyPolicy& properties,
                                        const std::string& name) {

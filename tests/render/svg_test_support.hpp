@@ -1,11 +1,12 @@
 // Reading pictures back for tests: parse the SVG with tinyxml2 and decode its layers into cells
-// and points, so tests compare the picture's geometry with the run it shows.
+// and points, so tests compare the picture's geometry with the run it shows; read a PNG's header.
 #pragma once
 
 #include <gtest/gtest.h>
 #include <tinyxml2.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <set>
 #include <sstream>
@@ -16,6 +17,13 @@
 #include "vnsba/core/geometry.hpp"
 
 namespace vnsba::test {
+
+// The 4-byte big-endian unsigned integer at byte `at` of `bytes` (PNG's byte order).
+inline uint32_t big_endian(const std::string& bytes, size_t at) {
+  uint32_t v = 0;
+  for (size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
+  return v;
+}
 
 // The element with this id anywhere under `e`, or nullptr.
 inline const tinyxml2::XMLElement* find_id(const tinyxml2::XMLElement* e, const std::string& id) {

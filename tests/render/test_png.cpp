@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "svg_test_support.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/render/png.hpp"
@@ -22,13 +23,6 @@ namespace {
 
 // PNG's 8-byte signature (PNG specification, section 5.2).
 const std::string kPngSignature("\x89PNG\r\n\x1a\n", 8);
-
-uint32_t big_endian(const std::string& bytes, size_t at) {
-  return (static_cast<uint32_t>(static_cast<unsigned char>(bytes[at])) << 24) |
-         (static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 1])) << 16) |
-         (static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 2])) << 8) |
-         static_cast<uint32_t>(static_cast<unsigned char>(bytes[at + 3]));
-}
 
 struct PngSize {
   uint32_t width = 0;

@@ -854,12 +854,6 @@ TEST(VnsbaPlan, JsonIsARunRecordThatRendersAsTheRun) {
     std::remove(f.c_str());
 }
 
-uint32_t big_endian(const std::string& bytes, size_t at) {
-  uint32_t v = 0;
-  for (size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
-  return v;
-}
-
 // --png writes a PNG (signature, then IHDR) of the size the SVG of the same run declares; an
 // unwritable file is exit 2 naming it.
 TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
