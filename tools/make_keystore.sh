@@ -165,20 +165,72 @@ action_topics() {
   printf '%s' "${out#,}"
 }
 
+# The subject of a certificate as DDS Security compares it (RFC 2253: "CN=/vnsba/node").
+subject_of() { openssl x509 -in "$1" -noout -subject -nameopt RFC2253 | sed 's/^subject=//'; }
+
+# A subject "/CN=NAME/serialNumber=NNNNNNNN" (the smallest such 8-digit number) whose SHA-256 (of
+# its DER encoding) starts with 12 one bits. Why: DDS Security makes a participant's GUID prefix
+# from that hash (its first bit set, then the hash's first 47 bits), and of two participants the
+# one with the smaller GUID starts the authentication handshake. Fast DDS 2.9 starts it with a
+# DH+MODP-2048-256 key in an encoding Cyclone DDS 0.10 cannot read; started by Cyclone (ECDH, with
+# an EC identity as here) it completes. So our Fast DDS executables' identities sort above nearly
+# every other: a peer whose identity sorts higher (about 1 in 4,000 with a plain "CN=name"
+# subject as sros2 makes them) cannot authenticate with a Cyclone DDS peer. Deterministic: the
+# same NAME always gets the same number. The candidates are hashed by coreutils' sha256sum.
+high_sorting_subject() {  # NAME
+  local name="$1" tmp start found=""
+  # In memory where there is /dev/shm: thousands of 50-byte files.
+  tmp="$(mktemp -d -p "$([ -w /dev/shm ] && echo /dev/shm || echo "${TMPDIR:-/tmp}")")"
+  start=0
+  while [ -z "$found" ] && [ "$start" -lt 100000000 ]; do
+    # DER: SEQUENCE { SET { SEQUENCE { OID commonName, UTF8String NAME } },
+    #                 SET { SEQUENCE { OID serialNumber, PrintableString 8 digits } } }
+    LC_ALL=C awk -v dir="$tmp" -v start="$start" -v count=1024 -v name="$name" 'BEGIN {
+      n = length(name)
+      der = sprintf("%c%c%c%c%c%c%c%c%c%c%c%c%c%s%c%c%c%c%c%c%c%c%c%c%c",
+                    48, 30 + n, 49, 9 + n, 48, 7 + n, 6, 3, 85, 4, 3, 12, n, name,
+                    49, 17, 48, 15, 6, 3, 85, 4, 5, 19, 8)
+      for (i = 0; i < count; ++i) {
+        f = sprintf("%s/%08d", dir, start + i)
+        printf "%s%08d", der, start + i > f
+        close(f)
+      }
+    }'
+    found="$(cd "$tmp" && sha256sum -- * | awk '/^fff/ { print $2; exit }')"
+    rm -f "$tmp"/*
+    start=$((start + 1024))
+  done
+  rmdir "$tmp"
+  [ -n "$found" ] || fail "no ordering serial number found for '$name'"
+  printf '/CN=%s/serialNumber=%s' "${name//\//\\/}" "$found"
+}
+
 # An ISO 8601 time (UTC) from an openssl date ("Jun  1 16:57:53 2034 GMT").
 iso_date() { date -u -d "$1" +%Y-%m-%dT%H:%M:%S; }
 
-enclave() {  # NAME PUBLISH SUBSCRIBE
-  local name="$1"
+enclave() {  # NAME PUBLISH SUBSCRIBE [ordered]
+  local name="$1" subject
   [[ "$name" =~ ^(/[A-Za-z_][A-Za-z0-9_]*)+$ ]] || fail "enclave '$name': expected a name like /vnsba/node"
   local d="$dir/enclaves${name}"
   local up
   mkdir -p "$d"
   up="$(realpath --relative-to="$d" "$dir")"
+  # The subject is the enclave name, as SROS2 has it (its '/' escaped for -subj); for our own
+  # executables ("ordered") with a serial number that makes it sort high (see above).
+  # An ordered enclave's certificate from an older keystore (a plain "CN=name") is made again,
+  # with the same key.
+  if [ "${4:-}" = ordered ] && [ -f "$d/cert.pem" ] &&
+    [[ "$(subject_of "$d/cert.pem")" != serialNumber=* ]]; then
+    rm -f "$d/cert.pem"
+  fi
   if [ ! -f "$d/cert.pem" ] || [ ! -f "$d/key.pem" ]; then
-    new_key "$d/key.pem"
-    # The subject is the enclave name, as SROS2 has it (its '/' escaped for -subj).
-    openssl req -new -sha256 -key "$d/key.pem" -subj "/CN=${name//\//\\/}" |
+    [ -f "$d/key.pem" ] || new_key "$d/key.pem"
+    if [ "${4:-}" = ordered ]; then
+      subject="$(high_sorting_subject "$name")"
+    else
+      subject="/CN=${name//\//\\/}"
+    fi
+    openssl req -new -sha256 -key "$d/key.pem" -subj "$subject" |
       openssl x509 -req -sha256 -days "$days" -CA "$dir/public/ca.cert.pem" \
         -CAkey "$dir/private/ca.key.pem" -set_serial "0x$(openssl rand -hex 16)" \
         -extfile <(printf 'basicConstraints=critical,CA:false\n') -out "$d/cert.pem" 2>/dev/null
@@ -200,7 +252,7 @@ enclave() {  # NAME PUBLISH SUBSCRIBE
     echo '    xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd">'
     echo '  <permissions>'
     echo "    <grant name=\"$name\">"
-    echo "      <subject_name>CN=$name</subject_name>"
+    echo "      <subject_name>$(subject_of "$d/cert.pem")</subject_name>"
     echo "      <validity><not_before>$not_before</not_before><not_after>$not_after</not_after></validity>"
     echo '      <allow_rule>'
     echo "        <domains>$domains_xml</domains>"
@@ -234,10 +286,10 @@ for action in compute_path_to_pose compute_path_through_poses; do
   send_goal_out+=",$(action_topics "$action" "client out")"
   send_goal_in+=",$(action_topics "$action" "client in")"
 done
-enclave /vnsba/node "$node_out" "$node_in"
-enclave /vnsba/slicer projected_map octomap_binary
-enclave /vnsba/recorder - "projected_map,plan_request,goal_pose,robot_pose,plan,plan_status,planner_debug"
-enclave /vnsba/send_goal "$send_goal_out" "$send_goal_in"
+enclave /vnsba/node "$node_out" "$node_in" ordered
+enclave /vnsba/slicer projected_map octomap_binary ordered
+enclave /vnsba/recorder - "projected_map,plan_request,goal_pose,robot_pose,plan,plan_status,planner_debug" ordered
+enclave /vnsba/send_goal "$send_goal_out" "$send_goal_in" ordered
 for ((i = 0; i < ${#extra[@]}; i += 3)); do
   enclave "${extra[i]}" "${extra[i + 1]}" "${extra[i + 2]}"
 done

@@ -421,6 +421,18 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
     }
     spdlog::info("security: enclave '{}' ({}), DDS Security on", security_plan->enclave,
                  security_plan->enclave_directory);
+    // The GUID prefix starts with a 1 bit, then the first 47 bits of the SHA-256 of the
+    // certificate's subject. Below ff.f8 (12 one bits of that hash, what tools/make_keystore.sh
+    // gives its own enclaves), Cyclone DDS peers whose identity sorts higher wait for this
+    // participant to start the handshake, which Fast DDS 2.9 starts with a key agreement Cyclone
+    // DDS 0.10 cannot read.
+    const auto& prefix = self->participant_->guid().guidPrefix.value;
+    if (prefix[0] != 0xff || prefix[1] < 0xf8)
+      spdlog::warn(
+          "security: this identity's GUID prefix ({:02x}.{:02x}...) sorts below most: Cyclone DDS "
+          "peers with an identity that sorts above it cannot authenticate with it (a Fast DDS 2.9 "
+          "limit); enclaves of tools/make_keystore.sh sort first (docs/security.md)",
+          prefix[0], prefix[1]);
   }
   if (self->participant_ == nullptr)
     return dds_error("create_participant(domain " + std::to_string(domain_id) + ")");

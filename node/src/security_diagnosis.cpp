@@ -187,7 +187,7 @@ std::vector<std::string> security_lines_since(Steady::time_point since, const st
   return found;
 }
 
-std::string prefix_of(const eprosima::fastrtps::rtps::GUID_t& guid) {
+std::string prefix_text(const eprosima::fastrtps::rtps::GUID_t& guid) {
   std::ostringstream out;
   out << guid.guidPrefix;
   return out.str();
@@ -196,7 +196,15 @@ std::string prefix_of(const eprosima::fastrtps::rtps::GUID_t& guid) {
 // How a remote participant announced itself: its name, and its certificate's and CA's subjects
 // from its identity token, or that it has none (an unsecured participant).
 std::string announced(const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
-  std::string out = "'" + printable(data.m_participantName.to_string()) + "'";
+  const auto& vendor = data.m_VendorId;
+  char vendor_text[48];
+  if (vendor[0] == 0x01 && vendor[1] == 0x0f)
+    std::snprintf(vendor_text, sizeof vendor_text, "Fast DDS");
+  else if (vendor[0] == 0x01 && vendor[1] == 0x10)
+    std::snprintf(vendor_text, sizeof vendor_text, "Cyclone DDS");
+  else
+    std::snprintf(vendor_text, sizeof vendor_text, "vendor id %02x.%02x", vendor[0], vendor[1]);
+  std::string out = "'" + printable(data.m_participantName.to_string()) + "' on " + vendor_text;
   std::string certificate, ca;
   // X509_NAME_oneline's subjects ("/CN=\/vnsba\/node"), shown without its escapes.
   auto subject = [](std::string text) {
@@ -245,7 +253,7 @@ void RefusedPeers::on_participant_discovery(
     const eprosima::fastdds::dds::DomainParticipant* local,
     const eprosima::fastrtps::rtps::ParticipantDiscoveryInfo& info) {
   using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-  const std::string prefix = prefix_of(info.info.m_guid);
+  const std::string prefix = prefix_text(info.info.m_guid);
   std::lock_guard<std::mutex> lock(mutex_);
   if (!secured_ && local != nullptr) {
     // The authentication plugin is a property of the participant's QoS (security.cpp sets it).
@@ -269,16 +277,21 @@ void RefusedPeers::on_participant_discovery(
     flooded_ = true;
     return;
   }
+  // RTPS vendor id 01.10: Eclipse Cyclone DDS. Of two participants the one with the smaller GUID
+  // starts the handshake (DDS Security 1.1, 9.3.2; both vendors' PKI-DH plugins).
+  const auto& vendor = info.info.m_VendorId;
+  const bool cyclone = vendor[0] == 0x01 && vendor[1] == 0x10;
+  const bool we_start = local != nullptr && local->guid().guidPrefix < info.info.m_guid.guidPrefix;
   pending_[prefix] = {announced(info.info), !info.info.identity_token_.class_id().empty(),
-                      Steady::now() + timeout_};
+                      cyclone && we_start, Steady::now() + timeout_};
   wake_.notify_all();
 }
 
 void RefusedPeers::on_participant_authentication(
     const eprosima::fastrtps::rtps::ParticipantAuthenticationInfo& info) {
   using Status = eprosima::fastrtps::rtps::ParticipantAuthenticationInfo;
-  const std::string prefix = prefix_of(info.guid);
-  Pending remote{"not announced", true, {}};
+  const std::string prefix = prefix_text(info.guid);
+  Pending remote{"not announced", true, false, {}};
   {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto it = pending_.find(prefix);
@@ -350,6 +363,13 @@ void RefusedPeers::watch() {
           why += printable(lines.back(), 512);
         else if (!remote.has_identity)
           why += kWithoutSecurity;
+        else if (remote.cyclone_waits_for_us)
+          why +=
+              "it is a Cyclone DDS participant whose GUID prefix sorts above this one's, so this "
+              "participant started the handshake, and Fast DDS 2.9 starts it with a "
+              "DH+MODP-2048-256 key in an encoding Cyclone DDS 0.10 cannot read (Cyclone started "
+              "handshakes complete); identities from tools/make_keystore.sh sort first, see "
+              "docs/security.md";
         else
           why +=
               "it has not answered this participant's handshake (it refuses this participant's "

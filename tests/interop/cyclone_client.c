@@ -6,7 +6,7 @@
  *
  *   vnsba_cyclone_client --domain N [--namespace NS] [--map-durability transient_local|volatile]
  *                        [--debug-layers] [--bench N [--fresh K] [--fresh-delay MS]
- * [--strict-fresh]]
+ * [--strict-fresh]] [--refused S]
  *
  * Default run (exit 1 with FAILED lines on stderr when a check fails, 2 on bad usage):
  *   - types: each topic's type name is the ROS 2 DDS name ("nav_msgs::msg::dds_::Path_"), the
@@ -38,6 +38,9 @@
  *   discovery complete (its request writer and status reader both matched with the node's) to its
  *   first status, and how many first statuses were lost (see kLostFirstStatus); with
  *   --strict-fresh a lost one fails the run.
+ * --refused S: the node must stay out of reach (a secured node and a client without security or
+ *   from another CA): none of the client's endpoints matches the node's within S seconds, with
+ *   its map and a request written; exit 0 then, 1 if any matched.
  */
 #include <math.h>
 #include <spawn.h>
@@ -164,6 +167,7 @@ typedef struct {
   bool map_volatile, debug_layers;
   int bench, fresh, fresh_delay_ms;
   bool strict_fresh; /* a lost first answer fails the run */
+  int refused_s;     /* --refused S: expect no match within S seconds; 0: a normal run */
 } Options;
 
 static void check_answer(const char* what, const Answer* a, const Awaited* w) {
@@ -567,6 +571,21 @@ static int run_checks(const Options* o) {
     endpoints[count++] = bus.meeting = reader(&kMeeting, ros_default_qos());
   }
   const double t0 = now_s();
+  if (o->refused_s > 0) {
+    double sx, sy, gx, gy;
+    request_ends(&sx, &sy, &gx, &gy);
+    send_request(&bus, "refused-0", sx, sy, gx, gy);      /* nothing matched: it goes nowhere */
+    wait_matched(endpoints, count, (double)o->refused_s); /* returns early only if all matched */
+    int matched = 0;
+    for (int i = 0; i < count; ++i) matched += is_matched(endpoints[i]) ? 1 : 0;
+    if (matched > 0) {
+      fprintf(stderr, "FAILED: %d of %d endpoints matched the node, which must refuse us\n",
+              matched, count);
+      return 1;
+    }
+    printf("refused: none of the %d endpoints matched the node in %d s\n", count, o->refused_s);
+    return 0;
+  }
   if (wait_matched(endpoints, count, 20.0) < 0) {
     fprintf(stderr, "FAILED: the node did not match all %d endpoints within 20 s\n", count);
     return 1;
@@ -611,6 +630,8 @@ static int run_checks(const Options* o) {
   memset(debug_paths, 0, sizeof debug_paths);
   memset(layers, 0, sizeof layers);
   memset(&meeting, 0, sizeof meeting);
+  /* For run_interop.sh's secure mode, which sends the same request from a Fast DDS client. */
+  printf("request ends: %.17g %.17g %.17g %.17g\n", sx, sy, gx, gy);
   Answer a = plan_request(&bus, o, sx, sy, gx, gy, debug_paths, layers, &meeting);
   if (o->map_volatile) check_xcdr1(own_map, "the client's OccupancyGrid (volatile)", 1.0);
   check_xcdr1(own_request, "the client's PlanRequest", 1.0);
@@ -633,7 +654,7 @@ static int run_checks(const Options* o) {
 }
 
 int main(int argc, char** argv) {
-  Options o = {false, false, -1, 20, 0, false};
+  Options o = {false, false, -1, 20, 0, false, 0};
   int domain = -1;
   bool fresh_child = false;
   for (int i = 1; i < argc; ++i) {
@@ -657,13 +678,15 @@ int main(int argc, char** argv) {
       ++i;
     } else if (strcmp(arg, "--strict-fresh") == 0) {
       o.strict_fresh = true;
+    } else if (strcmp(arg, "--refused") == 0 && value && parse_int(value, 1, 600, &o.refused_s)) {
+      ++i;
     } else if (strcmp(arg, "--fresh-client") == 0) {
       fresh_child = true;
     } else {
       fprintf(stderr,
               "%s: bad argument '%s'\nusage: %s --domain 0..232 [--namespace NS]"
               " [--map-durability transient_local|volatile] [--debug-layers]"
-              " [--bench N [--fresh K] [--fresh-delay MS] [--strict-fresh]]\n",
+              " [--bench N [--fresh K] [--fresh-delay MS] [--strict-fresh]] [--refused S]\n",
               argv[0], arg, argv[0]);
       return 2;
     }

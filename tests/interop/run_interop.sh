@@ -4,10 +4,18 @@
 # Prints the node's log when anything failed.
 #   run_interop.sh NODE CLIENT MODE [client args...]
 #   MODE: transient_local | volatile | localhost | debug_layers | fresh_clients, CLIENT
-#         vnsba_cyclone_client; action | action_cancel, CLIENT vnsba_cyclone_action_client
+#         vnsba_cyclone_client; action | action_cancel, CLIENT vnsba_cyclone_action_client;
+#         secure | secure_open | secure_other_ca, CLIENT vnsba_cyclone_client: the node secured
+#         with a keystore of tools/make_keystore.sh, the client secured with an enclave of the
+#         same keystore (it plans: every check of a default run), without security or with an
+#         enclave of another keystore (refused: nothing matches, and the node logs the refusal
+#         once, naming the Cyclone DDS participant). Cyclone's security plugins are looked for in
+#         $VNSBA_CYCLONE_SECURITY_LIBS (a folder), else found by the dynamic loader.
 # Measurements (nothing asserted), over loopback:
 #   run_interop.sh NODE CLIENT localhost --bench 2000 --fresh 40
 #   run_interop.sh NODE ACTION_CLIENT action --bench 1000
+#   run_interop.sh NODE CLIENT secure --bench 2000 (against transient_local --bench 2000)
+# secure also sends the Cyclone client's request from vnsba_send_goal ($VNSBA_SEND_GOAL).
 set -euo pipefail
 node_bin=$1 client_bin=$2 mode=$3
 shift 3
@@ -19,9 +27,12 @@ case "$mode" in
   fresh_clients) domain=211 durability=transient_local localhost=true ;;
   action) domain=216 durability=transient_local localhost=false ;;
   action_cancel) domain=217 durability=transient_local localhost=false ;;
+  secure) domain=219 durability=transient_local localhost=false ;;
+  secure_open) domain=220 durability=transient_local localhost=false ;;
+  secure_other_ca) domain=221 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
-      "fresh_clients, action or action_cancel" >&2
+      "fresh_clients, action, action_cancel, secure, secure_open or secure_other_ca" >&2
     exit 2
     ;;
 esac
@@ -31,6 +42,9 @@ case "$mode" in
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi
+# Refused clients wait this long (s) for a match that must not come: twice the node's handshake
+# timeout for its refusal log line (10 s would be the first time it reports a silent peer).
+if [[ "$mode" == secure_open || "$mode" == secure_other_ca ]]; then client_args+=(--refused 12); fi
 # 20 fresh client processes over loopback, each sending its request the moment it matched the
 # node: every one must get its first status.
 if [[ "$mode" == fresh_clients ]]; then client_args+=(--bench 0 --fresh 20 --strict-fresh); fi
@@ -49,12 +63,16 @@ trap cleanup EXIT
 # would reconfigure the client.
 unset ROS_LOCALHOST_ONLY ROS_DISCOVERY_SERVER ROS_SECURITY_ENABLE CYCLONEDDS_URI
 ns="interop_${mode}_$$"
+# Secured runs use the default topic names (a keystore's permissions name topics; the domains
+# 219..221 are these runs' alone among the interop runs; participants of other suites there
+# are refused, having other CAs).
+if [[ "$mode" == secure* ]]; then ns=""; fi
 # robot_radius 0 and no cost gradient (the node's built-in defaults, the paper's binary grid,
 # spelled out): paths pass the ends of the client's wall within a few centimetres, where an
 # oracle that sampled segments instead of walking them exactly could miss a clipped corner.
 cat >"$work/node.yaml" <<YAML
 domain_id: $domain
-namespace: $ns
+namespace: "$ns"
 map:
   durability: $durability
   robot_radius: 0
@@ -82,14 +100,84 @@ if [[ "$localhost" == true ]]; then
   export CYCLONEDDS_URI='<CycloneDDS><Domain><General><Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces><AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex><Peers><Peer address="127.0.0.1"/></Peers></Discovery></Domain></CycloneDDS>'
 fi
 
+if [[ "$mode" == secure* ]]; then
+  make_keystore="$(dirname "$0")/../../tools/make_keystore.sh"
+  # The client's enclave: what it publishes and reads (both ways: it also reads back its own
+  # samples to check their encapsulation).
+  client_topics=projected_map,plan_request,robot_pose,goal_pose,plan_status,plan
+  bash "$make_keystore" "$work/keystore" --domain "$domain" \
+    --enclave /vnsba/cyclone_client "$client_topics" "$client_topics" >/dev/null
+  cat >>"$work/node.yaml" <<YAML
+security:
+  enable: true
+  keystore: $work/keystore
+YAML
+  client_keystore="$work/keystore"
+  if [[ "$mode" == secure_other_ca ]]; then
+    client_keystore="$work/other_keystore"
+    bash "$make_keystore" "$client_keystore" --domain "$domain" \
+      --enclave /vnsba/cyclone_client "$client_topics" "$client_topics" >/dev/null
+  fi
+  if [[ "$mode" != secure_open ]]; then
+    # Cyclone DDS's DDS Security configuration, as rmw_cyclonedds writes it from an SROS2
+    # enclave: the builtin plugins, the enclave's identity, permissions and governance.
+    e="$client_keystore/enclaves/vnsba/cyclone_client"
+    lib() { echo "${VNSBA_CYCLONE_SECURITY_LIBS:+$VNSBA_CYCLONE_SECURITY_LIBS/}libdds_security_$1.so"; }
+    export CYCLONEDDS_URI="<CycloneDDS><Domain id=\"any\"><Security>
+<Authentication><Library path=\"$(lib auth)\" initFunction=\"init_authentication\" finalizeFunction=\"finalize_authentication\"/>
+<IdentityCertificate>file:$e/cert.pem</IdentityCertificate><IdentityCA>file:$e/identity_ca.cert.pem</IdentityCA>
+<PrivateKey>file:$e/key.pem</PrivateKey></Authentication>
+<AccessControl><Library path=\"$(lib ac)\" initFunction=\"init_access_control\" finalizeFunction=\"finalize_access_control\"/>
+<PermissionsCA>file:$e/permissions_ca.cert.pem</PermissionsCA><Governance>file:$e/governance.p7s</Governance>
+<Permissions>file:$e/permissions.p7s</Permissions></AccessControl>
+<Cryptographic><Library path=\"$(lib crypto)\" initFunction=\"init_crypto\" finalizeFunction=\"finalize_crypto\"/></Cryptographic>
+</Security></Domain></CycloneDDS>"
+  fi
+fi
+
 "$node_bin" --config "$work/node.yaml" >"$work/node.log" 2>&1 &
 node_pid=$!
 status=0
-"$client_bin" "${client_args[@]}" --namespace "$ns" "$@" || status=$?
-kill -TERM "$node_pid"
+"$client_bin" "${client_args[@]}" --namespace "$ns" "$@" > >(tee "$work/client.out") || status=$?
+if [[ "$mode" == secure && $status -eq 0 ]] && grep -q "^request ends: " "$work/client.out"; then
+  # The same request from a secured Fast DDS client (vnsba_send_goal, enclave /vnsba/send_goal)
+  # on the map the Cyclone client left latched: the node must plan it exactly as it planned the
+  # Cyclone client's (its log line: planner, code, length, clearance, turns, expansions).
+  read -r sx sy gx gy < <(sed -n 's/^request ends: //p' "$work/client.out")
+  "$VNSBA_SEND_GOAL" --config "$work/node.yaml" --id fastdds-same-request --start "$sx" "$sy" \
+    --goal "$gx" "$gy" --wait 20 || status=$?
+  plan_line() { grep "plan '$1'" "$work/node.log" | sed "s/.*plan '$1' //; s/, [0-9]* us planning.*//"; }
+  cyclone_plan="$(plan_line "$(sed -n 's/^plan_request \([^:]*\): OK.*/\1/p' "$work/client.out")")"
+  fastdds_plan="$(plan_line fastdds-same-request)"
+  if [[ -z "$cyclone_plan" || "$cyclone_plan" != "$fastdds_plan" ]]; then
+    echo "FAILED: the same request planned differently: Cyclone DDS client '$cyclone_plan'," \
+      "Fast DDS client '$fastdds_plan'" >&2
+    status=1
+  else
+    echo "same request from both vendors' secured clients: $cyclone_plan"
+  fi
+fi
+kill -TERM "$node_pid" 2>/dev/null || true
 node_status=0
 wait "$node_pid" || node_status=$?
 node_pid=
+if [[ "$mode" == secure* && $status -eq 0 ]]; then
+  # The node's side: a refused Cyclone DDS client is one log line naming it; an admitted one
+  # none, and the node's identity sorts above it (no warning about that).
+  refusals=$(grep -c "refused remote participant .* on Cyclone DDS" "$work/node.log" || true)
+  expected=1
+  [[ "$mode" == secure ]] && expected=0
+  if [[ "$refusals" -ne "$expected" ]]; then
+    echo "FAILED: $refusals refusal lines naming a Cyclone DDS participant, expected $expected" >&2
+    status=1
+  elif grep -q "sorts below most" "$work/node.log"; then
+    echo "FAILED: the node's identity does not sort first" >&2
+    status=1
+  else
+    echo "node: $refusals refusal line(s) naming the Cyclone DDS client, as expected"
+    grep "refused remote participant" "$work/node.log" || true
+  fi
+fi
 if [[ $status -ne 0 || $node_status -ne 0 ]]; then
   echo "--- client exit $status, node exit $node_status (0 expected); the node's log:" >&2
   cat "$work/node.log" >&2

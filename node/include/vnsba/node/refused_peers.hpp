@@ -68,6 +68,9 @@ class RefusedPeers {
   struct Pending {
     std::string announced;      // "'name', certificate /CN=... of CA /CN=..." as it announced it
     bool has_identity = false;  // it announced a DDS Security identity
+    // A Cyclone DDS participant whose GUID sorts above ours: this participant (Fast DDS 2.9)
+    // starts the handshake with a key agreement Cyclone DDS 0.10 cannot read.
+    bool cyclone_waits_for_us = false;
     std::chrono::steady_clock::time_point deadline;
   };
   void report(const std::string& prefix, const std::string& announced, const std::string& why);
