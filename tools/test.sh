@@ -8,13 +8,15 @@
 #      fastddsgen-generated types are not). They run here only: the sanitizers check more than
 #      an optimised build does, and running them twice would not fit the CI's 25 minutes on 2
 #      cores. To run them in the Release build too:
+#        cmake -S . -B build/release -DVNSBA_BUILD_ALL_TESTS=ON && cmake --build build/release -j 2
 #        ctest --test-dir build/release --output-on-failure -j 2 -L "core|node|fuzz" -LE fuzz_long
 # The fuzz suite (label fuzz, tests/fuzz) feeds every loader a few thousand mutated real files in
-# both stages. Its 50x longer run (label fuzz_long) is left out of both; run it by hand with
+# the sanitizer stage. Its 50x longer run (label fuzz_long) is left out of both; run it by hand with
 #   ctest --test-dir build/asan --output-on-failure -L fuzz_long
 # The soak (label soak: vnsba_node for 10 minutes under steady load) is left out too:
 #   ctest --test-dir build/release --output-on-failure -L soak
-# and so are the full-size bursts (label stress: 3 clients x 5,000 requests, SIGTERM mid-burst):
+# and so are the full-size bursts (label stress: 3 clients x 5,000 requests, SIGTERM mid-burst), in
+# a Release build with every suite (VNSBA_BUILD_ALL_TESTS=ON, above) or in build/asan:
 #   ctest --test-dir build/release --output-on-failure -L stress
 # Build folders: build/release and build/asan (reused, so a second run only rebuilds changes).
 set -euo pipefail
@@ -24,7 +26,9 @@ jobs=$(nproc 2>/dev/null || echo 2)
 bash tools/bootstrap.sh
 
 echo "[test] release build"
-cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Without the suites it does not run (VNSBA_BUILD_ALL_TESTS=OFF): they build in the sanitizer
+# stage. For all of them in Release: cmake -S . -B build/release -DVNSBA_BUILD_ALL_TESTS=ON
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DVNSBA_BUILD_ALL_TESTS=OFF >/dev/null
 cmake --build build/release -j "$jobs"
 echo "[test] release tests"
 ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900 \

@@ -699,5 +699,12 @@ int main(int argc, char** argv) {
   if (fresh_child) return fresh_client(domain, o.fresh_delay_ms);
   participant = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
   if (participant < 0) die("cannot create the participant", participant);
+  /* As the node's logs write a GUID prefix (run_interop.sh's secure modes look for it there). */
+  dds_guid_t guid;
+  if (dds_get_guid(participant, &guid) == DDS_RETCODE_OK) {
+    printf("participant GUID prefix: ");
+    for (int i = 0; i < 12; ++i) printf(i == 0 ? "%02x" : ".%02x", guid.v[i]);
+    printf("\n");
+  }
   return o.bench >= 0 ? bench(&o, domain) : run_checks(&o);
 }
