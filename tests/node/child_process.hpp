@@ -2,6 +2,7 @@
 // goes to a log file, and the test can wait for it, signal it, and read what it said.
 #pragma once
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -36,16 +37,22 @@ class ChildProcess {
     static int counter = 0;
     log_ = ::testing::TempDir() + "/child_" + std::to_string(getpid()) + "_" +
            std::to_string(++counter) + ".log";
+    // Everything the child needs is made before fork(): the parent has DDS threads, one of which
+    // may hold an allocator lock at the fork, and the child (this thread alone) would wait for
+    // it forever: a child spun 4 minutes in AddressSanitizer's allocator, between freopen() and
+    // execv(). Between fork and exec only async-signal-safe calls.
+    std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const int log_fd = ::open(log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     pid_ = fork();
     if (pid_ == 0) {
-      FILE* out = std::freopen(log_.c_str(), "w", stdout);
-      if (out == nullptr || dup2(fileno(stdout), fileno(stderr)) < 0) _exit(127);
-      std::vector<char*> argv{const_cast<char*>(binary.c_str())};
-      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
+      if (log_fd < 0 || dup2(log_fd, STDOUT_FILENO) < 0 || dup2(log_fd, STDERR_FILENO) < 0)
+        _exit(127);
       execv(binary.c_str(), argv.data());
       _exit(127);
     }
+    if (log_fd >= 0) ::close(log_fd);
   }
   ~ChildProcess() {
     if (running()) {
