@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Makes an SROS2-layout DDS Security keystore for vnsba's executables, with openssl only:
+# Makes an SROS2-layout DDS Security keystore for vnsba's executables (openssl, awk, coreutils):
 #
 #   DIR/public/ca.cert.pem             the CA (identity and permissions CA are one, as
 #   DIR/private/ca.key.pem             `ros2 security create_keystore` makes them), and the
@@ -8,7 +8,9 @@
 #                                      every RTPS message signed; no unauthenticated
 #                                      participants; join access control on
 #   DIR/enclaves/vnsba/node/...        one enclave per executable (/vnsba/node, /vnsba/slicer,
-#                                      /vnsba/recorder, /vnsba/send_goal): cert.pem, key.pem,
+#                                      /vnsba/recorder, /vnsba/send_goal): cert.pem (subject
+#                                      CN=<enclave> and a serialNumber that makes its identity
+#                                      sort first, for Cyclone DDS peers), key.pem,
 #                                      permissions.xml and permissions.p7s (only the DDS topics
 #                                      that executable publishes and subscribes), and links to
 #                                      identity_ca.cert.pem, permissions_ca.cert.pem and
