@@ -176,11 +176,13 @@ subject_of() { openssl x509 -in "$1" -noout -subject -nameopt RFC2253 | sed 's/^
 # one with the smaller GUID starts the authentication handshake. Fast DDS 2.9 starts it with a
 # DH+MODP-2048-256 key in an encoding Cyclone DDS 0.10 cannot read; started by Cyclone (ECDH, with
 # an EC identity as here) it completes. So our Fast DDS executables' identities sort above nearly
-# every other: a peer whose identity sorts higher (about 1 in 4,000 with a plain "CN=name"
-# subject as sros2 makes them) cannot authenticate with a Cyclone DDS peer. Deterministic: the
-# same NAME always gets the same number. The candidates are hashed by coreutils' sha256sum.
+# every other; a Cyclone DDS peer whose identity still sorts higher (about 1 in 4,000 with a plain
+# "CN=name" subject as sros2 makes them) cannot authenticate with them. Deterministic: the same
+# NAME always gets the same number. The candidates are hashed by coreutils' sha256sum.
 high_sorting_subject() {  # NAME
   local name="$1" tmp start found=""
+  # The DER below uses one-byte lengths: the whole name must stay under 128 bytes.
+  [ "${#name}" -le 97 ] || fail "enclave '$name': longer than the 97 characters this script orders"
   # In memory where there is /dev/shm: thousands of 50-byte files.
   tmp="$(mktemp -d -p "$([ -w /dev/shm ] && echo /dev/shm || echo "${TMPDIR:-/tmp}")")"
   start=0

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test command: installs what is missing, builds, and runs every test, each in one stage:
-#   1. a Release build of everything, then ctest over what only it can run: the benchmarks'
+#   1. a Release build of the executables, benchmarks and the suites below (not those of stage
+#      2: VNSBA_BUILD_ALL_TESTS=OFF), then ctest over what only it can run: the benchmarks'
 #      tests (bench), the published Moving AI optima (data), the Cyclone DDS interop runs
 #      (interop), the demo and the installed package (demo, install);
 #   2. an AddressSanitizer + UndefinedBehaviorSanitizer build (no benchmarks), then ctest over
@@ -32,7 +33,7 @@ cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DVNSBA_BUILD_ALL_TESTS=O
 cmake --build build/release -j "$jobs"
 echo "[test] release tests"
 ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900 \
-  -LE "core|node|fuzz|fuzz_long|soak|stress"
+  -LE "core|node|fuzz|soak|stress"  # a regular expression: fuzz also matches fuzz_long
 
 echo "[test] sanitizer build (address, undefined) of everything but the benchmarks and the soak"
 # -O1 -g1: the optimisation level the sanitizers' authors recommend, and line tables only, which

@@ -551,22 +551,18 @@ bool write_sample(dds::DataWriter* writer, void* sample,
   return write_refused_early_again(writer, [&] { return writer->write(sample, params); });
 }
 
-namespace {
-
-std::string prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+std::string guid_prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
   std::ostringstream out;
   out << prefix;
   return out.str();
 }
-
-}  // namespace
 
 void ParticipantWatch::on_participant_discovery(
     dds::DomainParticipant* participant,
     eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
   refused_.on_participant_discovery(participant, info);
   using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-  const std::string key = prefix_text(info.info.m_guid.guidPrefix);
+  const std::string key = guid_prefix_text(info.info.m_guid.guidPrefix);
   std::lock_guard<std::mutex> lock(mutex_);
   if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
     vendors_.erase(key);  // bounded by the participants alive
@@ -579,7 +575,7 @@ void ParticipantWatch::on_participant_discovery(
 std::optional<std::array<uint8_t, 2>> ParticipantWatch::vendor_of(
     const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = vendors_.find(prefix_text(prefix));
+  const auto it = vendors_.find(guid_prefix_text(prefix));
   if (it == vendors_.end()) return std::nullopt;
   return it->second;
 }
@@ -591,7 +587,7 @@ void ParticipantWatch::on_publisher_discovery(
   if (topic_names_.count(info.info.topicName().to_string()) == 0) return;
   const auto& prefix = info.info.guid().guidPrefix;
   if (participant != nullptr && prefix == participant->guid().guidPrefix) return;  // ours
-  const std::string key = prefix_text(prefix);
+  const std::string key = guid_prefix_text(prefix);
   std::string name;
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -21,8 +21,10 @@
 #include <sstream>
 
 #include "vnsba/node/convert.hpp"
+#include "vnsba/node/dds.hpp"
 #include "vnsba/node/refused_peers.hpp"
 #include "vnsba/node/security.hpp"
+#include "vnsba/node/service_wire.hpp"
 
 namespace vnsba::node {
 
@@ -187,24 +189,15 @@ std::vector<std::string> security_lines_since(Steady::time_point since, const st
   return found;
 }
 
-std::string prefix_text(const eprosima::fastrtps::rtps::GUID_t& guid) {
-  std::ostringstream out;
-  out << guid.guidPrefix;
-  return out.str();
+VendorId vendor_of(const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
+  return {data.m_VendorId[0], data.m_VendorId[1]};
 }
 
 // How a remote participant announced itself: its name, and its certificate's and CA's subjects
 // from its identity token, or that it has none (an unsecured participant).
 std::string announced(const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
-  const auto& vendor = data.m_VendorId;
-  char vendor_text[48];
-  if (vendor[0] == 0x01 && vendor[1] == 0x0f)
-    std::snprintf(vendor_text, sizeof vendor_text, "Fast DDS");
-  else if (vendor[0] == 0x01 && vendor[1] == 0x10)
-    std::snprintf(vendor_text, sizeof vendor_text, "Cyclone DDS");
-  else
-    std::snprintf(vendor_text, sizeof vendor_text, "vendor id %02x.%02x", vendor[0], vendor[1]);
-  std::string out = "'" + printable(data.m_participantName.to_string()) + "' on " + vendor_text;
+  std::string out =
+      "'" + printable(data.m_participantName.to_string()) + "' on " + vendor_name(vendor_of(data));
   std::string certificate, ca;
   // X509_NAME_oneline's subjects ("/CN=\/vnsba\/node"), shown without its escapes.
   auto subject = [](std::string text) {
@@ -253,7 +246,7 @@ void RefusedPeers::on_participant_discovery(
     const eprosima::fastdds::dds::DomainParticipant* local,
     const eprosima::fastrtps::rtps::ParticipantDiscoveryInfo& info) {
   using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-  const std::string prefix = prefix_text(info.info.m_guid);
+  const std::string prefix = guid_prefix_text(info.info.m_guid.guidPrefix);
   std::lock_guard<std::mutex> lock(mutex_);
   if (!secured_ && local != nullptr) {
     // The authentication plugin is a property of the participant's QoS (security.cpp sets it).
@@ -277,10 +270,9 @@ void RefusedPeers::on_participant_discovery(
     flooded_ = true;
     return;
   }
-  // RTPS vendor id 01.10: Eclipse Cyclone DDS. Of two participants the one with the smaller GUID
-  // starts the handshake (DDS Security 1.1, 9.3.2; both vendors' PKI-DH plugins).
-  const auto& vendor = info.info.m_VendorId;
-  const bool cyclone = vendor[0] == 0x01 && vendor[1] == 0x10;
+  // Of two participants the one with the smaller GUID starts the handshake (DDS Security 1.1,
+  // 9.3.2; both vendors' PKI-DH plugins).
+  const bool cyclone = vendor_of(info.info) == kVendorCyclone;
   const bool we_start = local != nullptr && local->guid().guidPrefix < info.info.m_guid.guidPrefix;
   pending_[prefix] = {announced(info.info), !info.info.identity_token_.class_id().empty(),
                       cyclone && we_start, Steady::now() + timeout_};
@@ -290,7 +282,7 @@ void RefusedPeers::on_participant_discovery(
 void RefusedPeers::on_participant_authentication(
     const eprosima::fastrtps::rtps::ParticipantAuthenticationInfo& info) {
   using Status = eprosima::fastrtps::rtps::ParticipantAuthenticationInfo;
-  const std::string prefix = prefix_text(info.guid);
+  const std::string prefix = guid_prefix_text(info.guid.guidPrefix);
   Pending remote{"not announced", true, false, {}};
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -1,10 +1,20 @@
 #include "vnsba/node/service_wire.hpp"
 
+#include <cstdio>
+
 namespace vnsba::node {
 
 std::string to_string(WireMapping mapping) {
   return mapping == WireMapping::kRequestHeader ? "rmw_cyclonedds (request header)"
                                                 : "rmw_fastrtps (sample identity)";
+}
+
+std::string vendor_name(const VendorId& vendor) {
+  if (vendor == kVendorEprosima) return "Fast DDS";
+  if (vendor == kVendorCyclone) return "Cyclone DDS";
+  char text[24];
+  std::snprintf(text, sizeof text, "vendor id %02x.%02x", vendor[0], vendor[1]);
+  return text;
 }
 
 WireMapping choose_mapping(ReplyMapping configured, const std::optional<VendorId>& vendor,

@@ -42,8 +42,8 @@ case "$mode" in
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi
-# Refused clients wait this long (s) for a match that must not come: twice the node's handshake
-# timeout for its refusal log line (10 s would be the first time it reports a silent peer).
+# Refused clients wait this long (s) for a match that must not come: longer than the node's 10 s
+# handshake timeout, after which it logs the refusal of a peer that stayed silent.
 if [[ "$mode" == secure_open || "$mode" == secure_other_ca ]]; then client_args+=(--refused 12); fi
 # 20 fresh client processes over loopback, each sending its request the moment it matched the
 # node: every one must get its first status.

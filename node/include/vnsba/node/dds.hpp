@@ -244,6 +244,8 @@ bool write_sample(dds::DataWriter* writer, void* sample);
 bool write_sample(dds::DataWriter* writer, void* sample,
                   eprosima::fastrtps::rtps::WriteParams& params);
 
+// A GUID prefix as Fast DDS prints it ("01.0f.8d.2a..."), as the logs name participants.
+std::string guid_prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix);
 // A GUID as the 16 bytes PlanStatus carries (prefix, then entity id).
 std::array<uint8_t, 16> guid_bytes(const eprosima::fastrtps::rtps::GUID_t& guid);
 // The sample identity of a received sample, as PlanStatus carries it.

@@ -42,6 +42,8 @@ using RequestHeader = std::array<uint8_t, 16>;
 using VendorId = std::array<uint8_t, 2>;
 constexpr VendorId kVendorEprosima = {0x01, 0x0F};
 constexpr VendorId kVendorCyclone = {0x01, 0x10};
+// "Fast DDS", "Cyclone DDS", else "vendor id 01.02" (the RTPS vendor id a participant announces).
+std::string vendor_name(const VendorId& vendor);
 
 // The mapping for one client's request.
 WireMapping choose_mapping(ReplyMapping configured, const std::optional<VendorId>& vendor,
