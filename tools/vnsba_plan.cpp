@@ -9,6 +9,8 @@
 //              [--prune|--no-prune] [--smooth|--no-smooth] [--omega W] [--eta W]
 //              [--inflation-radius M] [--cost-scaling-factor PER_M] [--cost-weight W]
 //              [--goal-tolerance M] [--start-tolerance M]
+//              [--smoother none|relax] [--smoother-smoothness W] [--smoother-closeness W]
+//              [--smoother-cost W] [--smoother-iterations N]
 //              [--poses FILE [--path-spacing M] [--goal-yaw RAD]]
 //   vnsba_plan [MAP] --scen FILE.scen [--scen-index N] [--progress] [other options as above]
 //
@@ -506,6 +508,30 @@ int main(int argc, char** argv) {
                                   "vns_bastar: weight of the distance to the other search's "
                                   "start, 0..1e6 (default 0.5)")
                        ->check(CLI::Range(0.0, 1e6));
+  std::string smoother;
+  double smoother_smoothness = 0.0, smoother_closeness = 0.0, smoother_cost = 0.0;
+  int smoother_iterations = 0;
+  auto* smoother_flag =
+      app.add_option("--smoother", smoother,
+                     "relax (an elastic band after pruning and smoothing: straightens a "
+                     "cost-aware path's staircase, never lowers its clearance) or none (default: "
+                     "the config's planner.smoother, else none)")
+          ->check(CLI::IsMember({"none", "relax"}));
+  auto* smoother_smoothness_flag =
+      app.add_option("--smoother-smoothness", smoother_smoothness,
+                     "relax: pull toward the neighbours' middle per iteration, " +
+                         core::kSmootherSmoothnessRange.describe() + " (default 0.9)");
+  auto* smoother_closeness_flag =
+      app.add_option("--smoother-closeness", smoother_closeness,
+                     "relax: pull back toward the planned path per iteration, " +
+                         core::kSmootherClosenessRange.describe() + " (default 0)");
+  auto* smoother_cost_flag =
+      app.add_option("--smoother-cost", smoother_cost,
+                     "relax: push down the cost gradient per iteration, times the cost weight, " +
+                         core::kSmootherCostRange.describe() + " (default 0.1)");
+  auto* smoother_iterations_flag =
+      app.add_option("--smoother-iterations", smoother_iterations,
+                     "relax: iterations at most, an integer in 1..10000 (default 10)");
   if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
 
   // The config's sections are the defaults of every flag below.
@@ -538,6 +564,11 @@ int main(int argc, char** argv) {
   if (*cost_weight_flag) settings.cost_weight = cost_weight;
   if (*goal_tolerance_flag) settings.goal_tolerance = goal_tolerance;
   if (*start_tolerance_flag) settings.start_tolerance = start_tolerance;
+  if (*smoother_flag) settings.smoother = core::path_smoother_from_string(smoother);
+  if (*smoother_smoothness_flag) settings.smoother_smoothness = smoother_smoothness;
+  if (*smoother_closeness_flag) settings.smoother_closeness = smoother_closeness;
+  if (*smoother_cost_flag) settings.smoother_cost = smoother_cost;
+  if (*smoother_iterations_flag) settings.smoother_iterations = smoother_iterations;
   const bool scen_mode = scen_flag->count() > 0;
   settings.record_expansions = out.any_picture();
   // The scenario files give the optimum; a second A* per line would double the run.
@@ -574,6 +605,13 @@ int main(int argc, char** argv) {
       check_range(goal_tolerance_flag, "--goal-tolerance", goal_tolerance, core::kToleranceRange) &&
       check_range(start_tolerance_flag, "--start-tolerance", start_tolerance,
                   core::kToleranceRange) &&
+      check_range(smoother_smoothness_flag, "--smoother-smoothness", smoother_smoothness,
+                  core::kSmootherSmoothnessRange) &&
+      check_range(smoother_closeness_flag, "--smoother-closeness", smoother_closeness,
+                  core::kSmootherClosenessRange) &&
+      check_range(smoother_cost_flag, "--smoother-cost", smoother_cost, core::kSmootherCostRange) &&
+      check_range(smoother_iterations_flag, "--smoother-iterations", smoother_iterations,
+                  core::kSmootherIterationsRange) &&
       (robot_radius_flag->count() == 0 ||
        (std::isfinite(build.robot_radius) && build.robot_radius >= 0.0) ||
        refuse("--robot-radius", "a finite number of metres >= 0", build.robot_radius)) &&

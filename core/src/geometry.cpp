@@ -1,5 +1,6 @@
 #include "vnsba/core/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vnsba::core {
@@ -19,6 +20,14 @@ double heading_change(const Point2& a, const Point2& b, const Point2& c) {
   // Straight on (most vertices of a grid path): atan2(0, dot > 0) is exactly 0; skip the call.
   if (cross == 0.0 && dot > 0.0) return 0.0;
   return std::atan2(cross, dot);
+}
+
+double distance_to_segment(const Point2& p, const Point2& a, const Point2& b) {
+  const Point2 ab = b - a;
+  const double length_squared = ab.squaredNorm();
+  const double t =
+      length_squared > 0.0 ? std::clamp((p - a).dot(ab) / length_squared, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
 }
 
 double polyline_length(const std::vector<Point2>& points) {

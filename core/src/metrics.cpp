@@ -23,6 +23,48 @@ TurnStats turn_stats(const std::vector<Point2>& polyline) {
   return stats;
 }
 
+std::vector<Point2> simplify_polyline(const std::vector<Point2>& polyline, double tolerance) {
+  if (polyline.size() < 3) return polyline;
+  std::vector<bool> keep(polyline.size(), false);
+  keep.front() = keep.back() = true;
+  // Iterative Douglas-Peucker: split each span at its farthest point while that is too far.
+  std::vector<std::pair<size_t, size_t>> spans = {{0, polyline.size() - 1}};
+  while (!spans.empty()) {
+    const auto [first, last] = spans.back();
+    spans.pop_back();
+    double farthest = -1.0;
+    size_t at = first;
+    for (size_t k = first + 1; k < last; ++k) {
+      const double distance = distance_to_segment(polyline[k], polyline[first], polyline[last]);
+      if (distance > farthest) {
+        farthest = distance;
+        at = k;
+      }
+    }
+    if (farthest > tolerance) {
+      keep[at] = true;
+      spans.emplace_back(first, at);
+      spans.emplace_back(at, last);
+    }
+  }
+  std::vector<Point2> out;
+  for (size_t k = 0; k < polyline.size(); ++k)
+    if (keep[k]) out.push_back(polyline[k]);
+  return out;
+}
+
+double max_curvature(const std::vector<Point2>& polyline) {
+  double most = 0.0;
+  for (size_t i = 1; i + 1 < polyline.size(); ++i) {
+    const double mean_length =
+        ((polyline[i] - polyline[i - 1]).norm() + (polyline[i + 1] - polyline[i]).norm()) / 2.0;
+    if (!(mean_length > 0.0)) continue;
+    const double change = std::abs(heading_change(polyline[i - 1], polyline[i], polyline[i + 1]));
+    most = std::max(most, change / mean_length);
+  }
+  return most;
+}
+
 }  // namespace vnsba::core
 
 namespace vnsba::core {
@@ -61,15 +103,8 @@ double segment_square_distance(const Point2& a, const Point2& b, int32_t x, int3
   }
   if (meets) return 0.0;
   double best = std::min(distance_to_square(a, x, y), distance_to_square(b, x, y));
-  const double length_squared = ab.squaredNorm();
-  for (const int32_t cx : {x, x + 1}) {
-    for (const int32_t cy : {y, y + 1}) {
-      const Point2 corner(cx, cy);
-      const double t =
-          length_squared > 0.0 ? std::clamp((corner - a).dot(ab) / length_squared, 0.0, 1.0) : 0.0;
-      best = std::min(best, (a + t * ab - corner).norm());
-    }
-  }
+  for (const int32_t cx : {x, x + 1})
+    for (const int32_t cy : {y, y + 1}) best = std::min(best, distance_to_segment({cx, cy}, a, b));
   return best;
 }
 
@@ -94,6 +129,39 @@ std::optional<std::pair<Cell, Cell>> straight_run_cells(const GridMap& map, cons
 }
 
 }  // namespace
+
+bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point2& b,
+                                double cells) {
+  if (!(cells > 0.0)) return true;
+  // Far from obstacles the distance transform answers: every point of the segment lies within
+  // |ab| / 2 of a or of b, each of which lies |p - centre| from its cell's centre, whose centre is
+  // obstacle_distance from the nearest obstacle's centre, and that obstacle's square reaches
+  // sqrt(1/2) closer.
+  constexpr double kHalfSqrt2 = 0.70710678118654752440;
+  const auto bound_at = [&](const Point2& p) {
+    if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() < map.width() && p.y() < map.height())) return -1.0;
+    const Cell cell{static_cast<int32_t>(p.x()), static_cast<int32_t>(p.y())};
+    // The transform is stored in single precision: a relative 1e-6 below it is a bound still.
+    const double centre_distance = map.obstacle_distance(cell) * (1.0 - 1e-6);
+    return centre_distance - (p - cell_centre(cell)).norm() - kHalfSqrt2;
+  };
+  if (std::min(bound_at(a), bound_at(b)) - (b - a).norm() / 2 >= cells) return true;
+  const auto clamp_x = [&](double v) {
+    return static_cast<int32_t>(std::clamp(std::floor(v), -1.0, static_cast<double>(map.width())));
+  };
+  const auto clamp_y = [&](double v) {
+    return static_cast<int32_t>(std::clamp(std::floor(v), -1.0, static_cast<double>(map.height())));
+  };
+  const int32_t x0 = std::max(0, clamp_x(std::min(a.x(), b.x()) - cells));
+  const int32_t x1 = std::min(map.width() - 1, clamp_x(std::max(a.x(), b.x()) + cells));
+  const int32_t y0 = std::max(0, clamp_y(std::min(a.y(), b.y()) - cells));
+  const int32_t y1 = std::min(map.height() - 1, clamp_y(std::max(a.y(), b.y()) + cells));
+  for (int32_t y = y0; y <= y1; ++y)
+    for (int32_t x = x0; x <= x1; ++x)
+      if (is_obstacle(map.layer({x, y})) && segment_square_distance(a, b, x, y) < cells)
+        return false;
+  return true;
+}
 
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();

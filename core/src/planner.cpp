@@ -674,6 +674,7 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   result.waypoints = join_exact_ends(map, std::move(result.waypoints), endpoints->start_point,
                                      endpoints->goal_point, options.corner_policy, path_cost_weight,
                                      options.prune);
+  // Turns of the polyline smoothing starts from (ALGORITHM.md section 7).
   const TurnStats turns = turn_stats(result.waypoints);
   result.metrics.turns = turns.turns;
   result.metrics.turn_angle_deg = turns.total_angle_deg;
@@ -688,6 +689,37 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   } else {
     result.path = result.waypoints;
   }
+  std::optional<double> clearance_cells;  // of result.path, when the smoother measured it
+  if (options.smoother == PathSmoother::kRelax) {
+    RelaxOptions relax;
+    relax.smoothness = options.smoother_smoothness;
+    relax.closeness = options.smoother_closeness;
+    relax.cost = options.smoother_cost;
+    relax.cost_weight = path_cost_weight;
+    relax.iterations = options.smoother_iterations;
+    relax.corner_policy = options.corner_policy;
+    // The unrelaxed path's clearance (cells) is the floor; the relaxed path replaces it only when
+    // its own, measured the same way, is no lower (not even by rounding).
+    const double floor = path_clearance_cells(map, result.path);
+    // relax_path measures each segment alone; a margin far below any distance that matters
+    // keeps its rounding from putting the whole path a last bit under the floor.
+    constexpr double kRoundingMarginCells = 1e-9;
+    std::vector<Point2> relaxed =
+        relax_path(map, result.path, relax, floor + kRoundingMarginCells, &budget);
+    if (budget.expired()) return budget_failure(budget.state(), "while relaxing the path");
+    const double relaxed_clearance = path_clearance_cells(map, relaxed);
+    if (relaxed_clearance >= floor) {
+      result.path = std::move(relaxed);
+      clearance_cells = relaxed_clearance;
+      // The relaxed path follows a curve: its turns are the corners of that curve (metrics.hpp).
+      const TurnStats corners =
+          turn_stats(simplify_polyline(result.path, kRelaxedCornerToleranceCells));
+      result.metrics.turns = corners.turns;
+      result.metrics.turn_angle_deg = corners.total_angle_deg;
+    } else {
+      clearance_cells = floor;
+    }
+  }
   result.world_path.reserve(result.path.size());
   for (const Point2& p : result.path) result.world_path.push_back(map.grid_to_world(p));
   result.metrics.length_cells = polyline_length(result.path);
@@ -695,7 +727,9 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   result.status = Status::ok();
   stop_clock();
   // After the clock, like the reference search below: a measurement of the result.
-  result.metrics.clearance_m = path_clearance_cells(map, result.path) * map.resolution();
+  result.metrics.clearance_m =
+      (clearance_cells ? *clearance_cells : path_clearance_cells(map, result.path)) *
+      map.resolution();
 
   // After the clock has stopped: the reference search is not part of the planning time. It has
   // no time budget but honours the cancel flag (a canceled reference leaves the ratio NaN).

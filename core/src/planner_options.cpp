@@ -42,6 +42,16 @@ std::string OptionRange::describe() const {
          (min_excluded ? "(" : "[") + number(min) + ", " + number(max) + "]";
 }
 
+std::string_view to_string(PathSmoother smoother) {
+  return smoother == PathSmoother::kRelax ? "relax" : "none";
+}
+
+std::optional<PathSmoother> path_smoother_from_string(std::string_view name) {
+  if (name == "none") return PathSmoother::kNone;
+  if (name == "relax") return PathSmoother::kRelax;
+  return std::nullopt;
+}
+
 std::string_view to_string(PlannerKind kind) {
   for (const auto& entry : kPlannerNames)
     if (entry.kind == kind) return entry.name;
@@ -128,6 +138,16 @@ Status validate(const PlannerOptions& o) {
   check_tolerance("start_tolerance", o.start_tolerance);
   check(kSmoothingDistanceRange, o.smoothing_distance);
   check(kSampleStepRange, o.sample_step);
+  if (o.smoother != PathSmoother::kNone && o.smoother != PathSmoother::kRelax)
+    err() << "smoother is not a known smoother; ";
+  const bool smoothness_ok = check(kSmootherSmoothnessRange, o.smoother_smoothness);
+  const bool closeness_ok = check(kSmootherClosenessRange, o.smoother_closeness);
+  if (smoothness_ok && closeness_ok && !(2.0 * o.smoother_smoothness + o.smoother_closeness < 2.0))
+    err() << "2 * smoother_smoothness + smoother_closeness must be below 2, or the relaxation "
+             "overshoots further each iteration (got "
+          << 2.0 * o.smoother_smoothness + o.smoother_closeness << "); ";
+  check(kSmootherCostRange, o.smoother_cost);
+  check(kSmootherIterationsRange, o.smoother_iterations);
   const double seconds = std::chrono::duration<double>(o.max_planning_time).count();
   check(kMaxPlanningTimeRange, seconds);
   if (!planner_kind_from_string(to_string(o.planner))) err() << "planner is not a known planner; ";
@@ -153,6 +173,11 @@ PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
   if (s.cost_weight) o.cost_weight = *s.cost_weight;
   if (s.goal_tolerance) o.goal_tolerance = *s.goal_tolerance;
   if (s.start_tolerance) o.start_tolerance = *s.start_tolerance;
+  if (s.smoother) o.smoother = *s.smoother;
+  if (s.smoother_smoothness) o.smoother_smoothness = *s.smoother_smoothness;
+  if (s.smoother_closeness) o.smoother_closeness = *s.smoother_closeness;
+  if (s.smoother_cost) o.smoother_cost = *s.smoother_cost;
+  if (s.smoother_iterations) o.smoother_iterations = *s.smoother_iterations;
   return o;
 }
 

@@ -9,6 +9,8 @@
 #include <limits>
 #include <optional>
 
+#include "vnsba/core/metrics.hpp"
+
 namespace vnsba::core {
 
 namespace {
@@ -220,6 +222,13 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
     if (!line_of_sight(map, curve[i - 1], curve[i], policy)) return std::nullopt;
   }
   if (!line_of_sight(map, curve.back(), b, policy)) return std::nullopt;
+  // The legs prev -> P1 and P4 -> B lie on the segments prev -> T and T -> B: no closer to an
+  // obstacle than those; only the curve is new.
+  if (options.min_clearance_cells > 0.0) {
+    for (size_t i = 1; i < curve.size(); ++i)
+      if (!segment_clearance_at_least(map, curve[i - 1], curve[i], options.min_clearance_cells))
+        return std::nullopt;
+  }
   if (options.cost_weight > 0.0) {
     // The path so far ends at prev, and what follows it is prev -> T -> B and the legs after B.
     // With the curve, prev -> P1, the curve and P4 -> B take the place of prev -> T -> B; kept
@@ -278,6 +287,158 @@ std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& w
   }
   out.push_back(waypoints.back());
   return out;
+}
+
+namespace {
+
+// The gradient, per cell, of the cell costs interpolated bilinearly between cell centres, at p
+// (continuous cell coordinates). Blocked cells and the map's border count 1 (GridMap::cost_data),
+// so the gradient also points away from walls where a free cell beside them costs less.
+Point2 cost_gradient(const GridMap& map, const Point2& p) {
+  const float* costs = map.cost_data();
+  if (costs == nullptr) return Point2::Zero();
+  const double u = p.x() - 0.5, v = p.y() - 0.5;
+  // The four centres around p, kept inside the padded layout (x in [-1, width]).
+  const int32_t x0 = std::clamp(static_cast<int32_t>(std::floor(u)), -1, map.width() - 1);
+  const int32_t y0 = std::clamp(static_cast<int32_t>(std::floor(v)), -1, map.height() - 1);
+  const double fx = std::clamp(u - x0, 0.0, 1.0), fy = std::clamp(v - y0, 0.0, 1.0);
+  const size_t at = map.padded_index(x0, y0), up = at + static_cast<size_t>(map.stride());
+  const double c00 = costs[at], c10 = costs[at + 1], c01 = costs[up], c11 = costs[up + 1];
+  return {(1.0 - fy) * (c10 - c00) + fy * (c11 - c01), (1.0 - fx) * (c01 - c00) + fx * (c11 - c10)};
+}
+
+// Whether segments may be part of a relaxed path: line of sight, and a clearance (cells) of at
+// least `floor` (0: no clearance asked). Most of a path lies far from anything blocked, and there a
+// bound from the distance transform answers both: every point of a -> b lies within
+// sqrt(1/2) + |ab| of the centre of a's cell, so every cell it touches (and every cell beside a
+// corner it passes) has its centre at least od - sqrt(2) - |ab| from an obstacle's centre, od
+// being a's cell's obstacle distance; more than the robot's radius in cells means none of them is
+// inflated, and an obstacle's square lies within sqrt(1/2) of its centre, so that bound is also a
+// bound of the clearance. Near obstacles (and within a cell of the map's edge) the exact
+// line_of_sight and segment_clearance_at_least decide.
+class RelaxedSegmentCheck {
+ public:
+  RelaxedSegmentCheck(const GridMap& map, double floor, CornerPolicy policy)
+      : map_(map),
+        floor_(floor),
+        policy_(policy),
+        // Inflated cells have their centre within this of an obstacle's (grid_map.cpp snaps the
+        // radius to a whole cell within 1e-9; the margin covers that).
+        inflated_within_(map.build_options().robot_radius / map.resolution() + 1e-6) {}
+
+  bool operator()(const Point2& a, const Point2& b) const {
+    constexpr double kSqrt2 = 1.4142135623730950488;
+    const double low_x = std::min(a.x(), b.x()), high_x = std::max(a.x(), b.x());
+    const double low_y = std::min(a.y(), b.y()), high_y = std::max(a.y(), b.y());
+    if (low_x >= 1.0 && low_y >= 1.0 && high_x <= map_.width() - 1.0 &&
+        high_y <= map_.height() - 1.0) {
+      const Cell cell{static_cast<int32_t>(a.x()), static_cast<int32_t>(a.y())};
+      // Single precision: a relative 1e-6 below the stored distance is a bound still.
+      const double bound = map_.obstacle_distance(cell) * (1.0 - 1e-6) - kSqrt2 - (b - a).norm();
+      if (bound > inflated_within_ && bound >= floor_) return true;
+    }
+    return line_of_sight(map_, a, b, policy_) && segment_clearance_at_least(map_, a, b, floor_);
+  }
+
+ private:
+  const GridMap& map_;
+  double floor_;
+  CornerPolicy policy_;
+  double inflated_within_;
+};
+
+// The path with points added so that no segment is longer than `spacing` (its own points kept).
+std::vector<Point2> densify(const std::vector<Point2>& path, double spacing) {
+  std::vector<Point2> out;
+  if (path.empty()) return out;
+  out.push_back(path.front());
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Point2 from = path[i - 1], step = path[i] - from;
+    const int pieces = std::max(1, static_cast<int>(std::ceil(step.norm() / spacing)));
+    for (int k = 1; k < pieces; ++k) out.push_back(from + step * (static_cast<double>(k) / pieces));
+    out.push_back(path[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+// A run of points each within kRelaxCompactCells of the chord from the last kept point to the
+// run's end is replaced by that chord when it passes `segment_ok` (at most kMaxSkipped points a
+// chord, so the checks stay short). Compacting a compacted path changes nothing.
+template <class SegmentCheck>
+std::vector<Point2> compact(const std::vector<Point2>& points, const SegmentCheck& segment_ok) {
+  constexpr size_t kMaxSkipped = 16;
+  if (points.size() < 3) return points;
+  const size_t last = points.size() - 1;
+  std::vector<Point2> out = {points.front()};
+  size_t anchor = 0;
+  while (anchor < last) {
+    size_t end = anchor + 1;
+    while (end < last && end - anchor <= kMaxSkipped) {
+      bool close = true;
+      for (size_t k = anchor + 1; k <= end && close; ++k)
+        close =
+            distance_to_segment(points[k], points[anchor], points[end + 1]) <= kRelaxCompactCells;
+      if (!close) break;
+      ++end;
+    }
+    // points[anchor] -> points[end] skips anchor + 1 .. end - 1; a single step is the path itself.
+    if (end > anchor + 1 && !segment_ok(points[anchor], points[end])) end = anchor + 1;
+    out.push_back(points[end]);
+    anchor = end;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Point2> relax_path(const GridMap& map, const std::vector<Point2>& path,
+                               const RelaxOptions& options, double min_clearance_cells,
+                               PlanningBudget* budget) {
+  if (path.size() < 3) return path;
+  const RelaxedSegmentCheck segment_ok(map, min_clearance_cells, options.corner_policy);
+  // The input compacted as the result is (a smoothed corner's samples, 0.25 cells apart, thinned
+  // to about a cell), then no segment longer than kRelaxSpacingCells.
+  std::vector<Point2> points = densify(compact(path, segment_ok), kRelaxSpacingCells);
+  if (points.size() < 3) return points;
+  const std::vector<Point2> planned = points;
+  const double cost_gain = map.has_costs() ? options.cost * options.cost_weight : 0.0;
+  const size_t last = points.size() - 1;
+  // A point whose neighbours and itself stayed put in the last iteration would get the same step
+  // as then, already refused or below kRelaxSettledCells: only the others are visited.
+  std::vector<uint8_t> moved(points.size(), 1), moving(points.size(), 0);
+  for (int iteration = 0; iteration < options.iterations; ++iteration) {
+    if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
+    bool any_moved = false;
+    std::fill(moving.begin(), moving.end(), 0);
+    for (size_t i = 1; i < last; ++i) {
+      // moving[i - 1] is this iteration's (Gauss-Seidel), moved[i + 1] the last one's.
+      if (!(moved[i - 1] | moved[i] | moved[i + 1] | moving[i - 1])) continue;
+      const Point2& previous = points[i - 1];
+      const Point2& next = points[i + 1];
+      Point2 step = options.smoothness * (previous + next - 2.0 * points[i]) +
+                    options.closeness * (planned[i] - points[i]);
+      if (cost_gain > 0.0) step -= cost_gain * cost_gradient(map, points[i]);
+      const double length = step.norm();
+      if (!(length > kRelaxSettledCells)) continue;
+      if (length > kRelaxMaxStepCells) step *= kRelaxMaxStepCells / length;
+      for (int attempt = 0; attempt < 3; ++attempt, step /= 2.0) {
+        const Point2 candidate = points[i] + step;
+        if (segment_ok(previous, candidate) && segment_ok(candidate, next)) {
+          points[i] = candidate;
+          moving[i] = 1;
+          any_moved = true;
+          break;
+        }
+      }
+    }
+    moved.swap(moving);
+    if (!any_moved) break;
+  }
+  return compact(points, segment_ok);
 }
 
 }  // namespace vnsba::core

@@ -190,11 +190,11 @@ class Section {
 
   template <class Int>
   bool integer(const std::string& key, Int& out, long long lo, long long hi) {
-    return get(key, out, [&](const YAML::Node& node, Int& value) {
+    return get(key, out, [&](const YAML::Node& node, value_of<Int>& value) {
       long long v = 0;
       if (!parse_integer(node, v) || v < lo || v > hi)
         return "an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
-      value = static_cast<Int>(v);
+      value = static_cast<value_of<Int>>(v);
       return std::string();
     });
   }
@@ -491,6 +491,24 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   planner.boolean("smooth", s.smooth);
   number_in(core::kSmoothingDistanceRange, s.smoothing_distance);
   number_in(core::kSampleStepRange, s.sample_step);
+  planner.choice("smoother", s.smoother, core::path_smoother_from_string,
+                 names_of({core::PathSmoother::kNone, core::PathSmoother::kRelax}));
+  const bool smoothness_ok = number_in(core::kSmootherSmoothnessRange, s.smoother_smoothness);
+  const bool closeness_ok = number_in(core::kSmootherClosenessRange, s.smoother_closeness);
+  const core::PlannerOptions relax = c.planner.options();
+  if (smoothness_ok && closeness_ok &&
+      !(2.0 * relax.smoother_smoothness + relax.smoother_closeness < 2.0)) {
+    std::ostringstream msg;
+    msg << "planner.smoother_smoothness, planner.smoother_closeness: found "
+        << relax.smoother_smoothness << " and " << relax.smoother_closeness
+        << ", expected 2 * smoother_smoothness + smoother_closeness below 2 (the relaxation "
+           "would overshoot further each iteration)";
+    errors.push_back(msg.str());
+  }
+  number_in(core::kSmootherCostRange, s.smoother_cost);
+  planner.integer(core::kSmootherIterationsRange.key, s.smoother_iterations,
+                  static_cast<long long>(core::kSmootherIterationsRange.min),
+                  static_cast<long long>(core::kSmootherIterationsRange.max));
   // Seconds (stored in microseconds).
   std::optional<double> seconds;
   if (s.max_planning_time) seconds = static_cast<double>(s.max_planning_time->count()) / 1e6;

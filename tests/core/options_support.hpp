@@ -22,6 +22,14 @@ inline void ExpectSameOptions(const core::PlannerOptions& a, const core::Planner
   EXPECT_EQ(a.max_planning_time.count(), b.max_planning_time.count());
   EXPECT_EQ(a.record_expansions, b.record_expansions);
   EXPECT_EQ(a.compute_length_ratio, b.compute_length_ratio);
+  EXPECT_EQ(a.cost_weight, b.cost_weight);
+  EXPECT_EQ(a.goal_tolerance, b.goal_tolerance);
+  EXPECT_EQ(a.start_tolerance, b.start_tolerance);
+  EXPECT_EQ(a.smoother, b.smoother);
+  EXPECT_EQ(a.smoother_smoothness, b.smoother_smoothness);
+  EXPECT_EQ(a.smoother_closeness, b.smoother_closeness);
+  EXPECT_EQ(a.smoother_cost, b.smoother_cost);
+  EXPECT_EQ(a.smoother_iterations, b.smoother_iterations);
 }
 
 }  // namespace vnsba::test

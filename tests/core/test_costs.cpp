@@ -2139,5 +2139,171 @@ TEST(CostsValidation, BadBuildValuesNameTheKey) {
   EXPECT_TRUE(core::validate(g, zero_scaling).is_ok());
 }
 
+// ---------------------------------------------------------------------------------------------
+// The relax smoother (planner.smoother: relax) against the brute-force truth: it never enters a
+// blocked cell, never lowers the clearance of the path it starts from, never moves the ends.
+
+// Every segment walked in steps of at most 0.01 cells; each sample's cell must be free in the
+// brute-force classification (cells outside the map are not).
+::testing::AssertionResult densely_free(const Truth& t, const std::vector<Point2>& path) {
+  for (size_t i = 1; i < path.size(); ++i) {
+    const Point2 a = path[i - 1], b = path[i];
+    if (!a.allFinite() || !b.allFinite()) return ::testing::AssertionFailure() << "not finite";
+    const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / 0.01)));
+    for (int k = 0; k <= n; ++k) {
+      const Point2 p = a + (b - a) * (static_cast<double>(k) / n);
+      // A diagonal through a lattice corner enters neither cell beside it (the corner policy
+      // decides whether it may pass them).
+      if (p.x() == std::floor(p.x()) && p.y() == std::floor(p.y())) continue;
+      if (!t.free(static_cast<int64_t>(std::floor(p.x())), static_cast<int64_t>(std::floor(p.y()))))
+        return ::testing::AssertionFailure() << "segment " << i - 1 << " " << a.transpose()
+                                             << " -> " << b.transpose() << " enters a blocked cell "
+                                             << "at " << p.transpose();
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// The largest distance from a sample of `a` (0.05 cells apart) to the polyline `b`: how far `a`
+// strays from `b`.
+double straying(const std::vector<Point2>& a, const std::vector<Point2>& b) {
+  double most = 0.0;
+  for (const Point2& p : clearance_samples(a, 0.05)) {
+    double nearest = kInf;
+    for (size_t i = 1; i < b.size(); ++i)
+      nearest = std::min(nearest, core::distance_to_segment(p, b[i - 1], b[i]));
+    if (b.size() == 1) nearest = (p - b.front()).norm();
+    most = std::max(most, nearest);
+  }
+  return most;
+}
+
+TEST(RelaxSmoother, StaysInFreeCellsKeepsClearanceAndEndsOnEveryPlanner) {
+  std::mt19937 rng(34001);
+  int relaxed = 0, fewer_turns = 0, plans = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const auto [s, map, t, cells] = random_trial(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    ASSERT_TRUE(map);
+    if (cells.size() < 2) continue;
+    core::Planner planner(map);
+    for (int q = 0; q < 3; ++q) {
+      const bool binary = rng() % 4 == 0;
+      const PlannerKind kind = binary ? PlannerKind::kJps : kCostPlanners[rng() % 5];
+      PlannerOptions none = core::default_options(kind);
+      if (!binary) {
+        none.corner_policy = kAllCornerPolicies[rng() % 3];
+        none.prune = none.smooth = rng() % 3 != 0;
+        if (map->has_costs()) none.cost_weight = std::vector<double>{0.0, 2.0, 10.0}[rng() % 3];
+      }
+      PlannerOptions relax = none;
+      relax.smoother = core::PathSmoother::kRelax;
+      if (rng() % 2 == 0) {
+        relax.smoother_smoothness = uniform(rng, 0.1, 0.95);
+        relax.smoother_closeness = uniform(rng, 0.0, 0.1);
+        relax.smoother_cost = uniform(rng, 0.0, 3.0);
+        relax.smoother_iterations = 1 + static_cast<int>(rng() % 60);
+      }
+      // Requested points anywhere in their cells: the ends must stay exactly there.
+      const Cell start = pick(rng, cells), goal = pick(rng, cells);
+      const Point2 start_point(start.x + uniform(rng, 0.0, 1.0), start.y + uniform(rng, 0.0, 1.0));
+      const Point2 goal_point(goal.x + uniform(rng, 0.0, 1.0), goal.y + uniform(rng, 0.0, 1.0));
+      const core::PlanQuery query(start, goal, start_point, goal_point);
+      SCOPED_TRACE(std::string(core::to_string(kind)) + " start " + str(start) + " goal " +
+                   str(goal));
+      const PlanResult before = planner.plan(query, none);
+      const PlanResult after = planner.plan(query, relax);
+      ASSERT_EQ(before.status.code, after.status.code) << after.status.message;
+      if (!after.status.is_ok()) continue;
+      ++plans;
+      // The search is the same; only the final path differs.
+      ASSERT_EQ(before.raw_path.size(), after.raw_path.size());
+      ASSERT_EQ(before.path.front(), after.path.front());
+      ASSERT_EQ(before.path.back(), after.path.back());
+      EXPECT_EQ(after.path.front(), start_point);
+      EXPECT_EQ(after.path.back(), goal_point);
+      ASSERT_TRUE(densely_free(t, before.path)) << "test bug: the oracle refuses the input";
+      ASSERT_TRUE(densely_free(t, after.path));
+      // Its clearance: the brute force within sampling, and never below the unrelaxed path's.
+      const double sampled = brute_clearance_cells(t, after.path, 0.1);
+      expect_clearance_within_sampling(after.metrics.clearance_m / s.grid.resolution, sampled, 0.1);
+      ASSERT_GE(after.metrics.clearance_m, before.metrics.clearance_m)
+          << "relaxed " << after.metrics.clearance_m << " m, unrelaxed "
+          << before.metrics.clearance_m << " m";
+      relaxed += after.path != before.path;
+      fewer_turns += after.metrics.turn_angle_deg < before.metrics.turn_angle_deg;
+    }
+  }
+  // Not vacuous: most plans were moved, and many lost turning.
+  EXPECT_GT(plans, 400);
+  EXPECT_GT(relaxed, plans / 2);
+  EXPECT_GT(fewer_turns, plans / 4);
+}
+
+// Relaxing a relaxed path moves it little: within a cell of where it was, and mostly far less.
+// (Not exactly idempotent: compaction leaves a point's neighbours farther away than while it was
+// relaxed, so a point that was held by a neighbour's clearance can move again.)
+TEST(RelaxSmoother, IsIdempotentWithinACell) {
+  std::mt19937 rng(34002);
+  int checked = 0;
+  std::vector<double> strays;
+  for (int trial = 0; trial < 200; ++trial) {
+    const auto [s, map, t, cells] = random_trial(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + s.describe());
+    ASSERT_TRUE(map);
+    if (cells.size() < 2) continue;
+    PlannerOptions o = core::default_options(kCostPlanners[rng() % 5]);
+    o.prune = o.smooth = true;
+    if (map->has_costs()) o.cost_weight = 2.0;
+    o.smoother = core::PathSmoother::kRelax;
+    const PlanResult once = core::plan_once(map, {pick(rng, cells), pick(rng, cells)}, o);
+    if (!once.status.is_ok()) continue;
+    core::RelaxOptions relax;
+    relax.smoothness = o.smoother_smoothness;
+    relax.closeness = o.smoother_closeness;
+    relax.cost = o.smoother_cost;
+    relax.cost_weight = o.cost_weight;
+    relax.iterations = o.smoother_iterations;
+    const std::vector<Point2> twice =
+        core::relax_path(*map, once.path, relax, core::path_clearance_cells(*map, once.path));
+    ASSERT_EQ(twice.front(), once.path.front());
+    ASSERT_EQ(twice.back(), once.path.back());
+    const double apart = std::max(straying(twice, once.path), straying(once.path, twice));
+    EXPECT_LE(apart, 1.0);
+    strays.push_back(apart);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+  std::sort(strays.begin(), strays.end());
+  const double median = strays.empty() ? 0.0 : strays[strays.size() / 2];
+  EXPECT_LE(median, 0.1);
+  std::printf(
+      "[ relax ] a second relaxation strayed from the first by %.3f cells at the median, "
+      "%.3f at most (%d paths)\n",
+      median, strays.empty() ? 0.0 : strays.back(), checked);
+}
+
+// smoother none is the path of pruning and smoothing, whatever the smoother's weights.
+TEST(RelaxSmoother, NoneIgnoresTheSmoothersWeights) {
+  std::mt19937 rng(34003);
+  for (int trial = 0; trial < 50; ++trial) {
+    const auto [s, map, t, cells] = random_trial(rng);
+    ASSERT_TRUE(map);
+    if (cells.size() < 2) continue;
+    PlannerOptions a = core::default_options(PlannerKind::kVnsBaStar);
+    if (map->has_costs()) a.cost_weight = 2.0;
+    PlannerOptions b = a;
+    b.smoother_smoothness = 0.3;
+    b.smoother_closeness = 0.5;
+    b.smoother_cost = 9.0;
+    b.smoother_iterations = 3;
+    const core::PlanQuery query(pick(rng, cells), pick(rng, cells));
+    const PlanResult x = core::plan_once(map, query, a), y = core::plan_once(map, query, b);
+    ASSERT_EQ(x.status.code, y.status.code);
+    EXPECT_EQ(x.path, y.path);
+    EXPECT_EQ(x.metrics.turns, y.metrics.turns);
+  }
+}
+
 }  // namespace
 }  // namespace vnsba::test

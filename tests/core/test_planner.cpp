@@ -135,6 +135,16 @@ TEST_P(EveryPlanner, InvalidOptionsAreRejectedByName) {
       {[](PlannerOptions& o) { o.smoothing_distance = 0; }, "smoothing_distance"},
       {[](PlannerOptions& o) { o.sample_step = INFINITY; }, "sample_step"},
       {[](PlannerOptions& o) { o.planner = static_cast<PlannerKind>(99); }, "planner"},
+      {[](PlannerOptions& o) { o.smoother = static_cast<core::PathSmoother>(7); }, "smoother"},
+      {[](PlannerOptions& o) { o.smoother_smoothness = 0; }, "smoother_smoothness"},
+      {[](PlannerOptions& o) { o.smoother_closeness = -0.1; }, "smoother_closeness"},
+      {[](PlannerOptions& o) {
+         o.smoother_smoothness = 0.99;
+         o.smoother_closeness = 0.5;
+       },
+       "2 * smoother_smoothness + smoother_closeness"},
+      {[](PlannerOptions& o) { o.smoother_cost = NAN; }, "smoother_cost"},
+      {[](PlannerOptions& o) { o.smoother_iterations = 0; }, "smoother_iterations"},
   };
   for (const Case& c : cases) {
     PlannerOptions o = default_options(GetParam());

@@ -48,6 +48,16 @@ std::vector<OneSetting> every_setting() {
        [](auto& o) { o.record_expansions = true; }},
       {"compute_length_ratio", [](auto& s) { s.compute_length_ratio = true; },
        [](auto& o) { o.compute_length_ratio = true; }},
+      {"smoother", [](auto& s) { s.smoother = PathSmoother::kRelax; },
+       [](auto& o) { o.smoother = PathSmoother::kRelax; }},
+      {"smoother_smoothness", [](auto& s) { s.smoother_smoothness = 0.5; },
+       [](auto& o) { o.smoother_smoothness = 0.5; }},
+      {"smoother_closeness", [](auto& s) { s.smoother_closeness = 0.3; },
+       [](auto& o) { o.smoother_closeness = 0.3; }},
+      {"smoother_cost", [](auto& s) { s.smoother_cost = 4.0; },
+       [](auto& o) { o.smoother_cost = 4.0; }},
+      {"smoother_iterations", [](auto& s) { s.smoother_iterations = 77; },
+       [](auto& o) { o.smoother_iterations = 77; }},
   };
 }
 

@@ -1137,6 +1137,12 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_bool("planner", "smooth", s.smooth, ds.smooth);
   same_double("planner", "smoothing_distance", s.smoothing_distance, ds.smoothing_distance);
   same_double("planner", "sample_step", s.sample_step, ds.sample_step);
+  same_text("planner", "smoother", opt_name(s.smoother), opt_name(ds.smoother));
+  same_double("planner", "smoother_smoothness", s.smoother_smoothness, ds.smoother_smoothness);
+  same_double("planner", "smoother_closeness", s.smoother_closeness, ds.smoother_closeness);
+  same_double("planner", "smoother_cost", s.smoother_cost, ds.smoother_cost);
+  same_int("planner", "smoother_iterations", s.smoother_iterations.value_or(-1),
+           ds.smoother_iterations.value_or(-1));
   same_bool("planner", "compute_length_ratio", s.compute_length_ratio, ds.compute_length_ratio);
   same_double("planner", "cost_weight", s.cost_weight, ds.cost_weight);
   same_double("planner", "goal_tolerance", s.goal_tolerance, ds.goal_tolerance);

@@ -606,7 +606,7 @@ TEST(VnsbaPlan, ConfigKeysPlanAsTheSameFlags) {
   const std::vector<std::string> as_flags = {
       "--neighborhood",        "8-11-13", "--prune",        "--smooth", "--cost-weight",      "2",
       "--goal-tolerance",      "0.5",     "--robot-radius", "0.5",      "--inflation-radius", "2",
-      "--cost-scaling-factor", "1.5"};
+      "--cost-scaling-factor", "1.5",     "--smoother",     "relax"};
   auto with = [&](std::vector<std::string> a, const std::vector<std::string>& b) {
     a.insert(a.end(), b.begin(), b.end());
     return a;

@@ -33,6 +33,9 @@ double heading(const Point2& a, const Point2& b);
 // Signed heading change in radians, in (-pi, pi], when going a -> b -> c. Zero-length legs give 0.
 double heading_change(const Point2& a, const Point2& b, const Point2& c);
 
+// Distance from p to the segment [a, b] (a point when a == b), same units as the points.
+double distance_to_segment(const Point2& p, const Point2& a, const Point2& b);
+
 // Euclidean length of a polyline (same units as the points).
 double polyline_length(const std::vector<Point2>& points);
 

@@ -35,6 +35,12 @@ struct Metrics {
 // once per cell of the path's length.
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
 
+// Whether the segment a -> b (continuous cell coordinates) keeps at least `cells` from every
+// obstacle square, measured as path_clearance_cells measures it: each obstacle cell in the
+// segment's bounding box widened by `cells` is measured exactly. For short segments (the relax
+// smoother's), where path_clearance_cells' set-up would dominate.
+bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point2& b, double cells);
+
 constexpr double kTurnEpsilonRad = 1e-6;
 
 struct TurnStats {
@@ -44,5 +50,18 @@ struct TurnStats {
 
 // Turns and total turn angle of a polyline (see Metrics::turns).
 TurnStats turn_stats(const std::vector<Point2>& polyline);
+
+// The corners of a densely sampled path: its Douglas-Peucker simplification, every dropped point
+// within `tolerance` of the kept chord that replaces it (same units as the points). What turns
+// are counted on for a relaxed path, whose points follow a curve rather than turn at corners:
+// kRelaxedCornerToleranceCells, so a corner the curve rounds counts as about one turn.
+std::vector<Point2> simplify_polyline(const std::vector<Point2>& polyline, double tolerance);
+inline constexpr double kRelaxedCornerToleranceCells = 0.5;
+
+// The largest discrete curvature of a polyline, per unit of its points: at each interior vertex
+// the heading change (radians) over the mean length of its two segments (the curvature of the
+// circle a controller would drive there); 0 for fewer than 3 points. A sharp corner between long
+// segments shows a small value: it is the path a controller must round, not a bound.
+double max_curvature(const std::vector<Point2>& polyline);
 
 }  // namespace vnsba::core

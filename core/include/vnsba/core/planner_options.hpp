@@ -72,12 +72,34 @@ inline constexpr OptionRange kSampleStepRange{"sample_step", "cells", 0.05, 10.0
 // 0 means unlimited.
 inline constexpr OptionRange kMaxPlanningTimeRange{"max_planning_time", "seconds", 0.0, 3600.0,
                                                    false};
+// The relax smoother (postprocess.hpp relax_path). Each iteration moves every interior point by
+// smoothness * (the sum of its neighbours - 2 * itself), closeness * (where the planned path had
+// it - itself) and smoother_cost * cost_weight * (minus the cost gradient, per cell). smoothness
+// 0.5 puts a point at its neighbours' middle; above it the move is over-relaxed (successive
+// over-relaxation), which straightens long stretches in fewer iterations, and 2 * smoothness +
+// closeness must stay below 2 (validate() checks the sum) or each iteration overshoots further.
+inline constexpr OptionRange kSmootherSmoothnessRange{"smoother_smoothness", "", 0.0, 0.99, true};
+inline constexpr OptionRange kSmootherClosenessRange{"smoother_closeness", "", 0.0, 1.0, false};
+inline constexpr OptionRange kSmootherCostRange{"smoother_cost", "", 0.0, 100.0, false};
+// Whole iterations over the path; each costs a few short line-of-sight and clearance checks per
+// point that moves.
+inline constexpr OptionRange kSmootherIterationsRange{"smoother_iterations", "", 1.0, 10000.0,
+                                                      false};
+
 // Move cost = length * (1 + cost_weight * c), c in [0, 1) (ALGORITHM.md section 8); 0 = the
 // paper's binary grid. 100 already makes a cell of cost 0.99 a hundred times dearer than free.
 inline constexpr OptionRange kCostWeightRange{"cost_weight", "", 0.0, 1000.0, false};
 // How far the planner may move a blocked goal or start (ALGORITHM.md section 8); 0 = exact. The
 // nearest free cell is searched in a disc of this radius, so it stays small.
 inline constexpr OptionRange kToleranceRange{"tolerance", "metres", 0.0, 100.0, false};
+
+// The path smoother after pruning and the paper's corner smoothing.
+enum class PathSmoother {
+  kNone,   // "none": the path of sections 4 and 5 as it is (the paper)
+  kRelax,  // "relax": relax_path (postprocess.hpp), cost-aware, clearance never lowered
+};
+std::string_view to_string(PathSmoother smoother);
+std::optional<PathSmoother> path_smoother_from_string(std::string_view name);
 
 struct PlannerOptions {
   PlannerKind planner = PlannerKind::kVnsBaStar;
@@ -102,6 +124,13 @@ struct PlannerOptions {
                                  // this of a blocked (or outside) goal
   double start_tolerance = 0.0;  // metres, kToleranceRange: likewise for a start blocked by
                                  // inflation only
+  // The relax smoother (kNone: the paper's path, unchanged). Weights and iterations: the
+  // kSmoother*Range entries above.
+  PathSmoother smoother = PathSmoother::kNone;
+  double smoother_smoothness = 0.9;
+  double smoother_closeness = 0.0;
+  double smoother_cost = 0.1;
+  int smoother_iterations = 10;
 };
 
 // The paper's configuration of each planner: VNS-BA* with the 8-11-13 neighbourhood, pruning
@@ -136,6 +165,11 @@ struct PlannerSettings {
   std::optional<double> cost_weight;
   std::optional<double> goal_tolerance;   // metres
   std::optional<double> start_tolerance;  // metres
+  std::optional<PathSmoother> smoother;
+  std::optional<double> smoother_smoothness;
+  std::optional<double> smoother_closeness;
+  std::optional<double> smoother_cost;
+  std::optional<int> smoother_iterations;
 };
 
 // The options of a run: default_options(kind), then every setting that is set.

@@ -52,6 +52,10 @@ struct SmoothingOptions {
   // > 0: a corner's curve is kept only when it costs no more than the two leg pieces it
   // replaces (ALGORITHM.md section 8); 0: section 5 as it stands.
   double cost_weight = 0.0;
+  // > 0 (cells): a corner's curve, with the legs that join it, is kept only when it keeps at
+  // least this clearance (path_clearance_cells); what the relax smoother asks of the corners of
+  // its path. 0: not checked (section 5 as it stands).
+  double min_clearance_cells = 0.0;
 };
 
 // Replaces each interior corner T of `waypoints` by samples of a clamped parametric cubic
@@ -61,5 +65,48 @@ struct SmoothingOptions {
 // part-way (polled once per corner attempt) the result is empty and budget->state() says why.
 std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& waypoints,
                                 const SmoothingOptions& options, PlanningBudget* budget = nullptr);
+
+// The relax smoother (planner.smoother: relax): an elastic band in the spirit of Nav2's Simple and
+// Constrained smoothers, run on any planner's final path (after pruning, the exact ends and the
+// paper's corner smoothing). The path is first compacted as the result is at the end (a smoothed
+// corner's samples, 0.25 cells apart, become about one a cell) and given a point at least every
+// kRelaxSpacingCells; then, `iterations` times at most, each interior point in turn
+// (Gauss-Seidel: its predecessor has already moved) is moved by
+//   smoothness * (previous + next - 2 * point)        toward its neighbours' middle (above 0.5:
+//                                                     over-relaxed, which straightens long
+//                                                     stretches in fewer iterations),
+// + closeness  * (its planned position - point)        back toward the path the planner found,
+// - cost * cost_weight * (the gradient of cell cost)   down the cost gradient (costs interpolated
+//                                                     bilinearly between cell centres, blocked
+//                                                     cells counting 1),
+// at most kRelaxMaxStepCells. A move is kept only when both segments at the point keep line of
+// sight (`corner_policy`) and a clearance of at least `min_clearance_cells` (metrics.hpp
+// segment_clearance_at_least; the caller passes the input's path_clearance_cells, or less);
+// otherwise half the step is tried, then a quarter, then the point stays. So the result never
+// enters a blocked cell, never comes closer to an obstacle than that, and keeps both ends exactly
+// (path_clearance_cells of the result may still differ from that bound in its last bits: the
+// caller compares the two when it must be exact). It stops early once no point moved more than
+// kRelaxSettledCells in an iteration. Compaction: a run of points within kRelaxCompactCells of the
+// chord that would replace them is dropped where that chord passes the same checks.
+struct RelaxOptions {
+  // The defaults are PlannerOptions' (planner_options.hpp, which gives the ranges).
+  double smoothness = 0.9;
+  double closeness = 0.0;
+  double cost = 0.1;         // scales cost_weight
+  double cost_weight = 0.0;  // the plan's (0, or a map without costs: no cost term)
+  int iterations = 10;
+  CornerPolicy corner_policy = CornerPolicy::kNever;
+};
+inline constexpr double kRelaxSpacingCells = 2.0;
+inline constexpr double kRelaxMaxStepCells = 0.5;
+inline constexpr double kRelaxSettledCells = 1e-3;
+inline constexpr double kRelaxCompactCells = 0.1;
+
+// `path`: continuous cell coordinates, the ends first and last. With a `budget` that expires
+// part-way (polled once per iteration) the result is empty and budget->state() says why. Paths of
+// fewer than 3 points come back as they are.
+std::vector<Point2> relax_path(const GridMap& map, const std::vector<Point2>& path,
+                               const RelaxOptions& options, double min_clearance_cells,
+                               PlanningBudget* budget = nullptr);
 
 }  // namespace vnsba::core
