@@ -162,14 +162,34 @@ int main(int argc, char** argv) {
   vnsba::bench::CostsOptions costs_options;
   costs_options.maps_dir = maps_dir;
   costs_options.scene_path = VNSBA_SCENE_PATH;
+  costs_options.slice_paths = {std::string(VNSBA_DATA_DIR) + "/octomap/fr_078_tidyup.bt"};
   std::string costs_planner_list;
   auto* costs = app.add_subcommand(
       "costs",
-      "binary against cost-aware planning (config/paper.yaml against default.yaml's "
-      "robot) on the demo scene and the Moving AI maps");
+      "binary against cost-aware against cost-aware + relax planning (config/paper.yaml "
+      "against default.yaml's robot, without and with the relax smoother) on the demo scene, "
+      "held-in OctoMap slices and the Moving AI maps");
   costs->add_option("--maps", costs_options.maps_dir, "folder with the Moving AI maps")
       ->capture_default_str();
-  costs->add_option("--scene", costs_options.scene_path, "the demo scene, an OctoMap .bt file")
+  costs
+      ->add_option("--scene", costs_options.scene_path,
+                   "the demo scene, an OctoMap .bt file (its routes, and the first slice)")
+      ->capture_default_str();
+  costs
+      ->add_option("--slices", costs_options.slice_paths,
+                   "more held-in OctoMap .bt files, sliced like the scene, for random queries "
+                   "(comma-separated; a missing file is skipped with a message)")
+      ->delimiter(',')
+      ->capture_default_str();
+  costs
+      ->add_option("--slice-queries", costs_options.slice_queries,
+                   "seeded random queries per slice (0: the demo's routes only)")
+      ->capture_default_str();
+  costs->add_option("--seed", costs_options.seed, "seed of the slices' random queries")
+      ->capture_default_str();
+  costs
+      ->add_option("--min-distance", costs_options.min_query_distance,
+                   "metres between a random query's start and goal, at least")
       ->capture_default_str();
   costs->add_option("--planners", costs_planner_list,
                     "comma-separated planner names (default: all)");
@@ -180,7 +200,7 @@ int main(int argc, char** argv) {
   add_progress_flag(costs, costs_options.progress, "Moving AI part: queries");
   costs
       ->add_option("--repetitions", costs_options.repetitions,
-                   "timed plans per demo-scene query (the median is reported)")
+                   "timed plans per scene or slice query and side (the median is reported)")
       ->capture_default_str();
 
   // A bad command line exits 2 (vnsba::node::kExitUsage, bench's kExitBadInput), naming it.

@@ -186,10 +186,12 @@ TEST(VnsbaBench, LargeRowsPerMapAndPlannerAndItsOptions) {
   }
 }
 
-// The demo scene (embedded) and a Moving AI folder, both sides for every planner asked for; the
-// clearance the cost-aware side reports is at least the robot's radius (inflation keeps every
-// path that far from obstacle centres, so from their squares at least radius - half a diagonal).
-TEST(VnsbaBench, CostsComparesBothSidesOnTheSceneAndTheMaps) {
+// The demo scene (embedded), its slice with two random queries and a Moving AI folder, the three
+// sides (binary / cost-aware / cost-aware + relax) for every planner asked for. The clearance the
+// cost-aware sides report is at least the robot's radius (inflation keeps every path that far from
+// obstacle centres, so from their squares at least radius - half a diagonal), and the relax
+// smoother never lowers it.
+TEST(VnsbaBench, CostsComparesThreeSidesOnTheSceneTheSlicesAndTheMaps) {
   const std::string dir = fresh_folder("costs");
   // 12 x 6 cells: a wall with a gap, so that costs have something to weigh.
   std::ofstream(dir + "/wall.map") << "type octile\nheight 6\nwidth 12\nmap\n"
@@ -202,27 +204,42 @@ TEST(VnsbaBench, CostsComparesBothSidesOnTheSceneAndTheMaps) {
   std::ofstream(dir + "/wall.map.scen")
       << "version 1\n0\twall.map\t12\t6\t0\t2\t11\t3\t11.41421356\n"
          "0\twall.map\t12\t6\t1\t0\t10\t5\t11.07106781\n";
+  // A missing extra slice is skipped, naming it.
   const auto [code, output] = run_to_exit(
-      kBench, {"costs", "--maps", dir, "--planners", "astar,vns_bastar,jps", "--repetitions", "1"});
+      kBench, {"costs", "--maps", dir, "--planners", "astar,vns_bastar,jps", "--repetitions", "1",
+               "--slices", dir + "/absent.bt", "--slice-queries", "2"});
   ASSERT_EQ(code, 0) << output;
-  for (const char* row : {"| astar | corridor |", "| vns_bastar | office_route |",
-                          "| jps (uniform costs) | hall_to_corridor |", "| game | astar |",
-                          "| game | jps (uniform costs) |", "Cost-aware A* / binary A* time"})
+  for (const char* row :
+       {"| astar | corridor |", "| vns_bastar | office_route |",
+        "| jps (uniform costs) | hall_to_corridor |", "| geb079.bt | astar | 2 |",
+        "| vns_bastar | geb079.bt random | 2 |", "| astar | **all: demo routes + slices** | 5 |",
+        "| game | astar |", "| game | jps (uniform costs) |", "Cost-aware A* / binary A* time",
+        "absent.bt"})
     EXPECT_NE(output.find(row), std::string::npos) << row << "\n" << output;
-  // The summary rows: planner, min clearance binary, min clearance cost-aware, ...
+  // The per-route rows: planner, route, length, turns, turn angle, max curvature, clearance
+  // (each binary / cost-aware / cost-aware + relax), ...
   for (const char* planner : {"astar", "vns_bastar", "jps (uniform costs)"}) {
-    const size_t at = output.find(std::string("| ") + planner + " | 0");
-    ASSERT_NE(at, std::string::npos) << planner << "\n" << output;
-    const auto fields = split(output.substr(at, output.find('\n', at) - at), '|');
-    ASSERT_GE(fields.size(), 4u);
-    const double cost_aware = std::stod(fields[3]);
-    EXPECT_GE(cost_aware, vnsba::bench::kDefaultYamlRobot.robot_radius - 0.08 * M_SQRT1_2)
-        << planner;
+    for (const vnsba::bench::Route& route : vnsba::bench::kDemoRoutes) {
+      SCOPED_TRACE(std::string(planner) + " " + route.name);
+      const size_t at = output.find(std::string("| ") + planner + " | " + route.name + " |");
+      ASSERT_NE(at, std::string::npos) << output;
+      const auto fields = split(output.substr(at, output.find('\n', at) - at), '|');
+      ASSERT_GE(fields.size(), 14u);
+      const auto clearance = split(fields[7], '/');
+      ASSERT_EQ(clearance.size(), 3u) << fields[7];
+      const double cost_aware = std::stod(clearance[1]), relaxed = std::stod(clearance[2]);
+      EXPECT_GE(cost_aware, vnsba::bench::kDefaultYamlRobot.robot_radius - 0.08 * M_SQRT1_2);
+      EXPECT_GE(relaxed, cost_aware - 0.0015);                   // printed to 3 decimals
+      EXPECT_EQ(split(fields[5], '/').size(), 3u) << fields[5];  // turn angle
+      EXPECT_EQ(split(fields[6], '/').size(), 3u) << fields[6];  // max curvature
+    }
   }
   for (const std::vector<std::string>& bad :
        {std::vector<std::string>{"costs", "--maps", dir, "--max-scenarios", "-1"},
         std::vector<std::string>{"costs", "--maps", dir, "--repetitions", "0"},
         std::vector<std::string>{"costs", "--maps", dir, "--planners", "astr"},
+        std::vector<std::string>{"costs", "--maps", dir, "--slice-queries", "-1"},
+        std::vector<std::string>{"costs", "--maps", dir, "--min-distance", "-1"},
         std::vector<std::string>{"costs", "--maps", dir, "--scene", dir + "/none.bt"}}) {
     const auto [bad_code, message] = run_to_exit(kBench, bad);
     EXPECT_EQ(bad_code, 2) << message;
