@@ -395,9 +395,11 @@ int main(int argc, char** argv) {
   auto* goal_flag =
       app.add_option("--goal", goal, "goal X Y (metres; cell indices with --cells)")->expected(2);
   auto* planner_flag = app.add_option("--planner", planner_name,
-                                      "vns_bastar, astar, weighted_astar, bidirectional_astar, "
-                                      "alternating_bidirectional_astar, jps (default: the "
-                                      "config's planner.name, else vns_bastar)");
+                                      "auto, vns_bastar, astar, weighted_astar, "
+                                      "bidirectional_astar, alternating_bidirectional_astar, jps "
+                                      "(auto: jps with pruning and smoothing where costs are off, "
+                                      "else the cost-aware choice; default: the config's "
+                                      "planner.name, else vns_bastar)");
   app.add_option("--config", config_path,
                  "the node's YAML config: its planner and map sections (and, for OctoMaps, its "
                  "slicer band) are the defaults of the options below; a flag given overrides its "
@@ -547,11 +549,18 @@ int main(int argc, char** argv) {
     config = std::move(loaded.config);
   }
 
-  std::optional<core::PlannerKind> kind = config && planner_flag->count() == 0
+  // auto (--planner auto, or the config's planner.name: auto): chosen below from the options.
+  const bool auto_kind =
+      planner_flag->count() > 0 ? planner_name == "auto" : config && config->planner.auto_kind;
+  std::optional<core::PlannerKind> kind = auto_kind ? std::optional(core::kCostAwareChoice)
+                                          : config && planner_flag->count() == 0
                                               ? std::optional(config->planner.kind)
                                               : core::planner_kind_from_string(planner_name);
   if (!kind) {
-    std::fprintf(stderr, "--planner: unknown planner '%s'\n", planner_name.c_str());
+    std::string known = "auto";
+    for (core::PlannerKind k : core::all_planner_kinds()) known += ", " + std::string(to_string(k));
+    std::fprintf(stderr, "--planner: unknown planner '%s' (known: %s)\n", planner_name.c_str(),
+                 known.c_str());
     return kBadInput;
   }
   core::PlannerSettings settings = config ? config->planner.settings : core::PlannerSettings{};
@@ -569,6 +578,13 @@ int main(int argc, char** argv) {
   if (*smoother_closeness_flag) settings.smoother_closeness = smoother_closeness;
   if (*smoother_cost_flag) settings.smoother_cost = smoother_cost;
   if (*smoother_iterations_flag) settings.smoother_iterations = smoother_iterations;
+  if (auto_kind) {
+    // As the node's planner.name: auto does (node::PlannerConfig::options).
+    if (!settings.prune) settings.prune = true;
+    if (!settings.smooth) settings.smooth = true;
+    const core::PlannerOptions chosen = core::make_options(*kind, settings);
+    kind = core::recommended_planner(chosen.cost_weight, chosen.neighborhood, chosen.corner_policy);
+  }
   const bool scen_mode = scen_flag->count() > 0;
   settings.record_expansions = out.any_picture();
   // The scenario files give the optimum; a second A* per line would double the run.

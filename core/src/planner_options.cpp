@@ -92,6 +92,15 @@ bool drop_unsupported_costs(PlannerOptions& options) {
   return true;
 }
 
+PlannerKind recommended_planner(double cost_weight, Neighborhood neighborhood,
+                                CornerPolicy corner_policy) {
+  const bool uniform_costs = !(cost_weight > 0.0);
+  return uniform_costs && supports(PlannerKind::kJps, neighborhood) &&
+                 supports(PlannerKind::kJps, corner_policy)
+             ? PlannerKind::kJps
+             : kCostAwareChoice;
+}
+
 PlannerOptions default_options(PlannerKind kind) {
   PlannerOptions options;
   options.planner = kind;

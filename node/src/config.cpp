@@ -344,6 +344,8 @@ std::vector<std::pair<const char*, std::string*>> topic_keys(TopicNames& t) {
 const std::set<std::string> kActionKeys = {"compute_path_to_pose", "compute_path_through_poses"};
 // The longest name an action's services and topics add to it (rcl_action).
 constexpr const char* kActionSuffix = "/_action/cancel_goal";
+// planner.name: the planner chosen for the file's options (core::recommended_planner).
+constexpr const char* kAutoPlannerName = "auto";
 // The topics a node reads once for all its robots, under its own namespace.
 const std::set<std::string> kSharedTopicKeys = {"projected_map", "octomap", "tf", "tf_static",
                                                 "clock"};
@@ -454,9 +456,22 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   // the paper configuration of whichever planner runs (the configured one or a request's).
   Section planner = top.child("planner");
   core::PlannerKind& kind = c.planner.kind;
-  std::vector<std::string> planner_names;
+  std::vector<std::string> planner_names = {kAutoPlannerName};
   for (core::PlannerKind k : core::all_planner_kinds()) planner_names.emplace_back(to_string(k));
-  planner.choice("name", kind, core::planner_kind_from_string, planner_names);
+  std::string name = c.planner.auto_kind ? kAutoPlannerName : std::string(to_string(kind));
+  planner.choice(
+      "name", name,
+      [&](const std::string& text) -> std::optional<std::string> {
+        if (std::find(planner_names.begin(), planner_names.end(), text) == planner_names.end())
+          return std::nullopt;
+        return text;
+      },
+      planner_names);
+  c.planner.auto_kind = name == kAutoPlannerName;
+  // auto: the cost-aware choice until cost_weight and the moves are read (below), which supports
+  // every option, so that no check before then refuses what auto will not pick.
+  kind = c.planner.auto_kind ? core::kCostAwareChoice
+                             : core::planner_kind_from_string(name).value_or(kind);
   core::PlannerSettings& s = c.planner.settings;
   // Ranges, units and messages come from core's one table (kOmegaRange, ...).
   auto number_in = [&](const core::OptionRange& range, std::optional<double>& out) {
@@ -535,6 +550,10 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
                                  std::pair{"start_tolerance", &s.start_tolerance}}) {
     planner.number(key, *out, core::kToleranceRange.describe() + " (0 = exact)",
                    [](double v) { return core::kToleranceRange.contains(v); });
+  }
+  if (c.planner.auto_kind) {
+    const core::PlannerOptions chosen = c.planner.options();
+    kind = core::recommended_planner(chosen.cost_weight, chosen.neighborhood, chosen.corner_policy);
   }
   planner.number(kPathSpacingRange.key, c.planner.path_spacing,
                  kPathSpacingRange.describe() + " (absent = the map's resolution)",

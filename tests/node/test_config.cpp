@@ -109,6 +109,7 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.map.max_cells, b.map.max_cells);
   EXPECT_EQ(a.planner.path_spacing, b.planner.path_spacing);
   EXPECT_EQ(a.planner.kind, b.planner.kind);
+  EXPECT_EQ(a.planner.auto_kind, b.planner.auto_kind);
   // The same options for the configured planner and for every per-request override.
   ExpectSameOptions(a.planner.options(), b.planner.options());
   for (PlannerKind kind : vnsba::core::all_planner_kinds()) {
@@ -147,6 +148,14 @@ NodeConfig RobotDefaults() {
   config.planner.settings.cost_weight = 2.0;
   config.planner.settings.goal_tolerance = 0.25;
   config.planner.settings.start_tolerance = 0.2;
+  // name: auto with costs is astar (core::recommended_planner), pruned and smoothed, then relaxed.
+  config.planner.auto_kind = true;
+  config.planner.kind = PlannerKind::kAStar;
+  config.planner.settings.smoother = vnsba::core::PathSmoother::kRelax;
+  config.planner.settings.smoother_smoothness = 0.9;
+  config.planner.settings.smoother_closeness = 0.0;
+  config.planner.settings.smoother_cost = 0.1;
+  config.planner.settings.smoother_iterations = 10;
   return config;
 }
 
@@ -242,6 +251,11 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "smooth:",
                           "smoothing_distance:",
                           "sample_step:",
+                          "smoother:",
+                          "smoother_smoothness:",
+                          "smoother_closeness:",
+                          "smoother_cost:",
+                          "smoother_iterations:",
                           "max_planning_time:",
                           "compute_length_ratio:",
                           "cost_weight:",
@@ -273,7 +287,7 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
 
 TEST(Config, ChangingOnlyThePlannerNameInDefaultYamlGivesThatPlannersDefaults) {
   std::string text = ReadText(DefaultYamlPath());
-  const std::string from = "name: vns_bastar";
+  const std::string from = "name: auto";
   const size_t at = text.find(from);
   ASSERT_NE(at, std::string::npos);
   text.replace(at, from.size(), "name: astar");
@@ -292,7 +306,7 @@ TEST(Config, ChangingOnlyThePlannerNameInDefaultYamlGivesThatPlannersDefaults) {
 // naming planner.cost_weight; with cost_weight 0 it loads.
 TEST(Config, ChangingThePlannerNameInDefaultYamlToJpsNeedsCostWeightZero) {
   std::string text = ReadText(DefaultYamlPath());
-  const std::string from = "name: vns_bastar";
+  const std::string from = "name: auto";
   const size_t at = text.find(from);
   ASSERT_NE(at, std::string::npos);
   text.replace(at, from.size(), "name: jps");
@@ -307,6 +321,49 @@ TEST(Config, ChangingThePlannerNameInDefaultYamlToJpsNeedsCostWeightZero) {
   const ConfigResult ok = parse_config(text, "default.yaml with jps, cost_weight 0");
   ASSERT_TRUE(ok.config.has_value()) << Joined(ok.errors);
   EXPECT_EQ(ok.config->planner.kind, PlannerKind::kJps);
+}
+
+// planner.name: auto (default.yaml's) picks by the file's options: jps where costs are off and
+// its moves allow it, the cost-aware choice otherwise; both pruned and smoothed unless set.
+TEST(Config, AutoPicksJpsWithoutCostsAndTheCostAwareChoiceWithThem) {
+  struct Case {
+    const char* planner_block;
+    PlannerKind expected;
+  };
+  const Case cases[] = {
+      {"", PlannerKind::kAStar},  // default.yaml's cost_weight 2
+      {"  cost_weight: 0\n", PlannerKind::kJps},
+      {"  cost_weight: 0\n  corner_policy: touch\n", PlannerKind::kAStar},
+      {"  cost_weight: 0\n  neighborhood: \"8-11-13\"\n", PlannerKind::kAStar},
+      {"  name: auto\n  cost_weight: 5\n", PlannerKind::kAStar},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.planner_block);
+    const ConfigResult r = parse_config(std::string("planner:\n") + c.planner_block);
+    ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
+    EXPECT_TRUE(r.config->planner.auto_kind);
+    EXPECT_EQ(r.config->planner.kind, c.expected);
+    const PlannerOptions o = r.config->planner.options();
+    EXPECT_EQ(o.planner, c.expected);
+    EXPECT_TRUE(o.prune);
+    EXPECT_TRUE(o.smooth);
+    EXPECT_TRUE(vnsba::core::validate(o).is_ok()) << vnsba::core::validate(o).message;
+    EXPECT_EQ(c.expected,
+              vnsba::core::recommended_planner(o.cost_weight, o.neighborhood, o.corner_policy));
+  }
+  // Pruning or smoothing set in the file is kept; a named planner is not auto.
+  const ConfigResult unpruned = parse_config("planner:\n  prune: false\n");
+  ASSERT_TRUE(unpruned.config.has_value());
+  EXPECT_FALSE(unpruned.config->planner.options().prune);
+  EXPECT_TRUE(unpruned.config->planner.options().smooth);
+  const ConfigResult named = parse_config("planner:\n  name: astar\n");
+  ASSERT_TRUE(named.config.has_value());
+  EXPECT_FALSE(named.config->planner.auto_kind);
+  EXPECT_FALSE(named.config->planner.options().prune);
+  // A misspelt name is refused naming the key and offering auto among the names.
+  const ConfigResult bad = parse_config("planner:\n  name: autoo\n");
+  EXPECT_FALSE(bad.config.has_value());
+  EXPECT_TRUE(HasError(bad, "planner.name", {"\"autoo\"", "auto", "did you mean \"auto\""}));
 }
 
 TEST(Config, EmptyFileGivesTheDefaults) {
@@ -668,10 +725,10 @@ TEST(Config, JpsWithCostWeightIsRefusedAtLoad) {
 }
 
 TEST(Config, VnsBaStarNeedsANonZeroWeight) {
-  const ConfigResult both = parse_config("planner:\n  omega: 0\n  eta: 0\n");
+  const ConfigResult both = parse_config("planner:\n  name: vns_bastar\n  omega: 0\n  eta: 0\n");
   ASSERT_EQ(both.errors.size(), 1u) << Joined(both.errors);
   EXPECT_TRUE(HasError(both, "planner.omega, planner.eta", {"both 0", "vns_bastar"}));
-  EXPECT_TRUE(parse_config("planner:\n  omega: 0\n").config.has_value());
+  EXPECT_TRUE(parse_config("planner:\n  name: vns_bastar\n  omega: 0\n").config.has_value());
   // The other planners ignore the weights.
   EXPECT_TRUE(parse_config("planner: {name: astar, omega: 0, eta: 0}\n").config.has_value());
 }
@@ -883,7 +940,7 @@ TEST(Config, ManyErrorsAreAllReportedAtOnce) {
 }
 
 TEST(Config, PlannerDefaultsFollowTheChosenPlanner) {
-  const ConfigResult vns = parse_config("planner:\n  omega: 1.0\n");
+  const ConfigResult vns = parse_config("planner:\n  name: vns_bastar\n  omega: 1.0\n");
   ASSERT_TRUE(vns.config.has_value());
   EXPECT_EQ(vns.config->planner.kind, PlannerKind::kVnsBaStar);
   EXPECT_TRUE(vns.config->planner.options().prune);
@@ -980,10 +1037,10 @@ TEST(Config, PlannerOverrideTakesTheKeysLeftOutFromTheChosenPlanner) {
   ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
   for (PlannerKind kind : vnsba::core::all_planner_kinds()) {
     SCOPED_TRACE(std::string(vnsba::core::to_string(kind)));
-    PlannerOptions expected = vnsba::core::default_options(kind);
-    expected.prune = false;                                // configured
-    expected.corner_policy = CornerPolicy::kTouch;         // configured
-    expected.max_planning_time = std::chrono::seconds(5);  // the node's default budget
+    // default.yaml's robot and smoother, then what this file configures.
+    PlannerOptions expected = vnsba::core::make_options(kind, RobotDefaults().planner.settings);
+    expected.prune = false;                         // configured
+    expected.corner_policy = CornerPolicy::kTouch;  // configured
     ExpectSameOptions(r.config->planner.options(kind), expected);
   }
   // So VNS-BA* as an override still smooths with its 8-11-13 neighbourhood, but does not prune.

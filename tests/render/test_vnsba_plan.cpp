@@ -633,6 +633,44 @@ TEST(VnsbaPlan, ConfigKeysPlanAsTheSameFlags) {
   std::remove(config.c_str());
 }
 
+// --planner auto is the planner core::recommended_planner names for the options, pruned and
+// smoothed: the same line as asking for that planner with --prune --smooth.
+TEST(VnsbaPlan, AutoIsJpsWithoutCostsAndTheCostAwareChoiceWithThem) {
+  const std::vector<std::string> query = {kRooms,   "--start", "2.5", "2.5",
+                                          "--goal", "29.5",    "13.5"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = query;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_to_exit(kPlan, args);
+  };
+  const std::vector<std::string> costs = {"--cost-weight", "2", "--inflation-radius", "2"};
+  for (const bool with_costs : {false, true}) {
+    SCOPED_TRACE(with_costs ? "with costs" : "without costs");
+    const std::string expected(core::to_string(core::recommended_planner(
+        with_costs ? 2.0 : 0.0, core::Neighborhood::kEight, core::CornerPolicy::kNever)));
+    std::vector<std::string> auto_args = {"--planner", "auto"};
+    std::vector<std::string> named_args = {"--planner", expected, "--prune", "--smooth"};
+    if (with_costs) {
+      auto_args.insert(auto_args.end(), costs.begin(), costs.end());
+      named_args.insert(named_args.end(), costs.begin(), costs.end());
+    }
+    const auto [auto_code, auto_output] = with(auto_args);
+    ASSERT_EQ(auto_code, 0) << auto_output;
+    EXPECT_EQ(auto_output.rfind(expected + " OK", 0), 0u) << auto_output;
+    const auto [named_code, named_output] = with(named_args);
+    ASSERT_EQ(named_code, 0) << named_output;
+    EXPECT_EQ(without_times(auto_output), without_times(named_output));
+  }
+  EXPECT_EQ(core::recommended_planner(0.0, core::Neighborhood::kEight, core::CornerPolicy::kNever),
+            core::PlannerKind::kJps);
+  EXPECT_TRUE(core::supports_costs(
+      core::recommended_planner(2.0, core::Neighborhood::kEight, core::CornerPolicy::kNever)));
+  // An unknown name lists auto among the known ones.
+  const auto [bad_code, bad_output] = with({"--planner", "automatic"});
+  EXPECT_EQ(bad_code, 2);
+  EXPECT_NE(bad_output.find("known: auto,"), std::string::npos) << bad_output;
+}
+
 // A bad config is refused with every error the loader finds, each naming its key.
 TEST(VnsbaPlan, BadConfigNamesEveryKey) {
   const std::string config = write_temp_file("plan_bad_config.yaml",

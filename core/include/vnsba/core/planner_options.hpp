@@ -133,6 +133,14 @@ struct PlannerOptions {
   int smoother_iterations = 10;
 };
 
+// The planner `planner.name: auto` runs, chosen by measurement (docs/benchmarks.md, "Which
+// planner"): jps, the fastest exact planner, wherever it can plan with these options (uniform
+// costs: cost_weight 0; the 8-neighbourhood; corner_policy never); otherwise kCostAwareChoice,
+// the cost-aware planner that served config/default.yaml best.
+inline constexpr PlannerKind kCostAwareChoice = PlannerKind::kAStar;
+PlannerKind recommended_planner(double cost_weight, Neighborhood neighborhood,
+                                CornerPolicy corner_policy);
+
 // The paper's configuration of each planner: VNS-BA* with the 8-11-13 neighbourhood, pruning
 // and smoothing; the baselines with the 8-neighbourhood and no post-processing.
 PlannerOptions default_options(PlannerKind kind);

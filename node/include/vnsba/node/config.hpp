@@ -141,9 +141,13 @@ inline constexpr core::OptionRange kPathSpacingRange{"path_spacing", "metres", 0
 // defaults as settings (max_planning_time = 5 s), which hold for every planner too.
 struct PlannerConfig {
   core::PlannerKind kind = core::PlannerKind::kVnsBaStar;  // planner.name
-  core::PlannerSettings settings = default_settings();     // every other planner.* key
-                                                           // (cost_weight, goal_tolerance and
-                                                           // start_tolerance included)
+  // planner.name: auto. `kind` is then core::recommended_planner for the file's cost_weight,
+  // neighborhood and corner_policy, and prune and smooth are on unless the file sets them
+  // (options()).
+  bool auto_kind = false;
+  core::PlannerSettings settings = default_settings();  // every other planner.* key
+                                                        // (cost_weight, goal_tolerance and
+                                                        // start_tolerance included)
   // planner.path_spacing, metres in kPathSpacingRange; unset = the resolution of the map each
   // plan runs on. Not a core option: it shapes the published poses (core::path_poses), not the
   // plan, so it holds for every planner.
@@ -152,10 +156,17 @@ struct PlannerConfig {
   // The spacing of the poses of a path planned on a map of `resolution` metres per cell.
   double path_spacing_for(double resolution) const { return path_spacing.value_or(resolution); }
 
-  // The options of a run with the configured planner, or with `override_kind`.
-  core::PlannerOptions options() const { return core::make_options(kind, settings); }
+  // The options of a run with the configured planner, or with `override_kind`. With auto_kind,
+  // pruning and smoothing are on unless the file set them (jps and astar have them off in the
+  // paper's configuration; the choice was measured with them on).
+  core::PlannerOptions options() const { return options(kind); }
   core::PlannerOptions options(core::PlannerKind override_kind) const {
-    return core::make_options(override_kind, settings);
+    core::PlannerSettings chosen = settings;
+    if (auto_kind) {
+      if (!chosen.prune) chosen.prune = true;
+      if (!chosen.smooth) chosen.smooth = true;
+    }
+    return core::make_options(override_kind, chosen);
   }
 
   static core::PlannerSettings default_settings() {
