@@ -130,6 +130,31 @@ QueryOutcome plan_query(std::vector<core::Planner>& planner_of, const core::Plan
   return q;
 }
 
+// One query planned with each of `options` on the same map, in an order that starts at `first`
+// and rotates; times as plan_query's (with repetitions > 0 the median of that many more plans,
+// interleaved planner by planner).
+std::vector<Outcome> plan_each(core::Planner& planner, const core::PlanQuery& query,
+                               const std::vector<core::PlannerOptions>& options, int repetitions,
+                               const Units& units, int first = 0) {
+  const size_t n = options.size();
+  std::vector<Outcome> out(n);
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = (first + k) % n;
+    out[i] = outcome_of(timed_plan(planner, query, options[i]), units);
+  }
+  if (repetitions > 0) {
+    std::vector<std::vector<double>> times(n);
+    for (int r = 0; r < repetitions; ++r) {
+      for (size_t k = 0; k < n; ++k) {
+        const size_t i = (first + r + k) % n;
+        times[i].push_back(timed_plan(planner, query, options[i]).time_us);
+      }
+    }
+    for (size_t i = 0; i < n; ++i) out[i].time_us = median(std::move(times[i]));
+  }
+  return out;
+}
+
 double sum_of(const std::vector<double>& values) {
   double total = 0.0;
   for (double v : values) total += v;
@@ -331,6 +356,68 @@ std::vector<std::string> with_headers(std::vector<std::string> first,
   return first;
 }
 
+// --- Choosing the cost-aware planner of auto --------------------------------------------------
+
+// The reference of the choice table: A*, the optimal cost-aware planner (auto with costs runs
+// core::kCostAwareChoice, chosen from this table).
+constexpr core::PlannerKind kChoiceReference = core::PlannerKind::kAStar;
+
+// The planners of the choice table: kChoiceReference first, then every planner of `planners`
+// that plans with costs (jps, on uniform costs only, is no candidate).
+std::vector<core::PlannerKind> choice_planners(const std::vector<core::PlannerKind>& planners) {
+  std::vector<core::PlannerKind> out = {kChoiceReference};
+  for (const core::PlannerKind kind : planners)
+    if (kind != kChoiceReference && core::supports_costs(kind)) out.push_back(kind);
+  return out;
+}
+
+// Each query of a set planned by every choice planner: [query][planner], planners as
+// choice_planners' (the reference at 0).
+using ChoiceQueries = std::vector<std::vector<Outcome>>;
+
+// One planner against the reference over a set of queries.
+struct ChoiceStats {
+  int queries = 0;
+  int failed = 0;    // queries this planner did not solve
+  int compared = 0;  // queries both it and the reference solved: the statistics are over these
+  double time_ratio = NAN;         // median of per-query ratios, its time / the reference's
+  double median_time_ratio = NAN;  // ratio of median times
+  double median_time_us = NAN;
+  double length_ratio = NAN;  // ratio of sums
+  double angle_ratio = NAN;   // ratio of sums
+};
+
+ChoiceStats choice_stats(const std::vector<const ChoiceQueries*>& sets, size_t planner) {
+  ChoiceStats s;
+  std::vector<double> ratios, times, reference_times;
+  double length = 0, reference_length = 0, angle = 0, reference_angle = 0;
+  for (const ChoiceQueries* set : sets) {
+    for (const std::vector<Outcome>& q : *set) {
+      ++s.queries;
+      const Outcome& o = q[planner];
+      const Outcome& ref = q[0];
+      if (!o.ok) ++s.failed;
+      if (!o.ok || !ref.ok) continue;
+      ++s.compared;
+      ratios.push_back(o.time_us / ref.time_us);
+      times.push_back(o.time_us);
+      reference_times.push_back(ref.time_us);
+      length += o.length;
+      reference_length += ref.length;
+      angle += o.turn_angle;
+      reference_angle += ref.turn_angle;
+    }
+  }
+  if (s.compared > 0) {
+    s.time_ratio = median(ratios);
+    s.median_time_us = median(times);
+    s.median_time_ratio = s.median_time_us / median(reference_times);
+    s.length_ratio = ratio(length, reference_length);
+    s.angle_ratio = ratio(angle, reference_angle);
+  }
+  return s;
+}
+
 // --- The OctoMap slices -----------------------------------------------------------------------
 
 // A held-in OctoMap sliced at kDemoSliceZMin-kDemoSliceZMax, with its binary and cost-aware maps
@@ -436,38 +523,151 @@ constexpr const char* kSidesNote =
     "the median of the per-query ratios; a set meets a path target when both do.";
 
 struct OctomapResult {
-  bool ok = true;       // every plan of the demo's routes and the slices' queries succeeded
-  bool loaded = false;  // the scene loaded
-  std::string text;
+  bool ok = true;            // every plan of the demo's routes and the slices' queries succeeded
+  bool loaded = false;       // the scene loaded
+  std::string default_text;  // the default configuration's comparison
+  std::string text;          // the three sides per planner
+  ChoiceQueries choice;      // the demo's routes and the slices' queries, every choice planner
 };
 
+// The three sides of the default configuration's comparison, in the places of binary,
+// cost-aware and cost-aware + relax: auto without costs (the binary default, on the binary map),
+// auto with costs and smoother none, auto with costs and smoother relax (the default).
+struct DefaultConfig {
+  core::PlannerOptions options[kSides];
+  explicit DefaultConfig(const RobotSettings& robot)
+      : options{default_config_options(RobotSettings{}, core::PathSmoother::kNone),
+                default_config_options(robot, core::PathSmoother::kNone),
+                default_config_options(robot, core::PathSmoother::kRelax)} {}
+};
+
+// A query set of the default configuration's table.
+struct DefaultSet {
+  std::string name;
+  std::vector<QueryOutcome> queries;
+};
+
+std::string default_config_text(const CostsOptions& options, const DefaultConfig& config,
+                                const std::vector<DefaultSet>& demo_routes,
+                                const std::vector<DefaultSet>& slices) {
+  const core::PlannerOptions& binary = config.options[kBinary];
+  const core::PlannerOptions& chosen = config.options[kRelax];
+  MarkdownTable table(
+      {"query set", "queries (failed: binary default / default, smoother none / default)",
+       "turn angle ratio, sums / median (<= 1.3)",
+       "binary default's turn angle < 10 deg (median ratio without them)",
+       "clearance ratio, sums / median (>= 1.5)", "length ratio, sums / median (<= 1.15)",
+       "path targets", "smoother time ratio, median (<= 1.2)", "smoother time added, median (ms)",
+       "time ratio vs binary default, median",
+       "time median (ms): binary default / smoother none / default"});
+  auto add = [&](const std::string& name, const std::vector<const QueryOutcome*>& set) {
+    const SetStats s = stats_of(set);
+    std::vector<std::string> row = {name};
+    const std::vector<std::string> cells = target_cells(s);
+    row.insert(row.end(), cells.begin(), cells.end());
+    double time_ms[kSides];
+    for (const int side : kAllSides) time_ms[side] = s.median_time_us[side] / 1000.0;
+    row.push_back(triple(time_ms, 2));
+    table.add_row(std::move(row));
+    return s;
+  };
+  std::vector<const QueryOutcome*> all_demo, all;
+  for (const DefaultSet& set : demo_routes) {
+    add(set.name, pointers(set.queries));
+    const auto p = pointers(set.queries);
+    all_demo.insert(all_demo.end(), p.begin(), p.end());
+  }
+  add("demo routes", all_demo);
+  all = all_demo;
+  for (const DefaultSet& set : slices) {
+    const auto p = pointers(set.queries);
+    add(set.name + " random", p);
+    all.insert(all.end(), p.begin(), p.end());
+  }
+  const SetStats pooled = add("**all: demo routes + slices**", all);
+  char head[2048];
+  std::snprintf(
+      head, sizeof head,
+      "**The default configuration** (config/default.yaml, `planner.name: auto`; issue 34's "
+      "targets are stated for it), on the demo's routes and the held-in slices' queries (the "
+      "same queries as the tables below). The default: auto with the robot's costs, which runs "
+      "%s (core::recommended_planner for cost_weight %.1f) with prune and smooth on and smoother "
+      "relax on the robot's map (robot_radius %.2f m, inflation_radius %.2f m, goal_tolerance "
+      "%.2f m, start_tolerance %.2f m). The binary default: auto without costs (cost_weight 0), "
+      "which runs %s with prune and smooth on and smoother none on the binary map (no radius, no "
+      "gradient, exact endpoints). Ratios: the default / the binary default, as the ratio of the "
+      "sums over a set's queries and the median of the per-query ratios (a set meets a path "
+      "target when both do); smoother time ratio: the default / the same with smoother none, "
+      "median of per-query ratios. Time: median of %d plans per side, the sides interleaved.\n\n",
+      std::string(core::to_string(chosen.planner)).c_str(), options.robot.cost_weight,
+      options.robot.robot_radius, options.robot.inflation_radius, options.robot.goal_tolerance,
+      options.robot.start_tolerance, std::string(core::to_string(binary.planner)).c_str(),
+      options.repetitions);
+  std::string text = head + table.str() + "\n";
+  if (pooled.compared > 0) {
+    text += "Pooled over the " + std::to_string(pooled.compared) +
+            " queries, the default configuration's path targets: " + pooled.path_verdict() +
+            "; its smoother time ratio: " + format(pooled.overhead, 2) + " (" +
+            verdict(overhead_met(pooled.overhead)) + ").\n\n";
+  }
+  return text;
+}
+
 OctomapResult run_octomaps(const CostsOptions& options,
-                           const std::vector<core::PlannerKind>& planners) {
+                           const std::vector<core::PlannerKind>& planners,
+                           const std::vector<core::PlannerKind>& choice_kinds) {
   OctomapResult out;
   std::optional<SlicedScene> scene = load_sliced(options.scene_path, options.robot, "--scene");
   if (!scene) return out;
   out.loaded = true;
   const core::GridMap& scene_map = *scene->maps[1];
   const Units metres{1.0, 1.0 / scene_map.resolution()};
+  const DefaultConfig default_config(options.robot);
+  std::vector<core::PlannerOptions> choice_options;
+  for (const core::PlannerKind kind : choice_kinds)
+    choice_options.push_back(cost_aware_relax_options(kind, options.robot));
+  std::vector<DefaultSet> default_routes, default_slices;
+
+  // The demo's routes, as queries of the scene.
+  std::vector<core::PlanQuery> route_queries;
+  for (const Route& route : kDemoRoutes) {
+    const auto start = scene_map.world_to_cell(route.start_x, route.start_y);
+    const auto goal = scene_map.world_to_cell(route.goal_x, route.goal_y);
+    if (!start || !goal) {
+      std::fprintf(stderr, "vnsba_bench costs: route %s lies outside the scene\n", route.name);
+      out.ok = false;
+      return out;
+    }
+    route_queries.emplace_back(*start, *goal, scene_map.world_to_grid(route.start_x, route.start_y),
+                               scene_map.world_to_grid(route.goal_x, route.goal_y));
+  }
+  // 0. The default configuration and the choice planners on the demo's routes.
+  for (size_t r = 0; r < route_queries.size(); ++r) {
+    QueryOutcome q = plan_query(scene->planner_of, route_queries[r], default_config.options,
+                                options.repetitions, metres);
+    q.label = kDemoRoutes[r].name;
+    for (const int side : kAllSides) {
+      if (q.o[side].ok) continue;
+      std::fprintf(stderr,
+                   "vnsba_bench costs: the default configuration on route %s (%s) found "
+                   "no path\n",
+                   kDemoRoutes[r].name, kSideName[side]);
+      out.ok = false;
+    }
+    default_routes.push_back({kDemoRoutes[r].name, {std::move(q)}});
+    out.choice.push_back(plan_each(scene->planner_of[1], route_queries[r], choice_options,
+                                   options.repetitions, metres, static_cast<int>(r)));
+  }
 
   // 1. The demo's routes, every planner.
   std::map<core::PlannerKind, std::vector<QueryOutcome>> demo;
   for (const core::PlannerKind kind : planners) {
     core::PlannerOptions plan_options[kSides];
     for (const int side : kAllSides) plan_options[side] = side_options(kind, options.robot, side);
-    for (const Route& route : kDemoRoutes) {
-      const auto start = scene_map.world_to_cell(route.start_x, route.start_y);
-      const auto goal = scene_map.world_to_cell(route.goal_x, route.goal_y);
-      if (!start || !goal) {
-        std::fprintf(stderr, "vnsba_bench costs: route %s lies outside the scene\n", route.name);
-        out.ok = false;
-        return out;
-      }
-      const core::PlanQuery query(*start, *goal,
-                                  scene_map.world_to_grid(route.start_x, route.start_y),
-                                  scene_map.world_to_grid(route.goal_x, route.goal_y));
-      QueryOutcome q =
-          plan_query(scene->planner_of, query, plan_options, options.repetitions, metres);
+    for (size_t r = 0; r < route_queries.size(); ++r) {
+      const Route& route = kDemoRoutes[r];
+      QueryOutcome q = plan_query(scene->planner_of, route_queries[r], plan_options,
+                                  options.repetitions, metres);
       q.label = route.name;
       for (const int side : kAllSides) {
         if (q.o[side].ok) continue;
@@ -607,6 +807,24 @@ OctomapResult run_octomaps(const CostsOptions& options,
           run.queries[kind].push_back(std::move(q));
         }
       }
+      DefaultSet default_set{loaded->name, {}};
+      for (size_t k = 0; k < picked.size(); ++k) {
+        const core::PlanQuery query(picked[k].first, picked[k].second);
+        QueryOutcome q = plan_query(loaded->planner_of, query, default_config.options,
+                                    options.repetitions, units, static_cast<int>(k % kSides));
+        for (const int side : kAllSides) {
+          if (q.o[side].ok) continue;
+          std::fprintf(stderr,
+                       "vnsba_bench costs: the default configuration on %s, query %zu, "
+                       "%s: no path\n",
+                       loaded->name.c_str(), k, kSideName[side]);
+          out.ok = false;
+        }
+        default_set.queries.push_back(std::move(q));
+        out.choice.push_back(plan_each(loaded->planner_of[1], query, choice_options,
+                                       options.repetitions, units, static_cast<int>(k)));
+      }
+      default_slices.push_back(std::move(default_set));
       char line[512];
       std::snprintf(line, sizeof line,
                     "%s: %d x %d cells at %.2f m, %zu random queries (seed %u, start and goal "
@@ -623,6 +841,7 @@ OctomapResult run_octomaps(const CostsOptions& options,
       slice_runs.push_back(std::move(run));
     }
   }
+  out.default_text = default_config_text(options, default_config, default_routes, default_slices);
   if (slice_runs.empty()) {
     out.text = text + "**Held-in OctoMap slices**: not measured (" +
                (options.slice_queries > 0 ? "no slice loaded" : "--slice-queries 0") + ").\n\n";
@@ -715,10 +934,11 @@ struct MovingAiResult {
   bool ok = true;
   bool ran = false;
   std::string text;
+  std::map<std::string, ChoiceQueries> choice;  // per class, every choice planner
 };
 
-MovingAiResult run_maps(const CostsOptions& options,
-                        const std::vector<core::PlannerKind>& planners) {
+MovingAiResult run_maps(const CostsOptions& options, const std::vector<core::PlannerKind>& planners,
+                        const std::vector<core::PlannerKind>& choice_kinds) {
   MovingAiResult out;
   auto maps = list_scenario_maps(options.maps_dir);
   if (!maps) {
@@ -736,8 +956,12 @@ MovingAiResult run_maps(const CostsOptions& options,
   int64_t queries_total = 0;
   for (const std::string& path : *maps)
     if (const auto scenarios = maps::load_movingai_scenarios(path + ".scen"))
-      queries_total += static_cast<int64_t>(
-          pick_scenarios(scenarios->size(), options.max_scenarios).size() * planners.size());
+      queries_total +=
+          static_cast<int64_t>(pick_scenarios(scenarios->size(), options.max_scenarios).size() *
+                               (planners.size() + choice_kinds.size()));
+  std::vector<core::PlannerOptions> choice_options;
+  for (const core::PlannerKind kind : choice_kinds)
+    choice_options.push_back(cost_aware_relax_options(kind, options.robot));
   render::Progress progress("vnsba_bench costs", queries_total,
                             render::progress_wanted(options.progress));
   int64_t queries_done = 0;
@@ -783,8 +1007,23 @@ MovingAiResult run_maps(const CostsOptions& options,
         progress.update(++queries_done);
       }
     }
-    std::fprintf(stderr, "%s (%s): %zu scenarios x %zu planners x 3 sides\n", loaded->name.c_str(),
-                 map_class.c_str(), picked.size(), planners.size());
+    // The choice planners, each with auto's cost-aware settings, interleaved query by query.
+    if (!picked.empty()) {
+      const auto& s = loaded->scenarios[picked.front()];
+      for (const core::PlannerOptions& o : choice_options) planner_of[1].plan({s.start, s.goal}, o);
+    }
+    ChoiceQueries& choice = out.choice[map_class];
+    for (size_t k = 0; k < picked.size(); ++k) {
+      const maps::MovingAiScenario& s = loaded->scenarios[picked[k]];
+      choice.push_back(plan_each(planner_of[1], {s.start, s.goal}, choice_options, 0, cells,
+                                 static_cast<int>(k)));
+      queries_done += static_cast<int64_t>(choice_options.size());
+      progress.update(queries_done);
+    }
+    std::fprintf(stderr,
+                 "%s (%s): %zu scenarios x (%zu planners x 3 sides + %zu cost-aware planners)\n",
+                 loaded->name.c_str(), map_class.c_str(), picked.size(), planners.size(),
+                 choice_options.size());
   }
   progress.finish(queries_done);
 
@@ -913,6 +1152,51 @@ MovingAiResult run_maps(const CostsOptions& options,
   return out;
 }
 
+// --- The choice table ---------------------------------------------------------------------------
+
+std::string choice_text(const CostsOptions& options, const std::vector<core::PlannerKind>& kinds,
+                        const ChoiceQueries& octomaps,
+                        const std::map<std::string, ChoiceQueries>& classes) {
+  const std::string reference(core::to_string(kChoiceReference));
+  MarkdownTable table({"query set", "planner", "queries (failed)",
+                       "time / " + reference + "'s, median of per-query ratios",
+                       "ratio of median times", "time median (ms)",
+                       "length / " + reference + "'s (ratio of sums)",
+                       "turn angle / " + reference + "'s (ratio of sums)"});
+  auto add = [&](const std::string& name, const std::vector<const ChoiceQueries*>& sets) {
+    for (size_t i = 0; i < kinds.size(); ++i) {
+      const ChoiceStats s = choice_stats(sets, i);
+      std::string queries = std::to_string(s.queries);
+      if (s.failed > 0) queries += " (**failed** " + std::to_string(s.failed) + ")";
+      table.add_row({name, std::string(core::to_string(kinds[i])), queries, format(s.time_ratio, 2),
+                     format(s.median_time_ratio, 2), format(s.median_time_us / 1000.0, 3),
+                     format(s.length_ratio, 3), ratio_text(s.angle_ratio, 2)});
+    }
+  };
+  add("demo routes + slices", {&octomaps});
+  std::vector<const ChoiceQueries*> all_classes;
+  for (const auto& [name, queries] : classes) {
+    add("Moving AI " + name, {&queries});
+    all_classes.push_back(&queries);
+  }
+  if (!all_classes.empty()) add("Moving AI, all classes", all_classes);
+  char head[2048];
+  std::snprintf(
+      head, sizeof head,
+      "**Choosing the cost-aware planner of auto** (core::kCostAwareChoice): every cost-aware "
+      "planner with the default configuration's cost-aware settings (the robot's costs and "
+      "tolerances, prune and smooth on, smoother relax; each planner's own neighbourhood: "
+      "vns_bastar 8-11-13, the others 8), only the planner differing, on the same queries, "
+      "interleaved query by query: the demo's routes and the slices' queries (on the robot's "
+      "map; time the median of %d plans) and the Moving AI scenarios (cost_weight %.1f and the "
+      "gradient, no radius; one timed plan per query and planner). jps plans on uniform costs "
+      "only and is no candidate. The headline is the median over queries of (the planner's time "
+      "/ %s's time on the same query); the ratio of median times is given beside it. Length and "
+      "turn angle: the ratio of the sums over the queries both solved.\n\n",
+      options.repetitions, options.robot.cost_weight, reference.c_str());
+  return head + table.str() + "\n";
+}
+
 }  // namespace
 
 core::GridBuildOptions build_options(const RobotSettings& robot, bool with_radius) {
@@ -929,6 +1213,28 @@ core::PlannerSettings planner_settings(const RobotSettings& robot) {
   settings.goal_tolerance = robot.goal_tolerance;
   settings.start_tolerance = robot.start_tolerance;
   return settings;
+}
+
+core::PlannerOptions cost_aware_relax_options(core::PlannerKind kind, const RobotSettings& robot) {
+  core::PlannerSettings settings = planner_settings(robot);
+  settings.prune = true;
+  settings.smooth = true;
+  settings.smoother = core::PathSmoother::kRelax;
+  return core::make_options(kind, settings);
+}
+
+core::PlannerOptions default_config_options(const RobotSettings& robot,
+                                            core::PathSmoother smoother) {
+  core::PlannerSettings settings = planner_settings(robot);
+  settings.prune = true;
+  settings.smooth = true;
+  settings.smoother = smoother;
+  // As the node reads `name: auto`: the options of the cost-aware choice give the moves, and
+  // recommended_planner picks for them and the cost weight.
+  const core::PlannerOptions probe = core::make_options(core::kCostAwareChoice, settings);
+  return core::make_options(
+      core::recommended_planner(probe.cost_weight, probe.neighborhood, probe.corner_policy),
+      settings);
 }
 
 int run_costs(const CostsOptions& options) {
@@ -954,9 +1260,12 @@ int run_costs(const CostsOptions& options) {
   }
   const std::vector<core::PlannerKind> planners =
       options.planners.empty() ? core::all_planner_kinds() : options.planners;
-  const OctomapResult octomaps = run_octomaps(options, planners);
+  const std::vector<core::PlannerKind> choice_kinds = choice_planners(planners);
+  const OctomapResult octomaps = run_octomaps(options, planners, choice_kinds);
   if (!octomaps.loaded) return kExitBadInput;  // the scene could not be loaded
-  const MovingAiResult maps = run_maps(options, planners);
+  const MovingAiResult maps = run_maps(options, planners, choice_kinds);
+  std::printf("%s", octomaps.default_text.c_str());
+  std::printf("%s", choice_text(options, choice_kinds, octomaps.choice, maps.choice).c_str());
   std::printf("%s", octomaps.text.c_str());
   if (maps.ran) std::printf("%s", maps.text.c_str());
   return octomaps.ok && maps.ok ? kExitOk : kExitFailure;

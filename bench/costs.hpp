@@ -6,7 +6,10 @@
 // issue's targets (issue 34 item 3): against binary, cost-aware + relax keeps the total turn angle
 // at most 1.3x, the clearance at least 1.5x and the length at most 1.15x on the demo's routes and
 // the slices; the smoother adds at most 20 % to a plan's time (median over queries of the time
-// with relax / the time without it).
+// with relax / the time without it). First, the same targets for the default configuration itself
+// (`planner.name: auto` with the robot's costs against auto without them), then the table for
+// choosing the cost-aware planner auto runs: every cost-aware planner with auto's settings, its
+// time per query over astar's, and its path length and turn angle over astar's.
 //
 // vnsba_bench builds without DDS (bench/make_results.sh builds the core only), so it does
 // not read the YAML files: kDefaultYamlRobot below holds config/default.yaml's values, and a node
@@ -77,6 +80,16 @@ struct CostsOptions {
 // binary map, and a radius would block some, so there only the gradient and the weight differ.
 core::GridBuildOptions build_options(const RobotSettings& robot, bool with_radius);
 core::PlannerSettings planner_settings(const RobotSettings& robot);
+
+// The options `planner.name: auto` plans with for `robot` (config/default.yaml: prune and smooth
+// on, the planner core::recommended_planner picks for robot.cost_weight and the moves) and
+// `smoother`: with kDefaultYamlRobot and kRelax the default configuration (astar), with
+// RobotSettings{} (cost_weight 0) and kNone the binary default (jps).
+core::PlannerOptions default_config_options(const RobotSettings& robot,
+                                            core::PathSmoother smoother);
+// A cost-aware planner as auto's cost-aware side runs, only the planner differing: `robot`,
+// prune and smooth on, smoother relax (the planner's own neighbourhood: vns_bastar 8-11-13).
+core::PlannerOptions cost_aware_relax_options(core::PlannerKind kind, const RobotSettings& robot);
 
 int run_costs(const CostsOptions& options);
 

@@ -166,9 +166,11 @@ int main(int argc, char** argv) {
   std::string costs_planner_list;
   auto* costs = app.add_subcommand(
       "costs",
-      "binary against cost-aware against cost-aware + relax planning (config/paper.yaml "
-      "against default.yaml's robot, without and with the relax smoother) on the demo scene, "
-      "held-in OctoMap slices and the Moving AI maps");
+      "the default configuration (planner.name: auto) with and without costs, the cost-aware "
+      "planners auto could run against astar, and binary against cost-aware against cost-aware "
+      "+ relax planning per planner (config/paper.yaml against default.yaml's robot, without "
+      "and with the relax smoother) on the demo scene, held-in OctoMap slices and the Moving AI "
+      "maps");
   costs->add_option("--maps", costs_options.maps_dir, "folder with the Moving AI maps")
       ->capture_default_str();
   costs

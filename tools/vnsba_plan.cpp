@@ -579,11 +579,9 @@ int main(int argc, char** argv) {
   if (*smoother_cost_flag) settings.smoother_cost = smoother_cost;
   if (*smoother_iterations_flag) settings.smoother_iterations = smoother_iterations;
   if (auto_kind) {
-    // As the node's planner.name: auto does (node::PlannerConfig::options).
-    if (!settings.prune) settings.prune = true;
-    if (!settings.smooth) settings.smooth = true;
-    const core::PlannerOptions chosen = core::make_options(*kind, settings);
-    kind = core::recommended_planner(chosen.cost_weight, chosen.neighborhood, chosen.corner_policy);
+    // As the node's planner.name: auto does.
+    settings = core::with_auto_defaults(settings);
+    kind = core::make_auto_options(settings).planner;
   }
   const bool scen_mode = scen_flag->count() > 0;
   settings.record_expansions = out.any_picture();

@@ -190,4 +190,17 @@ PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
   return o;
 }
 
+PlannerSettings with_auto_defaults(PlannerSettings settings) {
+  if (!settings.prune) settings.prune = true;
+  if (!settings.smooth) settings.smooth = true;
+  return settings;
+}
+
+PlannerOptions make_auto_options(const PlannerSettings& settings) {
+  const PlannerSettings chosen = with_auto_defaults(settings);
+  const PlannerOptions moves = make_options(kCostAwareChoice, chosen);
+  return make_options(
+      recommended_planner(moves.cost_weight, moves.neighborhood, moves.corner_policy), chosen);
+}
+
 }  // namespace vnsba::core

@@ -551,10 +551,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
     planner.number(key, *out, core::kToleranceRange.describe() + " (0 = exact)",
                    [](double v) { return core::kToleranceRange.contains(v); });
   }
-  if (c.planner.auto_kind) {
-    const core::PlannerOptions chosen = c.planner.options();
-    kind = core::recommended_planner(chosen.cost_weight, chosen.neighborhood, chosen.corner_policy);
-  }
+  if (c.planner.auto_kind) kind = core::make_auto_options(s).planner;
   planner.number(kPathSpacingRange.key, c.planner.path_spacing,
                  kPathSpacingRange.describe() + " (absent = the map's resolution)",
                  [](double v) { return kPathSpacingRange.contains(v); });

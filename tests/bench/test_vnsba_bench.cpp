@@ -209,6 +209,21 @@ TEST(VnsbaBench, CostsComparesThreeSidesOnTheSceneTheSlicesAndTheMaps) {
       kBench, {"costs", "--maps", dir, "--planners", "astar,vns_bastar,jps", "--repetitions", "1",
                "--slices", dir + "/absent.bt", "--slice-queries", "2"});
   ASSERT_EQ(code, 0) << output;
+  // The default configuration's comparison comes first, then the table for choosing auto's
+  // cost-aware planner (astar, the reference, and every cost-aware planner asked for; not jps).
+  const size_t default_at = output.find("**The default configuration**");
+  ASSERT_NE(default_at, std::string::npos) << output;
+  EXPECT_LT(default_at, output.find("**Choosing the cost-aware planner of auto**"));
+  EXPECT_LT(output.find("**Choosing the cost-aware planner of auto**"),
+            output.find("**Demo scene**"));
+  for (const char* row :
+       {"\n| corridor | 1 |", "\n| demo routes | 3 |", "\n| geb079.bt random | 2 |",
+        "\n| **all: demo routes + slices** | 5 |",
+        "| demo routes + slices | astar | 5 | 1.00 | 1.00 |",
+        "| demo routes + slices | vns_bastar | 5 |", "| Moving AI game | astar | 2 | 1.00 | 1.00 |",
+        "| Moving AI game | vns_bastar | 2 |", "| Moving AI, all classes | vns_bastar | 2 |"})
+    EXPECT_NE(output.find(row), std::string::npos) << row << "\n" << output;
+  EXPECT_EQ(output.find("| demo routes + slices | jps"), std::string::npos) << output;
   for (const char* row :
        {"| astar | corridor |", "| vns_bastar | office_route |",
         "| jps (uniform costs) | hall_to_corridor |", "| geb079.bt | astar | 2 |",
@@ -247,6 +262,37 @@ TEST(VnsbaBench, CostsComparesThreeSidesOnTheSceneTheSlicesAndTheMaps) {
     EXPECT_NE(message.find(bad[4]), std::string::npos) << message;
   }
   fs::remove_all(dir);
+}
+
+// The default configuration `costs` compares is `planner.name: auto`'s: astar with the robot's
+// costs, pruned, smoothed and relaxed, against jps on uniform costs, pruned and smoothed; the
+// choice table's planners differ from the default only in the planner.
+TEST(VnsbaBench, CostsDefaultConfigurationIsAutos) {
+  using core::PathSmoother;
+  const auto chosen = bench::default_config_options(bench::kDefaultYamlRobot, PathSmoother::kRelax);
+  EXPECT_EQ(chosen.planner, core::kCostAwareChoice);
+  EXPECT_EQ(chosen.planner, core::PlannerKind::kAStar);
+  EXPECT_TRUE(chosen.prune && chosen.smooth);
+  EXPECT_EQ(chosen.smoother, PathSmoother::kRelax);
+  EXPECT_EQ(chosen.cost_weight, bench::kDefaultYamlRobot.cost_weight);
+  EXPECT_EQ(chosen.goal_tolerance, bench::kDefaultYamlRobot.goal_tolerance);
+  const auto binary = bench::default_config_options(bench::RobotSettings{}, PathSmoother::kNone);
+  EXPECT_EQ(binary.planner, core::PlannerKind::kJps);
+  EXPECT_TRUE(binary.prune && binary.smooth);
+  EXPECT_EQ(binary.smoother, PathSmoother::kNone);
+  EXPECT_EQ(binary.cost_weight, 0.0);
+  EXPECT_EQ(binary.goal_tolerance, 0.0);
+  for (const core::PlannerKind kind : core::all_planner_kinds()) {
+    if (!core::supports_costs(kind)) continue;
+    SCOPED_TRACE(std::string(core::to_string(kind)));
+    auto other = bench::cost_aware_relax_options(kind, bench::kDefaultYamlRobot);
+    EXPECT_EQ(other.planner, kind);
+    EXPECT_TRUE(other.prune && other.smooth);
+    EXPECT_EQ(other.smoother, PathSmoother::kRelax);
+    EXPECT_EQ(other.cost_weight, chosen.cost_weight);
+    EXPECT_EQ(other.goal_tolerance, chosen.goal_tolerance);
+    EXPECT_EQ(other.start_tolerance, chosen.start_tolerance);
+  }
 }
 
 // `costs` measures the demo's routes: every goal of tools/demo.sh expected OK is one of its

@@ -148,9 +148,10 @@ NodeConfig RobotDefaults() {
   config.planner.settings.cost_weight = 2.0;
   config.planner.settings.goal_tolerance = 0.25;
   config.planner.settings.start_tolerance = 0.2;
-  // name: auto with costs is astar (core::recommended_planner), pruned and smoothed, then relaxed.
+  // name: auto with costs is the cost-aware choice (core::recommended_planner), pruned and
+  // smoothed, then relaxed.
   config.planner.auto_kind = true;
-  config.planner.kind = PlannerKind::kAStar;
+  config.planner.kind = vnsba::core::kCostAwareChoice;
   config.planner.settings.smoother = vnsba::core::PathSmoother::kRelax;
   config.planner.settings.smoother_smoothness = 0.9;
   config.planner.settings.smoother_closeness = 0.0;
@@ -331,11 +332,11 @@ TEST(Config, AutoPicksJpsWithoutCostsAndTheCostAwareChoiceWithThem) {
     PlannerKind expected;
   };
   const Case cases[] = {
-      {"", PlannerKind::kAStar},  // default.yaml's cost_weight 2
+      {"", vnsba::core::kCostAwareChoice},  // default.yaml's cost_weight 2
       {"  cost_weight: 0\n", PlannerKind::kJps},
-      {"  cost_weight: 0\n  corner_policy: touch\n", PlannerKind::kAStar},
-      {"  cost_weight: 0\n  neighborhood: \"8-11-13\"\n", PlannerKind::kAStar},
-      {"  name: auto\n  cost_weight: 5\n", PlannerKind::kAStar},
+      {"  cost_weight: 0\n  corner_policy: touch\n", vnsba::core::kCostAwareChoice},
+      {"  cost_weight: 0\n  neighborhood: \"8-11-13\"\n", vnsba::core::kCostAwareChoice},
+      {"  name: auto\n  cost_weight: 5\n", vnsba::core::kCostAwareChoice},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.planner_block);

@@ -2,8 +2,9 @@
 // plan the same paths. The node's side is what its users publish: for a map_server file, the
 // OccupancyGrid Nav2's map_server makes of it, and for an OctoMap, vnsba_slicer's slice. The
 // other side is the library calls vnsba_plan makes on the file (maps::load_map_file,
-// core::GridMap::build with the config's map section, core::make_options with its planner
-// section, a PlanQuery holding the exact requested points), not its printed line.
+// core::GridMap::build with the config's map section, the options of its planner section
+// (PlannerConfig::options: make_options, or for planner.name auto core::make_auto_options), a
+// PlanQuery holding the exact requested points), not its printed line.
 //
 // The map_server side is an oracle written here from Nav2's rules (nav2_map_server map_io.cpp,
 // loadMapYaml and loadMapFromFile), not the maps library's loader: the node's users run Nav2's
@@ -142,7 +143,7 @@ std::optional<OccupancyGridMsg> map_server_publishes(const fs::path& yaml, std::
 // --- vnsba_plan's side: its library calls on the file. ---
 
 core::PlannerOptions vnsba_plan_options(const node::NodeConfig& config) {
-  core::PlannerOptions options = core::make_options(config.planner.kind, config.planner.settings);
+  core::PlannerOptions options = config.planner.options();
   core::drop_unsupported_costs(options);
   return options;
 }

@@ -399,8 +399,9 @@ TEST(NodeIntegration, LengthRatioIsFilledOnlyWhenConfigured) {
         "planner:\n  cost_weight: 0\n  goal_tolerance: 0\n  start_tolerance: 0\n" +
         "  compute_length_ratio: " + (on ? "true" : "false") +
         "\n"
-        // The oracle below is the grid path's: no smoother moving it off the grid.
-        "  smoother: none\n");
+        // The oracle below is the grid path's: no smoother moving it off the grid, and each
+        // requested planner in its paper configuration (auto would prune and smooth them all).
+        "  smoother: none\n  name: vns_bastar\n");
     ASSERT_TRUE(parsed.config.has_value()) << parsed.errors.front();
     Running run(*parsed.config);
     ASSERT_TRUE(run.start());

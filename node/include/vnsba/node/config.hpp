@@ -161,12 +161,8 @@ struct PlannerConfig {
   // paper's configuration; the choice was measured with them on).
   core::PlannerOptions options() const { return options(kind); }
   core::PlannerOptions options(core::PlannerKind override_kind) const {
-    core::PlannerSettings chosen = settings;
-    if (auto_kind) {
-      if (!chosen.prune) chosen.prune = true;
-      if (!chosen.smooth) chosen.smooth = true;
-    }
-    return core::make_options(override_kind, chosen);
+    return core::make_options(override_kind,
+                              auto_kind ? core::with_auto_defaults(settings) : settings);
   }
 
   static core::PlannerSettings default_settings() {
