@@ -1217,24 +1217,15 @@ core::PlannerSettings planner_settings(const RobotSettings& robot) {
 
 core::PlannerOptions cost_aware_relax_options(core::PlannerKind kind, const RobotSettings& robot) {
   core::PlannerSettings settings = planner_settings(robot);
-  settings.prune = true;
-  settings.smooth = true;
   settings.smoother = core::PathSmoother::kRelax;
-  return core::make_options(kind, settings);
+  return core::make_options(kind, core::with_auto_defaults(settings));  // auto's, for `kind`
 }
 
 core::PlannerOptions default_config_options(const RobotSettings& robot,
                                             core::PathSmoother smoother) {
   core::PlannerSettings settings = planner_settings(robot);
-  settings.prune = true;
-  settings.smooth = true;
   settings.smoother = smoother;
-  // As the node reads `name: auto`: the options of the cost-aware choice give the moves, and
-  // recommended_planner picks for them and the cost weight.
-  const core::PlannerOptions probe = core::make_options(core::kCostAwareChoice, settings);
-  return core::make_options(
-      core::recommended_planner(probe.cost_weight, probe.neighborhood, probe.corner_policy),
-      settings);
+  return core::make_auto_options(settings);  // as the node reads `name: auto`
 }
 
 int run_costs(const CostsOptions& options) {
