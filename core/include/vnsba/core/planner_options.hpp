@@ -136,9 +136,9 @@ struct PlannerOptions {
 // The planner `planner.name: auto` runs, chosen by measurement (`vnsba_bench costs`, the table
 // "Choosing the cost-aware planner of auto"): jps, the fastest exact planner, wherever it can plan
 // with these options (uniform costs: cost_weight 0; the 8-neighbourhood; corner_policy never);
-// otherwise kCostAwareChoice: with pruning, smoothing and relax, BA* took 0.91 of A*'s time per
-// query (median) on the demo's routes and the OctoMap slices and 0.84 on the Moving AI maps, at
-// or below A* in every map class, for paths of 0.999 A*'s length and 0.98-1.00 its turning. A*
+// otherwise kCostAwareChoice: with pruning, smoothing and relax, BA* took 0.94 of A*'s time per
+// query (median) on the demo's routes and the OctoMap slices and 0.82 on the Moving AI maps,
+// 0.65-0.95 in every map class, for paths of 0.999 A*'s length and 0.98-1.00 its turning. A*
 // stays the planner whose path is the cheapest (the only optimal one): name it to get that.
 inline constexpr PlannerKind kCostAwareChoice = PlannerKind::kBidirectionalAStar;
 PlannerKind recommended_planner(double cost_weight, Neighborhood neighborhood,
