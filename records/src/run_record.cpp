@@ -301,6 +301,7 @@ json skeleton(const RunRecord& r) {
     if (r.options->neighborhood) o["neighborhood"] = core::to_string(*r.options->neighborhood);
     if (r.options->prune) o["prune"] = *r.options->prune;
     if (r.options->smooth) o["smooth"] = *r.options->smooth;
+    if (r.options->smoother) o["smoother"] = core::to_string(*r.options->smoother);
     if (r.options->cost_weight) o["cost_weight"] = number(*r.options->cost_weight);
     j["options"] = o;
   } else {
@@ -370,6 +371,7 @@ OptionsRecord options_record(const core::PlannerOptions& options) {
   o.neighborhood = options.neighborhood;
   o.prune = options.prune;
   o.smooth = options.smooth;
+  o.smoother = options.smoother;
   o.cost_weight = options.cost_weight;
   return o;
 }
@@ -484,6 +486,12 @@ core::Expected<RunRecord> run_record_from_json(const json& j,
       options.prune = in.boolean(*o, "prune", "options");
     if (in.member(*o, "smooth", "options") != nullptr)
       options.smooth = in.boolean(*o, "smooth", "options");
+    if (in.member(*o, "smoother", "options") != nullptr) {
+      const std::string name = in.string(*o, "smoother", "options");
+      options.smoother = core::path_smoother_from_string(name);
+      if (in.ok() && !options.smoother)
+        in.fail("options.smoother", "is \"" + name + "\", must be \"none\" or \"relax\"");
+    }
     if (in.member(*o, "cost_weight", "options") != nullptr) {
       options.cost_weight = in.real(*o, "cost_weight", "options");
       if (in.ok() && !core::kCostWeightRange.contains(*options.cost_weight))
@@ -713,6 +721,7 @@ render::RunPicture picture_of(const RunRecord& r, const core::OccupancyGrid* gri
     picture.options.neighborhood = r.options->neighborhood;
     picture.options.prune = r.options->prune;
     picture.options.smooth = r.options->smooth;
+    picture.options.smoother = r.options->smoother;
     picture.options.cost_weight = r.options->cost_weight;
   }
   if (r.map) {

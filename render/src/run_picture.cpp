@@ -403,6 +403,7 @@ PathOptions path_options(const core::PlannerOptions& planner, const core::GridBu
   o.neighborhood = planner.neighborhood;
   o.prune = planner.prune;
   o.smooth = planner.smooth;
+  o.smoother = planner.smoother;
   o.cost_weight = planner.cost_weight;
   if (build != nullptr) {
     o.robot_radius = build->robot_radius;
@@ -598,7 +599,8 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
          "stroke-dasharray=\"0.3,0.2\"/>"},
         {"pruned path", "pruned-path",
          "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"#000\" stroke-width=\"0.2\"/>"},
-        {"smoothed corners", "smoothed-corners",
+        {run.options.smoother == core::PathSmoother::kRelax ? "relaxed path" : "smoothed corners",
+         "smoothed-corners",
          "<line x1=\"0\" y1=\"0.5\" x2=\"1\" y2=\"0.5\" stroke=\"" + std::string(kSmoothedColour) +
              "\" stroke-width=\"0.2\"/>"},
         {"path", "final-path",
@@ -701,6 +703,8 @@ std::string render_svg(const RunPicture& run, const RenderOptions& options) {
       shaping.push_back(std::string(core::to_string(*o.neighborhood)) + " neighbourhood");
     if (o.prune) shaping.push_back(std::string("prune ") + (*o.prune ? "on" : "off"));
     if (o.smooth) shaping.push_back(std::string("smooth ") + (*o.smooth ? "on" : "off"));
+    // none is the paper's pipeline: named only when a smoother ran.
+    if (o.smoother == core::PathSmoother::kRelax) shaping.push_back("smoother relax");
     if (o.cost_weight) shaping.push_back("cost_weight " + format_number("%g", *o.cost_weight));
     if (o.robot_radius && *o.robot_radius > 0)
       shaping.push_back("robot radius " + format_number("%g", *o.robot_radius) + " m");

@@ -199,6 +199,32 @@ TEST(RunRecord, PlannerOptionsRoundTripAndOlderRecordsNameNone) {
       std::string::npos)
       << caption;
 
+  // The relax smoother is recorded, read back, named in the caption, and its path so labelled.
+  {
+    RunRecord relaxed = full_record();
+    relaxed.debug->pruned_waypoints = {relaxed.path.front(), relaxed.path.back()};  // path leaves
+    core::PlannerOptions relax_options = options;
+    relax_options.smoother = core::PathSmoother::kRelax;
+    relaxed.options = records::options_record(relax_options);
+    const nlohmann::json rj = records::to_json(relaxed);
+    EXPECT_EQ(rj["options"]["smoother"], "relax");
+    const auto relaxed_back = records::run_record_from_json(nlohmann::json::parse(rj.dump()));
+    ASSERT_TRUE(relaxed_back) << relaxed_back.error().message;
+    EXPECT_EQ(relaxed_back->options->smoother, core::PathSmoother::kRelax);
+    EXPECT_NE(caption_of(*relaxed_back).find("smooth off, smoother relax, cost_weight 4"),
+              std::string::npos)
+        << caption_of(*relaxed_back);
+    const std::string svg = render::render_svg(records::picture_of(*relaxed_back, nullptr));
+    EXPECT_NE(svg.find("relaxed path"), std::string::npos);
+    EXPECT_EQ(svg.find("smoothed corners"), std::string::npos);
+    nlohmann::json bad = rj;
+    bad["options"]["smoother"] = "spline";
+    const auto refused = records::run_record_from_json(bad);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("options.smoother"), std::string::npos)
+        << refused.error().message;
+  }
+
   // An older record: no options, no radii.
   nlohmann::json older = records::to_json(full_record());
   older.erase("options");

@@ -84,7 +84,8 @@ struct OptionsRecord {
   std::optional<core::Neighborhood> neighborhood;
   std::optional<bool> prune;
   std::optional<bool> smooth;
-  std::optional<double> cost_weight;  // 0 = the paper's binary grid
+  std::optional<core::PathSmoother> smoother;  // none or relax (after pruning and smoothing)
+  std::optional<double> cost_weight;           // 0 = the paper's binary grid
 };
 
 // The record of a plan run with these options.

@@ -61,7 +61,8 @@ struct PathOptions {
   std::optional<core::Neighborhood> neighborhood;
   std::optional<bool> prune;
   std::optional<bool> smooth;
-  std::optional<double> cost_weight;  // 0 = the paper's binary grid
+  std::optional<core::PathSmoother> smoother;  // relax: the final path is the relaxed one
+  std::optional<double> cost_weight;           // 0 = the paper's binary grid
   // How the planning map was built (GridBuildOptions): named only when positive.
   std::optional<double> robot_radius;      // metres: obstacles inflated by it
   std::optional<double> inflation_radius;  // metres: reach of the cost gradient
