@@ -98,8 +98,13 @@ Outcome outcome_of(const TimedPlan& timed, const Units& units) {
   if (o.ok) {
     o.length = m.length_m * units.per_metre;
     o.clearance = m.clearance_m * units.per_metre;
-    o.turns = m.turns;
-    o.turn_angle = m.turn_angle_deg;
+    // Every side's turns counted the same way: the corners of its final path at half a cell
+    // (what a relaxed plan reports; an unrelaxed one reports its pruned waypoints' turns, which
+    // count every step of a grid staircase).
+    const core::TurnStats corners = core::turn_stats(
+        core::simplify_polyline(timed.result.path, core::kRelaxedCornerToleranceCells));
+    o.turns = corners.turns;
+    o.turn_angle = corners.total_angle_deg;
     o.curvature = core::max_curvature(timed.result.path) * units.per_cell_turn;
   }
   return o;

@@ -550,17 +550,15 @@ int main(int argc, char** argv) {
   }
 
   // auto (--planner auto, or the config's planner.name: auto): chosen below from the options.
-  const bool auto_kind =
-      planner_flag->count() > 0 ? planner_name == "auto" : config && config->planner.auto_kind;
+  const bool auto_kind = planner_flag->count() > 0 ? planner_name == core::kAutoPlannerName
+                                                   : config && config->planner.auto_kind;
   std::optional<core::PlannerKind> kind = auto_kind ? std::optional(core::kCostAwareChoice)
                                           : config && planner_flag->count() == 0
                                               ? std::optional(config->planner.kind)
                                               : core::planner_kind_from_string(planner_name);
   if (!kind) {
-    std::string known = "auto";
-    for (core::PlannerKind k : core::all_planner_kinds()) known += ", " + std::string(to_string(k));
     std::fprintf(stderr, "--planner: unknown planner '%s' (known: %s)\n", planner_name.c_str(),
-                 known.c_str());
+                 core::accepted_planner_names().c_str());
     return kBadInput;
   }
   core::PlannerSettings settings = config ? config->planner.settings : core::PlannerSettings{};

@@ -453,12 +453,14 @@ class Recorder {
       }
       // The options the node plans with: its config's for the planner the run names (a
       // request names nothing else), as the node applies them (no costs for jps).
-      const std::string planner_name = record.status && !record.status->planner.empty()
-                                           ? record.status->planner
-                                       : record.request ? record.request->planner
-                                                        : std::string();
-      core::PlannerOptions run_options = config_.planner.options(
-          core::planner_kind_from_string(planner_name).value_or(config_.planner.kind));
+      // A request that named no planner (and a goal) ran the configured one, auto's options
+      // included; one that named `auto` auto's; one that named a planner that planner's.
+      const std::string requested = record.request ? record.request->planner : std::string();
+      const auto named = core::planner_kind_from_string(requested);
+      core::PlannerOptions run_options = requested == core::kAutoPlannerName
+                                             ? config_.planner.auto_options()
+                                         : named ? config_.planner.options(*named)
+                                                 : config_.planner.options();
       core::drop_unsupported_costs(run_options);
       record.options = records::options_record(run_options);
       // What the bus brought is recorded as it came; what cannot be drawn is said.

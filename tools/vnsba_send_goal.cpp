@@ -700,8 +700,9 @@ int main(int argc, char** argv) {
                  "pose of the path")
       ->capture_default_str();
   app.add_option("--planner", planner,
-                 "astar, weighted_astar, bidirectional_astar, alternating_bidirectional_astar, "
-                 "vns_bastar or jps (default: the node's configured planner)");
+                 "auto, astar, weighted_astar, bidirectional_astar, "
+                 "alternating_bidirectional_astar, vns_bastar or jps (default: the node's "
+                 "configured planner)");
   app.add_option("--id", request_id, "request id (default: send_goal-<pid>-<unix ms>)")
       ->excludes(action_option);
   app.add_option("--wait", wait_seconds,
@@ -772,11 +773,10 @@ int main(int argc, char** argv) {
   if (!std::isfinite(yaw))
     return bad_input("--yaw: " + std::to_string(yaw) + ", must be a finite number of radians");
   goal_request.yaw = yaw;
-  if (!planner.empty() && !core::planner_kind_from_string(planner)) {
-    std::string known;
-    for (core::PlannerKind kind : core::all_planner_kinds())
-      known += (known.empty() ? "" : ", ") + std::string(core::to_string(kind));
-    return bad_input("--planner: unknown planner '" + planner + "', expected one of " + known);
+  if (!planner.empty() && planner != core::kAutoPlannerName &&
+      !core::planner_kind_from_string(planner)) {
+    return bad_input("--planner: unknown planner '" + planner + "', expected one of " +
+                     core::accepted_planner_names());
   }
   goal_request.planner = planner;
   if (!(wait_seconds > 0.0 && wait_seconds <= kMaxWaitSeconds)) {

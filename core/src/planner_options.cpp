@@ -190,6 +190,12 @@ PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
   return o;
 }
 
+std::string accepted_planner_names() {
+  std::string names(kAutoPlannerName);
+  for (const auto& entry : kPlannerNames) names += ", " + std::string(entry.name);
+  return names;
+}
+
 PlannerSettings with_auto_defaults(PlannerSettings settings) {
   if (!settings.prune) settings.prune = true;
   if (!settings.smooth) settings.smooth = true;

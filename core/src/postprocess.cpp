@@ -222,13 +222,6 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
     if (!line_of_sight(map, curve[i - 1], curve[i], policy)) return std::nullopt;
   }
   if (!line_of_sight(map, curve.back(), b, policy)) return std::nullopt;
-  // The legs prev -> P1 and P4 -> B lie on the segments prev -> T and T -> B: no closer to an
-  // obstacle than those; only the curve is new.
-  if (options.min_clearance_cells > 0.0) {
-    for (size_t i = 1; i < curve.size(); ++i)
-      if (!segment_clearance_at_least(map, curve[i - 1], curve[i], options.min_clearance_cells))
-        return std::nullopt;
-  }
   if (options.cost_weight > 0.0) {
     // The path so far ends at prev, and what follows it is prev -> T -> B and the legs after B.
     // With the curve, prev -> P1, the curve and P4 -> B take the place of prev -> T -> B; kept
@@ -417,6 +410,8 @@ std::vector<Point2> relax_path(const GridMap& map, const std::vector<Point2>& pa
     for (size_t i = 1; i < last; ++i) {
       // moving[i - 1] is this iteration's (Gauss-Seidel), moved[i + 1] the last one's.
       if (!(moved[i - 1] | moved[i] | moved[i + 1] | moving[i - 1])) continue;
+      // Polled per point (the budget reads the clock every 256 polls), as pruning polls per check.
+      if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
       const Point2& previous = points[i - 1];
       const Point2& next = points[i + 1];
       Point2 step = options.smoothness * (previous + next - 2.0 * points[i]) +

@@ -344,8 +344,6 @@ std::vector<std::pair<const char*, std::string*>> topic_keys(TopicNames& t) {
 const std::set<std::string> kActionKeys = {"compute_path_to_pose", "compute_path_through_poses"};
 // The longest name an action's services and topics add to it (rcl_action).
 constexpr const char* kActionSuffix = "/_action/cancel_goal";
-// planner.name: the planner chosen for the file's options (core::recommended_planner).
-constexpr const char* kAutoPlannerName = "auto";
 // The topics a node reads once for all its robots, under its own namespace.
 const std::set<std::string> kSharedTopicKeys = {"projected_map", "octomap", "tf", "tf_static",
                                                 "clock"};
@@ -456,9 +454,10 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   // the paper configuration of whichever planner runs (the configured one or a request's).
   Section planner = top.child("planner");
   core::PlannerKind& kind = c.planner.kind;
-  std::vector<std::string> planner_names = {kAutoPlannerName};
+  std::vector<std::string> planner_names = {std::string(core::kAutoPlannerName)};
   for (core::PlannerKind k : core::all_planner_kinds()) planner_names.emplace_back(to_string(k));
-  std::string name = c.planner.auto_kind ? kAutoPlannerName : std::string(to_string(kind));
+  std::string name =
+      c.planner.auto_kind ? std::string(core::kAutoPlannerName) : std::string(to_string(kind));
   planner.choice(
       "name", name,
       [&](const std::string& text) -> std::optional<std::string> {
@@ -467,7 +466,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
         return text;
       },
       planner_names);
-  c.planner.auto_kind = name == kAutoPlannerName;
+  c.planner.auto_kind = name == core::kAutoPlannerName;
   // auto: the cost-aware choice until cost_weight and the moves are read (below), which supports
   // every option, so that no check before then refuses what auto will not pick.
   kind = c.planner.auto_kind ? core::kCostAwareChoice

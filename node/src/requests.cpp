@@ -81,22 +81,20 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
                                                   bytes, kMaxFrameIdBytes));
     }
   }
-  core::PlannerKind kind = config.planner.kind;
-  if (!job.planner.empty()) {
-    const auto requested = core::planner_kind_from_string(job.planner);
-    if (!requested) {
-      std::string known;
-      for (core::PlannerKind k : core::all_planner_kinds())
-        known += (known.empty() ? "" : ", ") + std::string(core::to_string(k));
-      out.invalid_planner = true;
-      return fail(wire::INVALID_REQUEST, "planner: unknown planner '" + printable(job.planner) +
-                                             "' (known: " + known + ")");
-    }
-    kind = *requested;
-  }
-  // Every configured planner key, whichever planner runs; the rest is that planner's paper
+  // No planner named: the configured one (planner.name, auto's choice included). `auto`: auto's
+  // rule on the file's keys. A planner: every configured key, the rest that planner's paper
   // configuration.
-  out.options = config.planner.options(kind);
+  if (job.planner.empty()) {
+    out.options = config.planner.options();
+  } else if (job.planner == core::kAutoPlannerName) {
+    out.options = config.planner.auto_options();
+  } else if (const auto requested = core::planner_kind_from_string(job.planner)) {
+    out.options = config.planner.options(*requested);
+  } else {
+    out.invalid_planner = true;
+    return fail(wire::INVALID_REQUEST, "planner: unknown planner '" + printable(job.planner) +
+                                           "' (known: " + core::accepted_planner_names() + ")");
+  }
   out.planner_name = std::string(core::to_string(out.options.planner));
   // jps plans on uniform costs only (its jump rules need every move of a kind to cost the same).
   // A request that picks it on a node configured with costs asked for the shortest path, fast:

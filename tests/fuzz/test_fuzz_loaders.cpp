@@ -1128,7 +1128,12 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_int("map", "max_cells", c.map.max_cells, d.map.max_cells);
   const auto& s = c.planner.settings;
   const auto& ds = d.planner.settings;
-  same_text("planner", "name", name_of(c.planner.kind), name_of(d.planner.kind));
+  // planner.name: auto is kept as auto (kind is then its choice).
+  auto planner_name = [&](const node::PlannerConfig& planner) {
+    return planner.auto_kind ? std::optional<std::string>(std::string(core::kAutoPlannerName))
+                             : name_of(planner.kind);
+  };
+  same_text("planner", "name", planner_name(c.planner), planner_name(d.planner));
   same_double("planner", "omega", s.omega, ds.omega);
   same_double("planner", "eta", s.eta, ds.eta);
   same_text("planner", "neighborhood", opt_name(s.neighborhood), opt_name(ds.neighborhood));
@@ -1283,7 +1288,11 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       if (!seen.insert(key).second) p->push_back(key + ": accepted a repeated key");
       const bool section = prefix.empty() && sections.count(key) > 0;
       if (!section && known.count(key) == 0) p->push_back(key + ": accepted an unknown key");
-      if (!section && kv.second.IsNull()) p->push_back(key + ": accepted a key without a value");
+      // A list key without a value is the empty list (the loader reads robots: and
+      // discovery.servers: so, as yaml-cpp reads `[]`); any other key needs a value.
+      const bool list_key = key == "robots" || key == "discovery.servers";
+      if (!section && !list_key && kv.second.IsNull())
+        p->push_back(key + ": accepted a key without a value");
       if (section && !kv.second.IsMap() && !kv.second.IsNull()) {
         p->push_back(key + ": accepted a section that is not a map");
       }

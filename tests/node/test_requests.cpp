@@ -288,6 +288,50 @@ TEST(ResolveRequest, JpsOnANodeWithCostsPlansOnUniformCostsWithAWarning) {
   }
 }
 
+// planner.name: auto (default.yaml's): a request that names no planner runs auto's choice, pruned
+// and smoothed; one that names `auto` too, whatever planner.name says; one that names a planner
+// gets that planner's paper configuration for the keys the file leaves out.
+TEST(ResolveRequest, AutoAndNamedPlannersGetTheirOwnOptions) {
+  const node::ConfigResult parsed = node::parse_config("");
+  ASSERT_TRUE(parsed.config.has_value());
+  node::NodeConfig cfg = *parsed.config;
+  ASSERT_TRUE(cfg.planner.auto_kind);
+  const core::GridMap map = small_map();
+  Job unnamed = job("u", 0.5, 0.5, 9.5, 4.5);
+  const auto u = node::resolve_request(unnamed, cfg, &map);
+  ASSERT_TRUE(u.status.ok()) << u.status.message;
+  EXPECT_EQ(u.planner_name, core::to_string(core::kCostAwareChoice));
+  EXPECT_TRUE(u.options.prune && u.options.smooth);
+  Job named = unnamed;
+  named.planner = "astar";
+  const auto a = node::resolve_request(named, cfg, &map);
+  ASSERT_TRUE(a.status.ok()) << a.status.message;
+  EXPECT_EQ(a.planner_name, "astar");
+  EXPECT_FALSE(a.options.prune);  // astar's paper configuration: the file leaves prune out
+  EXPECT_FALSE(a.options.smooth);
+  EXPECT_EQ(a.options.smoother, core::PathSmoother::kRelax);  // the file's key applies
+  // `auto` on a node whose planner.name is another planner, with and without costs.
+  node::NodeConfig named_config = cfg;
+  named_config.planner.auto_kind = false;
+  named_config.planner.kind = core::PlannerKind::kVnsBaStar;
+  Job automatic = unnamed;
+  automatic.planner = "auto";
+  for (const double weight : {2.0, 0.0}) {
+    named_config.planner.settings.cost_weight = weight;
+    const auto r = node::resolve_request(automatic, named_config, &map);
+    ASSERT_TRUE(r.status.ok()) << r.status.message;
+    EXPECT_EQ(r.planner_name, core::to_string(core::recommended_planner(
+                                  weight, core::Neighborhood::kEight, core::CornerPolicy::kNever)));
+    EXPECT_TRUE(r.options.prune && r.options.smooth);
+  }
+  // An unknown name lists auto among the known ones.
+  Job unknown = unnamed;
+  unknown.planner = "automatic";
+  const auto bad = node::resolve_request(unknown, cfg, &map);
+  EXPECT_EQ(node::code_name(bad.status.code), "INVALID_REQUEST");
+  EXPECT_NE(bad.status.message.find("known: auto, astar"), std::string::npos) << bad.status.message;
+}
+
 // The goal's orientation: a unit quaternion gives the final yaw; a finite one of another norm
 // is ignored with a warning (never a failure).
 TEST(ResolveRequest, GoalOrientationGivesTheFinalYawOrAWarning) {

@@ -138,8 +138,9 @@ struct PlannerOptions {
 // with these options (uniform costs: cost_weight 0; the 8-neighbourhood; corner_policy never);
 // otherwise kCostAwareChoice: with pruning, smoothing and relax, BA* took 0.94 of A*'s time per
 // query (median) on the demo's routes and the OctoMap slices and 0.82 on the Moving AI maps,
-// 0.65-0.95 in every map class, for paths of 0.999 A*'s length and 0.98-1.00 its turning. A*
-// stays the planner whose path is the cheapest (the only optimal one): name it to get that.
+// 0.65-0.95 in every map class, for paths of 0.999 A*'s length and 0.98-1.00 its turning. A*'s
+// search stays the one that finds the cheapest grid path (the only optimal one); the relax
+// smoother may trade that cost for a straighter path (it is not checked against it).
 inline constexpr PlannerKind kCostAwareChoice = PlannerKind::kBidirectionalAStar;
 PlannerKind recommended_planner(double cost_weight, Neighborhood neighborhood,
                                 CornerPolicy corner_policy);
@@ -185,6 +186,12 @@ struct PlannerSettings {
 
 // The options of a run: default_options(kind), then every setting that is set.
 PlannerOptions make_options(PlannerKind kind, const PlannerSettings& settings);
+
+// The name of that choice wherever a planner is named (planner.name, a request's planner, a Nav2
+// planner_id, --planner), and every name a planner field accepts, for messages:
+// "auto, astar, weighted_astar, ...".
+inline constexpr std::string_view kAutoPlannerName = "auto";
+std::string accepted_planner_names();
 
 // What `planner.name: auto` adds to what a user configured: pruning and smoothing on unless set
 // (jps and astar have them off in the paper's configuration; auto was measured with them on).

@@ -52,10 +52,6 @@ struct SmoothingOptions {
   // > 0: a corner's curve is kept only when it costs no more than the two leg pieces it
   // replaces (ALGORITHM.md section 8); 0: section 5 as it stands.
   double cost_weight = 0.0;
-  // > 0 (cells): a corner's curve, with the legs that join it, is kept only when it keeps at
-  // least this clearance (path_clearance_cells); what the relax smoother asks of the corners of
-  // its path. 0: not checked (section 5 as it stands).
-  double min_clearance_cells = 0.0;
 };
 
 // Replaces each interior corner T of `waypoints` by samples of a clamped parametric cubic
@@ -103,8 +99,8 @@ inline constexpr double kRelaxSettledCells = 1e-3;
 inline constexpr double kRelaxCompactCells = 0.1;
 
 // `path`: continuous cell coordinates, the ends first and last. With a `budget` that expires
-// part-way (polled once per iteration) the result is empty and budget->state() says why. Paths of
-// fewer than 3 points come back as they are.
+// part-way (polled once per point visited) the result is empty and budget->state() says why. Paths
+// of fewer than 3 points come back as they are.
 std::vector<Point2> relax_path(const GridMap& map, const std::vector<Point2>& path,
                                const RelaxOptions& options, double min_clearance_cells,
                                PlanningBudget* budget = nullptr);

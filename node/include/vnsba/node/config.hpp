@@ -143,7 +143,7 @@ struct PlannerConfig {
   core::PlannerKind kind = core::PlannerKind::kVnsBaStar;  // planner.name
   // planner.name: auto. `kind` is then core::recommended_planner for the file's cost_weight,
   // neighborhood and corner_policy, and prune and smooth are on unless the file sets them
-  // (options()).
+  // (options(): core::make_auto_options).
   bool auto_kind = false;
   core::PlannerSettings settings = default_settings();  // every other planner.* key
                                                         // (cost_weight, goal_tolerance and
@@ -156,14 +156,18 @@ struct PlannerConfig {
   // The spacing of the poses of a path planned on a map of `resolution` metres per cell.
   double path_spacing_for(double resolution) const { return path_spacing.value_or(resolution); }
 
-  // The options of a run with the configured planner, or with `override_kind`. With auto_kind,
-  // pruning and smoothing are on unless the file set them (jps and astar have them off in the
-  // paper's configuration; the choice was measured with them on).
-  core::PlannerOptions options() const { return options(kind); }
-  core::PlannerOptions options(core::PlannerKind override_kind) const {
-    return core::make_options(override_kind,
-                              auto_kind ? core::with_auto_defaults(settings) : settings);
+  // The options of a run with the configured planner: with auto_kind, core::make_auto_options
+  // (pruning and smoothing on unless the file set them; the choice was measured so).
+  core::PlannerOptions options() const {
+    return auto_kind ? core::make_auto_options(settings) : core::make_options(kind, settings);
   }
+  // A request that names a planner: every key the file gives, the rest that planner's paper
+  // configuration (auto or not: default.yaml says so).
+  core::PlannerOptions options(core::PlannerKind override_kind) const {
+    return core::make_options(override_kind, settings);
+  }
+  // A request that names `auto`: the file's keys with auto's rule, whatever planner.name says.
+  core::PlannerOptions auto_options() const { return core::make_auto_options(settings); }
 
   static core::PlannerSettings default_settings() {
     core::PlannerSettings s;
