@@ -265,8 +265,8 @@ TEST(VnsbaBench, CostsComparesThreeSidesOnTheSceneTheSlicesAndTheMaps) {
 }
 
 // The default configuration `costs` compares is `planner.name: auto`'s: the cost-aware choice
-// with the robot's costs, pruned, smoothed and relaxed, against jps on uniform costs, pruned and smoothed; the
-// choice table's planners differ from the default only in the planner.
+// with the robot's costs, pruned, smoothed and relaxed, against jps on uniform costs, pruned and
+// smoothed; the choice table's planners differ from the default only in the planner.
 TEST(VnsbaBench, CostsDefaultConfigurationIsAutos) {
   using core::PathSmoother;
   const auto chosen = bench::default_config_options(bench::kDefaultYamlRobot, PathSmoother::kRelax);
