@@ -130,13 +130,7 @@ std::optional<std::pair<Cell, Cell>> straight_run_cells(const GridMap& map, cons
 
 }  // namespace
 
-bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point2& b,
-                                double cells) {
-  if (!(cells > 0.0)) return true;
-  // Far from obstacles the distance transform answers: every point of the segment lies within
-  // |ab| / 2 of a or of b, each of which lies |p - centre| from its cell's centre, whose centre is
-  // obstacle_distance from the nearest obstacle's centre, and that obstacle's square reaches
-  // sqrt(1/2) closer.
+double segment_clearance_bound(const GridMap& map, const Point2& a, const Point2& b) {
   constexpr double kHalfSqrt2 = 0.70710678118654752440;
   const auto bound_at = [&](const Point2& p) {
     if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() < map.width() && p.y() < map.height())) return -1.0;
@@ -145,7 +139,15 @@ bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point
     const double centre_distance = map.obstacle_distance(cell) * (1.0 - 1e-6);
     return centre_distance - (p - cell_centre(cell)).norm() - kHalfSqrt2;
   };
-  if (std::min(bound_at(a), bound_at(b)) - (b - a).norm() / 2 >= cells) return true;
+  const double bound = std::min(bound_at(a), bound_at(b)) - (b - a).norm() / 2;
+  return bound < 0.0 ? -1.0 : bound;
+}
+
+bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point2& b,
+                                double cells) {
+  if (!(cells > 0.0)) return true;
+  // Far from obstacles the distance transform answers without a scan.
+  if (segment_clearance_bound(map, a, b) >= cells) return true;
   const auto clamp_x = [&](double v) {
     return static_cast<int32_t>(std::clamp(std::floor(v), -1.0, static_cast<double>(map.width())));
   };

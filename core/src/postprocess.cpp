@@ -301,14 +301,12 @@ Point2 cost_gradient(const GridMap& map, const Point2& p) {
 }
 
 // Whether segments may be part of a relaxed path: line of sight, and a clearance (cells) of at
-// least `floor` (0: no clearance asked). Most of a path lies far from anything blocked, and there a
-// bound from the distance transform answers both: every point of a -> b lies within
-// sqrt(1/2) + |ab| of the centre of a's cell, so every cell it touches (and every cell beside a
-// corner it passes) has its centre at least od - sqrt(2) - |ab| from an obstacle's centre, od
-// being a's cell's obstacle distance; more than the robot's radius in cells means none of them is
-// inflated, and an obstacle's square lies within sqrt(1/2) of its centre, so that bound is also a
-// bound of the clearance. Near obstacles (and within a cell of the map's edge) the exact
-// line_of_sight and segment_clearance_at_least decide.
+// least `floor` (0: no clearance asked). Most of a path lies far from anything blocked, and there
+// metrics.hpp's segment_clearance_bound answers both: it bounds the clearance, and also the
+// distance from the centre of every cell the segment touches (or passes at a corner) to an
+// obstacle's centre, so above the robot's radius in cells none of those cells is inflated. Near
+// obstacles (and within a cell of the map's edge) the exact line_of_sight and
+// segment_clearance_at_least decide.
 class RelaxedSegmentCheck {
  public:
   RelaxedSegmentCheck(const GridMap& map, double floor, CornerPolicy policy)
@@ -320,14 +318,13 @@ class RelaxedSegmentCheck {
         inflated_within_(map.build_options().robot_radius / map.resolution() + 1e-6) {}
 
   bool operator()(const Point2& a, const Point2& b) const {
-    constexpr double kSqrt2 = 1.4142135623730950488;
+    // The map's border counts as blocked, and the distance transform does not see it: the bound
+    // decides only for segments at least a cell inside the map.
     const double low_x = std::min(a.x(), b.x()), high_x = std::max(a.x(), b.x());
     const double low_y = std::min(a.y(), b.y()), high_y = std::max(a.y(), b.y());
     if (low_x >= 1.0 && low_y >= 1.0 && high_x <= map_.width() - 1.0 &&
         high_y <= map_.height() - 1.0) {
-      const Cell cell{static_cast<int32_t>(a.x()), static_cast<int32_t>(a.y())};
-      // Single precision: a relative 1e-6 below the stored distance is a bound still.
-      const double bound = map_.obstacle_distance(cell) * (1.0 - 1e-6) - kSqrt2 - (b - a).norm();
+      const double bound = segment_clearance_bound(map_, a, b);
       if (bound > inflated_within_ && bound >= floor_) return true;
     }
     return line_of_sight(map_, a, b, policy_) && segment_clearance_at_least(map_, a, b, floor_);

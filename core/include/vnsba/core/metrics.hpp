@@ -35,6 +35,15 @@ struct Metrics {
 // once per cell of the path's length.
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
 
+// A lower bound, in cells, of the segment a -> b's distance to every obstacle square, from the
+// distance transform alone (no scan): every point of the segment lies within |ab| / 2 of a or b,
+// each |p - centre| from its cell's centre, whose centre is obstacle_distance from the nearest
+// obstacle's centre, and that obstacle's square reaches sqrt(1/2) closer. The same number bounds
+// the distance from the centre of any cell the segment touches (or passes at a corner) to an
+// obstacle's centre, since that centre lies within sqrt(1/2) of the segment. -1 when an end lies
+// outside the map. O(1).
+double segment_clearance_bound(const GridMap& map, const Point2& a, const Point2& b);
+
 // Whether the segment a -> b (continuous cell coordinates) keeps at least `cells` from every
 // obstacle square, measured as path_clearance_cells measures it: each obstacle cell in the
 // segment's bounding box widened by `cells` is measured exactly. For short segments (the relax
