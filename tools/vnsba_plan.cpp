@@ -19,7 +19,7 @@
 // tree's extent or the --bounds given (metres, as vnsba_slicer takes them).
 // Start and goal are world coordinates in metres in the map's frame; with --cells they are cell
 // indices (column, row counted from the bottom). The requested points are what start_tolerance
-// and goal_tolerance measure from (ALGORITHM.md section 8); a goal outside the map is planned
+// and goal_tolerance measure from (docs/algorithm.md section 8); a goal outside the map is planned
 // only with --goal-tolerance, to the nearest free cell within it. Prints one line: planner,
 // status, length in metres, clearance in metres (`inf` on a map without obstacles, `nan` without
 // a path), turns, turn angle, expansions, time, the length ratio to optimal A* (a second search,
@@ -459,7 +459,7 @@ int main(int argc, char** argv) {
       "--cost-scaling-factor", cli.cost_scaling_factor,
       "decay of the cost gradient, per metre, >= 0 (default 3): cost 0.99 * exp(-factor * (d - "
       "robot radius))");
-  // Costs, tolerances and poses (ALGORITHM.md section 8).
+  // Costs, tolerances and poses (docs/algorithm.md section 8).
   double cost_weight = 0.0, goal_tolerance = 0.0, start_tolerance = 0.0;
   auto* cost_weight_flag = app.add_option("--cost-weight", cost_weight,
                                           "move cost = length * (1 + W * cell cost), " +

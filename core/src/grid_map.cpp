@@ -11,7 +11,7 @@ namespace vnsba::core {
 
 namespace {
 
-// The cost just outside the robot's radius (ALGORITHM.md section 8): below the lethal 1, as
+// The cost just outside the robot's radius (docs/algorithm.md section 8): below the lethal 1, as
 // Nav2's 252 of 253 is below its inscribed cost.
 constexpr double kMaxGradientCost = 0.99;
 
@@ -20,7 +20,7 @@ bool is_blocked_char(char c) {
 }
 
 // The obstacles' distance transform and what follows from it, in one pass over the map
-// (ALGORITHM.md sections 1 and 8): every cell's distance to the nearest obstacle centre, the
+// (docs/algorithm.md sections 1 and 8): every cell's distance to the nearest obstacle centre, the
 // inflation (free cells whose centre lies within `radius_cells` of an obstacle's: squared
 // distance dx*dx + dy*dy <= r*r in cells, r from metres_to_cells: snapped to a whole number of
 // cells when within 1e-9 of one) and the cost gradient beyond it. Linear in the cells whatever
@@ -170,7 +170,7 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
   map.options_ = options;
   const size_t cells = static_cast<size_t>(grid.width) * static_cast<size_t>(grid.height);
   const size_t padded = static_cast<size_t>(grid.width + 2) * (grid.height + 2);
-  // Graded values (0 < v < occupied_threshold) are costs v / 100 (ALGORITHM.md section 8).
+  // Graded values (0 < v < occupied_threshold) are costs v / 100 (docs/algorithm.md section 8).
   const bool gradient = options.inflation_radius > 0.0;
   bool graded = false;
   map.layers_.resize(cells);

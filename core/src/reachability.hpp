@@ -1,4 +1,4 @@
-// Goal and start tolerance (ALGORITHM.md section 8), internal: the free cells near a requested
+// Goal and start tolerance (docs/algorithm.md section 8), internal: the free cells near a requested
 // point in order of distance, and which of them the other endpoint can reach.
 //
 // Reachability is judged under the planner's moves: 8-connected moves, a diagonal one subject to

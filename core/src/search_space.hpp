@@ -12,7 +12,7 @@
 // The open list is a binary heap indexed by cell (each open cell knows its heap position), so a
 // key can be changed in place. Keys move both ways: the VNS-BA* heuristic is re-evaluated against
 // the opposite search's current node of the moment when g improves, so f can rise as well as
-// fall (ALGORITHM.md section 3); update() restores heap order in whichever direction it broke.
+// fall (docs/algorithm.md section 3); update() restores heap order in whichever direction it broke.
 //
 // With VNSBA_CHECK_OPEN_LIST defined (Debug builds, and the checked test build of the core), every
 // pop verifies that the entry it returns is the least of the whole open list and aborts with a
@@ -33,7 +33,8 @@ namespace vnsba::core::detail {
 // per padded cell: the query's epoch (12 bits) and four flags, so a new query starts in O(1) (a
 // word of an older epoch reads as "nothing known"); the array is cleared once every 4095 queries.
 // No search expands a cell the other has closed: a bidirectional search that pops such a cell
-// stops there (ALGORITHM.md section 3), so both closed flags of a cell are set only at a meeting.
+// stops there (docs/algorithm.md section 3), so both closed flags of a cell are set only at a
+// meeting of the two searches.
 class CellStates {
  public:
   static constexpr uint16_t kSeen[2] = {1, 2};    // by side 0 (forward) / 1 (backward)

@@ -164,7 +164,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
     if (s.code == core::StatusCode::kGoalOutsideMap) return goal_outside();
     return fail(to_wire_code(s.code), s.message);
   }
-  // The final pose takes the goal's orientation when it is a rotation (ALGORITHM.md section 8).
+  // The final pose takes the goal's orientation when it is a rotation (docs/algorithm.md,
+  // section 8).
   const auto& q = job.goal.pose().orientation();
   out.goal_yaw = core::yaw_from_quaternion(q.x(), q.y(), q.z(), q.w());
   if (!out.goal_yaw) {

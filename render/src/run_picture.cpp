@@ -208,7 +208,7 @@ std::vector<std::vector<Point2>> smoothed_stretches(const std::vector<Point2>& p
     else
       off[i] = 1;
   }
-  // The spline interpolates P2 and P3 (ALGORITHM.md section 5), so a corner touches the
+  // The spline interpolates P2 and P3 (docs/algorithm.md section 5), so a corner touches the
   // polyline at single samples between its off-polyline parts: bridge those one-sample gaps so
   // each smoothed corner is one stretch.
   std::vector<uint8_t> bridged = off;

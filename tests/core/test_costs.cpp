@@ -1,8 +1,8 @@
-// Cell costs, clearance and tolerance (ALGORITHM.md section 8) against independent oracles written
-// here: a brute-force classification of every cell and its cost, a Dijkstra over the planners'
-// move graph priced by dense sampling of each move's segment, a brute-force clearance over every
-// obstacle square and a brute-force nearest free cell. Nothing is compared with numbers copied
-// from a run.
+// Cell costs, clearance and tolerance (docs/algorithm.md section 8) against independent oracles
+// written here: a brute-force classification of every cell and its cost, a Dijkstra over the
+// planners' move graph priced by dense sampling of each move's segment, a brute-force clearance
+// over every obstacle square and a brute-force nearest free cell. Nothing is compared with numbers
+// copied from a run.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -392,7 +392,7 @@ TEST(CostsLayers, EveryCellMatchesBruteForce) {
   EXPECT_GT(empty_maps, 10);
 }
 
-// ALGORITHM.md section 1's example: 0.15 m at 0.05 m is exactly 3 cells, so the cell 3 cells
+// docs/algorithm.md section 1's example: 0.15 m at 0.05 m is exactly 3 cells, so the cell 3 cells
 // from an obstacle is inflated and the one at sqrt(10) cells is not.
 TEST(CostsLayers, WholeCellRadiusIsSnapped) {
   OccupancyGrid g;
@@ -898,7 +898,7 @@ double distance_to_square(const Point2& p, const Cell& c) {
 }
 
 // Samples of a polyline: every vertex, and each segment cut into the fewest equal pieces at most
-// `step` cells long (ALGORITHM.md section 8 allows clearance from samples 0.1 cell apart).
+// `step` cells long (docs/algorithm.md section 8 allows clearance from samples 0.1 cell apart).
 std::vector<Point2> clearance_samples(const std::vector<Point2>& polyline, double step) {
   std::vector<Point2> out;
   if (polyline.empty()) return out;

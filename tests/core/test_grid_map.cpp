@@ -141,10 +141,10 @@ std::vector<bool> inflated_by_definition(const OccupancyGrid& g, int64_t max_d2)
   return out;
 }
 
-// ALGORITHM.md section 1: a radius that is a whole number of cells in decimal metres is exactly
-// that many cells, although radius / resolution falls just short of it in doubles (0.15 / 0.05
-// = 2.9999999999999996); the cell that far away is inflated. A radius between whole cells
-// keeps its value (0.12 m / 0.05 m = 2.4 cells: squared distances up to 5).
+// docs/algorithm.md section 1: a radius that is a whole number of cells in decimal metres is
+// exactly that many cells, although radius / resolution falls just short of it in doubles
+// (0.15 / 0.05 = 2.9999999999999996); the cell that far away is inflated. A radius between
+// whole cells keeps its value (0.12 m / 0.05 m = 2.4 cells: squared distances up to 5).
 TEST(GridMap, InflationSnapsWholeCellRadii) {
   struct Case {
     double radius, resolution;  // metres

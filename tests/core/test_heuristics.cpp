@@ -64,7 +64,7 @@ TEST(Heuristics, EuclidWhenVisibleManhattanWhenNot) {
   EXPECT_DOUBLE_EQ(switching_distance(*map, {0, 2}, {4, 2}, CornerPolicy::kNever), 4.0);
 }
 
-// A hand-computed example of h and f for VNS-BA* (ALGORITHM.md section 3).
+// A hand-computed example of h and f for VNS-BA* (docs/algorithm.md section 3).
 TEST(Heuristics, VnsHeuristicHandComputed) {
   // 6 x 4 map (rows top first): blocked (2,1) and (3,1).
   auto map = GridMap::from_rows({"......", "......", "..##..", "......"});

@@ -28,7 +28,7 @@ std::vector<std::string> open_rows(int size) {
   return std::vector<std::string>(size, std::string(size, '.'));
 }
 
-// The extra cells ALGORITHM.md section 2 lists for a guide direction, written out by hand.
+// The extra cells docs/algorithm.md section 2 lists for a guide direction, written out by hand.
 Offsets expected_extras(int sx, int sy) {
   if (sx == 0 && sy == 0) return {};
   if (sy == 0) return {{2 * sx, -1}, {2 * sx, 0}, {2 * sx, 1}};

@@ -1,6 +1,6 @@
-// The open list under keys that move both ways (ALGORITHM.md section 3): a randomized comparison
-// of SearchSpace with an ordered multiset as oracle, and every planner run over random maps with
-// the library's open-list check on (this executable links vnsba_core_checked, built with
+// The open list under keys that move both ways (docs/algorithm.md section 3): a randomized
+// comparison of SearchSpace with an ordered multiset as oracle, and every planner run over random
+// maps with the library's open-list check on (this executable links vnsba_core_checked, built with
 // VNSBA_CHECK_OPEN_LIST: a pop that is not the least entry of the open list aborts the test).
 #include <gtest/gtest.h>
 

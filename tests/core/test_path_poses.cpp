@@ -1,4 +1,4 @@
-// Path poses and goal yaw (ALGORITHM.md section 8, "Path poses"): invariants on random
+// Path poses and goal yaw (docs/algorithm.md section 8, "Path poses"): invariants on random
 // polylines checked against computations made here (atan2, point-segment distance, lengths),
 // never against numbers copied from a run.
 #include <gtest/gtest.h>

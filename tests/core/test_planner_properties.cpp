@@ -1,4 +1,4 @@
-// Property test over thousands of random maps (ALGORITHM.md, issue acceptance list): for every
+// Property test over thousands of random maps (docs/algorithm.md, issue acceptance list): for every
 // planner, success exactly when a path exists; raw paths connected, collision-free and within the
 // map; 8-neighbourhood paths never shorter than the optimum and A* equal to it; pruned and
 // smoothed paths never entering a blocked cell. Every check uses the oracles of test_support.hpp,
@@ -143,7 +143,7 @@ TEST(PlannerProperties, RandomMapsAllPlannersAllCornerPolicies) {
   EXPECT_GT(tally.smoothed_corners, kRandomMaps);
 }
 
-// ALGORITHM.md section 3: the joined raw path of a bidirectional search never visits a cell
+// docs/algorithm.md section 3: the joined raw path of a bidirectional search never visits a cell
 // twice, also with the asymmetric 8-11-13 moves (where a search can pop a node the other has
 // closed without any generated neighbour showing it). 50,000+ plans: every planner in both
 // neighbourhoods and every corner policy, on small random maps (narrow ones too, where the two

@@ -1,4 +1,4 @@
-// Pruning (ALGORITHM.md section 4) and corner smoothing (section 5): behaviour and a property
+// Pruning (docs/algorithm.md section 4) and corner smoothing (section 5): behaviour and a property
 // test on random maps with an independent dense-sampling collision checker.
 #include <gtest/gtest.h>
 

@@ -127,7 +127,7 @@ inline bool reference_los_centres(const GridMap& map, Cell a, Cell b, CornerPoli
 
 // Calls visit(dx, dy) for each 8-connected move from free cell (x, y) to a free cell that `policy`
 // allows (a diagonal one by its two side cells: both free for never, one for touch), written
-// from ALGORITHM.md section 1 rather than taken from the planner.
+// from docs/algorithm.md section 1 rather than taken from the planner.
 template <class Visit>
 void for_each_oracle_move(const GridMap& map, int64_t x, int64_t y, CornerPolicy policy,
                           Visit&& visit) {
@@ -170,7 +170,7 @@ inline double reference_shortest_cost(const GridMap& map, Cell s, Cell g, Corner
   return std::numeric_limits<double>::infinity();
 }
 
-// Component labels of the free cells under the planners' move graph (ALGORITHM.md section 1):
+// Component labels of the free cells under the planners' move graph (docs/algorithm.md section 1):
 // 8-connected moves, a diagonal one only where `policy` lets it pass its two side cells. A
 // breadth-first search over the whole grid from every unlabelled free cell, on the map's blocked
 // flags alone. Row-major (index y * width + x); -1 on blocked cells.

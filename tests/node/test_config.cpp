@@ -633,7 +633,8 @@ TEST(Config, NonFiniteAndMalformedNumbersAreRejected) {
   EXPECT_TRUE(parse_config("domain_id: +7\n").config.has_value());
 }
 
-// ALGORITHM.md section 8's keys: each refuses every bad value at load, naming the key and unit.
+// The keys of docs/algorithm.md section 8: each refuses every bad value at load, naming the key
+// and its unit.
 TEST(Config, CostAndToleranceKeysRefuseBadValuesNamingKeyAndUnit) {
   struct Key {
     std::string section, key;

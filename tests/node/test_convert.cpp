@@ -1,5 +1,5 @@
 // The node's conversions of plans into messages without DDS (convert.hpp): path poses, the
-// status fields of ALGORITHM.md section 8 (clearance, the endpoints used) and its messages.
+// status fields of docs/algorithm.md section 8 (clearance, the endpoints used) and its messages.
 #include <gtest/gtest.h>
 
 #include <cmath>

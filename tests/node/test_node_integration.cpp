@@ -842,7 +842,7 @@ double expect_spaced_tangent_poses(const PathMsg& path, double spacing) {
   return last_tangent;
 }
 
-// ALGORITHM.md section 8, "Path poses": on `plan` and in PlanStatus.path, poses at most
+// docs/algorithm.md section 8, "Path poses": on `plan` and in PlanStatus.path, poses at most
 // planner.path_spacing apart (default: the map's resolution) facing along the path, the last one
 // in the goal's orientation.
 TEST(NodeIntegration, PublishedPosesAreSpacedAlongThePathAndEndInTheGoalYaw) {

@@ -144,7 +144,7 @@ TEST(ResolveRequest, EveryCheckNamesItsField) {
   EXPECT_EQ(ok.planner_name, "vns_bastar");
 }
 
-// ALGORITHM.md section 8 in requests: a 2 m x 1 m map at 0.1 m, origin (0, 0), one occupied
+// docs/algorithm.md section 8 in requests: a 2 m x 1 m map at 0.1 m, origin (0, 0), one occupied
 // cell (10, 5) whose 4-neighbours robot_radius 0.1 m inflates; a cost gradient to 0.3 m.
 node::NodeConfig tolerant_config() {
   node::NodeConfig cfg;

@@ -1,8 +1,8 @@
 // The planning grid: occupancy values in, blocked/free cells plus a summed-area table out.
 //
-// ALGORITHM.md section 1. A GridMap is built once per incoming map and is immutable afterwards,
-// so any number of planners may share it (std::shared_ptr<const GridMap>) while a newer map is
-// being built elsewhere.
+// docs/algorithm.md section 1. A GridMap is built once per incoming map and is immutable
+// afterwards, so any number of planners may share it (std::shared_ptr<const GridMap>) while a newer
+// map is being built elsewhere.
 #pragma once
 
 #include <atomic>
@@ -46,7 +46,7 @@ struct GridBuildOptions {
   double robot_radius = 0.0;    // metres; cells whose centre is within this of a blocked centre
                                 // are blocked too (0 = no inflation). At most the diagonal of
                                 // the map it inflates (checked per map by validate()).
-  // The cost gradient beyond the robot's radius (ALGORITHM.md section 8, Nav2's inflation
+  // The cost gradient beyond the robot's radius (docs/algorithm.md section 8, Nav2's inflation
   // layer): a free cell whose centre is d metres from the nearest obstacle centre, with
   // robot_radius < d <= inflation_radius, costs 0.99 * exp(-cost_scaling_factor * (d -
   // robot_radius)). 0 = no gradient (the paper's binary grid); otherwise >= robot_radius.
@@ -58,7 +58,7 @@ struct GridBuildOptions {
 
 // A radius or tolerance in metres as a number of cells at `resolution` metres a cell, snapped to a
 // whole number of cells when within 1e-9 of one: 0.15 m / 0.05 m is 2.9999999999999996 in doubles
-// and means 3 cells (ALGORITHM.md section 1). The one conversion of robot_radius,
+// and means 3 cells (docs/algorithm.md section 1). The one conversion of robot_radius,
 // inflation_radius and the tolerances to cells.
 inline double metres_to_cells(double metres, double resolution) {
   const double cells = metres / resolution;
@@ -89,9 +89,9 @@ struct BlockedBits {
   }
 };
 
-// Why a cell is blocked or not: the one classification of cells (ALGORITHM.md sections 1 and 8).
-// Obstacles are the occupied and (unless allow_unknown) the unknown cells; inflation blocks the
-// free cells within robot_radius of an obstacle.
+// Why a cell is blocked or not: the one classification of cells (docs/algorithm.md, sections 1
+// and 8). Obstacles are the occupied and (unless allow_unknown) the unknown cells; inflation
+// blocks the free cells within robot_radius of an obstacle.
 enum class CellLayer : uint8_t {
   kFree = 0,
   kOccupied,  // map value >= occupied_threshold
@@ -154,7 +154,7 @@ class GridMap {
   // The build options this map was made with (robot_radius etc., for messages in metres).
   const GridBuildOptions& build_options() const { return options_; }
 
-  // --- Cell costs (ALGORITHM.md section 8). ---
+  // --- Cell costs (docs/algorithm.md section 8). ---
   // Whether any free cell costs more than 0: a graded map value (0 < v < occupied_threshold) or
   // the inflation gradient. Without costs every planner is the binary one whatever cost_weight.
   bool has_costs() const { return !costs_.empty(); }

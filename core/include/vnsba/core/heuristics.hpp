@@ -1,4 +1,4 @@
-// Distances and heuristics of ALGORITHM.md sections 3 and 6. Inline: they run once per pushed
+// Distances and heuristics of docs/algorithm.md sections 3 and 6. Inline: they run once per pushed
 // node in every search.
 #pragma once
 

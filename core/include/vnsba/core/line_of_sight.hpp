@@ -1,4 +1,4 @@
-// Line of sight: the one implementation (ALGORITHM.md section 1). Used by the heuristic's
+// Line of sight: the one implementation (docs/algorithm.md section 1). Used by the heuristic's
 // Euclid/Manhattan switch, by polyline pruning and by the smoothing check.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The paper's five metrics plus the length ratio (ALGORITHM.md section 7).
+// The paper's five metrics plus the length ratio (docs/algorithm.md section 7).
 #pragma once
 
 #include <cstdint>
@@ -21,18 +21,18 @@ struct Metrics {
   int64_t planning_time_us = 0;  // search + post-processing, steady clock
   // final length / optimal A* cost on the same query; NaN unless compute_length_ratio was set.
   double length_ratio = std::numeric_limits<double>::quiet_NaN();
-  // The final path's smallest distance to an obstacle (ALGORITHM.md section 8), metres; +inf on
-  // a map without obstacles. NaN on failures.
+  // The final path's smallest distance to an obstacle (docs/algorithm.md section 8), metres; +inf
+  // on a map without obstacles. NaN on failures.
   double clearance_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The smallest distance, in cells, from any point of `polyline` (continuous cell coordinates) to
 // the square of an obstacle cell (occupied or unknown: GridMap::obstacle_distance's cells;
 // inflation is not an obstacle). +inf when the map has no obstacle or the polyline is empty.
-// Exact: the distance from each segment itself, the limit of the sampling ALGORITHM.md section 8
-// allows (points at most 0.1 cell apart, which can only overstate it, by up to 0.05 cell). The
-// distance transform bounds which obstacles can be nearest, and only those are measured, about
-// once per cell of the path's length.
+// Exact: the distance from each segment itself, the limit of the sampling that
+// docs/algorithm.md section 8 allows (points at most 0.1 cell apart, which can only overstate it,
+// by up to 0.05 cell). The distance transform bounds which obstacles can be nearest, and only those
+// are measured, about once per cell of the path's length.
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
 
 // A lower bound, in cells, of the segment a -> b's distance to every obstacle square, from the
@@ -45,8 +45,8 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
 double segment_clearance_bound(const GridMap& map, const Point2& a, const Point2& b);
 
 // Whether the segment a -> b (continuous cell coordinates) keeps at least `cells` from every
-// obstacle square, measured as path_clearance_cells measures it: each obstacle cell in the
-// segment's bounding box widened by `cells` is measured exactly. For short segments (the relax
+// obstacle square, measured as path_clearance_cells measures it (the same scan of the bit lines
+// within `cells` of the segment, after segment_clearance_bound). For short segments (the relax
 // smoother's), where path_clearance_cells' set-up would dominate.
 bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point2& b, double cells);
 

@@ -1,4 +1,4 @@
-// The 8-11-13 variable neighbourhood (ALGORITHM.md section 2; paper section 3.1).
+// The 8-11-13 variable neighbourhood (docs/algorithm.md section 2; paper section 3.1).
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// The poses of a published path (ALGORITHM.md section 8, "Path poses"): positions at most
+// The poses of a published path (docs/algorithm.md section 8, "Path poses"): positions at most
 // path_spacing metres apart along the final path, each with the path's tangent as yaw, the last
 // with the goal's orientation when the goal carries a valid (unit) quaternion.
 //
@@ -49,9 +49,9 @@ inline constexpr double kQuaternionNormTolerance = 1e-3;
 // Yaw (radians, (-pi, pi]) of a rotation quaternion (x, y, z, w) about any axis, as the heading of
 // the rotated x axis projected on the plane: atan2(2(wz + xy), 1 - 2(y^2 + z^2)), evaluated on the
 // quaternion scaled to unit norm. nullopt when any component is not finite or the norm differs
-// from 1 by more than `tolerance`: ALGORITHM.md section 8 takes the goal's orientation only from a
-// valid (unit) quaternion. (With the rotated x axis vertical, pitch +-pi/2, yaw is undefined; the
-// result is then whatever atan2 gives for two near-zero arguments.)
+// from 1 by more than `tolerance`: docs/algorithm.md section 8 takes the goal's orientation only
+// from a valid (unit) quaternion. (With the rotated x axis vertical, pitch +-pi/2, yaw is
+// undefined; the result is then whatever atan2 gives for two near-zero arguments.)
 std::optional<double> yaw_from_quaternion(double x, double y, double z, double w,
                                           double tolerance = kQuaternionNormTolerance);
 

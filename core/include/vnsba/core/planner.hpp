@@ -1,4 +1,4 @@
-// The planners of ALGORITHM.md: VNS-BA* and its baselines, behind one interface.
+// The planners of docs/algorithm.md: VNS-BA* and its baselines, behind one interface.
 //
 //   auto map = std::make_shared<const GridMap>(GridMap::build(grid).value());
 //   Planner planner(map);                       // allocates the search state for this map
@@ -50,14 +50,14 @@ struct PlanQuery {
   Cell goal;   // likewise, with goal_tolerance
   // The requested positions in continuous cell coordinates, each inside its cell (floor of the
   // point = the cell, also for a goal outside the map; anything else is INVALID_REQUEST naming
-  // the field). Tolerance picks the free cell whose centre is nearest to them (ALGORITHM.md
+  // the field). Tolerance picks the free cell whose centre is nearest to them (docs/algorithm.md
   // section 8); unset, the cells' centres.
   std::optional<Point2> start_point;
   std::optional<Point2> goal_point;
 };
 
 // The start and goal a plan uses: the query's, or where start_tolerance / goal_tolerance moved
-// them (ALGORITHM.md section 8).
+// them (docs/algorithm.md section 8).
 struct Endpoints {
   Cell start;
   Cell goal;
@@ -88,7 +88,7 @@ struct PlanResult {
   std::vector<Point2> waypoints;
   // The final path in continuous cell coordinates (after smoothing where it is on): it begins at
   // endpoints.start_point and ends at endpoints.goal_point exactly (the requested points, or the
-  // used cells' centres where a tolerance moved them; ALGORITHM.md section 8).
+  // used cells' centres where a tolerance moved them; docs/algorithm.md section 8).
   std::vector<Point2> path;
   // The final path in world coordinates (metres).
   std::vector<Eigen::Vector2d> world_path;
@@ -106,7 +106,7 @@ struct PlanResult {
 // inflation alone blocks it). The message names the field at fault, the layer that blocks it
 // (occupied, unknown, inflation), and the requested point in metres with the cell it falls in.
 //
-// Tolerance (ALGORITHM.md section 8) picks the free cell nearest the requested point (centre
+// Tolerance (docs/algorithm.md section 8) picks the free cell nearest the requested point (centre
 // distance, ties to the lower row-major index) within the tolerance *that the other endpoint can
 // reach* under the planner's moves (8-connected, diagonals by corner_policy; the 8-11-13 moves
 // reach no other cell): a free speck sealed inside a wall is never chosen while a reachable free

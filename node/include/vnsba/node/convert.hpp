@@ -141,7 +141,7 @@ PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& fr
 
 // The final path as nav_msgs/Path: core::path_poses(result.world_path, spacing_m, goal_yaw),
 // poses at most spacing_m metres apart, each facing along the path (the tangent), the last one
-// with goal_yaw (radians) when it is set (ALGORITHM.md section 8, "Path poses").
+// with goal_yaw (radians) when it is set (docs/algorithm.md section 8, "Path poses").
 PathMsg to_path_msg(const core::PlanResult& result, const std::string& frame, const TimeMsg& stamp,
                     double spacing_m, std::optional<double> goal_yaw = std::nullopt);
 // The same for any polyline in metres (spacing_m <= 0: its vertices only, tangent yaw).

@@ -2,7 +2,7 @@
 // whether it would be planned (resolve_request), and the queueing rules (RequestQueue). The node
 // calls both under its own locks; the tests call them directly.
 //
-// Rules (README "Requests and answers"):
+// Rules (docs/node.md):
 // - A request is checked when it arrives. One that would not be planned (malformed, too long, no
 //   map yet, start or goal outside the map or blocked) is answered at once and touches nothing
 //   else: it preempts nothing and takes no place in the queue.

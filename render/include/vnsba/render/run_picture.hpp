@@ -35,7 +35,7 @@ struct MapPicture {
   double origin_x = 0.0;    // metres
   double origin_y = 0.0;    // metres
   std::vector<CellState> cells;
-  // The planning map's cell costs (ALGORITHM.md section 8) of free cells, in kCostLevels equal
+  // The planning map's cell costs (docs/algorithm.md section 8) of free cells, in kCostLevels equal
   // bands: 0 = no cost, k = cost in ((k - 1) / kCostLevels, k / kCostLevels]. Empty when the map
   // has no costs (drawn as a tint that deepens toward obstacles).
   static constexpr int kCostLevels = 4;
