@@ -1,5 +1,5 @@
-// 2D slices of OctoMap trees and the OctoMap file / message readers (ARCHITECTURE.md, "OctoMap
-// slices").
+// 2D slices of OctoMap trees and the OctoMap file / message readers (docs/architecture.md, "The
+// way of a map").
 //
 // Everything is done in OctoMap's integer keys, so no voxel is ever rounded into the wrong cell.
 // OctoMap's convention (OcTreeBaseImpl::coordToKey / keyToCoord, checked against 1.9.7): a leaf

@@ -111,7 +111,7 @@ void apply_common(Qos& qos, TopicQos profile, bool reader) {
   // for a status with its path): a node's memory then followed the largest debug sample seen so
   // far and grew for as long as it ran (issue 18's ten-robot soak: 23 MB of payloads after ten
   // minutes, still growing). A malloc per sample costs nothing beside planning or serializing
-  // it. The reason ARCHITECTURE.md gave for PREALLOCATED_WITH_REALLOC (maps are megabytes, so
+  // it. The reason first given for PREALLOCATED_WITH_REALLOC (maps are megabytes, so
   // nothing is made at the type's bound) holds for this mode too. One cache change up front
   // (allocated_samples), the rest as samples come, up to the history's limit.
   qos.resource_limits().allocated_samples = 1;

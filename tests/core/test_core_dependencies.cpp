@@ -1,4 +1,4 @@
-// core/ is the algorithm and nothing else, on Eigen alone (ARCHITECTURE.md): file formats,
+// core/ is the algorithm and nothing else, on Eigen alone (docs/architecture.md): file formats,
 // OctoMap, YAML and DDS live beside it. This reads every source of core/ and its CMakeLists.txt
 // and fails on any other dependency, so that the rule cannot erode one include at a time.
 #include <gtest/gtest.h>

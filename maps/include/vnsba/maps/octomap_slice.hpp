@@ -1,6 +1,6 @@
-// 2D slices of OctoMap 3D maps, like octomap_server's projected map (ARCHITECTURE.md, "OctoMap
-// slices"). Depends on liboctomap only; the result is the occupancy form the node receives, so
-// the rest of the pipeline is one.
+// 2D slices of OctoMap 3D maps, like octomap_server's projected map (docs/architecture.md, "The
+// way of a map"). Depends on liboctomap only; the result is the occupancy form the node receives,
+// so the rest of the pipeline is one.
 #pragma once
 
 #include <cstdint>

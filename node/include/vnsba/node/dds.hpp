@@ -1,12 +1,12 @@
-// The DDS plumbing every executable shares: one participant, the QoS of ARCHITECTURE.md's topic
-// table, entity creation in order with every step checked, and teardown through
+// The DDS plumbing every executable shares: one participant, the QoS of the topic table in
+// docs/node.md, entity creation in order with every step checked, and teardown through
 // delete_contained_entities().
 //
-// Rules learned the hard way (ARCHITECTURE.md): UDP only (shared memory fails silently across
-// users and containers), data sharing off, payloads allocated per sample and freed with it
-// (DYNAMIC_RESERVE: maps are megabytes and debug samples vary; see apply_common), no type
-// information on the wire (Cyclone DDS drops such matches), and a short heartbeat on latched
-// writers so late joiners get the map quickly.
+// Rules learned the hard way (docs/architecture.md, "Rules the code keeps"): UDP only (shared
+// memory fails silently across users and containers), data sharing off, payloads allocated per
+// sample and freed with it (DYNAMIC_RESERVE: maps are megabytes and debug samples vary; see
+// apply_common), no type information on the wire (Cyclone DDS drops such matches), and a short
+// heartbeat on latched writers so late joiners get the map quickly.
 #pragma once
 
 #include <array>
