@@ -3,7 +3,8 @@
 // One reader per YAML map (Section): each typed getter registers its key, checks the value and
 // stores it only when valid, otherwise records one error and keeps the default. finish() then
 // reports the keys nobody asked for (typos) and repeated keys. So every problem of a file is
-// reported in one pass, and the schema is the sequence of getter calls in read_config().
+// reported in one pass, and the schema is the sequence of getter calls that read_config() makes
+// through its section readers (read_map, read_planner, ...).
 #include "vnsba/node/config.hpp"
 
 #include <arpa/inet.h>
@@ -156,6 +157,10 @@ class Section {
   void error(const std::string& key, const YAML::Node& found, const std::string& expected) {
     errors_->push_back(key_path(key) + ": found " + describe(found) + ", expected " + expected);
   }
+
+  // Records a problem found across keys (the message names them); one found by a getter is
+  // recorded by the getter.
+  void report(std::string message) { errors_->push_back(std::move(message)); }
 
   // Whether this file gives `key` (registers it as known, like every getter).
   bool has(const std::string& key) { return find(key) != nullptr; }
@@ -348,26 +353,34 @@ constexpr const char* kActionSuffix = "/_action/cancel_goal";
 const std::set<std::string> kSharedTopicKeys = {"projected_map", "octomap", "tf", "tf_static",
                                                 "clock"};
 
-// Reads `root` over `c`. With `shown`, also lists every key `root` leaves out with the value it
-// keeps (config_as_yaml reads an empty file so).
-void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings* shown = nullptr) {
-  Section top(root, "", errors, shown);
+// The readers of the sections, one function each, in the order read_config calls them. The order
+// is the schema's: it is the order of the error messages, of the keys a "did you mean" or an
+// "expected one of" lists, and of the lines config_as_yaml prints. A key of the top level is read
+// by the reader its meaning belongs to; a section reader takes the top level, opens its own map
+// (Section::child) and closes it (Section::finish: unknown and repeated keys). A check across keys
+// runs where both keys have been read and reports through Section::report.
+
+const char* frame_name_problem(const std::string& s) {
+  return s.empty() ? "a non-empty frame name" : "";
+}
+
+// Top level: the DDS domain, ROS 2 naming, the frame and the namespace.
+void read_naming(Section& top, NodeConfig& c) {
   top.integer("domain_id", c.domain_id, 0, 232);
   top.boolean("ros2_naming", c.ros2_naming);
-  top.text("frame_id", c.frame_id, "a frame name",
-           [](const std::string& s) { return s.empty() ? "a non-empty frame name" : ""; });
-
+  top.text("frame_id", c.frame_id, "a frame name", frame_name_problem);
   // ROS 2 namespace of the relative topic names (see normalized_namespace).
-  {
-    std::string given = c.ros_namespace;
-    if (top.text("namespace", given, "a namespace", [](const std::string& s) {
-          const auto ns = normalized_namespace(s);
-          return ns ? std::string() : ns.error().message;
-        })) {
-      if (auto ns = normalized_namespace(given)) c.ros_namespace = *ns;
-    }
+  std::string given = c.ros_namespace;
+  if (top.text("namespace", given, "a namespace", [](const std::string& s) {
+        const auto ns = normalized_namespace(s);
+        return ns ? std::string() : ns.error().message;
+      })) {
+    if (auto ns = normalized_namespace(given)) c.ros_namespace = *ns;
   }
-  // robots: one node serving several robots, each a namespace under `namespace`.
+}
+
+// Top level, robots: one node serving several robots, each a namespace under `namespace`.
+void read_robots(Section& top, NodeConfig& c) {
   top.get("robots", c.robots, [](const YAML::Node& node, std::vector<std::string>& value) {
     const std::string expected =
         "a list of distinct robot names, each a namespace under `namespace` (e.g. [robot1, "
@@ -388,7 +401,11 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
     value = std::move(robots);
     return std::string();
   });
+}
 
+// topics: every name valid and no two the same topic once resolved; then, across the namespace,
+// the robots and the topics, no full name longer than ROS 2 allows.
+void read_topics(Section& top, NodeConfig& c) {
   Section topics = top.child("topics");
   const auto topic_fields = topic_keys(c.topics);
   std::vector<std::pair<const char*, const std::string*>> valid;  // read without error
@@ -397,38 +414,43 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
     // As resolved: "/plan" and "plan" are one topic without a namespace, two with one.
     for (const auto& [other_key, other] : valid)
       if (dds_topic_name(c, *other) == dds_topic_name(c, *name))
-        errors.push_back(topics.key_path(other_key) + ", " + topics.key_path(key) + ": found \"" +
-                         *other + "\" and \"" + *name + "\", expected different topics");
+        topics.report(topics.key_path(other_key) + ", " + topics.key_path(key) + ": found \"" +
+                      *other + "\" and \"" + *name + "\", expected different topics");
     valid.emplace_back(key, name);
   }
   topics.finish();
   if (std::string problem = overlong_topic_name(c); !problem.empty())
-    errors.push_back(std::move(problem));
+    top.report(std::move(problem));
+}
 
+// Top level: where goal_pose goals start (a pose topic or tf) and which clock the node keeps.
+void read_robot_pose(Section& top, NodeConfig& c) {
   top.choice<RobotPoseSource>("robot_pose_source", c.robot_pose_source,
                               {{"topic", RobotPoseSource::kTopic}, {"tf", RobotPoseSource::kTf}});
   top.choice<RobotPoseType>(
       "robot_pose_type", c.robot_pose_type,
       {{"PoseStamped", RobotPoseType::kPoseStamped},
        {"PoseWithCovarianceStamped", RobotPoseType::kPoseWithCovarianceStamped}});
-  top.text("base_frame", c.base_frame, "a frame name",
-           [](const std::string& s) { return s.empty() ? "a non-empty frame name" : ""; });
+  top.text("base_frame", c.base_frame, "a frame name", frame_name_problem);
   top.number("transform_tolerance", c.transform_tolerance_s,
              "a finite number of seconds in [0, 60]",
              [](double v) { return v >= 0.0 && v <= 60.0; });
   top.boolean("use_sim_time", c.use_sim_time);
   if (!c.base_frame.empty() &&
       without_leading_slash(c.base_frame) == without_leading_slash(c.frame_id))
-    errors.push_back("base_frame: found \"" + c.base_frame +
-                     "\", expected the robot's frame, not frame_id (\"" + c.frame_id + "\")");
+    top.report("base_frame: found \"" + c.base_frame +
+               "\", expected the robot's frame, not frame_id (\"" + c.frame_id + "\")");
+}
 
+// map: how a slice becomes a planning grid.
+void read_map(Section& top, NodeConfig& c) {
   Section map = top.child("map");
   map.integer("occupied_threshold", c.map.occupied_threshold, 1, 100);
   map.boolean("allow_unknown", c.map.allow_unknown);
   const bool radius_ok =
       map.number("robot_radius", c.map.robot_radius, "a finite number of metres >= 0",
                  [](double v) { return v >= 0.0; });
-  // The cost gradient beyond robot_radius (ALGORITHM.md section 8, Nav2's inflation layer).
+  // The cost gradient beyond robot_radius (docs/algorithm.md section 8, Nav2's inflation layer).
   const bool inflation_ok = map.number("inflation_radius", c.map.inflation_radius,
                                        "a finite number of metres >= 0 (0 = no cost gradient)",
                                        [](double v) { return v >= 0.0; });
@@ -438,7 +460,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
     msg << "map.inflation_radius: found \"" << c.map.inflation_radius
         << "\", expected 0 (no cost gradient) or a number of metres >= map.robot_radius ("
         << c.map.robot_radius << " m): the gradient starts at the robot's radius";
-    errors.push_back(msg.str());
+    map.report(msg.str());
   }
   map.number("cost_scaling_factor", c.map.cost_scaling_factor, "a finite number per metre >= 0",
              [](double v) { return v >= 0.0; });
@@ -449,15 +471,22 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   map.choice("cost_source", c.map_cost_source,
              {{"own", MapCostSource::kOwn}, {"costmap", MapCostSource::kCostmap}});
   map.finish();
+}
 
-  // Every key the file gives becomes a setting; a key left out stays unset, so that it follows
-  // the paper configuration of whichever planner runs (the configured one or a request's).
-  Section planner = top.child("planner");
-  core::PlannerKind& kind = c.planner.kind;
+// A planner.* number whose key, range, unit and message come from core's one table (kOmegaRange,
+// ...).
+bool read_planner_number(Section& planner, const core::OptionRange& range,
+                         std::optional<double>& out) {
+  return planner.number(range.key, out, range.describe(),
+                        [&range](double v) { return range.contains(v); });
+}
+
+// planner.name: auto or a planner.
+void read_planner_name(Section& planner, PlannerConfig& p) {
   std::vector<std::string> planner_names = {std::string(core::kAutoPlannerName)};
   for (core::PlannerKind k : core::all_planner_kinds()) planner_names.emplace_back(to_string(k));
   std::string name =
-      c.planner.auto_kind ? std::string(core::kAutoPlannerName) : std::string(to_string(kind));
+      p.auto_kind ? std::string(core::kAutoPlannerName) : std::string(to_string(p.kind));
   planner.choice(
       "name", name,
       [&](const std::string& text) -> std::optional<std::string> {
@@ -466,50 +495,60 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
         return text;
       },
       planner_names);
-  c.planner.auto_kind = name == core::kAutoPlannerName;
-  // auto: the cost-aware choice until cost_weight and the moves are read (below), which supports
-  // every option, so that no check before then refuses what auto will not pick.
-  kind = c.planner.auto_kind ? core::kCostAwareChoice
-                             : core::planner_kind_from_string(name).value_or(kind);
-  core::PlannerSettings& s = c.planner.settings;
-  // Ranges, units and messages come from core's one table (kOmegaRange, ...).
-  auto number_in = [&](const core::OptionRange& range, std::optional<double>& out) {
-    return planner.number(range.key, out, range.describe(),
-                          [&range](double v) { return range.contains(v); });
-  };
-  const bool omega_ok = number_in(core::kOmegaRange, s.omega);
-  const bool eta_ok = number_in(core::kEtaRange, s.eta);
-  const core::PlannerOptions weights = c.planner.options();
-  if (kind == core::PlannerKind::kVnsBaStar && omega_ok && eta_ok && weights.omega == 0.0 &&
+  p.auto_kind = name == core::kAutoPlannerName;
+  // auto: the cost-aware choice until cost_weight and the moves are read (read_planner_costs),
+  // which supports every option, so that no check before then refuses what auto will not pick.
+  p.kind =
+      p.auto_kind ? core::kCostAwareChoice : core::planner_kind_from_string(name).value_or(p.kind);
+}
+
+// planner.omega, planner.eta: VNS-BA*'s heuristic weights; not both 0 for it.
+void read_planner_weights(Section& planner, PlannerConfig& p) {
+  core::PlannerSettings& s = p.settings;
+  const bool omega_ok = read_planner_number(planner, core::kOmegaRange, s.omega);
+  const bool eta_ok = read_planner_number(planner, core::kEtaRange, s.eta);
+  const core::PlannerOptions weights = p.options();
+  if (p.kind == core::PlannerKind::kVnsBaStar && omega_ok && eta_ok && weights.omega == 0.0 &&
       weights.eta == 0.0) {
-    errors.push_back("planner.omega, planner.eta: found both 0, expected at least one > 0 for " +
-                     std::string(to_string(kind)) + " (its heuristic would vanish)");
+    planner.report("planner.omega, planner.eta: found both 0, expected at least one > 0 for " +
+                   std::string(to_string(p.kind)) + " (its heuristic would vanish)");
   }
+}
+
+// planner.neighborhood, planner.corner_policy: the moves, as the planner supports them.
+void read_planner_moves(Section& planner, PlannerConfig& p) {
+  core::PlannerSettings& s = p.settings;
   planner.choice("neighborhood", s.neighborhood, core::neighborhood_from_string,
                  names_of({core::Neighborhood::kEight, core::Neighborhood::kEightElevenThirteen}));
   planner.choice("corner_policy", s.corner_policy, core::corner_policy_from_string,
                  names_of({core::CornerPolicy::kNever, core::CornerPolicy::kTouch,
                            core::CornerPolicy::kAlways}));
   // Named here by key (core::validate says the same to requests, without the key path).
-  const core::PlannerOptions moves = c.planner.options();
-  if (!core::supports(kind, moves.corner_policy))
-    errors.push_back("planner.corner_policy: found \"" +
-                     std::string(to_string(moves.corner_policy)) + "\", expected never for " +
-                     std::string(to_string(kind)) +
-                     " (its jump rules need both cells beside a diagonal move free)");
-  if (!core::supports(kind, moves.neighborhood))
-    errors.push_back("planner.neighborhood: found \"" + std::string(to_string(moves.neighborhood)) +
-                     "\", expected 8 for " + std::string(to_string(kind)) +
-                     " (it searches the 8-neighbourhood)");
+  const core::PlannerOptions moves = p.options();
+  if (!core::supports(p.kind, moves.corner_policy))
+    planner.report("planner.corner_policy: found \"" + std::string(to_string(moves.corner_policy)) +
+                   "\", expected never for " + std::string(to_string(p.kind)) +
+                   " (its jump rules need both cells beside a diagonal move free)");
+  if (!core::supports(p.kind, moves.neighborhood))
+    planner.report("planner.neighborhood: found \"" + std::string(to_string(moves.neighborhood)) +
+                   "\", expected 8 for " + std::string(to_string(p.kind)) +
+                   " (it searches the 8-neighbourhood)");
+}
+
+// planner.prune ... planner.smoother_iterations: pruning, smoothing and the relax smoother.
+void read_planner_postprocessing(Section& planner, PlannerConfig& p) {
+  core::PlannerSettings& s = p.settings;
   planner.boolean("prune", s.prune);
   planner.boolean("smooth", s.smooth);
-  number_in(core::kSmoothingDistanceRange, s.smoothing_distance);
-  number_in(core::kSampleStepRange, s.sample_step);
+  read_planner_number(planner, core::kSmoothingDistanceRange, s.smoothing_distance);
+  read_planner_number(planner, core::kSampleStepRange, s.sample_step);
   planner.choice("smoother", s.smoother, core::path_smoother_from_string,
                  names_of({core::PathSmoother::kNone, core::PathSmoother::kRelax}));
-  const bool smoothness_ok = number_in(core::kSmootherSmoothnessRange, s.smoother_smoothness);
-  const bool closeness_ok = number_in(core::kSmootherClosenessRange, s.smoother_closeness);
-  const core::PlannerOptions relax = c.planner.options();
+  const bool smoothness_ok =
+      read_planner_number(planner, core::kSmootherSmoothnessRange, s.smoother_smoothness);
+  const bool closeness_ok =
+      read_planner_number(planner, core::kSmootherClosenessRange, s.smoother_closeness);
+  const core::PlannerOptions relax = p.options();
   if (smoothness_ok && closeness_ok &&
       !(2.0 * relax.smoother_smoothness + relax.smoother_closeness < 2.0)) {
     std::ostringstream msg;
@@ -517,13 +556,17 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
         << relax.smoother_smoothness << " and " << relax.smoother_closeness
         << ", expected 2 * smoother_smoothness + smoother_closeness below 2 (the relaxation "
            "would overshoot further each iteration)";
-    errors.push_back(msg.str());
+    planner.report(msg.str());
   }
-  number_in(core::kSmootherCostRange, s.smoother_cost);
+  read_planner_number(planner, core::kSmootherCostRange, s.smoother_cost);
   planner.integer(core::kSmootherIterationsRange.key, s.smoother_iterations,
                   static_cast<long long>(core::kSmootherIterationsRange.min),
                   static_cast<long long>(core::kSmootherIterationsRange.max));
-  // Seconds (stored in microseconds).
+}
+
+// planner.max_planning_time (seconds, stored in microseconds), planner.compute_length_ratio.
+void read_planner_budget(Section& planner, PlannerConfig& p) {
+  core::PlannerSettings& s = p.settings;
   std::optional<double> seconds;
   if (s.max_planning_time) seconds = static_cast<double>(s.max_planning_time->count()) / 1e6;
   planner.number(core::kMaxPlanningTimeRange.key, seconds,
@@ -531,65 +574,95 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
                  [](double v) { return core::kMaxPlanningTimeRange.contains(v); });
   if (seconds) s.max_planning_time = to_microseconds(*seconds);
   planner.boolean("compute_length_ratio", s.compute_length_ratio);
-  // ALGORITHM.md section 8: costs, tolerances and path poses. Absent = 0 (the paper's binary
-  // grid, exact start and goal) and the map's resolution for path_spacing.
+}
+
+// docs/algorithm.md section 8: costs, tolerances and path poses. Absent = 0 (the paper's binary
+// grid, exact start and goal) and the map's resolution for path_spacing. With every key that
+// decides it read, auto resolves to its planner here.
+void read_planner_costs(Section& planner, PlannerConfig& p) {
+  core::PlannerSettings& s = p.settings;
   // A cost_weight the file leaves out is default.yaml's, meant for the planners that weigh costs:
   // with jps it is no contradiction, and each plan says it ran on uniform costs (requests.cpp).
   const bool cost_weight_given = planner.has("cost_weight");
-  const bool cost_weight_ok = number_in(core::kCostWeightRange, s.cost_weight);
+  const bool cost_weight_ok = read_planner_number(planner, core::kCostWeightRange, s.cost_weight);
   if (cost_weight_given && cost_weight_ok && s.cost_weight && *s.cost_weight > 0.0 &&
-      !core::supports_costs(kind)) {
+      !core::supports_costs(p.kind)) {
     std::ostringstream msg;
     msg << "planner.cost_weight: found \"" << *s.cost_weight << "\", expected 0 for "
-        << to_string(kind) << " (its jump rules hold only on a grid of uniform costs; use a "
+        << to_string(p.kind) << " (its jump rules hold only on a grid of uniform costs; use a "
         << "planner that supports costs, such as vns_bastar or astar)";
-    errors.push_back(msg.str());
+    planner.report(msg.str());
   }
   for (const auto& [key, out] : {std::pair{"goal_tolerance", &s.goal_tolerance},
                                  std::pair{"start_tolerance", &s.start_tolerance}}) {
     planner.number(key, *out, core::kToleranceRange.describe() + " (0 = exact)",
                    [](double v) { return core::kToleranceRange.contains(v); });
   }
-  if (c.planner.auto_kind) kind = core::make_auto_options(s).planner;
-  planner.number(kPathSpacingRange.key, c.planner.path_spacing,
+  if (p.auto_kind) p.kind = core::make_auto_options(s).planner;
+  planner.number(kPathSpacingRange.key, p.path_spacing,
                  kPathSpacingRange.describe() + " (absent = the map's resolution)",
                  [](double v) { return kPathSpacingRange.contains(v); });
-  planner.finish();
+}
 
+// planner: every key the file gives becomes a setting; a key left out stays unset, so that it
+// follows the paper configuration of whichever planner runs (the configured one or a request's).
+void read_planner(Section& top, NodeConfig& c) {
+  Section planner = top.child("planner");
+  read_planner_name(planner, c.planner);
+  read_planner_weights(planner, c.planner);
+  read_planner_moves(planner, c.planner);
+  read_planner_postprocessing(planner, c.planner);
+  read_planner_budget(planner, c.planner);
+  read_planner_costs(planner, c.planner);
+  planner.finish();
+}
+
+// A number of seconds in [0, max_s], stored in milliseconds.
+void read_milliseconds(Section& section, const char* key, std::chrono::milliseconds& out,
+                       double max_s) {
+  std::optional<double> value_s = static_cast<double>(out.count()) / 1000.0;
+  std::ostringstream expected;
+  expected << "a finite number of seconds in [0, " << max_s << "]";
+  if (section.number(key, value_s, expected.str(),
+                     [max_s](double v) { return v >= 0.0 && v <= max_s; }) &&
+      value_s) {
+    out = std::chrono::milliseconds(std::llround(*value_s * 1000.0));
+  }
+}
+
+// requests: the queue, its workers and how long a request waits for a reply or a map.
+void read_requests(Section& top, NodeConfig& c) {
   Section requests = top.child("requests");
   requests.boolean("preempt", c.preempt);
   requests.integer("queue_capacity", c.queue_capacity, 1, 100000);
   requests.integer("workers", c.workers, 0, kMaxWorkers);
-  // Seconds in [0, max_s], stored in milliseconds.
-  auto milliseconds_key = [&](Section& section, const char* key, std::chrono::milliseconds& out,
-                              double max_s) {
-    std::optional<double> value_s = static_cast<double>(out.count()) / 1000.0;
-    std::ostringstream expected;
-    expected << "a finite number of seconds in [0, " << max_s << "]";
-    if (section.number(key, value_s, expected.str(),
-                       [max_s](double v) { return v >= 0.0 && v <= max_s; }) &&
-        value_s) {
-      out = std::chrono::milliseconds(std::llround(*value_s * 1000.0));
-    }
-  };
-  milliseconds_key(requests, "reply_wait", c.reply_wait, 10.0);
-  milliseconds_key(requests, "map_wait", c.map_wait, 60.0);
+  read_milliseconds(requests, "reply_wait", c.reply_wait, 10.0);
+  read_milliseconds(requests, "map_wait", c.map_wait, 60.0);
   requests.finish();
+}
 
+// actions: Nav2's planner actions.
+void read_actions(Section& top, NodeConfig& c) {
   Section actions = top.child("actions");
   actions.boolean("enabled", c.actions.enabled);
-  milliseconds_key(actions, "result_timeout", c.actions.result_timeout, 86400.0);
+  read_milliseconds(actions, "result_timeout", c.actions.result_timeout, 86400.0);
   actions.integer("max_results", c.actions.max_results, 1, 100000);
   actions.choice<ReplyMapping>("reply_mapping", c.actions.reply_mapping,
                                {{"auto", ReplyMapping::kAuto},
                                 {"fastrtps", ReplyMapping::kFastRtps},
                                 {"cyclonedds", ReplyMapping::kCycloneDds}});
   actions.finish();
+}
 
+// network: which interfaces DDS uses.
+void read_network(Section& top, NodeConfig& c) {
   Section network = top.child("network");
   network.boolean("localhost_only", c.localhost_only);
   network.finish();
+}
 
+// discovery: Discovery Server locators.
+void read_discovery(Section& top, NodeConfig& c) {
   Section discovery = top.child("discovery");
   discovery.get(
       "servers", c.discovery_servers, [](const YAML::Node& node, std::vector<std::string>& value) {
@@ -608,8 +681,11 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
         return std::string();
       });
   discovery.finish();
+}
 
-  // DDS Security (node/security.hpp); the ROS_SECURITY_* environment is applied after loading.
+// security: DDS Security (node/security.hpp); the ROS_SECURITY_* environment is applied after
+// loading.
+void read_security(Section& top, NodeConfig& c) {
   Section security = top.child("security");
   security.boolean("enable", c.security.enable);
   security.text("keystore", c.security.keystore, "a directory", [](const std::string&) {
@@ -622,25 +698,37 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
       "strategy", c.security.strategy,
       {{"Enforce", SecurityStrategy::kEnforce}, {"Permissive", SecurityStrategy::kPermissive}});
   security.finish();
+}
 
+// dds: the Fast DDS XML profile of the participant.
+void read_dds(Section& top, NodeConfig& c) {
   Section dds = top.child("dds");
   dds.text("participant_profile", c.participant_profile, "a profile name", [](const std::string&) {
     return std::string();  // any name; looked up in the XML profiles when a participant is made
   });
   dds.finish();
+}
 
+// debug: when the debug topics are published.
+void read_debug(Section& top, NodeConfig& c) {
   Section debug = top.child("debug");
   debug.choice<DebugPublishing>("publish", c.debug,
                                 {{"auto", DebugPublishing::kAuto},
                                  {"always", DebugPublishing::kAlways},
                                  {"never", DebugPublishing::kNever}});
   debug.finish();
+}
 
+// Top level, log_level: spdlog's level names.
+void read_log_level(Section& top, NodeConfig& c) {
   std::vector<std::pair<std::string, std::string>> levels;
   for (const char* level : {"trace", "debug", "info", "warn", "error", "critical", "off"})
     levels.emplace_back(level, level);
   top.choice("log_level", c.log_level, levels);
+}
 
+// slicer: vnsba_slicer's height band and cells.
+void read_slicer(Section& top, NodeConfig& c) {
   Section slicer = top.child("slicer");
   auto any = [](double) { return true; };
   const bool z_min_ok = slicer.number("z_min", c.slicer.z_min, "a finite number of metres", any);
@@ -649,25 +737,47 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
     std::ostringstream msg;
     msg << "slicer.z_max: found \"" << c.slicer.z_max << "\", expected a height >= slicer.z_min ("
         << c.slicer.z_min << ")";
-    errors.push_back(msg.str());
+    slicer.report(msg.str());
   }
   slicer.number("resolution", c.slicer.resolution,
                 "a finite number of metres >= 0 (0 = the tree's leaf size)",
                 [](double v) { return v >= 0.0; });
   slicer.boolean("remove_speckles", c.slicer.remove_speckles);
   slicer.finish();
+}
 
+// Safety net for a file without errors: core's own checks must agree (they can only fire if core
+// grows new rules).
+void check_with_core(const NodeConfig& c, Errors& errors) {
+  // As requests plan: a planner on uniform costs drops an inherited cost_weight (requests.cpp).
+  core::PlannerOptions options = c.planner.options();
+  core::drop_unsupported_costs(options);
+  if (core::Status s = core::validate(options); !s.is_ok())
+    errors.push_back("planner: " + s.message);
+  if (core::Status s = core::validate(c.map); !s.is_ok()) errors.push_back("map: " + s.message);
+}
+
+// Reads `root` over `c`, every section in the schema's order. With `shown`, also lists every key
+// `root` leaves out with the value it keeps (config_as_yaml reads an empty file so).
+void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings* shown = nullptr) {
+  Section top(root, "", errors, shown);
+  read_naming(top, c);
+  read_robots(top, c);
+  read_topics(top, c);
+  read_robot_pose(top, c);
+  read_map(top, c);
+  read_planner(top, c);
+  read_requests(top, c);
+  read_actions(top, c);
+  read_network(top, c);
+  read_discovery(top, c);
+  read_security(top, c);
+  read_dds(top, c);
+  read_debug(top, c);
+  read_log_level(top, c);
+  read_slicer(top, c);
   top.finish();
-
-  // Safety net: core's own checks must agree (they can only fire if core grows new rules).
-  if (errors.empty()) {
-    // As requests plan: a planner on uniform costs drops an inherited cost_weight (requests.cpp).
-    core::PlannerOptions options = c.planner.options();
-    core::drop_unsupported_costs(options);
-    if (core::Status s = core::validate(options); !s.is_ok())
-      errors.push_back("planner: " + s.message);
-    if (core::Status s = core::validate(c.map); !s.is_ok()) errors.push_back("map: " + s.message);
-  }
+  if (errors.empty()) check_with_core(c, errors);
 }
 
 // config/default.yaml as compiled in, read once: the starting point of every loaded config.

@@ -130,7 +130,7 @@ inline core::GridBuildOptions default_map_options() {
 }
 
 // planner.path_spacing: the published path has a pose at most this many metres apart
-// (ALGORITHM.md section 8); unset = the map's resolution.
+// (docs/algorithm.md section 8); unset = the map's resolution.
 inline constexpr core::OptionRange kPathSpacingRange{"path_spacing", "metres", 0.0, 10.0, true};
 
 // The planner.* keys. A key the file or default.yaml gives is a setting; a key both leave out
