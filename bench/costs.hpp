@@ -1,12 +1,13 @@
 // `vnsba_bench costs`: binary planning (the paper, config/paper.yaml) against cost-aware planning
-// (config/default.yaml's robot settings, ALGORITHM.md section 8) against cost-aware planning with
-// the relax smoother (planner.smoother: relax, its weights at their defaults) for each planner, on
-// the demo scene's routes, on seeded random queries of held-in OctoMap slices and on the Moving AI
-// maps: length, turns, total turn angle, max curvature, clearance and time per side, and the
-// issue's targets (issue 34 item 3): against binary, cost-aware + relax keeps the total turn angle
-// at most 1.3x, the clearance at least 1.5x and the length at most 1.15x on the demo's routes and
-// the slices; the smoother adds at most 20 % to a plan's time (median over queries of the time
-// with relax / the time without it). First, the same targets for the default configuration itself
+// (config/default.yaml's robot settings, docs/algorithm.md section 8) against cost-aware planning
+// with the relax smoother (planner.smoother: relax, its weights at their defaults) for each
+// planner, on the demo scene's routes, on seeded random queries of held-in OctoMap slices and on
+// the Moving AI maps: length, turns, total turn angle, max curvature, clearance and time per side,
+// and the issue's targets (issue 34 item 3): against binary, cost-aware + relax keeps the total
+// turn angle at most 1.3x, the clearance at least 1.5x and the length at most 1.15x on the demo's
+// routes and the slices; the smoother adds at most 20 % to a plan's time (median over queries of
+// the time with relax / the time without it). First, the same targets for the default configuration
+// itself
 // (`planner.name: auto` with the robot's costs against auto without them), then the table for
 // choosing the cost-aware planner auto runs: every cost-aware planner with auto's settings, its
 // time per query over astar's, and its path length and turn angle over astar's.

@@ -56,7 +56,7 @@ struct DensityWeightedHeuristic {
 // ---------------------------------------------------------------------------------------------
 // Move costs.
 
-// The binary grid of ALGORITHM.md sections 1-7: a move costs its length (the quantized step
+// The binary grid of docs/algorithm.md sections 1-7: a move costs its length (the quantized step
 // costs of neighborhood.hpp), exactly as before costs existed.
 struct UniformMoveCost {
   VNSBA_ALWAYS_INLINE double operator()(uint32_t, uint32_t, int, int, double length) const {
@@ -183,10 +183,11 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
 // that pops (closes) a node the other search has already closed has met it: with the 8-11-13
 // neighbourhood the two move sets differ (a long move y -> x can exist while x -> y does not), so
 // this can happen without any generated neighbour having been seen closed by the other side
-// (ALGORITHM.md section 3). Checking it keeps every cell closed by at most one search, so the
+// (docs/algorithm.md section 3). Checking it keeps every cell closed by at most one search, so the
 // two parent chains are disjoint and the joined raw path never visits a cell twice.
 enum class MeetingRule {
-  // ALGORITHM.md section 3: a search generates a neighbour the other search has closed (or pops
+  // docs/algorithm.md section 3: a search generates a neighbour the other search has closed (or
+  // pops
   // one, see above).
   kGenerateClosedByOther,
   // The improved BA* of Li et al.: only a search closing a node the other has closed (which
@@ -196,7 +197,7 @@ enum class MeetingRule {
 
 // Two searches in strict alternation, one expansion each. `current[0]` / `current[1]` are the
 // forward / backward current nodes (the last expanded), which the heuristics read through
-// pointers, and which guide each search's 8-11-13 neighbourhood (ALGORITHM.md section 2: the
+// pointers, and which guide each search's 8-11-13 neighbourhood (docs/algorithm.md section 2: the
 // guide of a bidirectional search is the opposite search's current node, for every planner).
 template <class ForwardH, class BackwardH, class MoveCost>
 SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, SearchSpace& forward,
@@ -392,7 +393,7 @@ std::string describe_centre(const GridMap& map, const Cell& c) {
   return "(" + metres(w.x()) + ", " + metres(w.y()) + ") m, cell " + describe(c);
 }
 
-// Why a cell in the map is blocked, naming the layer (ALGORITHM.md section 8).
+// Why a cell in the map is blocked, naming the layer (docs/algorithm.md section 8).
 std::string why_blocked(const GridMap& map, const Cell& c) {
   const GridBuildOptions& o = map.build_options();
   switch (map.layer(c)) {
@@ -419,7 +420,7 @@ std::string budget_message(StatusCode code, const PlannerOptions& options, const
 }
 
 // A requested point must lie in its cell: the tolerance measures from it, and the path begins or
-// ends there (ALGORITHM.md section 8).
+// ends there (docs/algorithm.md section 8).
 Status check_point(const char* field, const std::optional<Point2>& point, const Cell& cell) {
   if (!point) return Status::ok();
   if (point->allFinite() && std::floor(point->x()) == cell.x && std::floor(point->y()) == cell.y)
@@ -661,7 +662,7 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   }
 
   result.raw_path = std::move(outcome.path);
-  // Pruning and smoothing weigh costs as the search did (ALGORITHM.md section 8).
+  // Pruning and smoothing weigh costs as the search did (docs/algorithm.md section 8).
   const double path_cost_weight = map.has_costs() ? options.cost_weight : 0.0;
   std::vector<Point2> raw_centres = cell_centres(result.raw_path);
   result.metrics.raw_cost_cells = polyline_length(raw_centres);
@@ -670,11 +671,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
                                    : std::move(raw_centres);
   if (budget.expired()) return budget_failure(budget.state(), "while pruning the path");
   // The requested start and goal exactly, or the cells' centres where a tolerance moved them
-  // (ALGORITHM.md section 8); turns, length and clearance are those of this path.
+  // (docs/algorithm.md section 8); turns, length and clearance are those of this path.
   result.waypoints = join_exact_ends(map, std::move(result.waypoints), endpoints->start_point,
                                      endpoints->goal_point, options.corner_policy, path_cost_weight,
                                      options.prune);
-  // Turns of the polyline smoothing starts from (ALGORITHM.md section 7).
+  // Turns of the polyline smoothing starts from (docs/algorithm.md section 7).
   const TurnStats turns = turn_stats(result.waypoints);
   result.metrics.turns = turns.turns;
   result.metrics.turn_angle_deg = turns.total_angle_deg;

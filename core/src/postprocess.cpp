@@ -1,5 +1,6 @@
-// Polyline pruning (ALGORITHM.md section 4, paper 3.3) and local cubic-spline smoothing at turns
-// (ALGORITHM.md section 5, paper 3.4). Every visibility check goes through line_of_sight().
+// Polyline pruning (docs/algorithm.md section 4, paper 3.3) and local cubic-spline smoothing at
+// turns (docs/algorithm.md section 5, paper 3.4). Every visibility check goes through
+// line_of_sight().
 #include "vnsba/core/postprocess.hpp"
 
 #include <Eigen/LU>
@@ -16,7 +17,7 @@ namespace vnsba::core {
 namespace {
 // A shortcut "costs no more" than the stretch it replaces up to rounding: a straight stretch of
 // the grid path, priced step by step, and the same stretch priced at once differ by an ulp or two,
-// and without this slack pruning would keep a turning point there (ALGORITHM.md section 8:
+// and without this slack pruning would keep a turning point there (docs/algorithm.md section 8:
 // equal in exact arithmetic). Relative.
 constexpr double kCostRoundingTolerance = 1.0 + 1e-12;
 }  // namespace

@@ -86,11 +86,11 @@ inline constexpr OptionRange kSmootherCostRange{"smoother_cost", "", 0.0, 100.0,
 inline constexpr OptionRange kSmootherIterationsRange{"smoother_iterations", "", 1.0, 10000.0,
                                                       false};
 
-// Move cost = length * (1 + cost_weight * c), c in [0, 1) (ALGORITHM.md section 8); 0 = the
+// Move cost = length * (1 + cost_weight * c), c in [0, 1) (docs/algorithm.md section 8); 0 = the
 // paper's binary grid. 100 already makes a cell of cost 0.99 a hundred times dearer than free.
 inline constexpr OptionRange kCostWeightRange{"cost_weight", "", 0.0, 1000.0, false};
-// How far the planner may move a blocked goal or start (ALGORITHM.md section 8); 0 = exact. The
-// nearest free cell is searched in a disc of this radius, so it stays small.
+// How far the planner may move a blocked goal or start (docs/algorithm.md section 8); 0 = exact.
+// The nearest free cell is searched in a disc of this radius, so it stays small.
 inline constexpr OptionRange kToleranceRange{"tolerance", "metres", 0.0, 100.0, false};
 
 // The path smoother after pruning and the paper's corner smoothing.
@@ -118,7 +118,7 @@ struct PlannerOptions {
   bool record_expansions = false;  // fill PlanResult::expanded_* (for debug pictures)
   // Also run optimal A* on the same query to fill Metrics::length_ratio (costs a second search).
   bool compute_length_ratio = false;
-  // ALGORITHM.md section 8; every "off" value (0) gives the binary behaviour of sections 1-7.
+  // docs/algorithm.md section 8; every "off" value (0) gives the binary behaviour of sections 1-7.
   double cost_weight = 0.0;      // kCostWeightRange
   double goal_tolerance = 0.0;   // metres, kToleranceRange: plan to the nearest free cell within
                                  // this of a blocked (or outside) goal

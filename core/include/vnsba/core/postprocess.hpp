@@ -1,5 +1,5 @@
 // Polyline pruning (paper 3.3) and local cubic-spline corner smoothing (paper 3.4), usable after
-// any planner. ALGORITHM.md sections 4 and 5. All coordinates are continuous cell coordinates.
+// any planner. docs/algorithm.md sections 4 and 5. All coordinates are continuous cell coordinates.
 #pragma once
 
 #include <vector>
@@ -11,7 +11,7 @@
 
 namespace vnsba::core {
 
-// The cost model of ALGORITHM.md section 8 for a segment a -> b (continuous cell coordinates):
+// The cost model of docs/algorithm.md section 8 for a segment a -> b (continuous cell coordinates):
 // its length * (1 + cost_weight * the highest cell cost along it, max_cost_along); +inf when it
 // lacks line of sight. With cost_weight 0, the length. The searches price their moves the same
 // way (planner.cpp, CellMoveCost).
@@ -26,19 +26,19 @@ double path_cost(const GridMap& map, const std::vector<Point2>& polyline, double
 // (as cell centres), collision-free by construction. An empty input gives an empty output.
 // With a `budget` that expires part-way (polled once per line-of-sight check) the result is
 // empty and budget->state() says why. With cost_weight > 0 a shortcut also has to cost no more
-// than the stretch of grid path it replaces (ALGORITHM.md section 8), so pruning never makes the
-// path dearer; with 0 that holds by the triangle inequality and nothing else is checked.
+// than the stretch of grid path it replaces (docs/algorithm.md section 8), so pruning never makes
+// the path dearer; with 0 that holds by the triangle inequality and nothing else is checked.
 std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path,
                                CornerPolicy policy, PlanningBudget* budget = nullptr,
                                double cost_weight = 0.0);
 
-// The path's exact ends (ALGORITHM.md section 8): `waypoints` run between cell centres, the final
-// path must begin at `start` and end at `goal` (continuous cell coordinates, each inside the cell
-// of the first / last waypoint: a requested point, or the centre itself). Puts `start` in front of
-// the first waypoint and `goal` after the last (a segment inside one free cell: always clear);
-// then, with `drop_centres` (pruning on), removes the first centre when the segment from `start`
-// to the waypoint after it has line of sight and costs no more than the two it replaces (the
-// pruning rule, costs as segment_cost with `cost_weight`), and likewise the last centre before
+// The path's exact ends (docs/algorithm.md section 8): `waypoints` run between cell centres, the
+// final path must begin at `start` and end at `goal` (continuous cell coordinates, each inside the
+// cell of the first / last waypoint: a requested point, or the centre itself). Puts `start` in
+// front of the first waypoint and `goal` after the last (a segment inside one free cell: always
+// clear); then, with `drop_centres` (pruning on), removes the first centre when the segment from
+// `start` to the waypoint after it has line of sight and costs no more than the two it replaces
+// (the pruning rule, costs as segment_cost with `cost_weight`), and likewise the last centre before
 // `goal`. A point equal to its centre adds nothing, so a path between centres is returned as is.
 std::vector<Point2> join_exact_ends(const GridMap& map, std::vector<Point2> waypoints,
                                     const Point2& start, const Point2& goal, CornerPolicy policy,
@@ -50,7 +50,7 @@ struct SmoothingOptions {
   int max_halvings = 3;             // retries with d halved before keeping the sharp corner
   CornerPolicy corner_policy = CornerPolicy::kNever;
   // > 0: a corner's curve is kept only when it costs no more than the two leg pieces it
-  // replaces (ALGORITHM.md section 8); 0: section 5 as it stands.
+  // replaces (docs/algorithm.md section 8); 0: section 5 as it stands.
   double cost_weight = 0.0;
 };
 
