@@ -138,6 +138,15 @@ double median(std::vector<double> values) {
   return 0.5 * (lower + upper);
 }
 
+double median_of_ratios(const std::vector<double>& times,
+                        const std::vector<double>& reference_times) {
+  std::vector<double> ratios;
+  for (size_t i = 0; i < std::min(times.size(), reference_times.size()); ++i)
+    if (std::isfinite(times[i]) && std::isfinite(reference_times[i]) && reference_times[i] > 0.0)
+      ratios.push_back(times[i] / reference_times[i]);
+  return median(std::move(ratios));
+}
+
 double percentile(std::vector<double> values, double p) {
   if (values.empty()) return NAN;
   std::sort(values.begin(), values.end());

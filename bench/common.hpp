@@ -66,6 +66,11 @@ double mean(const std::vector<double>& values);
 double median(std::vector<double> values);
 // Nearest-rank percentile, p in [0, 100].
 double percentile(std::vector<double> values, double p);
+// The headline of a speed comparison: the median over queries of times[i] / reference_times[i]
+// (query i planned by both). Not the ratio of the two medians, which pairs unrelated queries.
+// Pairs with a non-finite time or a reference time <= 0 are left out; NaN when none is left.
+double median_of_ratios(const std::vector<double>& times,
+                        const std::vector<double>& reference_times);
 
 // printf-style number formatting for tables ("n/a" for NaN).
 std::string format(double value, int decimals);

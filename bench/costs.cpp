@@ -394,7 +394,7 @@ struct ChoiceStats {
 
 ChoiceStats choice_stats(const std::vector<const ChoiceQueries*>& sets, size_t planner) {
   ChoiceStats s;
-  std::vector<double> ratios, times, reference_times;
+  std::vector<double> times, reference_times;
   double length = 0, reference_length = 0, angle = 0, reference_angle = 0;
   for (const ChoiceQueries* set : sets) {
     for (const std::vector<Outcome>& q : *set) {
@@ -404,7 +404,6 @@ ChoiceStats choice_stats(const std::vector<const ChoiceQueries*>& sets, size_t p
       if (!o.ok) ++s.failed;
       if (!o.ok || !ref.ok) continue;
       ++s.compared;
-      ratios.push_back(o.time_us / ref.time_us);
       times.push_back(o.time_us);
       reference_times.push_back(ref.time_us);
       length += o.length;
@@ -414,7 +413,7 @@ ChoiceStats choice_stats(const std::vector<const ChoiceQueries*>& sets, size_t p
     }
   }
   if (s.compared > 0) {
-    s.time_ratio = median(ratios);
+    s.time_ratio = median_of_ratios(times, reference_times);
     s.median_time_us = median(times);
     s.median_time_ratio = s.median_time_us / median(reference_times);
     s.length_ratio = ratio(length, reference_length);
