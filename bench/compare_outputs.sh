@@ -9,9 +9,10 @@
 # Then the cost-aware side: vnsba_plan --json of each revision on VNSBA_COST_SCENARIOS (default 8)
 # scenario lines per map, every cost-aware planner with pruning and smoothing, on the map with
 # config/default.yaml's gradient and cost weight (in cells: inflation_radius 11, scaling 0.15 per
-# cell, as `vnsba_bench costs` reads Moving AI maps) and the smoother off where the revision has
-# one (`--smoother none`): the whole run record (path, waypoints, metrics, expansions) but the
-# planning time must be byte-identical.
+# cell, as `vnsba_bench costs` reads Moving AI maps), once with the smoother off and, where both
+# revisions have it, once with `--smoother relax` (its every segment check is a line of sight):
+# the whole run record (path, waypoints, metrics, expansions) but the planning time must be
+# byte-identical.
 #
 # Exit 0 when every row is identical, 1 when any differs (the first differences are printed),
 # 2 on bad use. Environment: VNSBA_DATA_DIR (default ../shared/data beside the project),
@@ -64,8 +65,6 @@ build_bench() {
 run_cost_records() {
   name=$1
   plan="$work/$name-build/tools/vnsba_plan"
-  smoother=""
-  if "$plan" --help 2>/dev/null | grep -q -- '--smoother '; then smoother="--smoother none"; fi
   out="$work/$name-records"
   rm -rf "$out"
   mkdir -p "$out"
@@ -79,12 +78,16 @@ run_cost_records() {
     while [ "$index" -lt "$lines" ] && [ "$index" -lt $((step * cost_scenarios)) ]; do
       for planner in astar weighted_astar bidirectional_astar alternating_bidirectional_astar \
         vns_bastar; do
-        record="$out/$(basename "$map")-$index-$planner.json"
-        # shellcheck disable=SC2086
-        "$plan" "$map" --scen "$scen" --scen-index "$index" --planner "$planner" --prune --smooth \
-          --cost-weight 2 --inflation-radius 11 --cost-scaling-factor 0.15 $smoother \
-          --json "$record" >/dev/null 2>&1 || echo "failed" > "$record"
-        sed -i '/"planning_time_us"/d' "$record"
+        for smoother in $smoothers; do
+          record="$out/$(basename "$map")-$index-$planner-$smoother.json"
+          flag=""
+          [ "$smoother" = "default" ] || flag="--smoother $smoother"
+          # shellcheck disable=SC2086
+          "$plan" "$map" --scen "$scen" --scen-index "$index" --planner "$planner" --prune --smooth \
+            --cost-weight 2 --inflation-radius 11 --cost-scaling-factor 0.15 $flag \
+            --json "$record" >/dev/null 2>&1 || echo "failed" > "$record"
+          sed -i '/"planning_time_us"/d' "$record"
+        done
       done
       index=$((index + step))
     done
@@ -106,6 +109,12 @@ run_bench base
 run_bench head
 
 cost_scenarios=${VNSBA_COST_SCENARIOS:-8}
+# The smoother settings both revisions know: none and relax, or the one default of an older one.
+smoothers=default
+if "$work/base-build/tools/vnsba_plan" --help 2>/dev/null | grep -q -- '--smoother ' &&
+  "$work/head-build/tools/vnsba_plan" --help 2>/dev/null | grep -q -- '--smoother '; then
+  smoothers="none relax"
+fi
 run_cost_records base
 run_cost_records head
 

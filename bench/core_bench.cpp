@@ -12,8 +12,8 @@
 // centre_los/<map>/<policy>/{bit_walk,scalar}: line of sight between two cell centres; one
 // iteration answers the same 4096 fixed random segments, by the bit-grid walk that
 // line_of_sight_in_map uses (detail::centre_segment_clear) or by the scalar supercover
-// traversal it replaced (detail::line_of_sight_centres_scalar). Only segments that the
-// summed-area shortcuts do not settle are used (not axis-aligned, a blocked cell in their
+// traversal it replaced (tests/core/scalar_line_of_sight.hpp, the tests' oracle). Only segments
+// that the summed-area shortcuts do not settle are used (not axis-aligned, a blocked cell in their
 // rectangle), since both variants share those shortcuts. Run just these with
 //   vnsba_core_bench --benchmark_filter=centre_los
 // and read the ratio of the two times (or segments/s) per map and policy. clear_%: segments with
@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "bench/large.hpp"
+#include "core/scalar_line_of_sight.hpp"
 #include "scenario_maps.hpp"
 #include "vnsba/core/line_of_sight.hpp"
 #include "vnsba/core/planner.hpp"
@@ -154,7 +155,7 @@ void run_centre_los(benchmark::State& state, const LineOfSightBench* bench, Corn
     clear = 0;
     for (const auto& [a, b] : bench->segments) {
       const bool visible = bit_walk ? detail::centre_segment_clear(map, a, b, policy)
-                                    : detail::line_of_sight_centres_scalar(map, a, b, policy);
+                                    : test_oracle::line_of_sight_centres_scalar(map, a, b, policy);
       clear += visible;
     }
     benchmark::DoNotOptimize(clear);

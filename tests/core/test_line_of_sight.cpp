@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/scalar_line_of_sight.hpp"
 #include "core/test_support.hpp"
 #include "vnsba/core/line_of_sight.hpp"
 
@@ -14,7 +15,9 @@ namespace {
 
 using core::line_of_sight;
 using core::detail::centre_segment_clear;
-using core::detail::line_of_sight_centres_scalar;
+using test_oracle::line_of_sight_centres_scalar;
+using test_oracle::line_of_sight_scalar;
+using test_oracle::max_cost_along_scalar;
 
 const CornerPolicy kPolicies[] = {CornerPolicy::kNever, CornerPolicy::kTouch,
                                   CornerPolicy::kAlways};
@@ -104,7 +107,7 @@ TEST(LineOfSight, ContinuousSegmentsAreSound) {
 }
 
 // --- The bit-grid walk between cell centres (centre_segment_clear) against the scalar
-// supercover traversal it replaces, which stays the definition. ---
+// supercover traversal it replaced, which stays the definition (core/scalar_line_of_sight.hpp). ---
 
 // A segment through an exact corner, row 0 -> row 1 across a word boundary: (0,0) -> (199,1)
 // crosses the row boundary at x = 0.5 + 199/2 = 100 exactly, so the open spans are row 0
@@ -243,6 +246,76 @@ Cell random_segment_end(std::mt19937& rng, const GridMap& map, const Cell& a) {
 struct AnswerCounts {
   int64_t segments = 0, clear = 0, blocked_long = 0;
 };
+
+// The same cells with a cost gradient (inflation_radius 3 cells, no radius), or without one.
+GridMap with_cost_gradient(const GridMap& cells, bool gradient) {
+  core::OccupancyGrid grid;
+  grid.width = cells.width();
+  grid.height = cells.height();
+  grid.resolution = 1.0;
+  grid.data.assign(static_cast<size_t>(grid.width) * grid.height, core::kOccupancyFree);
+  for (int32_t y = 0; y < grid.height; ++y)
+    for (int32_t x = 0; x < grid.width; ++x)
+      if (cells.blocked(x, y))
+        grid.data[static_cast<size_t>(y) * grid.width + x] = core::kOccupancyOccupied;
+  core::GridBuildOptions options;
+  if (gradient) {
+    options.inflation_radius = 3.0;
+    options.cost_scaling_factor = 0.7;
+  }
+  return std::move(GridMap::build(grid, options)).value();
+}
+
+// Between any points, the line walk over the bit grids takes the cell-by-cell traversal's every
+// decision: the same answer and, with costs, the same highest cost, on random real points,
+// points on cell boundaries and through exact corners (dyadic coordinates), short and long
+// segments, every policy.
+TEST(LineOfSight, ContinuousWalkEqualsScalarTraversal) {
+  std::mt19937 rng(77);
+  int64_t compared = 0, clear = 0, corners = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int w = 1 + trial % 90, h = 1 + (trial * 7) % 70;
+    const GridMap map = with_cost_gradient(
+        random_test_map(rng, w, h, 0.05 + 0.1 * (trial % 5), trial % 2 == 0), trial % 4 != 0);
+    std::uniform_real_distribution<double> ux(0.0, w), uy(0.0, h);
+    std::uniform_int_distribution<int> half_x(0, 2 * w - 1), half_y(0, 2 * h - 1);
+    for (int q = 0; q < 300; ++q) {
+      Point2 a, b;
+      if (q % 3 == 0) {  // half-cell grid: boundaries, centres and exact corner crossings
+        a = Point2(half_x(rng) / 2.0, half_y(rng) / 2.0);
+        b = Point2(half_x(rng) / 2.0, half_y(rng) / 2.0);
+      } else if (q % 3 == 1) {  // short, as the smoothers' segments
+        a = Point2(ux(rng), uy(rng));
+        b = a + Point2(std::uniform_real_distribution<double>(-3, 3)(rng),
+                       std::uniform_real_distribution<double>(-3, 3)(rng));
+      } else {
+        a = Point2(ux(rng), uy(rng));
+        b = Point2(ux(rng), uy(rng));
+      }
+      for (CornerPolicy p : kPolicies) {
+        const bool expected = line_of_sight_scalar(map, a, b, p);
+        ASSERT_EQ(line_of_sight(map, a, b, p), expected)
+            << "map " << trial << " a=" << a.transpose() << " b=" << b.transpose() << " "
+            << core::to_string(p);
+        const auto cost = core::max_cost_along(map, a, b, p);
+        const auto expected_cost = max_cost_along_scalar(map, a, b, p);
+        ASSERT_EQ(cost.has_value(), expected_cost.has_value());
+        if (cost) {
+          ASSERT_EQ(*cost, *expected_cost);
+        }
+        ++compared;
+        clear += expected;
+      }
+      // Exact corner crossings between the half-cell points: both coordinates' crossings
+      // coincide somewhere along the segment.
+      corners += q % 3 == 0 && line_of_sight_scalar(map, a, b, CornerPolicy::kNever) !=
+                                   line_of_sight_scalar(map, a, b, CornerPolicy::kAlways);
+    }
+  }
+  EXPECT_GT(clear, compared / 10);
+  EXPECT_GT(compared - clear, compared / 10);
+  EXPECT_GT(corners, 100);  // corner crossings decided some answers
+}
 
 // The bit-grid walk, and the public API with its summed-area shortcuts, equal the scalar
 // traversal on > 10^6 segments per policy: maps from 1 to 300 cells wide (not only multiples of

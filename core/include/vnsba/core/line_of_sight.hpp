@@ -36,73 +36,11 @@ inline bool corner_passable(bool side_a_blocked, bool side_b_blocked, CornerPoli
   return false;
 }
 
-// The supercover traversal, cell by cell: line of sight for continuous segments (line_of_sight
-// on points) and, on exact integers, the reference that the faster walk between cell centres
-// (centre_segment_clear) must equal. Generic over the number type so that cell centres run on
-// exact integers and continuous points on doubles. Walks from cell (cx, cy) to cell (ex, ey)
-// over the padded blocked array, starting at padded index `at`. `next_x` / `next_y` are the
-// distances from the start point to the first cell boundary along each axis, `unit` the width
-// of a cell, `adx` / `ady` the absolute extents of the segment, `sx` / `sy` its direction signs;
-// all in the same units. The start cell is not checked.
-//
-// Each iteration steps one cell along x, along y, or diagonally through a corner. The parameter
-// of the next x boundary is next_x / adx, of the next y boundary next_y / ady; comparing
-// next_x * ady with next_y * adx avoids the divisions (and is exact for integers). A step is
-// never taken past the end cell on its axis, which bounds the loop at |ex-cx| + |ey-cy| steps.
-// `enter(at)` is called with the padded index of every cell entered (after the start cell, up to
-// the end cell) and returns whether the walk goes on; by default a blocked cell stops it.
-template <class Number, class Enter>
-inline bool traverse_supercover(const uint8_t* blocked, int32_t stride, uint32_t at, int32_t cx,
-                                int32_t cy, int32_t ex, int32_t ey, Number next_x, Number next_y,
-                                Number adx, Number ady, Number unit, int sx, int sy,
-                                CornerPolicy policy, Enter&& enter) {
-  while (cx != ex || cy != ey) {
-    int step_x = 0, step_y = 0;
-    if (cy == ey) {
-      step_x = sx;
-    } else if (cx == ex) {
-      step_y = sy;
-    } else {
-      const Number tx = next_x * ady, ty = next_y * adx;
-      if (tx < ty) {
-        step_x = sx;
-      } else if (ty < tx) {
-        step_y = sy;
-      } else {
-        // Through a corner: the cells beside it decide, by policy.
-        if (!corner_passable(blocked[at + sx] != 0, blocked[at + sy * stride] != 0, policy)) {
-          return false;
-        }
-        step_x = sx;
-        step_y = sy;
-      }
-    }
-    if (step_x != 0) {
-      cx += step_x;
-      next_x += unit;
-    }
-    if (step_y != 0) {
-      cy += step_y;
-      next_y += unit;
-    }
-    at += step_x + step_y * stride;
-    if (!enter(at)) return false;
-  }
-  return true;
-}
-
-// Between two cell centres by walking the map's bit grids (GridMap::blocked_rows / _columns)
-// one line of cells at a time, each line's span of cells checked with word masks: exactly the
-// answer of the supercover traversal, in O(lines + span words) instead of O(cells) steps.
-// Any two cells in the map (a == b and axis-aligned pairs included). line_of_sight.cpp derives
-// the spans.
+// Between two cell centres, on exact integers: line_of_sight's one traversal (line_of_sight.cpp)
+// on doubled coordinates, walking the map's bit grids (GridMap::blocked_rows / _columns) one line
+// of cells at a time, each line's span checked with word masks, in O(lines + span words) instead
+// of O(cells) steps. Any two cells in the map (a == b and axis-aligned pairs included).
 bool centre_segment_clear(const GridMap& map, const Cell& a, const Cell& b, CornerPolicy policy);
-
-// The same question answered by traverse_supercover<int64_t> on doubled coordinates (a centre is
-// 1 from each boundary of its cell, a cell 2 wide), without any shortcut; false when a cell is
-// outside the map. The oracle the tests and benchmarks hold centre_segment_clear against.
-bool line_of_sight_centres_scalar(const GridMap& map, const Cell& a, const Cell& b,
-                                  CornerPolicy policy);
 
 }  // namespace detail
 
@@ -115,7 +53,8 @@ std::optional<CornerPolicy> corner_policy_from_string(std::string_view name);
 //
 // Comparisons are made by cross-multiplication, so for cell centres (half-integer coordinates)
 // corner crossings are detected exactly; for arbitrary real coordinates the traversal is exact
-// up to floating-point rounding of those products.
+// up to floating-point rounding of those products. The same walk over the bit grids as between
+// cell centres (detail::centre_segment_clear), on doubles.
 bool line_of_sight(const GridMap& map, const Point2& a, const Point2& b, CornerPolicy policy);
 
 // The highest cell cost (GridMap::cost) over the cells of that same traversal, both end cells
