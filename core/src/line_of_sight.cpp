@@ -31,11 +31,15 @@ namespace {
 //
 // Two kinds of numbers, one walk. Between cell centres (the heuristic's and pruning's walks)
 // coordinates are doubled into integers (a centre is 1 from each boundary of its cell, a cell 2
-// wide): the products are exact (below 2^60 for maps of at most 2^28 cells), and the walk jumps
-// the u boundaries that certainly lie before the next line boundary (at least |du| / |dv| - 1 of
-// them) and tests only the last one or two. For other points (continuous cell coordinates, as
-// doubles) it steps the u boundaries one at a time, accumulating next_u exactly as the cell-by-
-// cell traversal does, so every product, and so every decision, is that traversal's.
+// wide): the products are exact (below 2^31 for maps of at most 2^28 cells), and the walk jumps
+// the u boundaries that certainly lie before the next line boundary and tests only the last one
+// or two. With q = floor(|du| / |dv|): the segment crosses line boundary k at the u offset
+// (k + 1/2) |du| / |dv| from the start centre, u boundary i lies at offset i + 1/2, so the first
+// line holds at least floor(q / 2) of them (the last at floor(q / 2) - 1/2, below the crossing)
+// and every later line at least q - 1 (an open interval q or more long, also after a corner).
+// For other points (continuous cell coordinates, as doubles) it steps the u boundaries one at a
+// time, accumulating next_u exactly as the cell-by-cell traversal does, so every product, and so
+// every decision, is that traversal's.
 
 // The short spans below read the bit grids as bytes: cell i of a line is bit i % 8 of byte
 // i / 8 of the line only when words are stored little-endian.
@@ -104,20 +108,24 @@ bool walk_lines(const LineWalk<Number>& w, SpanClear&& span_clear) {
   int64_t crossed_u = 0;         // u boundaries crossed so far
   Number boundary_u = w.next_u;  // to the next u boundary: next_u + crossed_u * unit
   Number boundary_v = w.next_v;  // to the next line boundary
-  // Integers: u boundaries that certainly lie between two line boundaries (see above).
-  int64_t sure_per_line = 0;
+  // Integers: u boundaries that certainly lie before the first line boundary, and between two
+  // later ones (see above).
+  int64_t sure_in_first_line = 0, sure_per_line = 0;
   if constexpr (std::is_integral_v<Number>) {
-    if (w.extent_v > 0) sure_per_line = std::max<int64_t>(0, w.extent_u / w.extent_v - 1);
+    if (w.extent_v > 0) {
+      const int64_t q = w.extent_u / w.extent_v;
+      sure_in_first_line = q / 2;
+      sure_per_line = std::max<int64_t>(0, q - 1);
+    }
   }
   int32_t entry = w.u;  // first cell of the current line's span
   int32_t v = w.v;
   for (int64_t k = 0; k < line_crossings; ++k) {
     if constexpr (std::is_integral_v<Number>) {
-      if (k > 0) {
-        const int64_t jump = std::min(sure_per_line, u_crossings - crossed_u);
-        crossed_u += jump;
-        boundary_u += jump * w.unit;
-      }
+      const int64_t jump =
+          std::min(k == 0 ? sure_in_first_line : sure_per_line, u_crossings - crossed_u);
+      crossed_u += jump;
+      boundary_u += jump * w.unit;
     }
     // The u boundaries the segment reaches before this line boundary.
     const Number line_boundary = boundary_v * w.extent_u;

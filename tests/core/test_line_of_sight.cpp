@@ -273,18 +273,34 @@ GridMap with_cost_gradient(const GridMap& cells, bool gradient) {
 TEST(LineOfSight, ContinuousWalkEqualsScalarTraversal) {
   std::mt19937 rng(77);
   int64_t compared = 0, clear = 0, corners = 0;
+  int64_t long_spans = 0;  // clear segments whose line spans pass a whole word (the word loop)
   for (int trial = 0; trial < 300; ++trial) {
-    const int w = 1 + trial % 90, h = 1 + (trial * 7) % 70;
-    const GridMap map = with_cost_gradient(
-        random_test_map(rng, w, h, 0.05 + 0.1 * (trial % 5), trial % 2 == 0), trial % 4 != 0);
+    // Every tenth map is long and low (up to 300 x 8), for spans over several words.
+    const int w = trial % 10 == 9 ? 130 + trial % 171 : 1 + trial % 90;
+    const int h = trial % 10 == 9 ? 1 + trial % 8 : 1 + (trial * 7) % 70;
+    const bool long_low = trial % 10 == 9;  // a few rectangles only: long clear rows
+    const GridMap map =
+        with_cost_gradient(random_test_map(rng, w, h, long_low ? 0.03 : 0.05 + 0.1 * (trial % 5),
+                                           long_low || trial % 2 == 0),
+                           trial % 4 != 0);
     std::uniform_real_distribution<double> ux(0.0, w), uy(0.0, h);
-    std::uniform_int_distribution<int> half_x(0, 2 * w - 1), half_y(0, 2 * h - 1);
-    for (int q = 0; q < 300; ++q) {
+    // Half-cell points up to the map's far edges (x == w or y == h lies outside: refused).
+    std::uniform_int_distribution<int> half_x(0, 2 * w), half_y(0, 2 * h);
+    std::uniform_int_distribution<int> whole_x(0, w), whole_y(0, h);
+    for (int q = 0; q < 500; ++q) {
       Point2 a, b;
-      if (q % 3 == 0) {  // half-cell grid: boundaries, centres and exact corner crossings
+      if (q % 5 == 0 ||
+          q % 5 == 2) {  // half-cell grid: boundaries, centres and exact corner crossings
         a = Point2(half_x(rng) / 2.0, half_y(rng) / 2.0);
         b = Point2(half_x(rng) / 2.0, half_y(rng) / 2.0);
-      } else if (q % 3 == 1) {  // short, as the smoothers' segments
+      } else if (q % 5 == 3) {  // a tiny step across a cell boundary or corner, either way
+        const int t = q / 5;    // 1e-12 or 1e-300; across a side or a corner; either way
+        const double eps = t % 2 == 0 ? 1e-12 : 1e-300;
+        const bool corner = t % 4 >= 2;
+        a = Point2(whole_x(rng) - eps, whole_y(rng) + (corner ? eps : 0.5));
+        b = a + Point2(2 * eps, corner ? -2 * eps : 0.0);
+        if (t % 8 >= 4) std::swap(a, b);
+      } else if (q % 5 == 1) {  // short, as the smoothers' segments
         a = Point2(ux(rng), uy(rng));
         b = a + Point2(std::uniform_real_distribution<double>(-3, 3)(rng),
                        std::uniform_real_distribution<double>(-3, 3)(rng));
@@ -305,16 +321,28 @@ TEST(LineOfSight, ContinuousWalkEqualsScalarTraversal) {
         }
         ++compared;
         clear += expected;
+        long_spans += expected && std::abs(b.x() - a.x()) > 64 * (std::abs(b.y() - a.y()) + 1e-9);
       }
       // Exact corner crossings between the half-cell points: both coordinates' crossings
       // coincide somewhere along the segment.
-      corners += q % 3 == 0 && line_of_sight_scalar(map, a, b, CornerPolicy::kNever) !=
-                                   line_of_sight_scalar(map, a, b, CornerPolicy::kAlways);
+      corners +=
+          (q % 5 == 0 || q % 5 == 2) && line_of_sight_scalar(map, a, b, CornerPolicy::kNever) !=
+                                            line_of_sight_scalar(map, a, b, CornerPolicy::kAlways);
     }
   }
   EXPECT_GT(clear, compared / 10);
   EXPECT_GT(compared - clear, compared / 10);
-  EXPECT_GT(corners, 100);  // corner crossings decided some answers
+  EXPECT_GT(corners, 100);     // corner crossings decided some answers
+  EXPECT_GT(long_spans, 100);  // and spans read over several words
+  // Non-finite and outside ends are refused by both functions.
+  const GridMap open = std::move(GridMap::from_rows({"....", "...."})).value();
+  for (const auto& [a, b] : {std::pair{Point2(0.5, 0.5), Point2(NAN, 0.5)},
+                             std::pair{Point2(0.5, 0.5), Point2(4.0, 0.5)},
+                             std::pair{Point2(0.5, 2.0), Point2(0.5, 0.5)},
+                             std::pair{Point2(-1e-300, 0.5), Point2(0.5, 0.5)}}) {
+    EXPECT_FALSE(line_of_sight(open, a, b, CornerPolicy::kAlways));
+    EXPECT_FALSE(core::max_cost_along(open, a, b, CornerPolicy::kAlways).has_value());
+  }
 }
 
 // The bit-grid walk, and the public API with its summed-area shortcuts, equal the scalar

@@ -204,7 +204,7 @@ class GridMap {
   }
   const uint8_t* blocked_data() const { return blocked_.data(); }
 
-  // --- Bit grids for line of sight between cell centres (line_of_sight.cpp). ---
+  // --- Bit grids for line of sight (line_of_sight.cpp's one walk, for every segment). ---
   // The same blocked flags as blocked(), without the padding: rows for segments that are
   // shallower than 45 degrees, columns (the transpose) for steeper ones, so that a segment
   // always walks its lines along their words. 1 bit per cell in each: 2 bits = 0.25 bytes per
