@@ -154,8 +154,9 @@ void run_centre_los(benchmark::State& state, const LineOfSightBench* bench, Corn
   for (auto _ : state) {
     clear = 0;
     for (const auto& [a, b] : bench->segments) {
-      const bool visible = bit_walk ? detail::centre_segment_clear(map, a, b, policy)
-                                    : test_oracle::line_of_sight_centres_scalar(map, a, b, policy);
+      const bool visible =
+          bit_walk ? detail::centre_segment_clear(map, a, b, policy)
+                   : vnsba::test_oracle::line_of_sight_centres_scalar(map, a, b, policy);
       clear += visible;
     }
     benchmark::DoNotOptimize(clear);
