@@ -112,8 +112,8 @@ struct PlannerOptions {
                                     // or works on the raw path's corners when prune is off
   double smoothing_distance = 1.5;  // cells, kSmoothingDistanceRange
   double sample_step = 0.25;        // cells, kSampleStepRange
-  // Wall-clock budget for search plus post-processing; zero means unlimited (at most
-  // kMaxPlanningTimeRange; negative is refused).
+  // Wall-clock budget of one plan() call (budget.hpp says which phases it stops); zero means
+  // unlimited (at most kMaxPlanningTimeRange; negative is refused).
   std::chrono::microseconds max_planning_time{0};
   bool record_expansions = false;  // fill PlanResult::expanded_* (for debug pictures)
   // Also run optimal A* on the same query to fill Metrics::length_ratio (costs a second search).
