@@ -1134,6 +1134,8 @@ MovingAiResult run_maps(const CostsOptions& options, const std::vector<core::Pla
   }
   text += "The smoother's time over every Moving AI query:\n\n" + overhead_table.str() + "\n";
   if (!astar_time[kBinary].empty()) {
+    // Both sides' times are in the same query order (one entry per query and side).
+    const double per_query_ratio = median_of_ratios(astar_time[kCostAware], astar_time[kBinary]);
     const double total_ratio = sum_of(astar_time[kCostAware]) / sum_of(astar_time[kBinary]);
     const double median_ratio = median(astar_time[kCostAware]) / median(astar_time[kBinary]);
     const double expanded_ratio =
@@ -1143,13 +1145,15 @@ MovingAiResult run_maps(const CostsOptions& options, const std::vector<core::Pla
     const double per_expansion_ratio = total_ratio / expanded_ratio;
     char line[1024];
     std::snprintf(line, sizeof line,
-                  "Cost-aware A* / binary A* time over all %zu queries: %.2f in total, %.2f "
-                  "between medians (target at most 1.3: %s). It expands %.2f times the nodes "
+                  "Cost-aware A* / binary A* time over all %zu queries: %.2f per query (the "
+                  "median of per-query ratios; target at most 1.3: %s), %.2f in total, %.2f as "
+                  "the ratio of median times. It expands %.2f times the nodes "
                   "(the octile heuristic cannot see costs, so every node whose detour costs less "
                   "than the optimal path's cost penalty is expanded); per expanded node it takes "
                   "%.2f times binary A*'s time.\n\n",
-                  astar_time[kBinary].size(), total_ratio, median_ratio,
-                  total_ratio <= 1.3 ? "met" : "**missed**", expanded_ratio, per_expansion_ratio);
+                  astar_time[kBinary].size(), per_query_ratio,
+                  per_query_ratio <= 1.3 ? "met" : "**missed**", total_ratio, median_ratio,
+                  expanded_ratio, per_expansion_ratio);
     text += line;
   }
   out.text = text;
