@@ -136,9 +136,9 @@ struct PlannerOptions {
 // The planner `planner.name: auto` runs, chosen by measurement (`vnsba_bench costs`, the table
 // "Choosing the cost-aware planner of auto"): jps, the fastest exact planner, wherever it can plan
 // with these options (uniform costs: cost_weight 0; the 8-neighbourhood; corner_policy never);
-// otherwise kCostAwareChoice: with pruning, smoothing and relax, BA* took 0.88 of A*'s time per
-// query (median) on the demo's routes and the OctoMap slices and 0.84 on the Moving AI maps
-// (0.67-0.97 per map class), for paths of 0.999 A*'s length and 0.98-1.00 its turning. A*'s
+// otherwise kCostAwareChoice: with pruning, smoothing and relax, BA* took 0.92 of A*'s time per
+// query (median) on the demo's routes and the OctoMap slices and 0.83 on the Moving AI maps
+// (0.67-0.98 per map class), for paths of 0.999 A*'s length and 0.98-1.00 its turning. A*'s
 // search stays the one that finds the cheapest grid path (the only optimal one); the relax
 // smoother may trade that cost for a straighter path (it is not checked against it).
 inline constexpr PlannerKind kCostAwareChoice = PlannerKind::kBidirectionalAStar;
