@@ -135,6 +135,18 @@ QueryOutcome plan_query(std::vector<core::Planner>& planner_of, const core::Plan
   return q;
 }
 
+// Whether every side of `q` found a path; each side that did not is named on stderr with `what`
+// (the planner or configuration and the query).
+bool every_side_found_a_path(const QueryOutcome& q, const std::string& what) {
+  bool all = true;
+  for (const int side : kAllSides) {
+    if (q.o[side].ok) continue;
+    std::fprintf(stderr, "vnsba_bench costs: %s (%s): no path\n", what.c_str(), kSideName[side]);
+    all = false;
+  }
+  return all;
+}
+
 // One query planned with each of `options` on the same map, in an order that starts at `first`
 // and rotates; times as plan_query's (with repetitions > 0 the median of that many more plans,
 // interleaved planner by planner).
@@ -650,14 +662,8 @@ OctomapResult run_octomaps(const CostsOptions& options,
     QueryOutcome q = plan_query(scene->planner_of, route_queries[r], default_config.options,
                                 options.repetitions, metres);
     q.label = kDemoRoutes[r].name;
-    for (const int side : kAllSides) {
-      if (q.o[side].ok) continue;
-      std::fprintf(stderr,
-                   "vnsba_bench costs: the default configuration on route %s (%s) found "
-                   "no path\n",
-                   kDemoRoutes[r].name, kSideName[side]);
-      out.ok = false;
-    }
+    out.ok &= every_side_found_a_path(
+        q, std::string("the default configuration on route ") + kDemoRoutes[r].name);
     default_routes.push_back({kDemoRoutes[r].name, {std::move(q)}});
     out.choice.push_back(plan_each(scene->planner_of[1], route_queries[r], choice_options,
                                    options.repetitions, metres, static_cast<int>(r)));
@@ -673,12 +679,8 @@ OctomapResult run_octomaps(const CostsOptions& options,
       QueryOutcome q = plan_query(scene->planner_of, route_queries[r], plan_options,
                                   options.repetitions, metres);
       q.label = route.name;
-      for (const int side : kAllSides) {
-        if (q.o[side].ok) continue;
-        std::fprintf(stderr, "vnsba_bench costs: %s on route %s (%s) found no path\n",
-                     core::to_string(kind).data(), route.name, kSideName[side]);
-        out.ok = false;
-      }
+      out.ok &= every_side_found_a_path(
+          q, std::string(core::to_string(kind)) + " on route " + route.name);
       demo[kind].push_back(std::move(q));
     }
   }
@@ -799,15 +801,11 @@ OctomapResult run_octomaps(const CostsOptions& options,
           QueryOutcome q =
               plan_query(loaded->planner_of, core::PlanQuery(start, goal), plan_options,
                          options.repetitions, units, static_cast<int>(k % kSides));
-          for (const int side : kAllSides) {
-            if (q.o[side].ok) continue;
-            std::fprintf(stderr,
-                         "vnsba_bench costs: %s on %s, query %zu (cells %d,%d -> %d,%d), %s: no "
-                         "path\n",
-                         core::to_string(kind).data(), loaded->name.c_str(), k, start.x, start.y,
-                         goal.x, goal.y, kSideName[side]);
-            out.ok = false;
-          }
+          out.ok &= every_side_found_a_path(
+              q, std::string(core::to_string(kind)) + " on " + loaded->name + ", query " +
+                     std::to_string(k) + " (cells " + std::to_string(start.x) + "," +
+                     std::to_string(start.y) + " -> " + std::to_string(goal.x) + "," +
+                     std::to_string(goal.y) + ")");
           run.queries[kind].push_back(std::move(q));
         }
       }
@@ -816,14 +814,8 @@ OctomapResult run_octomaps(const CostsOptions& options,
         const core::PlanQuery query(picked[k].first, picked[k].second);
         QueryOutcome q = plan_query(loaded->planner_of, query, default_config.options,
                                     options.repetitions, units, static_cast<int>(k % kSides));
-        for (const int side : kAllSides) {
-          if (q.o[side].ok) continue;
-          std::fprintf(stderr,
-                       "vnsba_bench costs: the default configuration on %s, query %zu, "
-                       "%s: no path\n",
-                       loaded->name.c_str(), k, kSideName[side]);
-          out.ok = false;
-        }
+        out.ok &= every_side_found_a_path(
+            q, "the default configuration on " + loaded->name + ", query " + std::to_string(k));
         default_set.queries.push_back(std::move(q));
         out.choice.push_back(plan_each(loaded->planner_of[1], query, choice_options,
                                        options.repetitions, units, static_cast<int>(k)));

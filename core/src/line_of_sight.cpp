@@ -84,7 +84,6 @@ struct LineFrame {
 struct LineExit {
   int32_t cell;
   bool corner;
-  int32_t next_entry;  // the first cell the segment enters in the next line
 };
 
 // Between two cell centres, u increasing (centre_walk orders the ends), n = |dv| >= 1 lines to
@@ -109,7 +108,7 @@ class CentreCrossings {
 
   LineExit next() {
     const bool corner = rest_ == 0;
-    const LineExit exit{floor_c_ - corner, corner, floor_c_};
+    const LineExit exit{floor_c_ - corner, corner};
     // The next crossing; the carry is data, not a branch (it follows the slope's digits).
     rest_ += rest_step_;
     const bool carry = rest_ >= two_n_;
@@ -158,7 +157,7 @@ class PointCrossings {
       boundary_u_ += 1.0;
     }
     boundary_v_ += 1.0;
-    return {cell, corner, corner ? cell + su_ : cell};
+    return {cell, corner};
   }
 
  private:
@@ -205,7 +204,7 @@ bool walk_lines(const LineFrame& f, Crossings crossings, SpanClear&& span_clear)
           return false;
         }
       }
-      entry = exit.next_entry;
+      entry = exit.corner ? exit.cell + f.su : exit.cell;  // diagonally past the corner
     }
   }
   return span(v, entry, f.end_u);

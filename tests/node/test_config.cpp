@@ -16,6 +16,7 @@
 
 #include "bench/costs.hpp"
 #include "core/options_support.hpp"
+#include "node/yaml_values.hpp"
 #include "vnsba/node/config.hpp"
 
 namespace {
@@ -32,7 +33,9 @@ using vnsba::node::load_config;
 using vnsba::node::MapDurability;
 using vnsba::node::NodeConfig;
 using vnsba::node::parse_config;
+using vnsba::test::CollectLeaves;
 using vnsba::test::ExpectSameOptions;
+using vnsba::test::SameYamlValue;
 
 std::string Fixture(const std::string& name) {
   return std::string(VNSBA_FIXTURE_DIR) + "/config/" + name;
@@ -381,37 +384,6 @@ TEST(Config, EmptyFileGivesTheDefaults) {
   const ConfigResult sections = parse_config("planner:\ntopics: {}\n");
   ASSERT_TRUE(sections.config.has_value()) << Joined(sections.errors);
   ExpectSameConfig(*sections.config, RobotDefaults());
-}
-
-// Every leaf key of a YAML document, dotted ("map.robot_radius"), with its node.
-void CollectLeaves(const YAML::Node& node, const std::string& path,
-                   std::map<std::string, YAML::Node>& out) {
-  if (node.IsMap()) {
-    for (const auto& kv : node)
-      CollectLeaves(kv.second, path.empty() ? kv.first.Scalar() : path + "." + kv.first.Scalar(),
-                    out);
-  } else {
-    out[path] = node;
-  }
-}
-
-// Two YAML values mean the same setting: numbers compared as numbers ("0.5" and "5e-1"), lists
-// item by item, anything else as text.
-::testing::AssertionResult SameYamlValue(const YAML::Node& a, const YAML::Node& b) {
-  if (a.IsSequence() || b.IsSequence()) {
-    if (!a.IsSequence() || !b.IsSequence() || a.size() != b.size())
-      return ::testing::AssertionFailure() << "lists differ";
-    for (size_t i = 0; i < a.size(); ++i)
-      if (auto same = SameYamlValue(a[i], b[i]); !same) return same;
-    return ::testing::AssertionSuccess();
-  }
-  double x = 0.0, y = 0.0;
-  if (YAML::convert<double>::decode(a, x) && YAML::convert<double>::decode(b, y))
-    return x == y ? ::testing::AssertionSuccess()
-                  : ::testing::AssertionFailure() << x << " != " << y;
-  const std::string sa = a.IsNull() ? "" : a.Scalar(), sb = b.IsNull() ? "" : b.Scalar();
-  return sa == sb ? ::testing::AssertionSuccess()
-                  : ::testing::AssertionFailure() << '"' << sa << "\" != \"" << sb << '"';
 }
 
 // Issue 31: a config with only domain_id (or only one map key, or nothing) planned with no robot

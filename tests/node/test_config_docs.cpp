@@ -17,11 +17,15 @@
 #include <string>
 #include <vector>
 
+#include "node/yaml_values.hpp"
 #include "vnsba/node/config.hpp"
 
 // A named namespace rather than an anonymous one: the unity build compiles this file in one
 // unit with other node tests, whose anonymous namespaces define helpers of the same names.
 namespace config_docs_test {
+
+using vnsba::test::CollectLeaves;
+using vnsba::test::SameYamlValue;
 
 std::string ConfigurationPage() {
   return std::string(VNSBA_SOURCE_DIR) + "/docs/configuration.md";
@@ -113,48 +117,14 @@ std::vector<Row> KeyRows(const std::string& page) {
   return rows;
 }
 
-void CollectLeafKeys(const YAML::Node& node, const std::string& path,
-                     std::map<std::string, YAML::Node>& out) {
-  if (node.IsMap()) {
-    for (const auto& kv : node) {
-      const std::string key = kv.first.Scalar();
-      CollectLeafKeys(kv.second, path.empty() ? key : path + "." + key, out);
-    }
-  } else {
-    out[path] = node;
-  }
-}
-
 // The keys and values `vnsba_node --print-config` prints for a config file's text.
 std::map<std::string, YAML::Node> PrintedKeys(const std::string& config_text) {
   const vnsba::node::ConfigResult result = vnsba::node::parse_config(config_text, "test");
   std::map<std::string, YAML::Node> keys;
   EXPECT_TRUE(result.config.has_value()) << config_text;
   if (result.config)
-    CollectLeafKeys(YAML::Load(vnsba::node::config_as_yaml(*result.config)), "", keys);
+    CollectLeaves(YAML::Load(vnsba::node::config_as_yaml(*result.config)), "", keys);
   return keys;
-}
-
-// Two YAML values mean the same setting: numbers as numbers, lists item by item, else as text.
-::testing::AssertionResult SameValue(const YAML::Node& documented, const YAML::Node& printed) {
-  if (documented.IsSequence() || printed.IsSequence()) {
-    if (!documented.IsSequence() || !printed.IsSequence() || documented.size() != printed.size())
-      return ::testing::AssertionFailure() << "a list on one side only, or of another length";
-    for (size_t i = 0; i < printed.size(); ++i)
-      if (auto same = SameValue(documented[i], printed[i]); !same) return same;
-    return ::testing::AssertionSuccess();
-  }
-  if (!documented.IsScalar() && !documented.IsNull())
-    return ::testing::AssertionFailure() << "the documented default is not a value";
-  double x = 0.0, y = 0.0;
-  if (YAML::convert<double>::decode(documented, x) && YAML::convert<double>::decode(printed, y))
-    return x == y ? ::testing::AssertionSuccess()
-                  : ::testing::AssertionFailure() << "documented " << x << ", printed " << y;
-  const std::string a = documented.IsNull() ? "" : documented.Scalar();
-  const std::string b = printed.IsNull() ? "" : printed.Scalar();
-  return a == b ? ::testing::AssertionSuccess()
-                : ::testing::AssertionFailure()
-                      << "documented \"" << a << "\", printed \"" << b << '"';
 }
 
 // Every key of the page is a key of the configuration and the other way round; each default is
@@ -203,7 +173,7 @@ TEST(ConfigDocs, EveryKeyIsDocumentedWithItsUnitRangeAndPrintedDefault) {
       ADD_FAILURE() << "--print-config does not print it for the default config";
       continue;
     }
-    EXPECT_TRUE(SameValue(YAML::Load(value), printed->second));
+    EXPECT_TRUE(SameYamlValue(YAML::Load(value), printed->second));
   }
   for (const std::string& key : all_keys)
     EXPECT_EQ(documented.count(key), 1u) << key << " is missing from " << ConfigurationPage();
@@ -234,14 +204,14 @@ TEST(ConfigDocs, TheTableParserReadsRowsCellsAndCodeSpans) {
 
   const std::map<std::string, YAML::Node> defaults = PrintedKeys("");
   ASSERT_EQ(defaults.count("map.robot_radius"), 1u);
-  EXPECT_TRUE(SameValue(YAML::Load("0.15"), defaults.at("map.robot_radius")));
-  EXPECT_FALSE(SameValue(YAML::Load("0.2"), defaults.at("map.robot_radius")));
-  EXPECT_FALSE(SameValue(YAML::Load("[]"), defaults.at("map.robot_radius")));
+  EXPECT_TRUE(SameYamlValue(YAML::Load("0.15"), defaults.at("map.robot_radius")));
+  EXPECT_FALSE(SameYamlValue(YAML::Load("0.2"), defaults.at("map.robot_radius")));
+  EXPECT_FALSE(SameYamlValue(YAML::Load("[]"), defaults.at("map.robot_radius")));
   ASSERT_EQ(defaults.count("frame_id"), 1u);
-  EXPECT_TRUE(SameValue(YAML::Load("map"), defaults.at("frame_id")));
-  EXPECT_FALSE(SameValue(YAML::Load("odom"), defaults.at("frame_id")));
+  EXPECT_TRUE(SameYamlValue(YAML::Load("map"), defaults.at("frame_id")));
+  EXPECT_FALSE(SameYamlValue(YAML::Load("odom"), defaults.at("frame_id")));
   ASSERT_EQ(defaults.count("robots"), 1u);
-  EXPECT_TRUE(SameValue(YAML::Load("[]"), defaults.at("robots")));
+  EXPECT_TRUE(SameYamlValue(YAML::Load("[]"), defaults.at("robots")));
   EXPECT_EQ(defaults.count("planner.path_spacing"), 0u);
 }
 

@@ -1,0 +1,49 @@
+// Reading a config back as YAML in tests: its leaf keys, and whether two values mean the same
+// setting. Shared by the config tests and the configuration page's test.
+#pragma once
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+#include <string>
+
+namespace vnsba::test {
+
+// Every leaf key of a YAML document, dotted ("map.robot_radius"), with its node.
+inline void CollectLeaves(const YAML::Node& node, const std::string& path,
+                          std::map<std::string, YAML::Node>& out) {
+  if (node.IsMap()) {
+    for (const auto& kv : node) {
+      const std::string key = kv.first.Scalar();
+      CollectLeaves(kv.second, path.empty() ? key : path + "." + key, out);
+    }
+  } else {
+    out[path] = node;
+  }
+}
+
+// Two YAML values mean the same setting: numbers compared as numbers ("0.5" and "5e-1"), lists
+// item by item, anything else as text; a map is no value.
+inline ::testing::AssertionResult SameYamlValue(const YAML::Node& expected,
+                                                const YAML::Node& actual) {
+  if (expected.IsSequence() || actual.IsSequence()) {
+    if (!expected.IsSequence() || !actual.IsSequence() || expected.size() != actual.size())
+      return ::testing::AssertionFailure() << "a list on one side only, or of another length";
+    for (size_t i = 0; i < actual.size(); ++i)
+      if (auto same = SameYamlValue(expected[i], actual[i]); !same) return same;
+    return ::testing::AssertionSuccess();
+  }
+  if (expected.IsMap() || actual.IsMap())
+    return ::testing::AssertionFailure() << "a map is not a value";
+  double x = 0.0, y = 0.0;
+  if (YAML::convert<double>::decode(expected, x) && YAML::convert<double>::decode(actual, y))
+    return x == y ? ::testing::AssertionSuccess()
+                  : ::testing::AssertionFailure() << "expected " << x << ", got " << y;
+  const std::string a = expected.IsNull() ? "" : expected.Scalar();
+  const std::string b = actual.IsNull() ? "" : actual.Scalar();
+  return a == b ? ::testing::AssertionSuccess()
+                : ::testing::AssertionFailure() << "expected \"" << a << "\", got \"" << b << '"';
+}
+
+}  // namespace vnsba::test
