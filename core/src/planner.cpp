@@ -1,12 +1,15 @@
 #include "vnsba/core/planner.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "jps.hpp"
 #include "reachability.hpp"
+#include "search_helper.hpp"
 #include "search_space.hpp"
 #include "vnsba/core/budget.hpp"
 #include "vnsba/core/heuristics.hpp"
@@ -17,7 +20,9 @@ namespace vnsba::core {
 namespace {
 
 using detail::CellStates;
+using detail::SearchHelper;
 using detail::SearchSpace;
+using detail::WaitPoint;
 using Clock = PlanningBudget::Clock;
 
 // The move generation, its per-move visitors and relax() run 8 to 13 times per expansion; GCC
@@ -170,7 +175,7 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
     for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy,
                   [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
                     const uint32_t m = n + dy * stride + dx;
-                    const uint16_t flags = states.flags(m);
+                    const uint16_t flags = space.own_flags(m);
                     if ((flags & space.closed_flag()) == 0)
                       relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy},
                             move_cost(n, m, dx, dy, cost), h);
@@ -195,88 +200,298 @@ enum class MeetingRule {
   kCloseClosedByOther,
 };
 
-// Two searches in strict alternation, one expansion each. `current[0]` / `current[1]` are the
-// forward / backward current nodes (the last expanded), which the heuristics read through
-// pointers, and which guide each search's 8-11-13 neighbourhood (docs/algorithm.md section 2: the
-// guide of a bidirectional search is the opposite search's current node, for every planner).
+// A cell a bidirectional search's heuristic and neighbourhood are guided by: the opposite
+// search's current node (docs/algorithm.md section 2). Each direction's on its own cache line,
+// as each is written by its own search's thread and read by it many times per expansion.
+struct alignas(64) GuideCell {
+  Cell cell;
+};
+
+// Two searches in strict alternation, one expansion each: forward expansion k has the sequence
+// index 2k - 1, backward expansion k the index 2k, and the search ends at the first expansion (the
+// lowest index) that meets the other search or finds its open list empty. Forward expansion k is
+// guided by the node the backward search popped at expansion k - 1 (the goal at k = 1), backward
+// expansion k by the node forward popped at expansion k, and each sees the other's closures up to
+// those same expansions; that is all one direction reads of the other (the heuristics read the
+// guide cell through a pointer).
+//
+// So the two directions can run on two threads with the same results (vns_threads 2, docs/
+// algorithm.md section 3): each direction publishes the node it pops before it expands it, and
+// the other waits only for that pop, not for the whole expansion. A thread may then be one
+// expansion ahead of the sequential order (forward expansion k runs while backward's k - 1 is
+// still expanding, backward expansion k while forward's k + 1 does), and everything that could
+// tell is filtered: a closure newer than the sequential order shows is recognised as the one pop
+// it can be (the other's next, which is published before its closure), and an expansion that
+// ends the search (a meeting, an empty open list, the budget) supersedes every expansion of a
+// higher index, which is neither counted nor traced. Closed nodes keep their parents, so the two
+// paths of the meeting are traced, after both threads have stopped, from what the sequential
+// search would have had.
+template <class ForwardH, class BackwardH, class MoveCost>
+class BidirectionalSearch {
+ public:
+  BidirectionalSearch(const GridMap& map, CellStates& states, SearchSpace& forward,
+                      SearchSpace& backward, GuideCell (&guide)[2], const ForwardH& h_forward,
+                      const BackwardH& h_backward, const MoveCost& move_cost, MeetingRule rule,
+                      const SearchConfig& cfg)
+      : map_(map),
+        states_(states),
+        space_{&forward, &backward},
+        guide_(guide),
+        h_forward_(h_forward),
+        h_backward_(h_backward),
+        move_cost_(move_cost),
+        rule_(rule),
+        cfg_(cfg),
+        stride_(map.stride()) {}
+
+  // With `helper` the backward direction moves to the helper's thread once it is running.
+  SearchOutcome run(const Cell& start, const Cell& goal, PlanningBudget& budget,
+                    SearchHelper* helper, std::vector<Cell>* expanded_forward,
+                    std::vector<Cell>* expanded_backward) {
+    waits_ = helper != nullptr ? &helper->wait_point() : nullptr;
+    states_.begin_query(map_.padded_size());
+    const uint32_t roots[2] = {map_.padded_index(start), map_.padded_index(goal)};
+    for (int s = 0; s < 2; ++s) {
+      space_[s]->begin_query(map_.padded_size());
+      side_[s].record.clear();
+      side_[s].end = SideEnd{};
+      // Step 0 is the root: the guide of the opposite search's first expansion.
+      for (auto& pop : published_[s].pops) pop.store(kNoPop, std::memory_order_relaxed);
+      published_[s].pops[0].store(roots[s], std::memory_order_relaxed);
+      published_[s].closed.store(0, std::memory_order_relaxed);
+    }
+    end_index_.store(kNever, std::memory_order_relaxed);
+    guide_[0].cell = goal;
+    guide_[1].cell = start;
+    space_[0]->push(roots[0], 0.0, h_forward_(start), SearchSpace::kNoParent);
+    space_[1]->push(roots[1], 0.0, h_backward_(goal), SearchSpace::kNoParent);
+
+    bool offered = false, handed_off = false;
+    for (int64_t k = 1;; ++k) {
+      if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
+        end(0, 2 * k - 1, SideEnd{SideEndKind::kStopped, code, 0, 0});
+        break;
+      }
+      if (!step<0>(k)) break;
+      if (handed_off) continue;
+      if (helper != nullptr && !offered && k == kStepsBeforeOffer) {
+        helper->offer(&BidirectionalSearch::run_backward, this);
+        offered = true;
+      }
+      if (offered && helper->accepted()) {
+        helper->hand_off(k);  // backward expansion k onwards on the helper
+        handed_off = true;
+        continue;
+      }
+      if (!step<1>(k)) break;
+    }
+    if (offered) helper->finish();
+    return outcome(expanded_forward, expanded_backward);
+  }
+
+ private:
+  // A search that ends before this many expansions a direction (a few microseconds) never asks
+  // the helper, whose wake-up would cost more than it saves.
+  static constexpr int64_t kStepsBeforeOffer = 32;
+  static constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
+  static constexpr uint64_t kNoPop = std::numeric_limits<uint64_t>::max();
+
+  enum class SideEndKind : uint8_t {
+    kNone,
+    kMetAtPop,      // popped a node the other search had closed (n)
+    kMetNeighbour,  // generated a neighbour (m) of n the other search had closed
+    kNoOpenNode,    // its open list was empty
+    kStopped,       // the budget ran out or the plan was canceled (code)
+  };
+  struct SideEnd {
+    SideEndKind kind = SideEndKind::kNone;
+    StatusCode code = StatusCode::kOk;
+    uint32_t n = 0, m = 0;
+    int64_t index = kNever;
+  };
+
+  // What one direction publishes to the other, written only by its own search.
+  struct alignas(64) Published {
+    // Its pops: (step << 32 | padded index) of step `step` in slot step % 4 (the other search
+    // reads at most its last two).
+    std::atomic<uint64_t> pops[4];
+    // The number of its steps whose pop is closed.
+    std::atomic<int64_t> closed;
+  };
+  // What one direction keeps to itself.
+  struct alignas(64) Side {
+    std::vector<Cell> record;
+    SideEnd end;
+  };
+
+  static void run_backward(void* context, int64_t from_step) {
+    auto* self = static_cast<BidirectionalSearch*>(context);
+    for (int64_t k = from_step; self->template step<1>(k);) ++k;
+  }
+
+  static int64_t sequence_index(int s, int64_t k) { return 2 * k - 1 + s; }
+
+  // Side `s` ends the search at `index`, unless an expansion of a lower index has ended it.
+  void end(int s, int64_t index, SideEnd how) {
+    how.index = index;
+    side_[s].end = how;
+    int64_t lowest = end_index_.load(std::memory_order_relaxed);
+    while (index < lowest &&
+           !end_index_.compare_exchange_weak(lowest, index, std::memory_order_seq_cst)) {
+    }
+    if (waits_ != nullptr) waits_->notify();
+  }
+
+  // Waits until the other direction has closed its pops up to step `needed`; false when an
+  // expansion of an index below `index` has ended the search meanwhile (this one is superseded).
+  bool wait_for_other(int s, int64_t needed, int64_t index) {
+    const Published& other = published_[1 - s];
+    auto ready = [&] {
+      return other.closed.load(std::memory_order_acquire) >= needed ||
+             end_index_.load(std::memory_order_acquire) < index;
+    };
+    // Alone (no helper) the other direction's steps are always done: the wait never waits.
+    if (!ready() && waits_ != nullptr) waits_->wait(ready, SearchHelper::kStepSpins);
+    return end_index_.load(std::memory_order_acquire) >= index;
+  }
+
+  // Whether the other direction's closure of `m`, seen in `other_flags`, is one the sequential
+  // order shows to this direction's step (the other's steps up to `visible`): the only newer one
+  // there can be is its pop of step visible + 1, published before that closure.
+  bool closure_visible(int s, uint32_t m, int64_t visible) const {
+    std::atomic_thread_fence(std::memory_order_acquire);  // pairs with the closure's release
+    const uint64_t next = static_cast<uint64_t>(visible + 1) << 32 | m;
+    return published_[1 - s].pops[(visible + 1) & 3].load(std::memory_order_relaxed) != next;
+  }
+
+  template <int S>
+  const auto& heuristic() const {
+    if constexpr (S == 0) {
+      return h_forward_;
+    } else {
+      return h_backward_;
+    }
+  }
+
+  // Expansion `k` of side S. False when the search is over for this side: it ended the search,
+  // or an expansion of a lower index did.
+  template <int S>
+  bool step(int64_t k) {
+    const int64_t index = sequence_index(S, k);
+    const int64_t visible = S == 0 ? k - 1 : k;  // the other direction's steps this one sees
+    if (!wait_for_other(S, visible, index)) return false;
+    SearchSpace& self = *space_[S];
+    const uint64_t guide_pop = published_[1 - S].pops[visible & 3].load(std::memory_order_relaxed);
+    guide_[S].cell = map_.cell_of(static_cast<uint32_t>(guide_pop));
+    if (self.empty()) {
+      end(S, index, SideEnd{SideEndKind::kNoOpenNode, StatusCode::kNoValidPath, 0, 0});
+      return false;
+    }
+    const uint32_t n = self.top();
+    Published& mine = published_[S];
+    mine.pops[k & 3].store(static_cast<uint64_t>(k) << 32 | n, std::memory_order_release);
+    self.pop();  // closes n (released)
+    if (waits_ != nullptr) {
+      mine.closed.store(k, std::memory_order_seq_cst);
+      waits_->notify();
+    } else {
+      mine.closed.store(k, std::memory_order_relaxed);
+    }
+    const Cell nc = map_.cell_of(n);
+    if (cfg_.record) side_[S].record.push_back(nc);
+    if (self.closed_by_other(n) && closure_visible(S, n, visible)) {
+      end(S, index, SideEnd{SideEndKind::kMetAtPop, StatusCode::kOk, n, n});
+      return false;
+    }
+    const Cell& guide = guide_[S].cell;
+    const auto& h = heuristic<S>();
+    const uint16_t other_closed = self.other_closed_flag();
+    bool met = false;
+    const double g_n = self.g(n);
+    for_each_move(
+        map_, nc, guide, cfg_.neighborhood, cfg_.policy,
+        [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
+          if (met) return;
+          const uint32_t m = n + dy * stride_ + dx;
+          uint16_t flags = states_.flags(m);
+          if ((flags & self.closed_flag()) != 0) return;
+          if ((flags & other_closed) != 0 && !closure_visible(S, m, visible))
+            flags = static_cast<uint16_t>(flags & ~other_closed);
+          const Cell mc{nc.x + dx, nc.y + dy};
+          if (rule_ == MeetingRule::kGenerateClosedByOther && (flags & other_closed) != 0) {
+            end(S, index, SideEnd{SideEndKind::kMetNeighbour, StatusCode::kOk, n, m});
+            met = true;
+            return;
+          }
+          relax(self, flags, n, g_n, m, mc, move_cost_(n, m, dx, dy, cost), h);
+        });
+    return !met;
+  }
+
+  // The outcome of the expansion that ended the search (both threads have stopped).
+  SearchOutcome outcome(std::vector<Cell>* expanded_forward, std::vector<Cell>* expanded_backward) {
+    const SideEnd& last = side_[0].end.index < side_[1].end.index ? side_[0].end : side_[1].end;
+    SearchOutcome out;
+    out.code = last.code;
+    const bool popped =
+        last.kind == SideEndKind::kMetAtPop || last.kind == SideEndKind::kMetNeighbour;
+    // Expansions up to the last one, each direction's own (forward has the odd indices).
+    out.expanded = popped ? last.index : last.index - 1;
+    const size_t counts[2] = {static_cast<size_t>((out.expanded + 1) / 2),
+                              static_cast<size_t>(out.expanded / 2)};
+    std::vector<Cell>* records[2] = {expanded_forward, expanded_backward};
+    for (int s = 0; s < 2; ++s) {
+      if (!cfg_.record) continue;
+      side_[s].record.resize(counts[s]);  // drops an expansion ahead of the sequential order
+      records[s]->swap(side_[s].record);
+    }
+    if (popped) {
+      const bool forward_ended = (last.index & 1) == 1;
+      out.meeting = map_.cell_of(last.kind == SideEndKind::kMetAtPop ? last.n : last.m);
+      join(out, forward_ended, last.n, last.kind == SideEndKind::kMetAtPop ? last.n : last.m);
+    }
+    return out;
+  }
+
+  // The path through the move a -> b where a was reached by the forward search when
+  // `a_is_forward`, by the backward one otherwise, and b by the other (a == b: a meeting at a
+  // popped node).
+  void join(SearchOutcome& out, bool a_is_forward, uint32_t a, uint32_t b) const {
+    const uint32_t f = a_is_forward ? a : b;
+    const uint32_t r = a_is_forward ? b : a;
+    out.path = trace(map_, *space_[0], f, /*root_first=*/true);
+    const std::vector<Cell> tail = trace(map_, *space_[1], r, /*root_first=*/false);
+    out.path.insert(out.path.end(), tail.begin() + (f == r ? 1 : 0), tail.end());
+  }
+
+  const GridMap& map_;
+  CellStates& states_;
+  SearchSpace* space_[2];
+  GuideCell (&guide_)[2];
+  const ForwardH& h_forward_;
+  const BackwardH& h_backward_;
+  const MoveCost& move_cost_;
+  MeetingRule rule_;
+  SearchConfig cfg_;
+  int32_t stride_;
+  WaitPoint* waits_ = nullptr;
+  Published published_[2];
+  Side side_[2];
+  alignas(64) std::atomic<int64_t> end_index_{kNever};
+};
+
 template <class ForwardH, class BackwardH, class MoveCost>
 SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, SearchSpace& forward,
                                    SearchSpace& backward, const Cell& start, const Cell& goal,
-                                   Cell (&current)[2], const ForwardH& h_forward,
+                                   GuideCell (&guide)[2], const ForwardH& h_forward,
                                    const BackwardH& h_backward, const MoveCost& move_cost,
                                    MeetingRule rule, const SearchConfig& cfg,
-                                   PlanningBudget& budget, std::vector<Cell>* expanded_forward,
+                                   PlanningBudget& budget, SearchHelper* helper,
+                                   std::vector<Cell>* expanded_forward,
                                    std::vector<Cell>* expanded_backward) {
-  SearchOutcome out;
-  const int32_t stride = map.stride();
-  current[0] = start;
-  current[1] = goal;
-  states.begin_query(map.padded_size());
-  forward.begin_query(map.padded_size());
-  backward.begin_query(map.padded_size());
-  forward.push(map.padded_index(start), 0.0, h_forward(start), SearchSpace::kNoParent);
-  backward.push(map.padded_index(goal), 0.0, h_backward(goal), SearchSpace::kNoParent);
-
-  // The path through the move a -> b where a was reached by `a_space` and b by the other.
-  auto join = [&](bool a_is_forward, uint32_t a, uint32_t b) {
-    const uint32_t f = a_is_forward ? a : b;
-    const uint32_t r = a_is_forward ? b : a;
-    out.path = trace(map, forward, f, /*root_first=*/true);
-    const std::vector<Cell> tail = trace(map, backward, r, /*root_first=*/false);
-    if (f == r) {
-      out.path.insert(out.path.end(), tail.begin() + 1, tail.end());
-    } else {
-      out.path.insert(out.path.end(), tail.begin(), tail.end());
-    }
-    out.code = StatusCode::kOk;
-  };
-
-  // One expansion of side `s` (0 forward, 1 backward). Returns true when the search is over.
-  auto step = [&](int s, SearchSpace& self, const auto& h, std::vector<Cell>* record) -> bool {
-    if (self.empty()) {
-      out.code = StatusCode::kNoValidPath;
-      return true;
-    }
-    const uint32_t n = self.pop();
-    ++out.expanded;
-    const Cell nc = map.cell_of(n);
-    current[s] = nc;
-    if (cfg.record) record->push_back(nc);
-    if (self.closed_by_other(n)) {
-      out.meeting = nc;
-      join(s == 0, n, n);
-      return true;
-    }
-    const Cell& guide = current[1 - s];
-    bool met = false;
-    const double g_n = self.g(n);
-    for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy,
-                  [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
-                    const uint32_t m = n + dy * stride + dx;
-                    if (met) return;
-                    const uint16_t flags = states.flags(m);
-                    if ((flags & self.closed_flag()) != 0) return;
-                    const Cell mc{nc.x + dx, nc.y + dy};
-                    if (rule == MeetingRule::kGenerateClosedByOther &&
-                        (flags & self.other_closed_flag()) != 0) {
-                      out.meeting = mc;
-                      join(s == 0, n, m);
-                      met = true;
-                      return;
-                    }
-                    relax(self, flags, n, g_n, m, mc, move_cost(n, m, dx, dy, cost), h);
-                  });
-    return met;
-  };
-
-  for (;;) {
-    if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
-      out.code = code;
-      return out;
-    }
-    if (step(0, forward, h_forward, expanded_forward)) return out;
-    if (step(1, backward, h_backward, expanded_backward)) return out;
-  }
+  BidirectionalSearch<ForwardH, BackwardH, MoveCost> search(
+      map, states, forward, backward, guide, h_forward, h_backward, move_cost, rule, cfg);
+  return search.run(start, goal, budget, helper, expanded_forward, expanded_backward);
 }
 
 std::string describe(const Cell& c) {
@@ -293,7 +508,9 @@ struct Planner::Impl {
   SearchSpace forward{&states, 0};
   SearchSpace backward{&states, 1};
   size_t peak_direction_bytes = 0;
-  Cell current[2];
+  GuideCell guide[2];
+  // The second thread of VNS-BA* searches with vns_threads 2, made at the first such search.
+  std::unique_ptr<SearchHelper> helper;
 
   void note_peak() {
     peak_direction_bytes = std::max({peak_direction_bytes, forward.bytes(), backward.bytes()});
@@ -324,15 +541,16 @@ struct Planner::Impl {
                                      rec_f);
       }
       case PlannerKind::kBidirectionalAStar:
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current,
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, guide,
                                     OctileHeuristic{&q.goal}, OctileHeuristic{&q.start}, cost,
-                                    MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
+                                    MeetingRule::kGenerateClosedByOther, cfg, budget, nullptr,
+                                    rec_f, rec_b);
       case PlannerKind::kAlternatingBidirectionalAStar: {
-        const DensityWeightedHeuristic hf{&map, &current[1], q.goal, 1.0, 0.0, o.corner_policy};
-        const DensityWeightedHeuristic hb{&map, &current[0], q.start, 1.0, 0.0, o.corner_policy};
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
-                                    hb, cost, MeetingRule::kCloseClosedByOther, cfg, budget, rec_f,
-                                    rec_b);
+        const DensityWeightedHeuristic hf{&map, &guide[0].cell, q.goal, 1.0, 0.0, o.corner_policy};
+        const DensityWeightedHeuristic hb{&map, &guide[1].cell, q.start, 1.0, 0.0, o.corner_policy};
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, guide, hf, hb,
+                                    cost, MeetingRule::kCloseClosedByOther, cfg, budget, nullptr,
+                                    rec_f, rec_b);
       }
       case PlannerKind::kJps: {
         detail::JpsOutcome jps = detail::jps_search(map, states, forward, q.start, q.goal, budget,
@@ -344,13 +562,14 @@ struct Planner::Impl {
         return out;
       }
       case PlannerKind::kVnsBaStar: {
-        const DensityWeightedHeuristic hf{&map,    &current[1], q.goal,
-                                          o.omega, o.eta,       o.corner_policy};
-        const DensityWeightedHeuristic hb{&map,    &current[0], q.start,
-                                          o.omega, o.eta,       o.corner_policy};
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
-                                    hb, cost, MeetingRule::kGenerateClosedByOther, cfg, budget,
-                                    rec_f, rec_b);
+        const DensityWeightedHeuristic hf{&map,    &guide[0].cell, q.goal,
+                                          o.omega, o.eta,          o.corner_policy};
+        const DensityWeightedHeuristic hb{&map,    &guide[1].cell, q.start,
+                                          o.omega, o.eta,          o.corner_policy};
+        if (o.vns_threads == 2 && !helper) helper = std::make_unique<SearchHelper>();
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, guide, hf, hb,
+                                    cost, MeetingRule::kGenerateClosedByOther, cfg, budget,
+                                    o.vns_threads == 2 ? helper.get() : nullptr, rec_f, rec_b);
       }
     }
     SearchOutcome broken;
@@ -605,6 +824,10 @@ size_t Planner::search_state_bytes() const {
 double Planner::peak_bytes_per_cell_per_direction() const {
   if (!map_ || map_->cell_count() == 0) return 0.0;
   return static_cast<double>(impl_->peak_direction_bytes) / static_cast<double>(map_->cell_count());
+}
+
+int64_t Planner::searches_shared() const {
+  return impl_->helper ? impl_->helper->hand_offs() : 0;
 }
 
 PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,

@@ -157,6 +157,10 @@ class Planner {
   size_t search_state_bytes() const;
   // The most bytes of search state ever held by one direction, divided by the map's cell count.
   double peak_bytes_per_cell_per_direction() const;
+  // VNS-BA* searches (vns_threads 2) whose backward direction the second thread took over. A
+  // search starts on the calling thread and hands over once the second thread is awake, so a
+  // search that ends within a few microseconds runs on one thread (the same results either way).
+  int64_t searches_shared() const;
 
  private:
   struct Impl;
