@@ -346,9 +346,9 @@ class BidirectionalSearch {
   // expansion of an index below `index` has ended the search meanwhile (this one is superseded).
   bool wait_for_other(int s, int64_t needed, int64_t index) {
     const Published& other = published_[1 - s];
-    auto ready = [&] {
-      return other.closed.load(std::memory_order_acquire) >= needed ||
-             end_index_.load(std::memory_order_acquire) < index;
+    auto ready = [&] {  // sequentially consistent: a WaitPoint condition
+      return other.closed.load(std::memory_order_seq_cst) >= needed ||
+             end_index_.load(std::memory_order_seq_cst) < index;
     };
     // Alone (no helper) the other direction's steps are always done: the wait never waits.
     if (!ready() && waits_ != nullptr) waits_->wait(ready, SearchHelper::kStepSpins);
@@ -359,7 +359,9 @@ class BidirectionalSearch {
   // order shows to this direction's step (the other's steps up to `visible`): the only newer one
   // there can be is its pop of step visible + 1, published before that closure.
   bool closure_visible(int s, uint32_t m, int64_t visible) const {
-    std::atomic_thread_fence(std::memory_order_acquire);  // pairs with the closure's release
+    // Acquires the closure (read again: a closure is the last change of a word in a query), and
+    // with it the pop its search published before.
+    states_.side_flags(m, 1 - s, std::memory_order_acquire);
     const uint64_t next = static_cast<uint64_t>(visible + 1) << 32 | m;
     return published_[1 - s].pops[(visible + 1) & 3].load(std::memory_order_relaxed) != next;
   }

@@ -29,7 +29,7 @@ void SearchHelper::hand_off(int64_t from_step) {
 void SearchHelper::finish() {
   int phase = phase_.load(std::memory_order_acquire);
   if (phase == kRunning || phase == kDone) {
-    waits_.wait([&] { return phase_.load(std::memory_order_acquire) == kDone; }, kStepSpins);
+    waits_.wait([&] { return phase_.load(std::memory_order_seq_cst) == kDone; }, kStepSpins);
     phase_.store(kIdle, std::memory_order_relaxed);  // the helper waits for kOffered or kQuit
     return;
   }
@@ -37,7 +37,7 @@ void SearchHelper::finish() {
   int expected = kOffered;
   if (phase_.compare_exchange_strong(expected, kIdle, std::memory_order_seq_cst)) return;
   set_phase(kWithdrawn);
-  waits_.wait([&] { return phase_.load(std::memory_order_acquire) == kIdle; }, kStepSpins);
+  waits_.wait([&] { return phase_.load(std::memory_order_seq_cst) == kIdle; }, kStepSpins);
 }
 
 void SearchHelper::loop() {
@@ -45,7 +45,7 @@ void SearchHelper::loop() {
     // Between searches the helper blocks at once: its wake-up overlaps the next search's start.
     waits_.wait(
         [&] {
-          const int phase = phase_.load(std::memory_order_acquire);
+          const int phase = phase_.load(std::memory_order_seq_cst);
           return phase == kOffered || phase == kQuit;
         },
         /*spins=*/0);
@@ -57,7 +57,7 @@ void SearchHelper::loop() {
     waits_.notify();  // the search may be waiting in finish()
     waits_.wait(
         [&] {
-          const int phase = phase_.load(std::memory_order_acquire);
+          const int phase = phase_.load(std::memory_order_seq_cst);
           return phase == kRunning || phase == kWithdrawn;
         },
         kStepSpins);

@@ -65,8 +65,10 @@ class CellStates {
   // The flags of `n` in this query, both directions' (0 when neither search has seen it).
   uint16_t flags(uint32_t n) const { return side_flags(n, 0) | side_flags(n, 1); }
   // Only `side`'s flags of `n` (one word: what a unidirectional search needs).
-  uint16_t side_flags(uint32_t n, int side) const {
-    const uint16_t word = words_[2 * size_t{n} + side].load(std::memory_order_relaxed);
+  // With std::memory_order_acquire, a closure read also shows what its search wrote before it.
+  uint16_t side_flags(uint32_t n, int side,
+                      std::memory_order order = std::memory_order_relaxed) const {
+    const uint16_t word = words_[2 * size_t{n} + side].load(order);
     return (word >> kFlagBits) == epoch_ ? (word & kFlagMask) : 0;
   }
   // Adds `flag` (one of kSeen / kClosed) to its direction's word of `n`; only that direction's
