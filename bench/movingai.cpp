@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -43,19 +45,24 @@ std::string class_of_name(const std::string& name) {
   return "game";
 }
 
-// A planner in one configuration: its paper one, or (baselines) with pruning and smoothing.
+// A planner in one configuration: its paper one, or (baselines) with pruning and smoothing, or
+// (VNS-BA*) on one or two threads.
 struct Configuration {
   core::PlannerKind planner;
   bool post_processed = false;
+  int vns_threads = 1;
   std::string name() const {
-    return std::string(core::to_string(planner)) + (post_processed ? "+prune+smooth" : "");
+    return std::string(core::to_string(planner)) + (post_processed ? "+prune+smooth" : "") +
+           (vns_threads == 2 ? kTwoThreadsSuffix : "");
   }
   std::string label() const {
-    return paper_name(planner) + (post_processed ? " +prune+smooth" : "") + " (`" + name() + "`)";
+    return paper_name(planner) + (post_processed ? " +prune+smooth" : "") +
+           (vns_threads == 2 ? " on 2 threads" : "") + " (`" + name() + "`)";
   }
   core::PlannerOptions options() const {
     core::PlannerSettings settings;
     if (post_processed) settings.prune = settings.smooth = true;
+    settings.vns_threads = vns_threads;
     return core::make_options(planner, settings);
   }
 };
@@ -72,8 +79,73 @@ struct Run {
   double turn_angle_deg = NAN;
   double clearance_cells = NAN;  // the final path's clearance (+inf on a map without obstacles)
   double expanded = NAN;
-  double time_us = NAN;
+  double time_us = NAN;      // wall
+  double cpu_time_us = NAN;  // the process's CPU time over the same call
+  // VNS-BA* on two threads: the second thread took the backward search over (a search that ends
+  // before it is awake runs on one; core::Planner::searches_shared).
+  bool shared = false;
 };
+
+// 64-bit FNV-1a, fed value by value (the bytes of each, so the bits of a double count).
+class Fnv1a {
+ public:
+  template <class T>
+  void add(const T& value) {
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    for (const unsigned char b : bytes) hash_ = (hash_ ^ b) * 1099511628211ull;
+  }
+  void add(const core::Cell& cell) {
+    add(cell.x);
+    add(cell.y);
+  }
+  void add(const core::Point2& point) {
+    add(point.x());
+    add(point.y());
+  }
+  template <class T>
+  void add_all(const std::vector<T>& values) {
+    add(static_cast<uint64_t>(values.size()));
+    for (const T& v : values) add(v);
+  }
+  std::string hex() const {
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hash_));
+    return buf;
+  }
+
+ private:
+  uint64_t hash_ = 14695981039346656037ull;
+};
+
+template <class T>
+std::string hash_of(const std::vector<T>& values) {
+  Fnv1a h;
+  h.add_all(values);
+  return h.hex();
+}
+
+// The CSV columns of a plan's outputs beyond its metrics (kMovingAiCsvHeader): the expansions
+// from `recorded` (the same query planned with record_expansions on), the rest from `timed`.
+std::string output_columns(const core::PlanResult& timed, const core::PlanResult& recorded) {
+  Fnv1a expansions;
+  expansions.add_all(recorded.expanded_forward);
+  expansions.add_all(recorded.expanded_backward);
+  const std::string meeting = timed.meeting_cell ? std::to_string(timed.meeting_cell->x) + ":" +
+                                                       std::to_string(timed.meeting_cell->y)
+                                                 : std::string();
+  return std::to_string(recorded.expanded_forward.size()) + "," +
+         std::to_string(recorded.expanded_backward.size()) + "," + meeting + "," +
+         hash_of(timed.raw_path) + "," + hash_of(timed.waypoints) + "," + hash_of(timed.path) +
+         "," + expansions.hex();
+}
+
+// Whether two plans of one query agree on everything but the expansion lists and the time.
+bool same_outputs(const core::PlanResult& a, const core::PlanResult& b) {
+  return a.status.code == b.status.code && a.raw_path == b.raw_path && a.waypoints == b.waypoints &&
+         a.path == b.path && a.meeting_cell == b.meeting_cell &&
+         a.metrics.expanded == b.metrics.expanded;
+}
 
 }  // namespace
 
@@ -103,15 +175,20 @@ std::string movingai_map_class(const std::string& maps_dir, const std::string& m
 // spent.
 std::string speed_summary(const std::vector<Run>& runs,
                           const std::vector<Configuration>& configurations) {
-  auto index_of = [&](core::PlannerKind kind) -> std::optional<size_t> {
+  auto index_of = [&](core::PlannerKind kind, int vns_threads) -> std::optional<size_t> {
     for (size_t c = 0; c < configurations.size(); ++c)
-      if (configurations[c].planner == kind && !configurations[c].post_processed) return c;
+      if (configurations[c].planner == kind && !configurations[c].post_processed &&
+          configurations[c].vns_threads == vns_threads)
+        return c;
     return std::nullopt;
   };
-  const auto astar = index_of(core::PlannerKind::kAStar);
+  const auto astar = index_of(core::PlannerKind::kAStar, 1);
+  // VNS-BA* on one thread, or on two where it ran on two threads only (named so).
+  const auto vns_one = index_of(core::PlannerKind::kVnsBaStar, 1);
   const std::pair<const char*, std::optional<size_t>> against_astar[] = {
-      {"VNS-BA*", index_of(core::PlannerKind::kVnsBaStar)},
-      {"JPS", index_of(core::PlannerKind::kJps)}};
+      {vns_one ? "VNS-BA*" : "VNS-BA* on 2 threads",
+       vns_one ? vns_one : index_of(core::PlannerKind::kVnsBaStar, 2)},
+      {"JPS", index_of(core::PlannerKind::kJps, 1)}};
   std::vector<std::string> headers = {"class"};
   for (const auto& [name, index] : against_astar) {
     if (!astar || !index) continue;
@@ -162,6 +239,104 @@ std::string speed_summary(const std::vector<Run>& runs,
          table.str() + "\n";
 }
 
+// Per class and over all classes, where VNS-BA* ran on two threads: its time against A*'s on one
+// thread and on two, as medians over queries of per-query ratios, each in wall time and in the
+// process's CPU time over the plan, and the two-thread run against the one-thread run the same
+// way. `cpu_outside` / `cpu_inside`: per configuration, the process's CPU time between the timed
+// plans of a map and inside them (what a helper thread still spinning after plan() returned would
+// add to the first).
+std::string threads_summary(const std::vector<Run>& runs,
+                            const std::vector<Configuration>& configurations,
+                            const std::vector<double>& cpu_inside,
+                            const std::vector<double>& cpu_outside) {
+  std::optional<size_t> astar, vns[3];
+  for (size_t c = 0; c < configurations.size(); ++c) {
+    const Configuration& config = configurations[c];
+    if (config.post_processed) continue;
+    if (config.planner == core::PlannerKind::kAStar) astar = c;
+    if (config.planner == core::PlannerKind::kVnsBaStar) vns[config.vns_threads] = c;
+  }
+  if (!vns[2]) return "";
+  // (numerator, denominator, header) of each column, in wall then CPU time.
+  struct Column {
+    size_t of, against;
+    bool cpu;
+    std::string header;
+  };
+  std::vector<Column> columns;
+  if (astar) {
+    for (const int threads : {1, 2}) {
+      if (!vns[threads]) continue;
+      const std::string who = threads == 1 ? "VNS-BA* 1 thread / A*" : "VNS-BA* 2 threads / A*";
+      columns.push_back({*vns[threads], *astar, false, who + ", wall"});
+      columns.push_back(
+          {*vns[threads], *astar, true, who + ", CPU" + (threads == 2 ? " (two cores used)" : "")});
+    }
+  }
+  if (vns[1]) {
+    columns.push_back({*vns[2], *vns[1], false, "2 threads / 1 thread, wall"});
+    columns.push_back({*vns[2], *vns[1], true, "2 threads / 1 thread, CPU (two cores used)"});
+  }
+  if (columns.empty()) return "";
+  std::vector<std::string> headers = {"class", "queries", "2 threads used"};
+  for (const Column& column : columns) headers.push_back(column.header);
+  MarkdownTable table(headers);
+  std::vector<std::string> classes = kClasses;
+  classes.push_back("all");
+  for (const std::string& map_class : classes) {
+    // query -> (wall, CPU) per configuration
+    std::map<size_t, std::vector<std::pair<double, double>>> of_query;
+    size_t shared = 0;
+    for (const Run& r : runs) {
+      if (map_class != "all" && r.map_class != map_class) continue;
+      auto& times = of_query[r.query];
+      times.resize(configurations.size(), {NAN, NAN});
+      times[r.configuration] = {r.time_us, r.cpu_time_us};
+      if (r.configuration == *vns[2] && r.shared) ++shared;
+    }
+    if (of_query.empty()) continue;
+    std::vector<std::string> row = {
+        map_class, std::to_string(of_query.size()),
+        format(100.0 * static_cast<double>(shared) / static_cast<double>(of_query.size()), 1) +
+            " %"};
+    for (const Column& column : columns) {
+      std::vector<double> times, reference;
+      for (const auto& [query, per_configuration] : of_query) {
+        const auto& of = per_configuration[column.of];
+        const auto& against = per_configuration[column.against];
+        times.push_back(column.cpu ? of.second : of.first);
+        reference.push_back(column.cpu ? against.second : against.first);
+      }
+      row.push_back(format(median_of_ratios(times, reference), 3));
+    }
+    table.add_row(row);
+  }
+  std::string between;
+  for (const int threads : {1, 2}) {
+    if (!vns[threads]) continue;
+    const size_t c = *vns[threads];
+    between += std::string(between.empty() ? "" : ", ") + std::to_string(threads) +
+               (threads == 1 ? " thread " : " threads ") +
+               format(cpu_inside[c] > 0 ? 100.0 * cpu_outside[c] / cpu_inside[c] : NAN, 1) + " %";
+  }
+  return "**VNS-BA\\* on one and two threads** (`vns_threads` 1 and 2, the same queries; "
+         "`--vns-threads 1,2`). Each cell is the median over queries of one time / the other on "
+         "the same query. **Wall**: the time on the clock around `Planner::plan`, what a caller "
+         "waits. **CPU**: the CPU time the process used over the same call "
+         "(CLOCK_PROCESS_CPUTIME_ID: every thread's, both of a two-thread plan and their "
+         "spinning waits included; the benchmark runs no other thread), what the plan costs the "
+         "machine: on two threads it is the two cores used. A* runs on one thread, so its CPU time "
+         "is about its wall time. The runs of one map are sequential, planner by planner, on a "
+         "machine shared with other work: a busy second core shows up as a slower two-thread "
+         "run. **2 threads used**: the share of the two-thread plans whose backward search the "
+         "second thread took over (`Planner::searches_shared`; a search that ends before that "
+         "thread is awake runs on one, with the same results).\n\n" +
+         table.str() +
+         "\nProcess CPU time between the timed plans (the benchmark's loop, and a helper thread "
+         "still running after `plan()` returned), as a share of the CPU time inside them: " +
+         between + ".\n\n";
+}
+
 int run_movingai(const MovingAiOptions& options) {
   auto maps = list_scenario_maps(options.maps_dir);
   if (!maps) {
@@ -175,8 +350,23 @@ int run_movingai(const MovingAiOptions& options) {
   }
   const std::vector<core::PlannerKind> planners =
       options.planners.empty() ? core::all_planner_kinds() : options.planners;
+  if (options.vns_threads.empty()) {
+    std::fprintf(stderr, "vnsba_bench movingai: --vns-threads names no thread count\n");
+    return kExitBadInput;
+  }
+  for (const int threads : options.vns_threads)
+    if (!core::kVnsThreadsRange.contains(threads)) {
+      std::fprintf(stderr, "vnsba_bench movingai: --vns-threads: %d is not 1 or 2\n", threads);
+      return kExitBadInput;
+    }
   std::vector<Configuration> configurations;
-  for (const auto kind : planners) configurations.push_back({kind, false});
+  for (const auto kind : planners) {
+    if (kind != core::PlannerKind::kVnsBaStar) {
+      configurations.push_back({kind, false});
+      continue;
+    }
+    for (const int threads : options.vns_threads) configurations.push_back({kind, false, threads});
+  }
   if (options.with_post_processing)
     for (const auto kind : planners)
       if (kind != core::PlannerKind::kVnsBaStar) configurations.push_back({kind, true});
@@ -194,6 +384,10 @@ int run_movingai(const MovingAiOptions& options) {
 
   if (options.csv) std::printf("%s\n", kMovingAiCsvHeader);
   std::vector<Run> runs;
+  // Per configuration: the process's CPU time inside the timed plans and between them.
+  std::vector<double> cpu_inside(configurations.size(), 0.0),
+      cpu_outside(configurations.size(), 0.0);
+  size_t plans_disagreeing = 0;  // --csv: second plans of a query with other outputs
   std::map<std::string, std::vector<std::string>> maps_of_class;
   size_t scenario_total = 0;
   for (const std::string& path : *maps) {
@@ -210,16 +404,26 @@ int run_movingai(const MovingAiOptions& options) {
     scenario_total += picked.size();
     for (size_t c = 0; c < configurations.size(); ++c) {
       const core::PlannerOptions plan_options = configurations[c].options();
+      core::PlannerOptions record_options = plan_options;
+      record_options.record_expansions = true;
       const std::string planner_name = configurations[c].name();
-      if (!picked.empty()) {  // warm-up: the first plan allocates this map's search state
-        const auto& s = loaded->scenarios[picked.front()];
+      // Warm-up: the first plan allocates this map's search state. The longest query (the file
+      // is sorted by length), so that no timed plan grows it: with the shortest, the first
+      // configuration of a map paid the growth and a second, identical one (VNS-BA* on one and
+      // on two threads before the two-thread search existed) ran 3 % faster per query.
+      if (!picked.empty()) {
+        const auto& s = loaded->scenarios[picked.back()];
         planner.plan({s.start, s.goal}, plan_options);
       }
+      const double block_cpu_started = process_cpu_time_us();
+      double block_cpu_inside = 0.0;
       for (size_t k = 0; k < picked.size(); ++k) {
         const maps::MovingAiScenario& s = loaded->scenarios[picked[k]];
+        const int64_t shared_before = planner.searches_shared();
         const TimedPlan timed = timed_plan(planner, {s.start, s.goal}, plan_options);
         const core::Metrics& m = timed.result.metrics;
         Run run{map_class, c, scenario_total - picked.size() + k};
+        run.shared = planner.searches_shared() > shared_before;
         run.ok = timed.result.status.is_ok();
         if (run.ok) {
           if (s.optimal_length > 0) {
@@ -232,21 +436,41 @@ int run_movingai(const MovingAiOptions& options) {
         }
         run.expanded = static_cast<double>(m.expanded);
         run.time_us = timed.time_us;
+        run.cpu_time_us = timed.cpu_time_us;
+        block_cpu_inside += timed.cpu_time_us;
         runs.push_back(run);
         progress.update(++plans_done);
         if (options.csv) {
+          // The expansions of each search, from the same query planned again (untimed, after
+          // the timed plan so that it does not warm the caches for it).
+          const core::PlanResult recorded = planner.plan({s.start, s.goal}, record_options);
+          if (!same_outputs(timed.result, recorded)) {
+            ++plans_disagreeing;
+            std::fprintf(stderr,
+                         "vnsba_bench movingai: %s line %d, %s: a second plan of the query (with "
+                         "record_expansions) gave other outputs than the first\n",
+                         loaded->name.c_str(), s.line, planner_name.c_str());
+          }
           const std::string status(core::to_string(timed.result.status.code));
+          char metrics[256];
           if (run.ok)
-            std::printf("%s,%d,%s,%s,%.8f,%.8f,%.8f,%d,%.4f,%lld,%.4f,%.3f\n", loaded->name.c_str(),
-                        s.line, planner_name.c_str(), status.c_str(), s.optimal_length,
-                        m.raw_cost_cells, m.length_cells, m.turns, m.turn_angle_deg,
-                        static_cast<long long>(m.expanded), m.clearance_m, timed.time_us);
+            std::snprintf(metrics, sizeof metrics, "%.8f,%.8f,%.8f,%d,%.4f,%lld,%.4f",
+                          s.optimal_length, m.raw_cost_cells, m.length_cells, m.turns,
+                          m.turn_angle_deg, static_cast<long long>(m.expanded), m.clearance_m);
           else
-            std::printf("%s,%d,%s,%s,%.8f,,,,,%lld,,%.3f\n", loaded->name.c_str(), s.line,
-                        planner_name.c_str(), status.c_str(), s.optimal_length,
-                        static_cast<long long>(m.expanded), timed.time_us);
+            std::snprintf(metrics, sizeof metrics, "%.8f,,,,,%lld,", s.optimal_length,
+                          static_cast<long long>(m.expanded));
+          std::printf("%s,%d,%s,%s,%s,%s,%.3f,%.3f\n", loaded->name.c_str(), s.line,
+                      planner_name.c_str(), status.c_str(), metrics,
+                      output_columns(timed.result, recorded).c_str(), timed.time_us,
+                      timed.cpu_time_us);
         }
       }
+      // The process's CPU time between the timed plans, in the summary (which plans nothing and
+      // prints nothing between them).
+      cpu_inside[c] += block_cpu_inside;
+      if (!options.csv)
+        cpu_outside[c] += process_cpu_time_us() - block_cpu_started - block_cpu_inside;
     }
     // Progress on stderr in both modes (the CSV goes to stdout): one line per map done.
     if (options.csv) std::fflush(stdout);
@@ -254,7 +478,13 @@ int run_movingai(const MovingAiOptions& options) {
                  map_class.c_str(), picked.size(), configurations.size());
   }
   progress.finish(plans_done);
-  if (options.csv) return kExitOk;
+  if (options.csv) {
+    if (plans_disagreeing == 0) return kExitOk;
+    std::fprintf(stderr,
+                 "vnsba_bench movingai: %zu plans gave other outputs when planned again (above)\n",
+                 plans_disagreeing);
+    return kExitFailure;
+  }
 
   std::string md = "### Moving AI benchmarks, per map class\n\n";
   md += std::to_string(scenario_total) + " scenarios on " + std::to_string(maps->size()) + " maps" +
@@ -306,6 +536,7 @@ int run_movingai(const MovingAiOptions& options) {
     md += table.str() + "\n";
   }
   md += speed_summary(runs, configurations);
+  md += threads_summary(runs, configurations, cpu_inside, cpu_outside);
   std::fputs(md.c_str(), stdout);
   return kExitOk;
 }

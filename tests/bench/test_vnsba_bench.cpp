@@ -90,6 +90,25 @@ TEST(BenchHelpers, PlannerListNamesTheUnknownPlanner) {
   EXPECT_NE(bad.error().message.find("'dijkstra'"), std::string::npos) << bad.error().message;
 }
 
+TEST(BenchHelpers, VnsThreadsListParsesOneTwoOrBoth) {
+  for (const auto& [list, expected] : std::vector<std::pair<std::string, std::vector<int>>>{
+           {"1", {1}}, {"2", {2}}, {"1,2", {1, 2}}, {"2,1", {1, 2}}, {"2,2", {2}}}) {
+    const auto counts = bench::parse_vns_threads_list(list);
+    ASSERT_TRUE(counts) << list << ": " << counts.error().message;
+    EXPECT_EQ(*counts, expected) << list;
+  }
+  for (const std::string list : {"", "0", "3", "1,3", "two", "1,", ",2", "1,,2", " 1"}) {
+    const auto bad = bench::parse_vns_threads_list(list);
+    ASSERT_FALSE(bad) << "'" << list << "' was accepted";
+    // The flag and the valid values are named.
+    EXPECT_EQ(bad.error().message.rfind("--vns-threads: ", 0), 0u) << bad.error().message;
+    EXPECT_NE(bad.error().message.find("valid: 1, 2 or 1,2"), std::string::npos)
+        << bad.error().message;
+  }
+  EXPECT_NE(bench::parse_vns_threads_list("1,3").error().message.find("'3' is not 1 or 2"),
+            std::string::npos);
+}
+
 TEST(BenchHelpers, MapClassFromManifestOrName) {
   EXPECT_EQ(bench::movingai_map_class("/nonexistent", "Berlin_0_256.map"), "street");
   EXPECT_EQ(bench::movingai_map_class("/nonexistent", "maze512-4-0.map"), "maze");
@@ -367,7 +386,8 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   ASSERT_TRUE(std::getline(lines, line));
   EXPECT_EQ(line,
             "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,"
-            "expanded,clearance_m,time_us");
+            "expanded,clearance_m,expanded_forward,expanded_backward,meeting_cell,raw_path_hash,"
+            "waypoints_hash,path_hash,expansions_hash,time_us,cpu_time_us");
   size_t astar_rows = 0, vns_rows = 0, progress_lines = 0;
   while (std::getline(lines, line)) {
     // The per-map progress line goes to stderr, which this output includes; CSV rows have commas.
@@ -378,28 +398,37 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
       continue;
     }
     const auto f = split(line, ',');
-    ASSERT_EQ(f.size(), 12u) << line;
+    ASSERT_EQ(f.size(), 20u) << line;
     EXPECT_EQ(f[0], "arena");
     EXPECT_EQ(f[3], "OK") << line;
     const int scenario_line = std::stoi(f[1]);
     ASSERT_EQ(by_line.count(scenario_line), 1u) << line;
     const auto& s = by_line[scenario_line];
     EXPECT_NEAR(std::stod(f[4]), s.optimal_length, 1e-6);
+    // Each search's closed cells add up to the expansions; a unidirectional search has no
+    // backward one and no meeting cell, a bidirectional one met somewhere.
+    EXPECT_EQ(std::stoll(f[11]) + std::stoll(f[12]), std::stoll(f[9])) << line;
     if (f[2] == "astar") {
       ++astar_rows;
       EXPECT_LE(std::abs(std::stod(f[5]) - s.optimal_length),
                 std::max(1e-6 * s.optimal_length, s.optimal_resolution))
           << line;
+      EXPECT_EQ(f[12], "0") << line;
+      EXPECT_EQ(f[13], "") << line;
     } else {
       EXPECT_EQ(f[2], "vns_bastar");
       ++vns_rows;
+      EXPECT_GT(std::stoll(f[12]), 0) << line;
+      EXPECT_NE(f[13].find(':'), std::string::npos) << line;
     }
+    for (int hash = 14; hash <= 17; ++hash) EXPECT_EQ(f[hash].size(), 16u) << line;
     // arena has walls: every path keeps a positive, finite distance from them (metres = cells
-    // on Moving AI maps); the time stays the last column.
+    // on Moving AI maps); the wall and CPU times stay the last columns.
     const double clearance = std::stod(f[10]);
     EXPECT_TRUE(std::isfinite(clearance)) << line;
     EXPECT_GT(clearance, 0.0) << line;
-    EXPECT_GE(std::stod(f[11]), 0.0);
+    EXPECT_GE(std::stod(f[18]), 0.0);
+    EXPECT_GE(std::stod(f[19]), 0.0);
   }
   EXPECT_EQ(astar_rows, scenarios->size());
   EXPECT_EQ(vns_rows, scenarios->size());
@@ -417,7 +446,7 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   while (std::getline(post_lines, line)) {
     if (line.find(',') == std::string::npos) continue;  // progress (stderr)
     const auto f = split(line, ',');
-    ASSERT_EQ(f.size(), 12u) << line;
+    ASSERT_EQ(f.size(), 20u) << line;
     if (f[2] == "astar") {
       plain_cost[f[1]] = std::stod(f[5]);
       continue;
@@ -448,6 +477,95 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
     EXPECT_GT(std::stod(cells[8]), 0.0) << line;  // clearance (cells)
   }
   EXPECT_EQ(rows, core::all_planner_kinds().size()) << summary;
+  fs::remove_all(dir);
+}
+
+// --vns-threads 1,2: VNS-BA* on one and on two threads, on the same queries, as two planners
+// with the same outputs (vns_threads changes the time only), and the table that compares them.
+TEST(VnsbaBench, MovingAiVnsThreadsRunsBothModes) {
+  const std::string source = VNSBA_DATA_DIR "/movingai/arena.map";
+  if (!fs::exists(source) || !fs::exists(source + ".scen"))
+    GTEST_SKIP() << source << "(.scen) is absent: the Moving AI data beside the project is needed";
+  const std::string dir = fresh_folder("movingai_threads");
+  fs::copy_file(source, dir + "/arena.map");
+  fs::copy_file(source + ".scen", dir + "/arena.map.scen");
+
+  const auto [code, output] =
+      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "astar,vns_bastar",
+                           "--vns-threads", "1,2", "--max-scenarios", "10", "--csv"});
+  ASSERT_EQ(code, 0) << output;
+  // scenario -> the row without planner and times, per planner name
+  std::map<std::string, std::map<std::string, std::string>> rows;
+  std::stringstream lines(output);
+  std::string line;
+  ASSERT_TRUE(std::getline(lines, line));
+  EXPECT_EQ(line, bench::kMovingAiCsvHeader);
+  while (std::getline(lines, line)) {
+    if (line.find(',') == std::string::npos) {  // the per-map line (stderr)
+      EXPECT_EQ(line, "arena (game): 10 scenarios x 3 configurations");
+      continue;
+    }
+    const auto f = split(line, ',');
+    ASSERT_EQ(f.size(), 20u) << line;
+    EXPECT_EQ(f[3], "OK") << line;
+    const double wall = std::stod(f[18]), cpu = std::stod(f[19]);
+    EXPECT_TRUE(std::isfinite(wall) && wall >= 0.0) << line;
+    EXPECT_TRUE(std::isfinite(cpu) && cpu >= 0.0) << line;
+    std::string outputs;
+    for (size_t i = 0; i < 18; ++i)
+      if (i != 2) outputs += f[i] + ",";
+    EXPECT_TRUE(rows[f[2]].emplace(f[1], outputs).second) << "a second row: " << line;
+  }
+  ASSERT_EQ(rows.size(), 3u) << output;
+  EXPECT_EQ(rows["astar"].size(), 10u);
+  EXPECT_EQ(rows["vns_bastar"].size(), 10u);
+  EXPECT_EQ(rows["vns_bastar+2threads"], rows["vns_bastar"]);
+
+  // --vns-threads 2 alone: VNS-BA* on two threads only, named so.
+  const auto [two_code, two_output] =
+      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "vns_bastar", "--vns-threads",
+                           "2", "--max-scenarios", "3", "--csv"});
+  ASSERT_EQ(two_code, 0) << two_output;
+  EXPECT_EQ(two_output.find(",vns_bastar,"), std::string::npos) << two_output;
+  size_t two_rows = 0;
+  for (size_t at = 0; (at = two_output.find(",vns_bastar+2threads,", at)) != std::string::npos;
+       ++at)
+    ++two_rows;
+  EXPECT_EQ(two_rows, 3u) << two_output;
+
+  // The summary: both as planners in the class table, and the wall / CPU table, per class and
+  // over all classes, every cell a number.
+  const auto [summary_code, summary] =
+      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "astar,vns_bastar",
+                           "--vns-threads", "1,2", "--max-scenarios", "10"});
+  ASSERT_EQ(summary_code, 0) << summary;
+  EXPECT_NE(summary.find("| VNS-BA* (`vns_bastar`) | 10 | 100.0 %"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("| VNS-BA* on 2 threads (`vns_bastar+2threads`) | 10 | 100.0 %"),
+            std::string::npos)
+      << summary;
+  const std::string header =
+      "| class | queries | 2 threads used | VNS-BA* 1 thread / A*, wall | VNS-BA* 1 thread / A*, "
+      "CPU | "
+      "VNS-BA* 2 threads / A*, wall | VNS-BA* 2 threads / A*, CPU (two cores used) | "
+      "2 threads / 1 thread, wall | 2 threads / 1 thread, CPU (two cores used) |";
+  const size_t table = summary.find(header);
+  ASSERT_NE(table, std::string::npos) << summary;
+  size_t numeric_rows = 0;
+  std::stringstream after(summary.substr(table));
+  while (std::getline(after, line) && !line.empty()) {
+    if (line.rfind("| game |", 0) != 0 && line.rfind("| all |", 0) != 0) continue;
+    const auto cells = split(line, '|');  // "", class, queries, used, six ratios, ""
+    ASSERT_EQ(cells.size(), 11u) << line;
+    EXPECT_EQ(std::stoi(cells[2]), 10) << line;
+    EXPECT_NE(cells[3].find(" %"), std::string::npos) << line;
+    const double used = std::stod(cells[3]);
+    EXPECT_TRUE(used >= 0.0 && used <= 100.0) << line;
+    for (size_t i = 4; i < 10; ++i) EXPECT_GT(std::stod(cells[i]), 0.0) << line;
+    ++numeric_rows;
+  }
+  EXPECT_EQ(numeric_rows, 2u) << summary;  // game (arena) and all
+  EXPECT_NE(summary.find("as a share of the CPU time inside them: 1 thread "), std::string::npos)
+      << summary;
   fs::remove_all(dir);
 }
 
@@ -502,6 +620,14 @@ TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
   {
     const auto [code, output] = run_to_exit(kBench, {"movingai", "--no-such-option"});
     EXPECT_EQ(code, 2) << output;
+  }
+  for (const std::string list : {"3", "1,3", "two", ""}) {
+    const auto [code, output] = run_to_exit(
+        kBench, {"movingai", "--maps", VNSBA_PAPER_MAPS_DIR, "--vns-threads", list, "--csv"});
+    EXPECT_EQ(code, 2) << list << ": " << output;
+    EXPECT_NE(output.find("vnsba_bench movingai: --vns-threads: "), std::string::npos)
+        << list << ": " << output;
+    EXPECT_EQ(output.find("map,scenario"), std::string::npos) << "ran anyway: " << output;
   }
 }
 
