@@ -7,9 +7,11 @@
 //   if (r.status.is_ok()) use(r.world_path);
 //
 // A Planner reuses its flat search arrays across queries on the same map; it is not
-// thread-safe (one Planner per thread), but any number of Planners may share one GridMap.
-// The constructor allocates the per-cell arrays of both search directions (34 bytes per cell
-// together, about 570 MB for 4096 x 4096 cells), so that no query pays for them: make the
+// thread-safe (one Planner per thread), but any number of Planners may share one GridMap. With
+// vns_threads 2 a Planner owns one more thread for VNS-BA*'s backward search, made at its first
+// such plan and ended by its destructor.
+// The constructor allocates the per-cell arrays of both search directions (36 bytes per cell
+// together, about 600 MB for 4096 x 4096 cells), so that no query pays for them: make the
 // Planner when a map is installed, not at its first query (at 4096 x 4096 the allocation takes a
 // few hundred milliseconds, which the first plan and its cancel latency would otherwise include).
 #pragma once
