@@ -12,8 +12,10 @@
 #include <random>
 #include <sstream>
 
-#include "core/movingai_support.hpp"
 #include "core/test_support.hpp"
+#ifndef VNSBA_WITHOUT_MAP_FILES
+#include "core/movingai_support.hpp"
+#endif
 #include "vnsba/core/planner.hpp"
 
 namespace vnsba::test {
@@ -261,6 +263,7 @@ TEST(VnsThreads, PlannersOwnTheirSecondThread) {
   EXPECT_GT(shared, 0);
 }
 
+#ifndef VNSBA_WITHOUT_MAP_FILES
 // The Moving AI maps (every class), 12 scenarios per map spread over each file, the paper's
 // configuration with traces and with the 8-neighbourhood.
 TEST(VnsThreadsData, TwoThreadsPlanExactlyAsOneOnMovingAiMaps) {
@@ -299,6 +302,7 @@ TEST(VnsThreadsData, TwoThreadsPlanExactlyAsOneOnMovingAiMaps) {
   RecordProperty("plans", static_cast<int>(plans));
   RecordProperty("searches_shared", static_cast<int>(shared));
 }
+#endif  // VNSBA_WITHOUT_MAP_FILES
 
 }  // namespace
 }  // namespace vnsba::test
