@@ -203,7 +203,7 @@ enum class MeetingRule {
 // A cell a bidirectional search's heuristic and neighbourhood are guided by: the opposite
 // search's current node (docs/algorithm.md section 2). Each direction's on its own cache line,
 // as each is written by its own search's thread and read by it many times per expansion.
-struct alignas(64) GuideCell {
+struct alignas(detail::kFalseSharingBytes) GuideCell {
   Cell cell;
 };
 
@@ -216,12 +216,13 @@ struct alignas(64) GuideCell {
 // guide cell through a pointer).
 //
 // So the two directions can run on two threads with the same results (vns_threads 2, docs/
-// algorithm.md section 3): each direction publishes the node it pops before it expands it, and
-// the other waits only for that pop, not for the whole expansion. A thread may then be one
-// expansion ahead of the sequential order (forward expansion k runs while backward's k - 1 is
-// still expanding, backward expansion k while forward's k + 1 does), and everything that could
-// tell is filtered: a closure newer than the sequential order shows is recognised as the one pop
-// it can be (the other's next, which is published before its closure), and an expansion that
+// algorithm.md section 3). A direction's next pop depends on its own expansions only, so each
+// direction pops and publishes its node first and only then waits for the other's pop it needs;
+// the other waits only for that pop, never for a whole expansion, and the cross-core latency of
+// each hand-over overlaps an expansion. A thread may then be ahead of the sequential order (the
+// other direction up to two pops further than the step sees), and everything that could tell is
+// filtered: a closure newer than the sequential order shows is recognised as one of those two
+// pops (published, with their steps, before their closures), and an expansion that
 // ends the search (a meeting, an empty open list, the budget) supersedes every expansion of a
 // higher index, which is neither counted nor traced. Closed nodes keep their parents, so the two
 // paths of the meeting are traced, after both threads have stopped, from what the sequential
@@ -274,7 +275,8 @@ class BidirectionalSearch {
       }
       if (!step<0>(k)) break;
       if (handed_off) continue;
-      if (helper != nullptr && !offered && k == kStepsBeforeOffer) {
+      if (helper != nullptr && !offered &&
+          k == (helper->asleep() ? kStepsBeforeOfferToSleeper : kStepsBeforeOffer)) {
         helper->offer(&BidirectionalSearch::run_backward, this);
         offered = true;
       }
@@ -291,8 +293,11 @@ class BidirectionalSearch {
 
  private:
   // A search that ends before this many expansions a direction (a few microseconds) never asks
-  // the helper, whose wake-up would cost more than it saves.
+  // the helper, whose wake-up would cost more than it saves; one blocked between searches costs
+  // a system call to wake (search_helper.hpp), which only a longer search (about 0.1-0.3 ms by
+  // then) is worth.
   static constexpr int64_t kStepsBeforeOffer = 32;
+  static constexpr int64_t kStepsBeforeOfferToSleeper = 512;
   static constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
   static constexpr uint64_t kNoPop = std::numeric_limits<uint64_t>::max();
 
@@ -311,7 +316,7 @@ class BidirectionalSearch {
   };
 
   // What one direction publishes to the other, written only by its own search.
-  struct alignas(64) Published {
+  struct alignas(detail::kFalseSharingBytes) Published {
     // Its pops: (step << 32 | padded index) of step `step` in slot step % 4 (the other search
     // reads at most its last two).
     std::atomic<uint64_t> pops[4];
@@ -319,7 +324,7 @@ class BidirectionalSearch {
     std::atomic<int64_t> closed;
   };
   // What one direction keeps to itself.
-  struct alignas(64) Side {
+  struct alignas(detail::kFalseSharingBytes) Side {
     std::vector<Cell> record;
     SideEnd end;
   };
@@ -346,24 +351,30 @@ class BidirectionalSearch {
   // expansion of an index below `index` has ended the search meanwhile (this one is superseded).
   bool wait_for_other(int s, int64_t needed, int64_t index) {
     const Published& other = published_[1 - s];
-    auto ready = [&] {  // sequentially consistent: a WaitPoint condition
-      return other.closed.load(std::memory_order_seq_cst) >= needed ||
+    auto ready = [&] {
+      return other.closed.load(std::memory_order_acquire) >= needed ||
              end_index_.load(std::memory_order_seq_cst) < index;
     };
     // Alone (no helper) the other direction's steps are always done: the wait never waits.
-    if (!ready() && waits_ != nullptr) waits_->wait(ready, SearchHelper::kStepSpins);
+    if (!ready() && waits_ != nullptr) waits_->wait(ready, SearchHelper::kStepSpin);
     return end_index_.load(std::memory_order_acquire) >= index;
   }
 
-  // Whether the other direction's closure of `m`, seen in `other_flags`, is one the sequential
-  // order shows to this direction's step (the other's steps up to `visible`): the only newer one
-  // there can be is its pop of step visible + 1, published before that closure.
+  // Whether the other direction's closure of `m`, seen in its flags, is one the sequential order
+  // shows to this direction's step (the other's steps up to `visible`). The other direction can
+  // be at most two pops further (each direction pops before it waits, so forward expansion k can
+  // meet backward's pops k and k + 1, backward expansion k forward's k + 1 and k + 2), and each
+  // pop is published, with its step, before its closure.
   bool closure_visible(int s, uint32_t m, int64_t visible) const {
     // Acquires the closure (read again: a closure is the last change of a word in a query), and
-    // with it the pop its search published before.
+    // with it the pops its search published before.
     states_.side_flags(m, 1 - s, std::memory_order_acquire);
-    const uint64_t next = static_cast<uint64_t>(visible + 1) << 32 | m;
-    return published_[1 - s].pops[(visible + 1) & 3].load(std::memory_order_relaxed) != next;
+    const Published& other = published_[1 - s];
+    for (int64_t ahead = visible + 1; ahead <= visible + 2; ++ahead) {
+      const uint64_t pop = static_cast<uint64_t>(ahead) << 32 | m;
+      if (other.pops[ahead & 3].load(std::memory_order_relaxed) == pop) return false;
+    }
+    return true;
   }
 
   template <int S>
@@ -380,11 +391,10 @@ class BidirectionalSearch {
   template <int S>
   bool step(int64_t k) {
     const int64_t index = sequence_index(S, k);
-    const int64_t visible = S == 0 ? k - 1 : k;  // the other direction's steps this one sees
-    if (!wait_for_other(S, visible, index)) return false;
+    if (end_index_.load(std::memory_order_relaxed) < index) return false;  // superseded
     SearchSpace& self = *space_[S];
-    const uint64_t guide_pop = published_[1 - S].pops[visible & 3].load(std::memory_order_relaxed);
-    guide_[S].cell = map_.cell_of(static_cast<uint32_t>(guide_pop));
+    // The pop depends on this direction's own expansions only: it is published before waiting
+    // for the other direction, which can then expand its step meanwhile.
     if (self.empty()) {
       end(S, index, SideEnd{SideEndKind::kNoOpenNode, StatusCode::kNoValidPath, 0, 0});
       return false;
@@ -392,15 +402,15 @@ class BidirectionalSearch {
     const uint32_t n = self.top();
     Published& mine = published_[S];
     mine.pops[k & 3].store(static_cast<uint64_t>(k) << 32 | n, std::memory_order_release);
-    self.pop();  // closes n (released)
-    if (waits_ != nullptr) {
-      mine.closed.store(k, std::memory_order_seq_cst);
-      waits_->notify();
-    } else {
-      mine.closed.store(k, std::memory_order_relaxed);
-    }
+    self.pop();                                       // closes n (released)
+    mine.closed.store(k, std::memory_order_release);  // not seq_cst: see WaitPoint
+    if (waits_ != nullptr) waits_->notify();
     const Cell nc = map_.cell_of(n);
     if (cfg_.record) side_[S].record.push_back(nc);
+    const int64_t visible = S == 0 ? k - 1 : k;  // the other direction's steps this one sees
+    if (!wait_for_other(S, visible, index)) return false;
+    const uint64_t guide_pop = published_[1 - S].pops[visible & 3].load(std::memory_order_relaxed);
+    guide_[S].cell = map_.cell_of(static_cast<uint32_t>(guide_pop));
     if (self.closed_by_other(n) && closure_visible(S, n, visible)) {
       end(S, index, SideEnd{SideEndKind::kMetAtPop, StatusCode::kOk, n, n});
       return false;
@@ -479,7 +489,7 @@ class BidirectionalSearch {
   WaitPoint* waits_ = nullptr;
   Published published_[2];
   Side side_[2];
-  alignas(64) std::atomic<int64_t> end_index_{kNever};
+  alignas(detail::kFalseSharingBytes) std::atomic<int64_t> end_index_{kNever};
 };
 
 template <class ForwardH, class BackwardH, class MoveCost>

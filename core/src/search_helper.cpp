@@ -29,7 +29,7 @@ void SearchHelper::hand_off(int64_t from_step) {
 void SearchHelper::finish() {
   int phase = phase_.load(std::memory_order_acquire);
   if (phase == kRunning || phase == kDone) {
-    waits_.wait([&] { return phase_.load(std::memory_order_seq_cst) == kDone; }, kStepSpins);
+    waits_.wait([&] { return phase_.load(std::memory_order_seq_cst) == kDone; }, kStepSpin);
     phase_.store(kIdle, std::memory_order_relaxed);  // the helper waits for kOffered or kQuit
     return;
   }
@@ -37,18 +37,26 @@ void SearchHelper::finish() {
   int expected = kOffered;
   if (phase_.compare_exchange_strong(expected, kIdle, std::memory_order_seq_cst)) return;
   set_phase(kWithdrawn);
-  waits_.wait([&] { return phase_.load(std::memory_order_seq_cst) == kIdle; }, kStepSpins);
+  waits_.wait([&] { return phase_.load(std::memory_order_seq_cst) == kIdle; }, kStepSpin);
+}
+
+void SearchHelper::wait_for_offer() {
+  auto offered = [&] {
+    const int phase = phase_.load(std::memory_order_seq_cst);
+    return phase == kOffered || phase == kQuit;
+  };
+  if (WaitPoint::spin(offered, kIdleSpin)) return;
+  const auto until = std::chrono::steady_clock::now() + kIdlePollWindow;
+  while (std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(kIdlePollPeriod);
+    if (offered()) return;
+  }
+  waits_.wait(offered, std::chrono::nanoseconds{0});
 }
 
 void SearchHelper::loop() {
   for (;;) {
-    // Between searches the helper blocks at once: its wake-up overlaps the next search's start.
-    waits_.wait(
-        [&] {
-          const int phase = phase_.load(std::memory_order_seq_cst);
-          return phase == kOffered || phase == kQuit;
-        },
-        /*spins=*/0);
+    wait_for_offer();
     int expected = kOffered;
     if (!phase_.compare_exchange_strong(expected, kAccepted, std::memory_order_seq_cst)) {
       if (expected == kQuit) return;
@@ -60,7 +68,7 @@ void SearchHelper::loop() {
           const int phase = phase_.load(std::memory_order_seq_cst);
           return phase == kRunning || phase == kWithdrawn;
         },
-        kStepSpins);
+        kStepSpin);
     if (phase_.load(std::memory_order_acquire) == kRunning) {
       job_(context_, from_step_);
       set_phase(kDone);

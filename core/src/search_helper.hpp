@@ -8,11 +8,13 @@
 // direction over at the next step boundary. So the helper's wake-up time overlaps the search
 // instead of delaying it, and a search that ends before the helper is awake never waits for it.
 //
-// Every wait spins briefly, then blocks: on a loaded machine a thread whose partner is not
-// running gives its core up instead of burning it.
+// Every wait inside a search spins (at most kStepSpin), then blocks: on a loaded machine a thread
+// whose partner is not running gives its core up instead of burning it. Between searches the
+// helper spins briefly, polls with short sleeps for a while, then blocks (kIdle* below).
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -30,29 +32,45 @@ inline void spin_pause() {
 #endif
 }
 
-// Where threads wait for a condition another thread makes true: spin up to `spins` times, then
-// block. Whoever makes a waited-for condition true does so with a sequentially consistent store
-// (or read-modify-write) and then calls notify(), which wakes blocked waiters only when there are
-// any (a load of a counter otherwise); the condition reads its atomics sequentially consistent
-// too. Lost wake-ups are impossible: a waiter announces itself before it checks the condition the
-// last time, under the mutex that notify() takes, and in the single order of those sequentially
-// consistent operations either the waiter's check sees the change or notify() sees the waiter.
-// (Plain loads and stores on x86; no fences, which ThreadSanitizer cannot follow.)
+// Where threads wait for a condition another thread makes true: spin for up to `spin_for`, then
+// block. Whoever makes a waited-for condition true then calls notify(), which wakes blocked
+// waiters only when there are any (a load of a counter otherwise). With a sequentially consistent
+// store (or read-modify-write) before notify(), and conditions that read sequentially consistent,
+// no wake-up is lost: a waiter announces itself before it checks the condition the last time,
+// under the mutex that notify() takes, and in the single order of those operations either the
+// check sees the change or notify() sees the waiter. The searches' per-step hand-over publishes
+// with a plain release store instead: a sequentially consistent one drains the store buffer,
+// which waits for the other core to give the cache line up (about 200 ns on a 2-core virtual
+// machine, as long as an expansion). Its wake-up can be lost only when the store and a waiter's
+// announcement cross, after the waiter has spun for its whole spin_for, so a blocked waiter also
+// checks again every kRecheck on its own. (No fences, which ThreadSanitizer cannot follow.)
 class WaitPoint {
  public:
   template <class Ready>
-  void wait(const Ready& ready, int spins) {
-    for (int i = 0; i < spins; ++i) {
-      if (ready()) return;
-      spin_pause();
-    }
+  void wait(const Ready& ready, std::chrono::nanoseconds spin_for) {
+    if (spin(ready, spin_for)) return;
     sleepers_.fetch_add(1, std::memory_order_seq_cst);
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      condition_.wait(lock, ready);
+      while (!condition_.wait_for(lock, kRecheck, ready)) {
+      }
     }
     sleepers_.fetch_sub(1, std::memory_order_relaxed);
   }
+
+  // Spins until `ready` (true) or for `spin_for` (false), reading the clock every 64 pauses.
+  template <class Ready>
+  static bool spin(const Ready& ready, std::chrono::nanoseconds spin_for) {
+    const auto until = std::chrono::steady_clock::now() + spin_for;
+    for (uint32_t i = 1;; ++i) {
+      if (ready()) return true;
+      if (i % 64 == 0 && std::chrono::steady_clock::now() >= until) return false;
+      spin_pause();
+    }
+  }
+
+  // Whether a thread is blocked here (a notify() would make a system call to wake it).
+  bool has_sleepers() const { return sleepers_.load(std::memory_order_relaxed) > 0; }
 
   void notify() {
     if (sleepers_.load(std::memory_order_seq_cst) == 0) return;
@@ -61,6 +79,7 @@ class WaitPoint {
   }
 
  private:
+  static constexpr std::chrono::microseconds kRecheck{200};
   std::atomic<int> sleepers_{0};
   std::mutex mutex_;
   std::condition_variable condition_;
@@ -72,9 +91,20 @@ class SearchHelper {
   // ends. `context` is the search.
   using Job = void (*)(void* context, int64_t from_step);
 
-  // Spins of a wait inside a search (the partner's next pop is normally a fraction of a
-  // microsecond away): about 10 to 50 microseconds, by the CPU's pause.
-  static constexpr int kStepSpins = 1000;
+  // How long a wait inside a search spins before it blocks. The partner's next pop is normally a
+  // fraction of a microsecond away; one that does not come within this is not running. It must
+  // be well above the time a blocked thread takes to wake (about 100 microseconds measured): with
+  // 50, one thread's block made its partner block at its next wait, and the two went on taking
+  // turns to sleep, 50 times slower than one thread.
+  static constexpr std::chrono::microseconds kStepSpin{1000};
+  // Between searches the helper spins this long, then polls, sleeping kIdlePollPeriod at a time,
+  // for kIdlePollWindow, and only then blocks: waking a blocked thread is a system call that cost
+  // the waker 20-30 microseconds and the wakee about 100 (measured on a 2-core virtual machine),
+  // which a search that follows another soon does not pay. Polling costs a few microseconds of
+  // CPU per period, for the window only.
+  static constexpr std::chrono::microseconds kIdleSpin{20};
+  static constexpr std::chrono::microseconds kIdlePollPeriod{50};
+  static constexpr std::chrono::milliseconds kIdlePollWindow{2};
 
   SearchHelper();
   ~SearchHelper();
@@ -93,12 +123,16 @@ class SearchHelper {
   // Returns once the helper no longer touches the search: the job has returned (after a
   // hand-off) or the offer is withdrawn (the helper never started it).
   void finish();
+  // Whether the helper is blocked between searches: an offer then costs a system call (see
+  // above), so a search offers later, when it has shown it is long.
+  bool asleep() const { return waits_.has_sleepers(); }
   // How many jobs were handed off.
   int64_t hand_offs() const { return hand_offs_; }
 
  private:
   enum Phase : int { kIdle, kOffered, kAccepted, kRunning, kWithdrawn, kDone, kQuit };
   void set_phase(Phase phase);
+  void wait_for_offer();
   void loop();
 
   std::atomic<int> phase_{kIdle};

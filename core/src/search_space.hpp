@@ -29,6 +29,10 @@
 
 namespace vnsba::core::detail {
 
+// Data that two threads write apart is kept this many bytes apart: two cache lines, as CPUs fetch
+// lines in pairs (the adjacent-line prefetcher), which makes neighbouring lines share like one.
+inline constexpr size_t kFalseSharingBytes = 128;
+
 // What each search knows of each cell in the current query: seen (pushed) by the forward or
 // backward search, closed by either. One 16-bit word per padded cell and direction, the two of a
 // cell side by side (one cache line): the query's epoch (12 bits) and that direction's flags, so a
@@ -72,14 +76,9 @@ class CellStates {
     return (word >> kFlagBits) == epoch_ ? (word & kFlagMask) : 0;
   }
   // Adds `flag` (one of kSeen / kClosed) to its direction's word of `n`; only that direction's
-  // search may call it.
-  void add(uint32_t n, uint16_t flag) {
-    const int side = (flag & (kSeen[1] | kClosed[1])) != 0 ? 1 : 0;
-    const uint16_t word = static_cast<uint16_t>(epoch_ << kFlagBits | side_flags(n, side) | flag);
-    words_[2 * size_t{n} + side].store(word, (flag & (kClosed[0] | kClosed[1])) != 0
-                                                 ? std::memory_order_release
-                                                 : std::memory_order_relaxed);
-  }
+  // search may call it. close() adds a closed flag with a release store (see above).
+  void add(uint32_t n, uint16_t flag) { store(n, flag, std::memory_order_relaxed); }
+  void close(uint32_t n, uint16_t flag) { store(n, flag, std::memory_order_release); }
 
   size_t bytes() const { return 2 * cells_ * sizeof(uint16_t); }
 
@@ -88,6 +87,14 @@ class CellStates {
   static constexpr uint16_t kFlagMask = (1 << kFlagBits) - 1;
   static constexpr uint16_t kEpochs = 1 << (16 - kFlagBits);
   static_assert(sizeof(std::atomic<uint16_t>) == sizeof(uint16_t));
+  // The memory order must be a constant where the store is compiled: with one known only at run
+  // time the compiler emits the sequentially consistent store (a locked exchange on x86, a full
+  // barrier at every pop).
+  void store(uint32_t n, uint16_t flag, std::memory_order order) {
+    const int side = (flag & (kSeen[1] | kClosed[1])) != 0 ? 1 : 0;
+    const uint16_t word = static_cast<uint16_t>(epoch_ << kFlagBits | side_flags(n, side) | flag);
+    words_[2 * size_t{n} + side].store(word, order);
+  }
   std::unique_ptr<std::atomic<uint16_t>[]> words_;
   size_t cells_ = 0;
   uint16_t epoch_ = 0;
@@ -96,7 +103,7 @@ class CellStates {
 // One direction's search state. Aligned to a cache line so that the two directions' members
 // (the open list's size and end, written at every push and pop) never share one when the two
 // searches run on two threads.
-class alignas(64) SearchSpace {
+class alignas(kFalseSharingBytes) SearchSpace {
  public:
   static constexpr uint32_t kNoParent = std::numeric_limits<uint32_t>::max();
 
@@ -175,7 +182,7 @@ class alignas(64) SearchSpace {
     check_top_is_least();
 #endif
     const uint32_t top = heap_.front().node;
-    states_->add(top, closed_flag_);
+    states_->close(top, closed_flag_);
     const Entry last = heap_.back();
     heap_.pop_back();
     if (!heap_.empty()) {
