@@ -276,7 +276,7 @@ class BidirectionalSearch {
       if (!step<0>(k)) break;
       if (handed_off) continue;
       if (helper != nullptr && !offered &&
-          k == (helper->asleep() ? kStepsBeforeOfferToSleeper : kStepsBeforeOffer)) {
+          k >= (helper->asleep() ? kStepsBeforeOfferToSleeper : kStepsBeforeOffer)) {
         helper->offer(&BidirectionalSearch::run_backward, this);
         offered = true;
       }
@@ -318,7 +318,7 @@ class BidirectionalSearch {
   // What one direction publishes to the other, written only by its own search.
   struct alignas(detail::kFalseSharingBytes) Published {
     // Its pops: (step << 32 | padded index) of step `step` in slot step % 4 (the other search
-    // reads at most its last two).
+    // reads three at most: its guide and the two that can be ahead of it, see closure_visible).
     std::atomic<uint64_t> pops[4];
     // The number of its steps whose pop is closed.
     std::atomic<int64_t> closed;

@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "core/test_support.hpp"
-#ifndef VNSBA_WITHOUT_MAP_FILES
+#ifndef VNSBA_THREAD_SANITIZER
 #include "core/movingai_support.hpp"
 #endif
 #include "vnsba/core/planner.hpp"
@@ -28,6 +28,15 @@ using core::OccupancyGrid;
 using core::PlannerKind;
 using core::PlannerOptions;
 using core::PlanResult;
+
+// Under ThreadSanitizer (vnsba_core_tsan_tests) every run is several times slower: fewer maps and
+// rounds there, the same checks; and no Moving AI test, which needs vnsba::maps on the
+// uninstrumented core.
+#ifdef VNSBA_THREAD_SANITIZER
+constexpr int kSlowdown = 2;
+#else
+constexpr int kSlowdown = 1;
+#endif
 
 // Equal as numbers, NaN equal to NaN (length_ratio and clearance are NaN where not measured).
 bool same_number(double a, double b) {
@@ -153,7 +162,7 @@ TEST(VnsThreads, TwoThreadsPlanExactlyAsOneOnRandomBuildings) {
   std::mt19937 rng(20261206);
   core::Planner* shared_counter = nullptr;
   int64_t shared = 0, plans = 0, found = 0;
-  for (int trial = 0; trial < 8; ++trial) {
+  for (int trial = 0; trial < 8 / kSlowdown; ++trial) {
     const bool costs = trial % 2 == 1;
     const auto map = random_building(rng, 160 + static_cast<int>(rng() % 160),
                                      160 + static_cast<int>(rng() % 160), costs);
@@ -221,7 +230,7 @@ TEST(VnsThreads, StoppedAndCanceledSearchesLeaveThePlannerReady) {
   ASSERT_GT(one.plan(far, single).metrics.length_cells, 300.0) << "no long query found";
   const core::PlanQuery other = long_query(rng, one, single);
   int timeouts = 0;
-  for (int round = 0; round < 20; ++round) {
+  for (int round = 0; round < 20 / kSlowdown; ++round) {
     PlannerOptions hurried = dual;
     hurried.max_planning_time = std::chrono::microseconds(100 + 100 * round);
     const PlanResult stopped = two.plan(far, hurried);
@@ -253,7 +262,7 @@ TEST(VnsThreads, PlannersOwnTheirSecondThread) {
   int64_t shared = 0;
   const PlanResult expected = reference.plan(query, single);
   ASSERT_TRUE(expected.status.is_ok()) << expected.status.message;
-  for (int i = 0; i < 10; ++i) {
+  for (int i = 0; i < 10 / kSlowdown; ++i) {
     core::Planner made(map);
     expect_same_plan(expected, made.plan(query, dual), "fresh planner " + std::to_string(i));
     core::Planner moved(std::move(made));
@@ -263,7 +272,7 @@ TEST(VnsThreads, PlannersOwnTheirSecondThread) {
   EXPECT_GT(shared, 0);
 }
 
-#ifndef VNSBA_WITHOUT_MAP_FILES
+#ifndef VNSBA_THREAD_SANITIZER
 // The Moving AI maps (every class), 12 scenarios per map spread over each file, the paper's
 // configuration with traces and with the 8-neighbourhood.
 TEST(VnsThreadsData, TwoThreadsPlanExactlyAsOneOnMovingAiMaps) {
@@ -302,7 +311,7 @@ TEST(VnsThreadsData, TwoThreadsPlanExactlyAsOneOnMovingAiMaps) {
   RecordProperty("plans", static_cast<int>(plans));
   RecordProperty("searches_shared", static_cast<int>(shared));
 }
-#endif  // VNSBA_WITHOUT_MAP_FILES
+#endif  // VNSBA_THREAD_SANITIZER
 
 }  // namespace
 }  // namespace vnsba::test
