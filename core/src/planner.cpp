@@ -281,6 +281,7 @@ class BidirectionalSearch {
         offered = true;
       }
       if (offered && helper->accepted()) {
+        concurrent_ = true;
         helper->hand_off(k);  // backward expansion k onwards on the helper
         handed_off = true;
         continue;
@@ -292,11 +293,11 @@ class BidirectionalSearch {
   }
 
  private:
-  // A search that ends before this many expansions a direction (a few microseconds) never asks
-  // the helper, whose wake-up would cost more than it saves; one blocked between searches costs
-  // a system call to wake (search_helper.hpp), which only a longer search (about 0.1-0.3 ms by
-  // then) is worth.
-  static constexpr int64_t kStepsBeforeOffer = 32;
+  // A search that ends before this many expansions a direction (some 50-100 microseconds) never
+  // asks the helper: handing a short search over costs more than it saves (measured with 32:
+  // the same wall time over the Moving AI sample, more CPU). One blocked between searches costs
+  // a system call to wake (search_helper.hpp), which only a longer search is worth.
+  static constexpr int64_t kStepsBeforeOffer = 128;
   static constexpr int64_t kStepsBeforeOfferToSleeper = 512;
   static constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
   static constexpr uint64_t kNoPop = std::numeric_limits<uint64_t>::max();
@@ -344,7 +345,7 @@ class BidirectionalSearch {
     while (index < lowest &&
            !end_index_.compare_exchange_weak(lowest, index, std::memory_order_seq_cst)) {
     }
-    if (waits_ != nullptr) waits_->notify();
+    if (concurrent_) waits_->notify();
   }
 
   // Waits until the other direction has closed its pops up to step `needed`; false when an
@@ -404,7 +405,7 @@ class BidirectionalSearch {
     mine.pops[k & 3].store(static_cast<uint64_t>(k) << 32 | n, std::memory_order_release);
     self.pop();                                       // closes n (released)
     mine.closed.store(k, std::memory_order_release);  // not seq_cst: see WaitPoint
-    if (waits_ != nullptr) waits_->notify();
+    if (concurrent_) waits_->notify();
     const Cell nc = map_.cell_of(n);
     if (cfg_.record) side_[S].record.push_back(nc);
     const int64_t visible = S == 0 ? k - 1 : k;  // the other direction's steps this one sees
@@ -487,6 +488,10 @@ class BidirectionalSearch {
   SearchConfig cfg_;
   int32_t stride_;
   WaitPoint* waits_ = nullptr;
+  // The helper has the backward search (set before the hand-off, which publishes it). Before,
+  // no thread waits for a step, so a step notifies no one: the helper, blocked between searches
+  // on the same WaitPoint, would take every step's notify() for a system call (20-30 us each).
+  bool concurrent_ = false;
   Published published_[2];
   Side side_[2];
   alignas(detail::kFalseSharingBytes) std::atomic<int64_t> end_index_{kNever};
