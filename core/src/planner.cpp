@@ -267,28 +267,33 @@ class BidirectionalSearch {
     space_[0]->push(roots[0], 0.0, h_forward_(start), SearchSpace::kNoParent);
     space_[1]->push(roots[1], 0.0, h_backward_(goal), SearchSpace::kNoParent);
 
-    bool offered = false, handed_off = false;
+    helper_ = helper;
+    helper_done_ = false;
+    reclaim_.store(false, std::memory_order_relaxed);
+    backward_next_ = 1;
+    bool offered = false;
     for (int64_t k = 1;; ++k) {
       if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
         end(0, 2 * k - 1, SideEnd{SideEndKind::kStopped, code, 0, 0});
         break;
       }
       if (!step<0>(k)) break;
-      if (handed_off) continue;
+      if (concurrent_) continue;  // the helper has the backward search
       if (helper != nullptr && !offered &&
           k >= (helper->asleep() ? kStepsBeforeOfferToSleeper : kStepsBeforeOffer)) {
         helper->offer(&BidirectionalSearch::run_backward, this);
         offered = true;
       }
-      if (offered && helper->accepted()) {
+      if (offered && !helper_done_ && helper->accepted()) {
         concurrent_ = true;
-        helper->hand_off(k);  // backward expansion k onwards on the helper
-        handed_off = true;
+        helper->hand_off(backward_next_);  // backward expansion k onwards on the helper
         continue;
       }
-      if (!step<1>(k)) break;
+      bool over = false;
+      while (!over && backward_next_ <= k) over = !step<1>(backward_next_++);
+      if (over) break;
     }
-    if (offered) helper->finish();
+    if (offered && !helper_done_) helper->finish();
     return outcome(expanded_forward, expanded_backward);
   }
 
@@ -330,9 +335,38 @@ class BidirectionalSearch {
     SideEnd end;
   };
 
+  // The helper's job: backward steps from `from_step` until the search ends or the searching
+  // thread takes the backward search back (take_back_backward), at a step boundary.
   static void run_backward(void* context, int64_t from_step) {
     auto* self = static_cast<BidirectionalSearch*>(context);
-    for (int64_t k = from_step; self->template step<1>(k);) ++k;
+    for (int64_t k = from_step;; ++k) {
+      if (self->reclaim_.load(std::memory_order_acquire)) {
+        self->helper_next_ = k;
+        return;
+      }
+      if (!self->template step<1>(k)) {
+        self->helper_next_ = 0;  // the search is over
+        return;
+      }
+    }
+  }
+
+  // The forward search waited a whole kStepSpin for a backward pop: the helper is not running
+  // (a loaded machine; two threads in lockstep then take turns waiting for a core, which made a
+  // search ten times slower than on one). So this thread takes the backward search back, at the
+  // helper's next step boundary, runs the backward steps the forward one needs itself, and the
+  // search goes on alternating on this thread, as with one thread (the same results).
+  void take_back_backward(int64_t needed) {
+    reclaim_.store(true, std::memory_order_seq_cst);
+    helper_->finish();  // the helper's current step needs nothing more of the forward search
+    helper_->note_take_back();
+    helper_done_ = true;
+    concurrent_ = false;
+    backward_next_ = helper_next_;
+    if (backward_next_ == 0) return;  // the helper's last step ended the search
+    while (backward_next_ <= needed) {
+      if (!step<1>(backward_next_++)) return;
+    }
   }
 
   static int64_t sequence_index(int s, int64_t k) { return 2 * k - 1 + s; }
@@ -357,7 +391,13 @@ class BidirectionalSearch {
              end_index_.load(std::memory_order_seq_cst) < index;
     };
     // Alone (no helper) the other direction's steps are always done: the wait never waits.
-    if (!ready() && waits_ != nullptr) waits_->wait(ready, SearchHelper::kStepSpin);
+    if (!ready() && waits_ != nullptr) {
+      if (s == 0 && concurrent_) {
+        if (!WaitPoint::spin(ready, SearchHelper::kStepSpin)) take_back_backward(needed);
+      } else {
+        waits_->wait(ready, SearchHelper::kStepSpin);
+      }
+    }
     return end_index_.load(std::memory_order_acquire) >= index;
   }
 
@@ -492,6 +532,11 @@ class BidirectionalSearch {
   // no thread waits for a step, so a step notifies no one: the helper, blocked between searches
   // on the same WaitPoint, would take every step's notify() for a system call (20-30 us each).
   bool concurrent_ = false;
+  SearchHelper* helper_ = nullptr;
+  bool helper_done_ = false;          // finish() called: the helper is out of this search
+  std::atomic<bool> reclaim_{false};  // take_back_backward asks the helper to stop
+  int64_t helper_next_ = 0;           // the helper's next backward step when it stopped, 0: over
+  int64_t backward_next_ = 1;         // the next backward step while this thread runs it
   Published published_[2];
   Side side_[2];
   alignas(detail::kFalseSharingBytes) std::atomic<int64_t> end_index_{kNever};
@@ -845,6 +890,10 @@ double Planner::peak_bytes_per_cell_per_direction() const {
 
 int64_t Planner::searches_shared() const {
   return impl_->helper ? impl_->helper->hand_offs() : 0;
+}
+
+int64_t Planner::searches_taken_back() const {
+  return impl_->helper ? impl_->helper->take_backs() : 0;
 }
 
 PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,

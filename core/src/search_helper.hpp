@@ -126,8 +126,11 @@ class SearchHelper {
   // Whether the helper is blocked between searches: an offer then costs a system call (see
   // above), so a search offers later, when it has shown it is long.
   bool asleep() const { return waits_.has_sleepers(); }
-  // How many jobs were handed off.
+  // How many jobs were handed off, and how many of them the searching thread took back before
+  // the search ended (its partner was not running).
   int64_t hand_offs() const { return hand_offs_; }
+  int64_t take_backs() const { return take_backs_; }
+  void note_take_back() { ++take_backs_; }
 
  private:
   enum Phase : int { kIdle, kOffered, kAccepted, kRunning, kWithdrawn, kDone, kQuit };
@@ -139,7 +142,8 @@ class SearchHelper {
   Job job_ = nullptr;
   void* context_ = nullptr;
   int64_t from_step_ = 0;
-  int64_t hand_offs_ = 0;  // the searching thread's
+  int64_t hand_offs_ = 0;   // the searching thread's
+  int64_t take_backs_ = 0;  // likewise
   WaitPoint waits_;
   std::thread thread_;  // last: started once the members above exist
 };

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include "core/test_support.hpp"
 #ifndef VNSBA_THREAD_SANITIZER
@@ -246,6 +247,45 @@ TEST(VnsThreads, StoppedAndCanceledSearchesLeaveThePlannerReady) {
   }
   EXPECT_GT(timeouts, 0);
   EXPECT_GT(two.searches_shared(), 0);
+}
+
+// On a loaded machine (three threads spinning on every core besides the two searches) the two
+// threads are often not running at once; the searching thread then takes the backward search
+// back and finishes alone. The results stay the single-threaded ones.
+TEST(VnsThreads, BusyCoresTakeTheSearchBackWithTheSameResults) {
+  std::mt19937 rng(23);
+  const auto map = random_building(rng, 400, 400, false);
+  ASSERT_NE(map, nullptr);
+  core::Planner one(map), two(map);
+  PlannerOptions single = core::default_options(PlannerKind::kVnsBaStar), dual = single;
+  dual.vns_threads = 2;
+  std::vector<core::PlanQuery> queries;
+  for (int i = 0; i < 4; ++i) queries.push_back(long_query(rng, one, single));
+  std::vector<PlanResult> expected;
+  for (const auto& q : queries) expected.push_back(one.plan(q, single));
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> load;
+  const unsigned busy = std::max(2U, std::thread::hardware_concurrency()) + 1;
+  for (unsigned i = 0; i < busy; ++i) {
+    load.emplace_back([&stop] {
+      while (!stop.load(std::memory_order_relaxed)) {
+      }
+    });
+  }
+  for (int round = 0; round < 12 / kSlowdown && two.searches_taken_back() == 0; ++round) {
+    for (size_t i = 0; i < queries.size(); ++i) {
+      expect_same_plan(expected[i], two.plan(queries[i], dual),
+                       "loaded round " + std::to_string(round) + ", query " + std::to_string(i));
+    }
+  }
+  stop = true;
+  for (auto& t : load) t.join();
+  RecordProperty("searches_shared", static_cast<int>(two.searches_shared()));
+  RecordProperty("searches_taken_back", static_cast<int>(two.searches_taken_back()));
+  EXPECT_GT(two.searches_taken_back(), 0) << "no search was taken back on loaded cores";
+  // And unloaded again, the planner still plans as one thread does.
+  for (size_t i = 0; i < queries.size(); ++i)
+    expect_same_plan(expected[i], two.plan(queries[i], dual), "after the load");
 }
 
 // Planners made and destroyed, moved, and used on several maps: the second thread follows its

@@ -163,6 +163,9 @@ class Planner {
   // search starts on the calling thread and hands over once the second thread is awake, so a
   // search that ends within a few microseconds runs on one thread (the same results either way).
   int64_t searches_shared() const;
+  // Of those, the searches whose backward direction the calling thread took back (the second
+  // thread was not running for a millisecond, as on a loaded machine) and finished alone.
+  int64_t searches_taken_back() const;
 
  private:
   struct Impl;
