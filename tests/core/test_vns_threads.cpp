@@ -218,15 +218,25 @@ core::PlanQuery long_query(std::mt19937& rng, core::Planner& planner,
   return longest;
 }
 
+// A building of 400 x 400 cells and, on it, a planner with one thread and one with two, with the
+// paper's options for each.
+struct OneAndTwoThreads {
+  explicit OneAndTwoThreads(uint32_t seed)
+      : rng(seed), map(random_building(rng, 400, 400, false)), one(map), two(map) {
+    dual.vns_threads = 2;
+  }
+  std::mt19937 rng;
+  std::shared_ptr<const core::GridMap> map;
+  core::Planner one, two;
+  PlannerOptions single = core::default_options(PlannerKind::kVnsBaStar), dual = single;
+};
+
 // A search stopped by its budget or canceled, with the second thread at work, leaves the planner
 // as good as new: the next plans equal the single-threaded ones.
 TEST(VnsThreads, StoppedAndCanceledSearchesLeaveThePlannerReady) {
-  std::mt19937 rng(7);
-  const auto map = random_building(rng, 400, 400, false);
-  ASSERT_NE(map, nullptr);
-  core::Planner one(map), two(map);
-  PlannerOptions single = core::default_options(PlannerKind::kVnsBaStar), dual = single;
-  dual.vns_threads = 2;
+  OneAndTwoThreads t(7);
+  ASSERT_NE(t.map, nullptr);
+  auto& [rng, map, one, two, single, dual] = t;
   const core::PlanQuery far = long_query(rng, one, single);
   ASSERT_GT(one.plan(far, single).metrics.length_cells, 300.0) << "no long query found";
   const core::PlanQuery other = long_query(rng, one, single);
@@ -253,12 +263,9 @@ TEST(VnsThreads, StoppedAndCanceledSearchesLeaveThePlannerReady) {
 // threads are often not running at once; the searching thread then takes the backward search
 // back and finishes alone. The results stay the single-threaded ones.
 TEST(VnsThreads, BusyCoresTakeTheSearchBackWithTheSameResults) {
-  std::mt19937 rng(23);
-  const auto map = random_building(rng, 400, 400, false);
-  ASSERT_NE(map, nullptr);
-  core::Planner one(map), two(map);
-  PlannerOptions single = core::default_options(PlannerKind::kVnsBaStar), dual = single;
-  dual.vns_threads = 2;
+  OneAndTwoThreads t(23);
+  ASSERT_NE(t.map, nullptr);
+  auto& [rng, map, one, two, single, dual] = t;
   std::vector<core::PlanQuery> queries;
   for (int i = 0; i < 4; ++i) queries.push_back(long_query(rng, one, single));
   std::vector<PlanResult> expected;
