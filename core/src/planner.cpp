@@ -249,7 +249,7 @@ class BidirectionalSearch {
   SearchOutcome run(const Cell& start, const Cell& goal, PlanningBudget& budget,
                     SearchHelper* helper, std::vector<Cell>* expanded_forward,
                     std::vector<Cell>* expanded_backward) {
-    waits_ = helper != nullptr ? &helper->wait_point() : nullptr;
+    helper_ = helper;
     states_.begin_query(map_.padded_size());
     const uint32_t roots[2] = {map_.padded_index(start), map_.padded_index(goal)};
     for (int s = 0; s < 2; ++s) {
@@ -267,7 +267,6 @@ class BidirectionalSearch {
     space_[0]->push(roots[0], 0.0, h_forward_(start), SearchSpace::kNoParent);
     space_[1]->push(roots[1], 0.0, h_backward_(goal), SearchSpace::kNoParent);
 
-    helper_ = helper;
     helper_done_ = false;
     reclaim_.store(false, std::memory_order_relaxed);
     backward_next_ = 1;
@@ -309,7 +308,7 @@ class BidirectionalSearch {
 
   enum class SideEndKind : uint8_t {
     kNone,
-    kMetAtPop,      // popped a node the other search had closed (n)
+    kMetAtPop,      // popped a node the other search had closed (n, and m = n)
     kMetNeighbour,  // generated a neighbour (m) of n the other search had closed
     kNoOpenNode,    // its open list was empty
     kStopped,       // the budget ran out or the plan was canceled (code)
@@ -379,7 +378,7 @@ class BidirectionalSearch {
     while (index < lowest &&
            !end_index_.compare_exchange_weak(lowest, index, std::memory_order_seq_cst)) {
     }
-    if (concurrent_) waits_->notify();
+    if (concurrent_) helper_->wait_point().notify();
   }
 
   // Waits until the other direction has closed its pops up to step `needed`; false when an
@@ -391,11 +390,11 @@ class BidirectionalSearch {
              end_index_.load(std::memory_order_seq_cst) < index;
     };
     // Alone (no helper) the other direction's steps are always done: the wait never waits.
-    if (!ready() && waits_ != nullptr) {
+    if (!ready() && helper_ != nullptr) {
       if (s == 0 && concurrent_) {
         if (!WaitPoint::spin(ready, SearchHelper::kStepSpin)) take_back_backward(needed);
       } else {
-        waits_->wait(ready, SearchHelper::kStepSpin);
+        helper_->wait_point().wait(ready, SearchHelper::kStepSpin);
       }
     }
     return end_index_.load(std::memory_order_acquire) >= index;
@@ -445,7 +444,7 @@ class BidirectionalSearch {
     mine.pops[k & 3].store(static_cast<uint64_t>(k) << 32 | n, std::memory_order_release);
     self.pop();                                       // closes n (released)
     mine.closed.store(k, std::memory_order_release);  // not seq_cst: see WaitPoint
-    if (concurrent_) waits_->notify();
+    if (concurrent_) helper_->wait_point().notify();
     const Cell nc = map_.cell_of(n);
     if (cfg_.record) side_[S].record.push_back(nc);
     const int64_t visible = S == 0 ? k - 1 : k;  // the other direction's steps this one sees
@@ -498,10 +497,9 @@ class BidirectionalSearch {
       side_[s].record.resize(counts[s]);  // drops an expansion ahead of the sequential order
       records[s]->swap(side_[s].record);
     }
-    if (popped) {
-      const bool forward_ended = (last.index & 1) == 1;
-      out.meeting = map_.cell_of(last.kind == SideEndKind::kMetAtPop ? last.n : last.m);
-      join(out, forward_ended, last.n, last.kind == SideEndKind::kMetAtPop ? last.n : last.m);
+    if (popped) {  // m is the cell met (n itself at a pop)
+      out.meeting = map_.cell_of(last.m);
+      join(out, /*a_is_forward=*/(last.index & 1) == 1, last.n, last.m);
     }
     return out;
   }
@@ -527,12 +525,11 @@ class BidirectionalSearch {
   MeetingRule rule_;
   SearchConfig cfg_;
   int32_t stride_;
-  WaitPoint* waits_ = nullptr;
   // The helper has the backward search (set before the hand-off, which publishes it). Before,
   // no thread waits for a step, so a step notifies no one: the helper, blocked between searches
   // on the same WaitPoint, would take every step's notify() for a system call (20-30 us each).
   bool concurrent_ = false;
-  SearchHelper* helper_ = nullptr;
+  SearchHelper* helper_ = nullptr;    // with vns_threads 2, else null
   bool helper_done_ = false;          // finish() called: the helper is out of this search
   std::atomic<bool> reclaim_{false};  // take_back_backward asks the helper to stop
   int64_t helper_next_ = 0;           // the helper's next backward step when it stopped, 0: over

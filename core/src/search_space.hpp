@@ -1,12 +1,13 @@
 // Search state in flat arrays, reused across queries on one map (internal).
 //
 // Memory per map cell: per direction, one 16-byte record of g (8 bytes), the parent (4) and the
-// heap position (4), plus two bytes of flags (CellStates): 36 bytes for a bidirectional planner,
-// plus the open lists' entries (16 bytes each, only for open nodes). The flags are their own dense
-// array because the inner loops read them first (seen or closed, by which search) for every
-// neighbour; the record holds what is then read and written together. As three separate arrays,
-// a search touching cells far apart (jump point search) took three cache misses where the record
-// takes one; A*'s time and every output are the same (identical results on the Moving AI sample).
+// heap position (4), plus two bytes of flags (CellStates), 18 bytes: 36 for a bidirectional
+// planner, plus the open lists' entries (16 bytes each, only for open nodes). The flags are their
+// own dense array because the inner loops read them first (seen or closed, by which search) for
+// every neighbour; the record holds what is then read and written together. As three separate
+// arrays, a search touching cells far apart (jump point search) took three cache misses where the
+// record takes one; A*'s time and every output are the same (identical results on the Moving AI
+// sample).
 //
 // The open list is a binary heap indexed by cell (each open cell knows its heap position), so a
 // key can be changed in place. Keys move both ways: the VNS-BA* heuristic is re-evaluated against
@@ -135,7 +136,6 @@ class alignas(kFalseSharingBytes) SearchSpace {
   uint16_t closed_flag() const { return closed_flag_; }
   uint16_t other_closed_flag() const { return other_closed_flag_; }
 
-  int side() const { return side_; }
   // This direction's flags of `n` (seen_flag, closed_flag), without the other direction's.
   uint16_t own_flags(uint32_t n) const { return states_->side_flags(n, side_); }
   bool seen(uint32_t n) const { return (own_flags(n) & seen_flag_) != 0; }
