@@ -71,30 +71,6 @@ Expected<std::vector<core::PlannerKind>> parse_planner_list(const std::string& l
   return kinds;
 }
 
-Expected<std::vector<int>> parse_vns_threads_list(const std::string& list) {
-  static_assert(core::kVnsThreadsRange.min == 1.0 && core::kVnsThreadsRange.max == 2.0,
-                "--vns-threads accepts the values of kVnsThreadsRange");
-  const auto bad = [](const std::string& why) {
-    return Status::error(StatusCode::kInvalidRequest,
-                         "--vns-threads: " + why +
-                             " (valid: 1, 2 or 1,2: VNS-BA* on one thread, on two, or both on the "
-                             "same queries)");
-  };
-  if (list.empty()) return bad("no thread count given");
-  std::vector<std::string> items;
-  std::stringstream in(list);
-  for (std::string item; std::getline(in, item, ',');) items.push_back(item);
-  if (list.back() == ',') items.emplace_back();
-  std::vector<int> counts;
-  for (const std::string& item : items) {
-    if (item != "1" && item != "2") return bad("'" + item + "' is not 1 or 2");
-    const int count = item == "1" ? 1 : 2;
-    if (std::find(counts.begin(), counts.end(), count) == counts.end()) counts.push_back(count);
-  }
-  std::sort(counts.begin(), counts.end());
-  return counts;
-}
-
 std::string paper_name(core::PlannerKind kind) {
   switch (kind) {
     case core::PlannerKind::kAStar:

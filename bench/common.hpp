@@ -38,11 +38,6 @@ core::Expected<std::vector<std::string>> list_scenario_maps(const std::string& f
 // "astar,vns_bastar" -> planners; an unknown name is an error naming it and the valid names.
 core::Expected<std::vector<core::PlannerKind>> parse_planner_list(const std::string& list);
 
-// `--vns-threads LIST`: "1", "2" or "1,2" (either order; a repeat counts once) -> the thread
-// counts of VNS-BA* to run (core::PlannerOptions::vns_threads), ascending. Anything else (0, 3,
-// a word, an empty list) is an error naming --vns-threads and the valid values.
-core::Expected<std::vector<int>> parse_vns_threads_list(const std::string& list);
-
 // The paper's name for a planner (Tables 2-6): "A*", "improved A*", "BA*", "improved BA*",
 // "VNS-BA*".
 std::string paper_name(core::PlannerKind kind);
@@ -54,10 +49,9 @@ std::vector<size_t> pick_scenarios(size_t count, int limit);
 // One plan, timed around Planner::plan on a steady clock in nanoseconds (the core's own
 // planning_time_us has a resolution of 1 us, too coarse for 20 x 20 maps), and the CPU time the
 // whole process spent over the same call (process_cpu_time_us, read just outside the steady
-// clock's two reads, so the wall time is measured as before): every thread's, so a plan that
-// runs on two threads counts both, spinning waits included. It is the plan's own CPU time only
-// while no other thread of the process runs meanwhile (vnsba_bench runs none: the planner's
-// helper thread is the only other one).
+// clock's two reads, so the wall time is measured as before): every thread's, which is the
+// plan's own CPU time while no other thread of the process runs (vnsba_bench runs none). Below
+// the wall time where the plan was preempted: a sign of a busy machine.
 struct TimedPlan {
   core::PlanResult result;
   double time_us = 0.0;

@@ -10,8 +10,6 @@
 #
 #   bench/compare_outputs.sh BASE [HEAD]     # revisions; HEAD defaults to the work tree
 #   bench/compare_outputs.sh 1a2b3c4 HEAD
-#   VNSBA_HEAD_VNS_THREADS=2 bench/compare_outputs.sh BASE HEAD
-#                                            # HEAD's VNS-BA* on two threads, BASE's on one
 #
 # Then the cost-aware side: vnsba_plan --json of each revision on VNSBA_COST_SCENARIOS (default 8)
 # scenario lines per map, every cost-aware planner with pruning and smoothing, on the map with
@@ -21,19 +19,21 @@
 # the whole run record (raw path, pruned waypoints, path, metrics, each search's expansions in
 # order, meeting cell) but the planning time must be byte-identical.
 #
-# VNSBA_HEAD_VNS_THREADS=N (1 or 2) runs HEAD's VNS-BA* with vns_threads N: `--vns-threads N` to
-# its vnsba_bench (which must have the option) and, where its vnsba_plan has the option, to that
-# too (otherwise a line says its records keep its default). BASE then runs on one thread:
-# vnsba_bench's default, and `--vns-threads 1` to its vnsba_plan where it has the option (a
-# config's default may be 2). HEAD's two-thread rows are named vns_bastar+2threads; the
-# comparison reads them as vns_bastar. So `VNSBA_HEAD_VNS_THREADS=2 compare_outputs.sh OLD NEW`
-# proves that NEW on two threads gives OLD's single-thread outputs, row for row.
+# Then the time, from the same CSV runs: each revision's vnsba_bench runs VNSBA_TIME_RUNS times
+# (default 2), in turns (BASE, HEAD, BASE, HEAD ...), and for each planner the script prints the
+# median over queries of (HEAD's time / BASE's time on that query), each side's time being the
+# fastest of its runs of the query (a plan slowed by the machine's other work counts least), with
+# the 10th and 90th percentiles of those ratios. Under 1: HEAD is faster. The first run's outputs
+# are the ones compared above; every run's must match them.
+#
+# A revision whose vnsba_plan has `--vns-threads` (the short-lived two-thread VNS-BA*, removed
+# since: it could hang) gets `--vns-threads 1`, and its records' vns_threads key is dropped.
 #
 # Exit 0 when every row is identical, 1 when any differs (the first differences are printed) or a
 # run fails, 2 on bad use. Environment: VNSBA_DATA_DIR (default ../shared/data beside the
 # project), VNSBA_MOVINGAI_SCENARIOS (per map, default 300; 0 = all), VNSBA_COMPARE_DIR (where the
 # two builds and the CSV files go; default a temporary folder, removed afterwards),
-# VNSBA_PLANNERS (comma-separated, default all), VNSBA_HEAD_VNS_THREADS (above). About 15-20
+# VNSBA_PLANNERS (comma-separated, default all), VNSBA_TIME_RUNS (above). About 15-20
 # minutes on 2 cores for two fresh builds and 300 scenarios per map (each CSV row plans its query
 # twice: timed, then untimed recording the expansions).
 set -eu
@@ -45,14 +45,6 @@ if [ $# -lt 1 ] || [ $# -gt 2 ]; then
 fi
 base=$1
 head=${2:-}
-head_threads=${VNSBA_HEAD_VNS_THREADS:-}
-case $head_threads in
-  "" | 1 | 2) ;;
-  *)
-    echo "compare_outputs: VNSBA_HEAD_VNS_THREADS must be 1 or 2, got '$head_threads'" >&2
-    exit 2
-    ;;
-esac
 data=${VNSBA_DATA_DIR:-$(cd "$root/.." && pwd)/shared/data}
 scenarios=${VNSBA_MOVINGAI_SCENARIOS:-300}
 if [ ! -d "$data/movingai" ]; then
@@ -87,11 +79,11 @@ build_bench() {
 }
 
 # Every cost-aware planner on a few scenario lines per map, each run's record without its time.
-# $2: extra flags of this side's vnsba_plan (its thread count).
 run_cost_records() {
   name=$1
-  threads_flag=$2
   plan="$work/$name-build/tools/vnsba_plan"
+  threads_flag=""
+  if "$plan" --help 2>/dev/null | grep -q -- '--vns-threads'; then threads_flag="--vns-threads 1"; fi
   out="$work/$name-records"
   rm -rf "$out"
   mkdir -p "$out"
@@ -113,8 +105,8 @@ run_cost_records() {
           "$plan" "$map" --scen "$scen" --scen-index "$index" --planner "$planner" --prune --smooth \
             --cost-weight 2 --inflation-radius 11 --cost-scaling-factor 0.15 $flag $threads_flag \
             --json "$record" >/dev/null 2>&1 || echo "failed" > "$record"
-          # Without the time, and without a thread count should a record name one (the thread
-          # count changes no output); a comma left before a closing bracket by that goes too.
+          # Without the time, and without the thread count a two-thread-era record names; a comma
+          # left before a closing bracket by that goes too.
           awk '/"planning_time_us"|"vns_threads"/ { dropped = 1; next }
                { if (held_set) { if (dropped && $0 ~ /^[ \t]*[]}]/) sub(/,$/, "", held); print held }
                  held = $0; held_set = 1; dropped = 0 }
@@ -127,15 +119,13 @@ run_cost_records() {
   done
 }
 
-# Runs every planner on the scenarios ($2: extra flags, the thread count) into $work/$name.raw.csv.
+# Runs every planner on the scenarios into $work/$name$2.raw.csv ($2: the run's suffix).
 run_bench() {
   name=$1
-  threads_flag=$2
-  echo "running $name's vnsba_bench${threads_flag:+ $threads_flag} on $scenarios scenarios per map ..." >&2
+  echo "running $name's vnsba_bench on $scenarios scenarios per map (run ${2:-1}) ..." >&2
   set -- movingai --maps "$data/movingai" --max-scenarios "$scenarios" --csv
   if [ -n "${VNSBA_PLANNERS:-}" ]; then set -- "$@" --planners "$VNSBA_PLANNERS"; fi
-  # shellcheck disable=SC2086
-  if ! "$work/$name-build/tools/vnsba_bench" "$@" $threads_flag > "$work/$name.raw.csv"; then
+  if ! "$work/$name-build/tools/vnsba_bench" "$@" > "$work/$name${2:-}.raw.csv"; then
     echo "compare_outputs: $name's vnsba_bench movingai failed (above)" >&2
     exit 1
   fi
@@ -149,48 +139,34 @@ common_columns() {
       print "" }'
 }
 
-# $1's rows, only the columns named in $2 (in that order); a planner named <name>+2threads (VNS-BA*
-# on two threads) reads as <name>.
+# $1's rows, only the columns named in $2 (in that order).
 select_columns() {
-  awk -F, -v want="$2" -v suffix="+2threads" '
+  awk -F, -v want="$2" '
     NR == 1 { n = split(want, w, ","); for (i = 1; i <= NF; ++i) at[$i] = i }
     { row = ""
-      for (k = 1; k <= n; ++k) {
-        v = $(at[w[k]])
-        if (w[k] == "planner" && length(v) > length(suffix) &&
-            substr(v, length(v) - length(suffix) + 1) == suffix)
-          v = substr(v, 1, length(v) - length(suffix))
-        row = row (k > 1 ? "," : "") v
-      }
+      for (k = 1; k <= n; ++k) row = row (k > 1 ? "," : "") $(at[w[k]])
       print row }' "$1"
 }
 
 build_bench "$base" base
 build_bench "$head" head
 
-# The thread counts: HEAD's as asked, BASE on one thread (see the header).
-base_bench_flag=""
-head_bench_flag=""
-base_plan_flag=""
-head_plan_flag=""
-if [ -n "$head_threads" ]; then
-  if ! "$work/head-build/tools/vnsba_bench" movingai --help 2>/dev/null | grep -q -- '--vns-threads'; then
-    echo "compare_outputs: VNSBA_HEAD_VNS_THREADS is set, but ${head:-the work tree}'s vnsba_bench has no --vns-threads" >&2
+time_runs=${VNSBA_TIME_RUNS:-2}
+case $time_runs in
+  [1-9]) ;;
+  *)
+    echo "compare_outputs: VNSBA_TIME_RUNS must be 1..9, got '$time_runs'" >&2
     exit 2
-  fi
-  head_bench_flag="--vns-threads $head_threads"
-  if "$work/head-build/tools/vnsba_plan" --help 2>/dev/null | grep -q -- '--vns-threads'; then
-    head_plan_flag="--vns-threads $head_threads"
-  else
-    echo "compare_outputs: ${head:-the work tree}'s vnsba_plan has no --vns-threads: its cost-aware records keep its default thread count" >&2
-  fi
-  if "$work/base-build/tools/vnsba_plan" --help 2>/dev/null | grep -q -- '--vns-threads'; then
-    base_plan_flag="--vns-threads 1"
-  fi
-fi
-
-run_bench base "$base_bench_flag"
-run_bench head "$head_bench_flag"
+    ;;
+esac
+run_bench base
+run_bench head
+run=2
+while [ "$run" -le "$time_runs" ]; do
+  run_bench base ".$run"
+  run_bench head ".$run"
+  run=$((run + 1))
+done
 base_header=$(head -n 1 "$work/base.raw.csv")
 head_header=$(head -n 1 "$work/head.raw.csv")
 columns=$(common_columns "$base_header" "$head_header")
@@ -206,14 +182,11 @@ if "$work/base-build/tools/vnsba_plan" --help 2>/dev/null | grep -q -- '--smooth
   "$work/head-build/tools/vnsba_plan" --help 2>/dev/null | grep -q -- '--smoother '; then
   smoothers="none relax"
 fi
-run_cost_records base "$base_plan_flag"
-run_cost_records head "$head_plan_flag"
+run_cost_records base
+run_cost_records head
 
 status=0
 rows=$(($(wc -l < "$work/base.csv") - 1))
-if [ -n "$head_threads" ]; then
-  echo "VNS-BA*: ${head:-the work tree} with vns_threads $head_threads (vnsba_bench ${head_bench_flag}; vnsba_plan ${head_plan_flag:-its default}), $base with one thread"
-fi
 if [ -n "$only_one" ]; then
   echo "not compared (one revision's CSV only): $only_one"
 fi
@@ -225,6 +198,45 @@ else
   diff "$work/base.csv" "$work/head.csv" | head -20
   status=1
 fi
+# Every further run gave the first run's outputs.
+run=2
+while [ "$run" -le "$time_runs" ]; do
+  for side in base head; do
+    select_columns "$work/$side.$run.raw.csv" "$columns" > "$work/$side.$run.csv"
+    if ! cmp -s "$work/$side.csv" "$work/$side.$run.csv"; then
+      echo "DIFFERENT: $side's run $run gave other outputs than its run 1 (a nondeterministic plan)"
+      status=1
+    fi
+  done
+  run=$((run + 1))
+done
+
+# Time per query: HEAD / BASE, each the fastest of its runs, per planner (see the header).
+echo "time per query, ${head:-work tree} / $base: median of per-query ratios (p10, p90) over $time_runs run(s) each, the fastest run of each query"
+cat "$work"/base*.raw.csv | awk -F, -v side=base '{ print side "," $0 }' > "$work/times.csv"
+cat "$work"/head*.raw.csv | awk -F, -v side=head '{ print side "," $0 }' >> "$work/times.csv"
+awk -F, '
+  $2 == "map" { for (i = 2; i <= NF; ++i) at[$i] = i; next }
+  { key = $(at["map"]) SUBSEP $(at["scenario"]) SUBSEP $(at["planner"]); t = $(at["time_us"]) + 0
+    if (!((key, $1) in best) || t < best[key, $1]) best[key, $1] = t
+    planner_of[key] = $(at["planner"]) }
+  END {
+    for (key in planner_of) {
+      if (!((key, "base") in best) || !((key, "head") in best) || best[key, "base"] <= 0) continue
+      r = best[key, "head"] / best[key, "base"]
+      print planner_of[key], r
+      print "(all_planners)", r
+    }
+  }' "$work/times.csv" | LC_ALL=C sort -k1,1 -k2,2g | awk '
+  function flush() {
+    if (m == 0) return
+    mid = (m % 2) ? v[(m + 1) / 2] : (v[m / 2] + v[m / 2 + 1]) / 2
+    printf "  %-34s %6d queries  %.3f  (%.3f, %.3f)\n", name, m, mid, v[int(0.1 * (m - 1)) + 1], v[int(0.9 * (m - 1)) + 1]
+  }
+  $1 != name { flush(); name = $1; m = 0 }
+  { v[++m] = $2 }
+  END { flush() }'
+
 records=$(find "$work/base-records" -name '*.json' | wc -l)
 if diff -r -q "$work/base-records" "$work/head-records" >/dev/null; then
   echo "identical: $records cost-aware run records (raw path, waypoints, path, metrics, expansions, meeting cell; not the time)"

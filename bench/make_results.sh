@@ -1,8 +1,7 @@
 #!/bin/sh
 # Regenerates docs/RESULTS.md and the pictures in docs/results/ from fresh measurements:
-# builds vnsba_bench (Release, no DDS needed), runs `vnsba_bench paper`, `sweep`, `movingai` (VNS-BA*
-# on one and on two threads) and `large` and `costs`, and fills the measured tables into
-# bench/RESULTS.md.in.
+# builds vnsba_bench (Release, no DDS needed), runs `vnsba_bench paper`, `sweep`, `movingai` and
+# `large` and `costs`, and fills the measured tables into bench/RESULTS.md.in.
 #
 #   bench/make_results.sh                 # about 5 minutes on 2 cores
 #   VNSBA_MOVINGAI_SCENARIOS=0 bench/make_results.sh   # every Moving AI scenario (an hour)
@@ -39,10 +38,8 @@ echo "paper (maps A-D, $repetitions repetitions) ..." >&2
 echo "sweep (omega / eta on the Figure 3 maps) ..." >&2
 "$bench" sweep --out "$out/sweep" > "$work/sweep.md"
 echo "movingai ($scenarios scenarios per map; 0 = all) ..." >&2
-# VNS-BA* on one and on two threads (vns_bastar, vns_bastar+2threads): the table of wall and CPU
-# time at the end of the section compares them.
 "$bench" movingai --maps "$data/movingai" --max-scenarios "$scenarios" --with-post-processing \
-  --vns-threads 1,2 > "$work/movingai.md"
+  > "$work/movingai.md"
 echo "costs (binary against cost-aware: the demo scene, $costs_scenarios scenarios per map) ..." >&2
 "$bench" costs --maps "$data/movingai" --max-scenarios "$costs_scenarios" --repetitions 11 \
   > "$work/costs.md"

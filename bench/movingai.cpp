@@ -45,24 +45,19 @@ std::string class_of_name(const std::string& name) {
   return "game";
 }
 
-// A planner in one configuration: its paper one, or (baselines) with pruning and smoothing, or
-// (VNS-BA*) on one or two threads.
+// A planner in one configuration: its paper one, or (baselines) with pruning and smoothing.
 struct Configuration {
   core::PlannerKind planner;
   bool post_processed = false;
-  int vns_threads = 1;
   std::string name() const {
-    return std::string(core::to_string(planner)) + (post_processed ? "+prune+smooth" : "") +
-           (vns_threads == 2 ? kTwoThreadsSuffix : "");
+    return std::string(core::to_string(planner)) + (post_processed ? "+prune+smooth" : "");
   }
   std::string label() const {
-    return paper_name(planner) + (post_processed ? " +prune+smooth" : "") +
-           (vns_threads == 2 ? " on 2 threads" : "") + " (`" + name() + "`)";
+    return paper_name(planner) + (post_processed ? " +prune+smooth" : "") + " (`" + name() + "`)";
   }
   core::PlannerOptions options() const {
     core::PlannerSettings settings;
     if (post_processed) settings.prune = settings.smooth = true;
-    settings.vns_threads = vns_threads;
     return core::make_options(planner, settings);
   }
 };
@@ -79,11 +74,7 @@ struct Run {
   double turn_angle_deg = NAN;
   double clearance_cells = NAN;  // the final path's clearance (+inf on a map without obstacles)
   double expanded = NAN;
-  double time_us = NAN;      // wall
-  double cpu_time_us = NAN;  // the process's CPU time over the same call
-  // VNS-BA* on two threads: the second thread took the backward search over (a search that ends
-  // before it is awake runs on one; core::Planner::searches_shared).
-  bool shared = false;
+  double time_us = NAN;  // wall
 };
 
 // 64-bit FNV-1a, fed value by value (the bytes of each, so the bits of a double count).
@@ -175,20 +166,14 @@ std::string movingai_map_class(const std::string& maps_dir, const std::string& m
 // spent.
 std::string speed_summary(const std::vector<Run>& runs,
                           const std::vector<Configuration>& configurations) {
-  auto index_of = [&](core::PlannerKind kind, int vns_threads) -> std::optional<size_t> {
+  auto index_of = [&](core::PlannerKind kind) -> std::optional<size_t> {
     for (size_t c = 0; c < configurations.size(); ++c)
-      if (configurations[c].planner == kind && !configurations[c].post_processed &&
-          configurations[c].vns_threads == vns_threads)
-        return c;
+      if (configurations[c].planner == kind && !configurations[c].post_processed) return c;
     return std::nullopt;
   };
-  const auto astar = index_of(core::PlannerKind::kAStar, 1);
-  // VNS-BA* on one thread, or on two where it ran on two threads only (named so).
-  const auto vns_one = index_of(core::PlannerKind::kVnsBaStar, 1);
+  const auto astar = index_of(core::PlannerKind::kAStar);
   const std::pair<const char*, std::optional<size_t>> against_astar[] = {
-      {vns_one ? "VNS-BA*" : "VNS-BA* on 2 threads",
-       vns_one ? vns_one : index_of(core::PlannerKind::kVnsBaStar, 2)},
-      {"JPS", index_of(core::PlannerKind::kJps, 1)}};
+      {"VNS-BA*", index_of(core::PlannerKind::kVnsBaStar)}, {"JPS", index_of(core::PlannerKind::kJps)}};
   std::vector<std::string> headers = {"class"};
   for (const auto& [name, index] : against_astar) {
     if (!astar || !index) continue;
@@ -239,104 +224,6 @@ std::string speed_summary(const std::vector<Run>& runs,
          table.str() + "\n";
 }
 
-// Per class and over all classes, where VNS-BA* ran on two threads: its time against A*'s on one
-// thread and on two, as medians over queries of per-query ratios, each in wall time and in the
-// process's CPU time over the plan, and the two-thread run against the one-thread run the same
-// way. `cpu_outside` / `cpu_inside`: per configuration, the process's CPU time between the timed
-// plans of a map and inside them (what a helper thread still spinning after plan() returned would
-// add to the first).
-std::string threads_summary(const std::vector<Run>& runs,
-                            const std::vector<Configuration>& configurations,
-                            const std::vector<double>& cpu_inside,
-                            const std::vector<double>& cpu_outside) {
-  std::optional<size_t> astar, vns[3];
-  for (size_t c = 0; c < configurations.size(); ++c) {
-    const Configuration& config = configurations[c];
-    if (config.post_processed) continue;
-    if (config.planner == core::PlannerKind::kAStar) astar = c;
-    if (config.planner == core::PlannerKind::kVnsBaStar) vns[config.vns_threads] = c;
-  }
-  if (!vns[2]) return "";
-  // (numerator, denominator, header) of each column, in wall then CPU time.
-  struct Column {
-    size_t of, against;
-    bool cpu;
-    std::string header;
-  };
-  std::vector<Column> columns;
-  if (astar) {
-    for (const int threads : {1, 2}) {
-      if (!vns[threads]) continue;
-      const std::string who = threads == 1 ? "VNS-BA* 1 thread / A*" : "VNS-BA* 2 threads / A*";
-      columns.push_back({*vns[threads], *astar, false, who + ", wall"});
-      columns.push_back(
-          {*vns[threads], *astar, true, who + ", CPU" + (threads == 2 ? " (two cores used)" : "")});
-    }
-  }
-  if (vns[1]) {
-    columns.push_back({*vns[2], *vns[1], false, "2 threads / 1 thread, wall"});
-    columns.push_back({*vns[2], *vns[1], true, "2 threads / 1 thread, CPU (two cores used)"});
-  }
-  if (columns.empty()) return "";
-  std::vector<std::string> headers = {"class", "queries", "2 threads used"};
-  for (const Column& column : columns) headers.push_back(column.header);
-  MarkdownTable table(headers);
-  std::vector<std::string> classes = kClasses;
-  classes.push_back("all");
-  for (const std::string& map_class : classes) {
-    // query -> (wall, CPU) per configuration
-    std::map<size_t, std::vector<std::pair<double, double>>> of_query;
-    size_t shared = 0;
-    for (const Run& r : runs) {
-      if (map_class != "all" && r.map_class != map_class) continue;
-      auto& times = of_query[r.query];
-      times.resize(configurations.size(), {NAN, NAN});
-      times[r.configuration] = {r.time_us, r.cpu_time_us};
-      if (r.configuration == *vns[2] && r.shared) ++shared;
-    }
-    if (of_query.empty()) continue;
-    std::vector<std::string> row = {
-        map_class, std::to_string(of_query.size()),
-        format(100.0 * static_cast<double>(shared) / static_cast<double>(of_query.size()), 1) +
-            " %"};
-    for (const Column& column : columns) {
-      std::vector<double> times, reference;
-      for (const auto& [query, per_configuration] : of_query) {
-        const auto& of = per_configuration[column.of];
-        const auto& against = per_configuration[column.against];
-        times.push_back(column.cpu ? of.second : of.first);
-        reference.push_back(column.cpu ? against.second : against.first);
-      }
-      row.push_back(format(median_of_ratios(times, reference), 3));
-    }
-    table.add_row(row);
-  }
-  std::string between;
-  for (const int threads : {1, 2}) {
-    if (!vns[threads]) continue;
-    const size_t c = *vns[threads];
-    between += std::string(between.empty() ? "" : ", ") + std::to_string(threads) +
-               (threads == 1 ? " thread " : " threads ") +
-               format(cpu_inside[c] > 0 ? 100.0 * cpu_outside[c] / cpu_inside[c] : NAN, 1) + " %";
-  }
-  return "**VNS-BA\\* on one and two threads** (`vns_threads` 1 and 2, the same queries; "
-         "`--vns-threads 1,2`). Each cell is the median over queries of one time / the other on "
-         "the same query. **Wall**: the time on the clock around `Planner::plan`, what a caller "
-         "waits. **CPU**: the CPU time the process used over the same call "
-         "(CLOCK_PROCESS_CPUTIME_ID: every thread's, both of a two-thread plan and their "
-         "spinning waits included; the benchmark runs no other thread), what the plan costs the "
-         "machine: on two threads it is the two cores used. A* runs on one thread, so its CPU time "
-         "is about its wall time. The runs of one map are sequential, planner by planner, on a "
-         "machine shared with other work: a busy second core shows up as a slower two-thread "
-         "run. **2 threads used**: the share of the two-thread plans whose backward search the "
-         "second thread took over (`Planner::searches_shared`; a search that ends before that "
-         "thread is awake runs on one, with the same results).\n\n" +
-         table.str() +
-         "\nProcess CPU time between the timed plans (the benchmark's loop, and a helper thread "
-         "still running after `plan()` returned), as a share of the CPU time inside them: " +
-         between + ".\n\n";
-}
-
 int run_movingai(const MovingAiOptions& options) {
   auto maps = list_scenario_maps(options.maps_dir);
   if (!maps) {
@@ -350,23 +237,8 @@ int run_movingai(const MovingAiOptions& options) {
   }
   const std::vector<core::PlannerKind> planners =
       options.planners.empty() ? core::all_planner_kinds() : options.planners;
-  if (options.vns_threads.empty()) {
-    std::fprintf(stderr, "vnsba_bench movingai: --vns-threads names no thread count\n");
-    return kExitBadInput;
-  }
-  for (const int threads : options.vns_threads)
-    if (!core::kVnsThreadsRange.contains(threads)) {
-      std::fprintf(stderr, "vnsba_bench movingai: --vns-threads: %d is not 1 or 2\n", threads);
-      return kExitBadInput;
-    }
   std::vector<Configuration> configurations;
-  for (const auto kind : planners) {
-    if (kind != core::PlannerKind::kVnsBaStar) {
-      configurations.push_back({kind, false});
-      continue;
-    }
-    for (const int threads : options.vns_threads) configurations.push_back({kind, false, threads});
-  }
+  for (const auto kind : planners) configurations.push_back({kind, false});
   if (options.with_post_processing)
     for (const auto kind : planners)
       if (kind != core::PlannerKind::kVnsBaStar) configurations.push_back({kind, true});
@@ -384,9 +256,6 @@ int run_movingai(const MovingAiOptions& options) {
 
   if (options.csv) std::printf("%s\n", kMovingAiCsvHeader);
   std::vector<Run> runs;
-  // Per configuration: the process's CPU time inside the timed plans and between them.
-  std::vector<double> cpu_inside(configurations.size(), 0.0),
-      cpu_outside(configurations.size(), 0.0);
   size_t plans_disagreeing = 0;  // --csv: second plans of a query with other outputs
   std::map<std::string, std::vector<std::string>> maps_of_class;
   size_t scenario_total = 0;
@@ -409,21 +278,17 @@ int run_movingai(const MovingAiOptions& options) {
       const std::string planner_name = configurations[c].name();
       // Warm-up: the first plan allocates this map's search state. The longest query (the file
       // is sorted by length), so that no timed plan grows it: with the shortest, the first
-      // configuration of a map paid the growth and a second, identical one (VNS-BA* on one and
-      // on two threads before the two-thread search existed) ran 3 % faster per query.
+      // configuration of a map paid the growth and a second, identical one ran 3 % faster per
+      // query.
       if (!picked.empty()) {
         const auto& s = loaded->scenarios[picked.back()];
         planner.plan({s.start, s.goal}, plan_options);
       }
-      const double block_cpu_started = process_cpu_time_us();
-      double block_cpu_inside = 0.0;
       for (size_t k = 0; k < picked.size(); ++k) {
         const maps::MovingAiScenario& s = loaded->scenarios[picked[k]];
-        const int64_t shared_before = planner.searches_shared();
         const TimedPlan timed = timed_plan(planner, {s.start, s.goal}, plan_options);
         const core::Metrics& m = timed.result.metrics;
         Run run{map_class, c, scenario_total - picked.size() + k};
-        run.shared = planner.searches_shared() > shared_before;
         run.ok = timed.result.status.is_ok();
         if (run.ok) {
           if (s.optimal_length > 0) {
@@ -436,8 +301,6 @@ int run_movingai(const MovingAiOptions& options) {
         }
         run.expanded = static_cast<double>(m.expanded);
         run.time_us = timed.time_us;
-        run.cpu_time_us = timed.cpu_time_us;
-        block_cpu_inside += timed.cpu_time_us;
         runs.push_back(run);
         progress.update(++plans_done);
         if (options.csv) {
@@ -466,11 +329,6 @@ int run_movingai(const MovingAiOptions& options) {
                       timed.cpu_time_us);
         }
       }
-      // The process's CPU time between the timed plans, in the summary (which plans nothing and
-      // prints nothing between them).
-      cpu_inside[c] += block_cpu_inside;
-      if (!options.csv)
-        cpu_outside[c] += process_cpu_time_us() - block_cpu_started - block_cpu_inside;
     }
     // Progress on stderr in both modes (the CSV goes to stdout): one line per map done.
     if (options.csv) std::fflush(stdout);
@@ -536,7 +394,6 @@ int run_movingai(const MovingAiOptions& options) {
     md += table.str() + "\n";
   }
   md += speed_summary(runs, configurations);
-  md += threads_summary(runs, configurations, cpu_inside, cpu_outside);
   std::fputs(md.c_str(), stdout);
   return kExitOk;
 }

@@ -18,18 +18,10 @@ struct MovingAiOptions {
   // Also run each baseline with VNS-BA*'s pruning and smoothing (named "<planner>+prune+smooth"),
   // to separate what the search gains from what post-processing gains.
   bool with_post_processing = false;
-  // VNS-BA*'s core::PlannerOptions::vns_threads, each a configuration of its own on the same
-  // queries: {1} (the default), {2} or {1, 2} (parse_vns_threads_list). The two-thread one is
-  // named "vns_bastar+2threads"; with both, a table compares them (wall and CPU time).
-  std::vector<int> vns_threads = {1};
   // Progress on stderr (plans done / total, elapsed, ETA, at most once a second) even when stderr
   // is not a terminal; on a terminal it is always shown.
   bool progress = false;
 };
-
-// The suffix of VNS-BA*'s name on two threads, in the CSV and the tables: "vns_bastar+2threads"
-// (bench/compare_outputs.sh drops it to compare such rows with one-thread ones).
-constexpr const char* kTwoThreadsSuffix = "+2threads";
 
 // The CSV header (one row per scenario and planner follows it). clearance_m is the final path's
 // core::Metrics::clearance_m ("inf" on a map without obstacles; empty, like the other metrics of
@@ -42,8 +34,8 @@ constexpr const char* kTwoThreadsSuffix = "+2threads";
 // grid path (raw_path_hash), the pruned waypoints (waypoints_hash) and the final path
 // (path_hash), 64-bit FNV-1a of their cells or coordinates' bits, in hex. The times stay last:
 // time_us (wall, steady clock around Planner::plan) and cpu_time_us (the process's CPU time over
-// the same call: both threads of a two-thread plan); compare_outputs.sh drops every *time_us
-// column by name.
+// the same call: below time_us where the plan was preempted, a sign of a busy machine);
+// compare_outputs.sh drops every *time_us column by name.
 constexpr const char* kMovingAiCsvHeader =
     "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,expanded,"
     "clearance_m,expanded_forward,expanded_backward,meeting_cell,raw_path_hash,waypoints_hash,"

@@ -9,10 +9,8 @@
 //   vnsba_bench sweep [--out DIR] [--repetitions N]
 //                                         omega / eta from 0 to 1 on the Figure 3 maps
 //   vnsba_bench movingai [--maps DIR] [--planners a,b] [--csv] [--max-scenarios N] [--progress]
-//                        [--with-post-processing] [--vns-threads 1|2|1,2]
+//                        [--with-post-processing]
 //                                         every planner on Moving AI scenarios, per map class
-//                                         (--vns-threads 1,2: VNS-BA* on one and on two threads,
-//                                         wall and CPU time side by side)
 //
 // Exit codes: 0 success, 1 a measurement failed, 2 bad input (the message names it).
 #include <CLI/CLI.hpp>
@@ -144,13 +142,6 @@ int main(int argc, char** argv) {
       ->add_option("--max-scenarios", movingai_options.max_scenarios,
                    "at most N scenarios per map, spread over the file (0: all)")
       ->capture_default_str();
-  std::string vns_threads_list = "1";
-  movingai
-      ->add_option("--vns-threads", vns_threads_list,
-                   "VNS-BA*'s threads (vns_threads): 1, 2, or 1,2 for both on the same queries "
-                   "(the two-thread one named vns_bastar+2threads; the summary then compares them "
-                   "in wall and CPU time)")
-      ->capture_default_str();
   add_progress_flag(movingai, movingai_options.progress, "plans");
 
   vnsba::bench::LargeOptions large_options;
@@ -235,12 +226,6 @@ int main(int argc, char** argv) {
   if (movingai->parsed()) {
     if (!read_planners("movingai", planner_list, movingai_options.planners))
       return vnsba::bench::kExitBadInput;
-    auto threads = vnsba::bench::parse_vns_threads_list(vns_threads_list);
-    if (!threads) {
-      std::fprintf(stderr, "vnsba_bench movingai: %s\n", threads.error().message.c_str());
-      return vnsba::bench::kExitBadInput;
-    }
-    movingai_options.vns_threads = std::move(threads).value();
     return vnsba::bench::run_movingai(movingai_options);
   }
   if (large->parsed()) {

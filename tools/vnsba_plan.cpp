@@ -534,12 +534,6 @@ int main(int argc, char** argv) {
   auto* smoother_iterations_flag =
       app.add_option("--smoother-iterations", smoother_iterations,
                      "relax: iterations at most, an integer in 1..10000 (default 10)");
-  int vns_threads = 0;
-  auto* vns_threads_flag =
-      app.add_option("--vns-threads", vns_threads,
-                     "vns_bastar: 1 (its two searches alternate on one thread) or 2 (on two "
-                     "threads, the same path); default: the config's planner.vns_threads (auto: 2 "
-                     "where 2 CPUs are available), else 1");
   if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
 
   // The config's sections are the defaults of every flag below.
@@ -582,12 +576,6 @@ int main(int argc, char** argv) {
   if (*smoother_closeness_flag) settings.smoother_closeness = smoother_closeness;
   if (*smoother_cost_flag) settings.smoother_cost = smoother_cost;
   if (*smoother_iterations_flag) settings.smoother_iterations = smoother_iterations;
-  if (*vns_threads_flag) settings.vns_threads = vns_threads;
-  if (config && !settings.vns_threads) {
-    // The config's planner.vns_threads: auto, resolved as the node does for one worker.
-    settings.vns_threads =
-        node::resolve_vns_threads(std::nullopt, node::available_cpus(), 1).threads;
-  }
   if (auto_kind) {
     // As the node's planner.name: auto does.
     settings = core::with_auto_defaults(settings);
@@ -636,8 +624,6 @@ int main(int argc, char** argv) {
       check_range(smoother_cost_flag, "--smoother-cost", smoother_cost, core::kSmootherCostRange) &&
       check_range(smoother_iterations_flag, "--smoother-iterations", smoother_iterations,
                   core::kSmootherIterationsRange) &&
-      (vns_threads_flag->count() == 0 || core::kVnsThreadsRange.contains(vns_threads) ||
-       refuse("--vns-threads", "1 or 2", vns_threads)) &&
       (robot_radius_flag->count() == 0 ||
        (std::isfinite(build.robot_radius) && build.robot_radius >= 0.0) ||
        refuse("--robot-radius", "a finite number of metres >= 0", build.robot_radius)) &&
@@ -659,13 +645,6 @@ int main(int argc, char** argv) {
       (goal_yaw_flag->count() == 0 || std::isfinite(goal_yaw) ||
        refuse("--goal-yaw", "a finite number of radians", goal_yaw));
   if (!values_ok) return kBadInput;
-  if (const node::VnsThreads vns =
-          node::resolve_vns_threads(settings.vns_threads.value_or(1), node::available_cpus(), 1);
-      vns.oversubscribed) {
-    std::fprintf(stderr,
-                 "warning: %s 2 with 1 CPU available: VNS-BA*'s two search threads share it\n",
-                 *vns_threads_flag ? "--vns-threads" : "planner.vns_threads");
-  }
   for (const CLI::Option* option : {path_spacing_flag, goal_yaw_flag})
     if (option->count() > 0 && out.poses.empty()) {
       std::fprintf(stderr, "%s: only with --poses FILE\n", option->get_name().c_str());

@@ -181,8 +181,10 @@ inline int sign_of(int32_t v) {
 // arrival: straight when |dx| != |dy|, diagonal otherwise.
 class JumpPointSearch {
  public:
-  JumpPointSearch(const GridMap& map, SearchSpace& space, const Cell& goal, PlanningBudget& budget)
+  JumpPointSearch(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& goal,
+                  PlanningBudget& budget)
       : map_(map),
+        states_(states),
         space_(space),
         budget_(budget),
         blocked_(map.blocked_data()),
@@ -395,7 +397,7 @@ class JumpPointSearch {
   };
   JumpPoint found_at(int32_t x, int32_t y) const {
     const uint32_t index = map_.padded_index(x, y);
-    return {x, y, index, space_.own_flags(index)};
+    return {x, y, index, states_.flags(index)};
   }
   void add_successors(const JumpPoint* found, int count) {
     for (int i = 0; i < count; ++i) {
@@ -421,7 +423,7 @@ class JumpPointSearch {
  private:
   void add_successor(const Cell& to) {
     const uint32_t index = map_.padded_index(to);
-    add_successor(to, index, space_.own_flags(index));
+    add_successor(to, index, states_.flags(index));
   }
 
   // Opens `to` with the node being expanded as its parent, or lowers its g; closed cells hold
@@ -438,6 +440,7 @@ class JumpPointSearch {
   }
 
   const GridMap& map_;
+  CellStates& states_;
   SearchSpace& space_;
   PlanningBudget& budget_;
   const uint8_t* blocked_;  // padded, 1 = blocked (GridMap::blocked_data)
@@ -502,7 +505,7 @@ JpsOutcome jps_search(const GridMap& map, CellStates& states, SearchSpace& space
   states.begin_query(map.padded_size());
   space.begin_query(map.padded_size());
   const uint32_t goal_index = map.padded_index(goal);
-  JumpPointSearch search(map, space, goal, budget);
+  JumpPointSearch search(map, states, space, goal, budget);
   space.push(map.padded_index(start), 0.0, octile(start, goal), SearchSpace::kNoParent);
   while (!space.empty()) {
     if (const StatusCode code = budget.poll(); code != StatusCode::kOk) {

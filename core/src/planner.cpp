@@ -1,15 +1,12 @@
 #include "vnsba/core/planner.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <string>
 
 #include "jps.hpp"
 #include "reachability.hpp"
-#include "search_helper.hpp"
 #include "search_space.hpp"
 #include "vnsba/core/budget.hpp"
 #include "vnsba/core/heuristics.hpp"
@@ -20,9 +17,7 @@ namespace vnsba::core {
 namespace {
 
 using detail::CellStates;
-using detail::SearchHelper;
 using detail::SearchSpace;
-using detail::WaitPoint;
 using Clock = PlanningBudget::Clock;
 
 // The move generation, its per-move visitors and relax() run 8 to 13 times per expansion; GCC
@@ -175,7 +170,7 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
     for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy,
                   [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
                     const uint32_t m = n + dy * stride + dx;
-                    const uint16_t flags = space.own_flags(m);
+                    const uint16_t flags = states.flags(m);
                     if ((flags & space.closed_flag()) == 0)
                       relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy},
                             move_cost(n, m, dx, dy, cost), h);
@@ -200,357 +195,88 @@ enum class MeetingRule {
   kCloseClosedByOther,
 };
 
-// A cell a bidirectional search's heuristic and neighbourhood are guided by: the opposite
-// search's current node (docs/algorithm.md section 2). Each direction's on its own cache line,
-// as each is written by its own search's thread and read by it many times per expansion.
-struct alignas(detail::kFalseSharingBytes) GuideCell {
-  Cell cell;
-};
-
-// Two searches in strict alternation, one expansion each: forward expansion k has the sequence
-// index 2k - 1, backward expansion k the index 2k, and the search ends at the first expansion (the
-// lowest index) that meets the other search or finds its open list empty. Forward expansion k is
-// guided by the node the backward search popped at expansion k - 1 (the goal at k = 1), backward
-// expansion k by the node forward popped at expansion k, and each sees the other's closures up to
-// those same expansions; that is all one direction reads of the other (the heuristics read the
-// guide cell through a pointer).
-//
-// So the two directions can run on two threads with the same results (vns_threads 2, docs/
-// algorithm.md section 3). A direction's next pop depends on its own expansions only, so each
-// direction pops and publishes its node first and only then waits for the other's pop it needs;
-// the other waits only for that pop, never for a whole expansion, and the cross-core latency of
-// each hand-over overlaps an expansion. A thread may then be ahead of the sequential order (the
-// other direction up to two pops further than the step sees), and everything that could tell is
-// filtered: a closure newer than the sequential order shows is recognised as one of those two
-// pops (published, with their steps, before their closures), and an expansion that
-// ends the search (a meeting, an empty open list, the budget) supersedes every expansion of a
-// higher index, which is neither counted nor traced. Closed nodes keep their parents, so the two
-// paths of the meeting are traced, after both threads have stopped, from what the sequential
-// search would have had.
-template <class ForwardH, class BackwardH, class MoveCost>
-class BidirectionalSearch {
- public:
-  BidirectionalSearch(const GridMap& map, CellStates& states, SearchSpace& forward,
-                      SearchSpace& backward, GuideCell (&guide)[2], const ForwardH& h_forward,
-                      const BackwardH& h_backward, const MoveCost& move_cost, MeetingRule rule,
-                      const SearchConfig& cfg)
-      : map_(map),
-        states_(states),
-        space_{&forward, &backward},
-        guide_(guide),
-        h_forward_(h_forward),
-        h_backward_(h_backward),
-        move_cost_(move_cost),
-        rule_(rule),
-        cfg_(cfg),
-        stride_(map.stride()) {}
-
-  // With `helper` the backward direction moves to the helper's thread once it is running.
-  SearchOutcome run(const Cell& start, const Cell& goal, PlanningBudget& budget,
-                    SearchHelper* helper, std::vector<Cell>* expanded_forward,
-                    std::vector<Cell>* expanded_backward) {
-    helper_ = helper;
-    states_.begin_query(map_.padded_size());
-    const uint32_t roots[2] = {map_.padded_index(start), map_.padded_index(goal)};
-    for (int s = 0; s < 2; ++s) {
-      space_[s]->begin_query(map_.padded_size());
-      side_[s].record.clear();
-      side_[s].end = SideEnd{};
-      // Step 0 is the root: the guide of the opposite search's first expansion.
-      for (auto& pop : published_[s].pops) pop.store(kNoPop, std::memory_order_relaxed);
-      published_[s].pops[0].store(roots[s], std::memory_order_relaxed);
-      published_[s].closed.store(0, std::memory_order_relaxed);
-    }
-    end_index_.store(kNever, std::memory_order_relaxed);
-    guide_[0].cell = goal;
-    guide_[1].cell = start;
-    space_[0]->push(roots[0], 0.0, h_forward_(start), SearchSpace::kNoParent);
-    space_[1]->push(roots[1], 0.0, h_backward_(goal), SearchSpace::kNoParent);
-
-    helper_done_ = false;
-    reclaim_.store(false, std::memory_order_relaxed);
-    backward_next_ = 1;
-    bool offered = false;
-    for (int64_t k = 1;; ++k) {
-      if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
-        end(0, 2 * k - 1, SideEnd{SideEndKind::kStopped, code, 0, 0});
-        break;
-      }
-      if (!step<0>(k)) break;
-      if (concurrent_) continue;  // the helper has the backward search
-      if (helper != nullptr && !offered &&
-          k >= (helper->asleep() ? kStepsBeforeOfferToSleeper : kStepsBeforeOffer)) {
-        helper->offer(&BidirectionalSearch::run_backward, this);
-        offered = true;
-      }
-      if (offered && !helper_done_ && helper->accepted()) {
-        concurrent_ = true;
-        helper->hand_off(backward_next_);  // backward expansion k onwards on the helper
-        continue;
-      }
-      bool over = false;
-      while (!over && backward_next_ <= k) over = !step<1>(backward_next_++);
-      if (over) break;
-    }
-    if (offered && !helper_done_) helper->finish();
-    return outcome(expanded_forward, expanded_backward);
-  }
-
- private:
-  // A search that ends before this many expansions a direction (some 50-100 microseconds) never
-  // asks the helper: handing a short search over costs more than it saves (measured with 32:
-  // the same wall time over the Moving AI sample, more CPU). One blocked between searches costs
-  // a system call to wake (search_helper.hpp), which only a longer search is worth.
-  static constexpr int64_t kStepsBeforeOffer = 128;
-  static constexpr int64_t kStepsBeforeOfferToSleeper = 512;
-  static constexpr int64_t kNever = std::numeric_limits<int64_t>::max();
-  static constexpr uint64_t kNoPop = std::numeric_limits<uint64_t>::max();
-
-  enum class SideEndKind : uint8_t {
-    kNone,
-    kMetAtPop,      // popped a node the other search had closed (n, and m = n)
-    kMetNeighbour,  // generated a neighbour (m) of n the other search had closed
-    kNoOpenNode,    // its open list was empty
-    kStopped,       // the budget ran out or the plan was canceled (code)
-  };
-  struct SideEnd {
-    SideEndKind kind = SideEndKind::kNone;
-    StatusCode code = StatusCode::kOk;
-    uint32_t n = 0, m = 0;
-    int64_t index = kNever;
-  };
-
-  // What one direction publishes to the other, written only by its own search.
-  struct alignas(detail::kFalseSharingBytes) Published {
-    // Its pops: (step << 32 | padded index) of step `step` in slot step % 4 (the other search
-    // reads three at most: its guide and the two that can be ahead of it, see closure_visible).
-    std::atomic<uint64_t> pops[4];
-    // The number of its steps whose pop is closed.
-    std::atomic<int64_t> closed;
-  };
-  // What one direction keeps to itself.
-  struct alignas(detail::kFalseSharingBytes) Side {
-    std::vector<Cell> record;
-    SideEnd end;
-  };
-
-  // The helper's job: backward steps from `from_step` until the search ends or the searching
-  // thread takes the backward search back (take_back_backward), at a step boundary.
-  static void run_backward(void* context, int64_t from_step) {
-    auto* self = static_cast<BidirectionalSearch*>(context);
-    for (int64_t k = from_step;; ++k) {
-      if (self->reclaim_.load(std::memory_order_acquire)) {
-        self->helper_next_ = k;
-        return;
-      }
-      if (!self->template step<1>(k)) {
-        self->helper_next_ = 0;  // the search is over
-        return;
-      }
-    }
-  }
-
-  // The forward search waited a whole kStepSpin for a backward pop: the helper is not running
-  // (a loaded machine; two threads in lockstep then take turns waiting for a core, which made a
-  // search ten times slower than on one). So this thread takes the backward search back, at the
-  // helper's next step boundary, runs the backward steps the forward one needs itself, and the
-  // search goes on alternating on this thread, as with one thread (the same results).
-  void take_back_backward(int64_t needed) {
-    reclaim_.store(true, std::memory_order_seq_cst);
-    helper_->finish();  // the helper's current step needs nothing more of the forward search
-    helper_->note_take_back();
-    helper_done_ = true;
-    concurrent_ = false;
-    backward_next_ = helper_next_;
-    if (backward_next_ == 0) return;  // the helper's last step ended the search
-    while (backward_next_ <= needed) {
-      if (!step<1>(backward_next_++)) return;
-    }
-  }
-
-  static int64_t sequence_index(int s, int64_t k) { return 2 * k - 1 + s; }
-
-  // Side `s` ends the search at `index`, unless an expansion of a lower index has ended it.
-  void end(int s, int64_t index, SideEnd how) {
-    how.index = index;
-    side_[s].end = how;
-    int64_t lowest = end_index_.load(std::memory_order_relaxed);
-    while (index < lowest &&
-           !end_index_.compare_exchange_weak(lowest, index, std::memory_order_seq_cst)) {
-    }
-    if (concurrent_) helper_->wait_point().notify();
-  }
-
-  // Waits until the other direction has closed its pops up to step `needed`; false when an
-  // expansion of an index below `index` has ended the search meanwhile (this one is superseded).
-  bool wait_for_other(int s, int64_t needed, int64_t index) {
-    const Published& other = published_[1 - s];
-    auto ready = [&] {
-      return other.closed.load(std::memory_order_acquire) >= needed ||
-             end_index_.load(std::memory_order_seq_cst) < index;
-    };
-    // Alone (no helper) the other direction's steps are always done: the wait never waits.
-    if (!ready() && helper_ != nullptr) {
-      if (s == 0 && concurrent_) {
-        if (!WaitPoint::spin(ready, SearchHelper::kStepSpin)) take_back_backward(needed);
-      } else {
-        helper_->wait_point().wait(ready, SearchHelper::kStepSpin);
-      }
-    }
-    return end_index_.load(std::memory_order_acquire) >= index;
-  }
-
-  // Whether the other direction's closure of `m`, seen in its flags, is one the sequential order
-  // shows to this direction's step (the other's steps up to `visible`). The other direction can
-  // be at most two pops further (each direction pops before it waits, so forward expansion k can
-  // meet backward's pops k and k + 1, backward expansion k forward's k + 1 and k + 2), and each
-  // pop is published, with its step, before its closure.
-  bool closure_visible(int s, uint32_t m, int64_t visible) const {
-    // Acquires the closure (read again: a closure is the last change of a word in a query), and
-    // with it the pops its search published before.
-    states_.side_flags(m, 1 - s, std::memory_order_acquire);
-    const Published& other = published_[1 - s];
-    for (int64_t ahead = visible + 1; ahead <= visible + 2; ++ahead) {
-      const uint64_t pop = static_cast<uint64_t>(ahead) << 32 | m;
-      if (other.pops[ahead & 3].load(std::memory_order_relaxed) == pop) return false;
-    }
-    return true;
-  }
-
-  template <int S>
-  const auto& heuristic() const {
-    if constexpr (S == 0) {
-      return h_forward_;
-    } else {
-      return h_backward_;
-    }
-  }
-
-  // Expansion `k` of side S. False when the search is over for this side: it ended the search,
-  // or an expansion of a lower index did.
-  template <int S>
-  bool step(int64_t k) {
-    const int64_t index = sequence_index(S, k);
-    if (end_index_.load(std::memory_order_relaxed) < index) return false;  // superseded
-    SearchSpace& self = *space_[S];
-    // The pop depends on this direction's own expansions only: it is published before waiting
-    // for the other direction, which can then expand its step meanwhile.
-    if (self.empty()) {
-      end(S, index, SideEnd{SideEndKind::kNoOpenNode, StatusCode::kNoValidPath, 0, 0});
-      return false;
-    }
-    const uint32_t n = self.top();
-    Published& mine = published_[S];
-    mine.pops[k & 3].store(static_cast<uint64_t>(k) << 32 | n, std::memory_order_release);
-    self.pop();                                       // closes n (released)
-    mine.closed.store(k, std::memory_order_release);  // not seq_cst: see WaitPoint
-    if (concurrent_) helper_->wait_point().notify();
-    const Cell nc = map_.cell_of(n);
-    if (cfg_.record) side_[S].record.push_back(nc);
-    const int64_t visible = S == 0 ? k - 1 : k;  // the other direction's steps this one sees
-    if (!wait_for_other(S, visible, index)) return false;
-    const uint64_t guide_pop = published_[1 - S].pops[visible & 3].load(std::memory_order_relaxed);
-    guide_[S].cell = map_.cell_of(static_cast<uint32_t>(guide_pop));
-    if (self.closed_by_other(n) && closure_visible(S, n, visible)) {
-      end(S, index, SideEnd{SideEndKind::kMetAtPop, StatusCode::kOk, n, n});
-      return false;
-    }
-    const Cell& guide = guide_[S].cell;
-    const auto& h = heuristic<S>();
-    const uint16_t other_closed = self.other_closed_flag();
-    bool met = false;
-    const double g_n = self.g(n);
-    for_each_move(
-        map_, nc, guide, cfg_.neighborhood, cfg_.policy,
-        [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
-          if (met) return;
-          const uint32_t m = n + dy * stride_ + dx;
-          uint16_t flags = states_.flags(m);
-          if ((flags & self.closed_flag()) != 0) return;
-          if ((flags & other_closed) != 0 && !closure_visible(S, m, visible))
-            flags = static_cast<uint16_t>(flags & ~other_closed);
-          const Cell mc{nc.x + dx, nc.y + dy};
-          if (rule_ == MeetingRule::kGenerateClosedByOther && (flags & other_closed) != 0) {
-            end(S, index, SideEnd{SideEndKind::kMetNeighbour, StatusCode::kOk, n, m});
-            met = true;
-            return;
-          }
-          relax(self, flags, n, g_n, m, mc, move_cost_(n, m, dx, dy, cost), h);
-        });
-    return !met;
-  }
-
-  // The outcome of the expansion that ended the search (both threads have stopped).
-  SearchOutcome outcome(std::vector<Cell>* expanded_forward, std::vector<Cell>* expanded_backward) {
-    const SideEnd& last = side_[0].end.index < side_[1].end.index ? side_[0].end : side_[1].end;
-    SearchOutcome out;
-    out.code = last.code;
-    const bool popped =
-        last.kind == SideEndKind::kMetAtPop || last.kind == SideEndKind::kMetNeighbour;
-    // Expansions up to the last one, each direction's own (forward has the odd indices).
-    out.expanded = popped ? last.index : last.index - 1;
-    const size_t counts[2] = {static_cast<size_t>((out.expanded + 1) / 2),
-                              static_cast<size_t>(out.expanded / 2)};
-    std::vector<Cell>* records[2] = {expanded_forward, expanded_backward};
-    for (int s = 0; s < 2; ++s) {
-      if (!cfg_.record) continue;
-      side_[s].record.resize(counts[s]);  // drops an expansion ahead of the sequential order
-      records[s]->swap(side_[s].record);
-    }
-    if (popped) {  // m is the cell met (n itself at a pop)
-      out.meeting = map_.cell_of(last.m);
-      join(out, /*a_is_forward=*/(last.index & 1) == 1, last.n, last.m);
-    }
-    return out;
-  }
-
-  // The path through the move a -> b where a was reached by the forward search when
-  // `a_is_forward`, by the backward one otherwise, and b by the other (a == b: a meeting at a
-  // popped node).
-  void join(SearchOutcome& out, bool a_is_forward, uint32_t a, uint32_t b) const {
-    const uint32_t f = a_is_forward ? a : b;
-    const uint32_t r = a_is_forward ? b : a;
-    out.path = trace(map_, *space_[0], f, /*root_first=*/true);
-    const std::vector<Cell> tail = trace(map_, *space_[1], r, /*root_first=*/false);
-    out.path.insert(out.path.end(), tail.begin() + (f == r ? 1 : 0), tail.end());
-  }
-
-  const GridMap& map_;
-  CellStates& states_;
-  SearchSpace* space_[2];
-  GuideCell (&guide_)[2];
-  const ForwardH& h_forward_;
-  const BackwardH& h_backward_;
-  const MoveCost& move_cost_;
-  MeetingRule rule_;
-  SearchConfig cfg_;
-  int32_t stride_;
-  // The helper has the backward search (set before the hand-off, which publishes it). Before,
-  // no thread waits for a step, so a step notifies no one: the helper, blocked between searches
-  // on the same WaitPoint, would take every step's notify() for a system call (20-30 us each).
-  bool concurrent_ = false;
-  SearchHelper* helper_ = nullptr;    // with vns_threads 2, else null
-  bool helper_done_ = false;          // finish() called: the helper is out of this search
-  std::atomic<bool> reclaim_{false};  // take_back_backward asks the helper to stop
-  int64_t helper_next_ = 0;           // the helper's next backward step when it stopped, 0: over
-  int64_t backward_next_ = 1;         // the next backward step while this thread runs it
-  Published published_[2];
-  Side side_[2];
-  alignas(detail::kFalseSharingBytes) std::atomic<int64_t> end_index_{kNever};
-};
-
+// Two searches in strict alternation, one expansion each. `current[0]` / `current[1]` are the
+// forward / backward current nodes (the last expanded), which the heuristics read through
+// pointers, and which guide each search's 8-11-13 neighbourhood (docs/algorithm.md section 2: the
+// guide of a bidirectional search is the opposite search's current node, for every planner).
 template <class ForwardH, class BackwardH, class MoveCost>
 SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, SearchSpace& forward,
                                    SearchSpace& backward, const Cell& start, const Cell& goal,
-                                   GuideCell (&guide)[2], const ForwardH& h_forward,
+                                   Cell (&current)[2], const ForwardH& h_forward,
                                    const BackwardH& h_backward, const MoveCost& move_cost,
                                    MeetingRule rule, const SearchConfig& cfg,
-                                   PlanningBudget& budget, SearchHelper* helper,
-                                   std::vector<Cell>* expanded_forward,
+                                   PlanningBudget& budget, std::vector<Cell>* expanded_forward,
                                    std::vector<Cell>* expanded_backward) {
-  BidirectionalSearch<ForwardH, BackwardH, MoveCost> search(
-      map, states, forward, backward, guide, h_forward, h_backward, move_cost, rule, cfg);
-  return search.run(start, goal, budget, helper, expanded_forward, expanded_backward);
+  SearchOutcome out;
+  const int32_t stride = map.stride();
+  current[0] = start;
+  current[1] = goal;
+  states.begin_query(map.padded_size());
+  forward.begin_query(map.padded_size());
+  backward.begin_query(map.padded_size());
+  forward.push(map.padded_index(start), 0.0, h_forward(start), SearchSpace::kNoParent);
+  backward.push(map.padded_index(goal), 0.0, h_backward(goal), SearchSpace::kNoParent);
+
+  // The path through the move a -> b where a was reached by `a_space` and b by the other.
+  auto join = [&](bool a_is_forward, uint32_t a, uint32_t b) {
+    const uint32_t f = a_is_forward ? a : b;
+    const uint32_t r = a_is_forward ? b : a;
+    out.path = trace(map, forward, f, /*root_first=*/true);
+    const std::vector<Cell> tail = trace(map, backward, r, /*root_first=*/false);
+    if (f == r) {
+      out.path.insert(out.path.end(), tail.begin() + 1, tail.end());
+    } else {
+      out.path.insert(out.path.end(), tail.begin(), tail.end());
+    }
+    out.code = StatusCode::kOk;
+  };
+
+  // One expansion of side `s` (0 forward, 1 backward). Returns true when the search is over.
+  auto step = [&](int s, SearchSpace& self, const auto& h, std::vector<Cell>* record) -> bool {
+    if (self.empty()) {
+      out.code = StatusCode::kNoValidPath;
+      return true;
+    }
+    const uint32_t n = self.pop();
+    ++out.expanded;
+    const Cell nc = map.cell_of(n);
+    current[s] = nc;
+    if (cfg.record) record->push_back(nc);
+    if (self.closed_by_other(n)) {
+      out.meeting = nc;
+      join(s == 0, n, n);
+      return true;
+    }
+    const Cell& guide = current[1 - s];
+    bool met = false;
+    const double g_n = self.g(n);
+    for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy,
+                  [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
+                    const uint32_t m = n + dy * stride + dx;
+                    if (met) return;
+                    const uint16_t flags = states.flags(m);
+                    if ((flags & self.closed_flag()) != 0) return;
+                    const Cell mc{nc.x + dx, nc.y + dy};
+                    if (rule == MeetingRule::kGenerateClosedByOther &&
+                        (flags & self.other_closed_flag()) != 0) {
+                      out.meeting = mc;
+                      join(s == 0, n, m);
+                      met = true;
+                      return;
+                    }
+                    relax(self, flags, n, g_n, m, mc, move_cost(n, m, dx, dy, cost), h);
+                  });
+    return met;
+  };
+
+  for (;;) {
+    if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
+      out.code = code;
+      return out;
+    }
+    if (step(0, forward, h_forward, expanded_forward)) return out;
+    if (step(1, backward, h_backward, expanded_backward)) return out;
+  }
 }
 
 std::string describe(const Cell& c) {
@@ -567,9 +293,7 @@ struct Planner::Impl {
   SearchSpace forward{&states, 0};
   SearchSpace backward{&states, 1};
   size_t peak_direction_bytes = 0;
-  GuideCell guide[2];
-  // The second thread of VNS-BA* searches with vns_threads 2, made at the first such search.
-  std::unique_ptr<SearchHelper> helper;
+  Cell current[2];
 
   void note_peak() {
     peak_direction_bytes = std::max({peak_direction_bytes, forward.bytes(), backward.bytes()});
@@ -600,16 +324,15 @@ struct Planner::Impl {
                                      rec_f);
       }
       case PlannerKind::kBidirectionalAStar:
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, guide,
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current,
                                     OctileHeuristic{&q.goal}, OctileHeuristic{&q.start}, cost,
-                                    MeetingRule::kGenerateClosedByOther, cfg, budget, nullptr,
-                                    rec_f, rec_b);
+                                    MeetingRule::kGenerateClosedByOther, cfg, budget, rec_f, rec_b);
       case PlannerKind::kAlternatingBidirectionalAStar: {
-        const DensityWeightedHeuristic hf{&map, &guide[0].cell, q.goal, 1.0, 0.0, o.corner_policy};
-        const DensityWeightedHeuristic hb{&map, &guide[1].cell, q.start, 1.0, 0.0, o.corner_policy};
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, guide, hf, hb,
-                                    cost, MeetingRule::kCloseClosedByOther, cfg, budget, nullptr,
-                                    rec_f, rec_b);
+        const DensityWeightedHeuristic hf{&map, &current[1], q.goal, 1.0, 0.0, o.corner_policy};
+        const DensityWeightedHeuristic hb{&map, &current[0], q.start, 1.0, 0.0, o.corner_policy};
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
+                                    hb, cost, MeetingRule::kCloseClosedByOther, cfg, budget, rec_f,
+                                    rec_b);
       }
       case PlannerKind::kJps: {
         detail::JpsOutcome jps = detail::jps_search(map, states, forward, q.start, q.goal, budget,
@@ -621,14 +344,13 @@ struct Planner::Impl {
         return out;
       }
       case PlannerKind::kVnsBaStar: {
-        const DensityWeightedHeuristic hf{&map,    &guide[0].cell, q.goal,
-                                          o.omega, o.eta,          o.corner_policy};
-        const DensityWeightedHeuristic hb{&map,    &guide[1].cell, q.start,
-                                          o.omega, o.eta,          o.corner_policy};
-        if (o.vns_threads == 2 && !helper) helper = std::make_unique<SearchHelper>();
-        return search_bidirectional(map, states, forward, backward, q.start, q.goal, guide, hf, hb,
-                                    cost, MeetingRule::kGenerateClosedByOther, cfg, budget,
-                                    o.vns_threads == 2 ? helper.get() : nullptr, rec_f, rec_b);
+        const DensityWeightedHeuristic hf{&map,    &current[1], q.goal,
+                                          o.omega, o.eta,       o.corner_policy};
+        const DensityWeightedHeuristic hb{&map,    &current[0], q.start,
+                                          o.omega, o.eta,       o.corner_policy};
+        return search_bidirectional(map, states, forward, backward, q.start, q.goal, current, hf,
+                                    hb, cost, MeetingRule::kGenerateClosedByOther, cfg, budget,
+                                    rec_f, rec_b);
       }
     }
     SearchOutcome broken;
@@ -883,14 +605,6 @@ size_t Planner::search_state_bytes() const {
 double Planner::peak_bytes_per_cell_per_direction() const {
   if (!map_ || map_->cell_count() == 0) return 0.0;
   return static_cast<double>(impl_->peak_direction_bytes) / static_cast<double>(map_->cell_count());
-}
-
-int64_t Planner::searches_shared() const {
-  return impl_->helper ? impl_->helper->hand_offs() : 0;
-}
-
-int64_t Planner::searches_taken_back() const {
-  return impl_->helper ? impl_->helper->take_backs() : 0;
 }
 
 PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,

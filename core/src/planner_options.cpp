@@ -157,7 +157,6 @@ Status validate(const PlannerOptions& o) {
           << 2.0 * o.smoother_smoothness + o.smoother_closeness << "); ";
   check(kSmootherCostRange, o.smoother_cost);
   check(kSmootherIterationsRange, o.smoother_iterations);
-  check(kVnsThreadsRange, o.vns_threads);
   const double seconds = std::chrono::duration<double>(o.max_planning_time).count();
   check(kMaxPlanningTimeRange, seconds);
   if (!planner_kind_from_string(to_string(o.planner))) err() << "planner is not a known planner; ";
@@ -188,7 +187,6 @@ PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
   if (s.smoother_closeness) o.smoother_closeness = *s.smoother_closeness;
   if (s.smoother_cost) o.smoother_cost = *s.smoother_cost;
   if (s.smoother_iterations) o.smoother_iterations = *s.smoother_iterations;
-  if (s.vns_threads) o.vns_threads = *s.vns_threads;
   return o;
 }
 

@@ -1,13 +1,13 @@
 // Search state in flat arrays, reused across queries on one map (internal).
 //
 // Memory per map cell: per direction, one 16-byte record of g (8 bytes), the parent (4) and the
-// heap position (4), plus two bytes of flags (CellStates), 18 bytes: 36 for a bidirectional
-// planner, plus the open lists' entries (16 bytes each, only for open nodes). The flags are their
-// own dense array because the inner loops read them first (seen or closed, by which search) for
-// every neighbour; the record holds what is then read and written together. As three separate
-// arrays, a search touching cells far apart (jump point search) took three cache misses where the
-// record takes one; A*'s time and every output are the same (identical results on the Moving AI
-// sample).
+// heap position (4), plus two bytes shared by both directions (CellStates): 34 bytes for a
+// bidirectional planner, plus the open lists' entries (16 bytes each, only for open nodes).
+// The shared state is its own dense array because the inner loops read it first (seen or
+// closed, by which search) for every neighbour; the record holds what is then read and written
+// together. As three separate arrays, a search touching cells far apart (jump point search)
+// took three cache misses where the record takes one; A*'s time and every output are the same
+// (identical results on the Moving AI sample).
 //
 // The open list is a binary heap indexed by cell (each open cell knows its heap position), so a
 // key can be changed in place. Keys move both ways: the VNS-BA* heuristic is re-evaluated against
@@ -20,28 +20,18 @@
 #pragma once
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
-#include <memory>
 #include <vector>
 
 namespace vnsba::core::detail {
 
-// Data that two threads write apart is kept this many bytes apart: two cache lines, as CPUs fetch
-// lines in pairs (the adjacent-line prefetcher), which makes neighbouring lines share like one.
-inline constexpr size_t kFalseSharingBytes = 128;
-
-// What each search knows of each cell in the current query: seen (pushed) by the forward or
-// backward search, closed by either. One 16-bit word per padded cell and direction, the two of a
-// cell side by side (one cache line): the query's epoch (12 bits) and that direction's flags, so a
-// new query starts in O(1) (a word of an older epoch reads as "nothing known"); the array is
-// cleared once every 4095 queries. Each direction writes only its own words, so the two searches
-// of VNS-BA* can run on two threads (planner.cpp) with no read-modify-write shared between them:
-// the words are atomics, read and written relaxed (plain moves on x86 and ARM) except a closure,
-// which is released so that a thread seeing it also sees what the closing search published first.
+// What each search knows of each cell in the current query, shared by the two searches of a
+// planner: seen (pushed) by the forward or backward search, closed by either. One 16-bit word
+// per padded cell: the query's epoch (12 bits) and four flags, so a new query starts in O(1) (a
+// word of an older epoch reads as "nothing known"); the array is cleared once every 4095 queries.
 // No search expands a cell the other has closed: a bidirectional search that pops such a cell
 // stops there (docs/algorithm.md section 3), so both closed flags of a cell are set only at a
 // meeting of the two searches.
@@ -51,10 +41,8 @@ class CellStates {
   static constexpr uint16_t kClosed[2] = {4, 8};  // likewise
 
   void allocate(size_t cells) {
-    if (cells_ == cells && words_) return;
-    // Value-initialised: every word zero (epoch 0, which no query uses).
-    words_.reset(new std::atomic<uint16_t>[2 * cells]());
-    cells_ = cells;
+    if (words_.size() == cells) return;
+    words_.assign(cells, 0);
     epoch_ = 0;
   }
 
@@ -62,49 +50,31 @@ class CellStates {
   void begin_query(size_t cells) {
     allocate(cells);
     if (++epoch_ == kEpochs) {
-      for (size_t i = 0; i < 2 * cells_; ++i) words_[i].store(0, std::memory_order_relaxed);
+      std::fill(words_.begin(), words_.end(), uint16_t{0});
       epoch_ = 1;
     }
   }
 
-  // The flags of `n` in this query, both directions' (0 when neither search has seen it).
-  uint16_t flags(uint32_t n) const { return side_flags(n, 0) | side_flags(n, 1); }
-  // Only `side`'s flags of `n` (one word: what a unidirectional search needs).
-  // With std::memory_order_acquire, a closure read also shows what its search wrote before it.
-  uint16_t side_flags(uint32_t n, int side,
-                      std::memory_order order = std::memory_order_relaxed) const {
-    const uint16_t word = words_[2 * size_t{n} + side].load(order);
+  // The flags of `n` in this query (0 when neither search has seen it).
+  uint16_t flags(uint32_t n) const {
+    const uint16_t word = words_[n];
     return (word >> kFlagBits) == epoch_ ? (word & kFlagMask) : 0;
   }
-  // Adds `flag` (one of kSeen / kClosed) to its direction's word of `n`; only that direction's
-  // search may call it. close() adds a closed flag with a release store (see above).
-  void add(uint32_t n, uint16_t flag) { store(n, flag, std::memory_order_relaxed); }
-  void close(uint32_t n, uint16_t flag) { store(n, flag, std::memory_order_release); }
+  void add(uint32_t n, uint16_t flag) {
+    words_[n] = static_cast<uint16_t>(epoch_ << kFlagBits | flags(n) | flag);
+  }
 
-  size_t bytes() const { return 2 * cells_ * sizeof(uint16_t); }
+  size_t bytes() const { return words_.capacity() * sizeof(uint16_t); }
 
  private:
   static constexpr int kFlagBits = 4;
   static constexpr uint16_t kFlagMask = (1 << kFlagBits) - 1;
   static constexpr uint16_t kEpochs = 1 << (16 - kFlagBits);
-  static_assert(sizeof(std::atomic<uint16_t>) == sizeof(uint16_t));
-  // The memory order must be a constant where the store is compiled: with one known only at run
-  // time the compiler emits the sequentially consistent store (a locked exchange on x86, a full
-  // barrier at every pop).
-  void store(uint32_t n, uint16_t flag, std::memory_order order) {
-    const int side = (flag & (kSeen[1] | kClosed[1])) != 0 ? 1 : 0;
-    const uint16_t word = static_cast<uint16_t>(epoch_ << kFlagBits | side_flags(n, side) | flag);
-    words_[2 * size_t{n} + side].store(word, order);
-  }
-  std::unique_ptr<std::atomic<uint16_t>[]> words_;
-  size_t cells_ = 0;
+  std::vector<uint16_t> words_;
   uint16_t epoch_ = 0;
 };
 
-// One direction's search state. Aligned to a cache line so that the two directions' members
-// (the open list's size and end, written at every push and pop) never share one when the two
-// searches run on two threads.
-class alignas(kFalseSharingBytes) SearchSpace {
+class SearchSpace {
  public:
   static constexpr uint32_t kNoParent = std::numeric_limits<uint32_t>::max();
 
@@ -112,7 +82,6 @@ class alignas(kFalseSharingBytes) SearchSpace {
   // forward search, 1 for the backward one.
   SearchSpace(CellStates* states, int side)
       : states_(states),
-        side_(side),
         seen_flag_(CellStates::kSeen[side]),
         closed_flag_(CellStates::kClosed[side]),
         other_closed_flag_(CellStates::kClosed[1 - side]) {}
@@ -136,13 +105,9 @@ class alignas(kFalseSharingBytes) SearchSpace {
   uint16_t closed_flag() const { return closed_flag_; }
   uint16_t other_closed_flag() const { return other_closed_flag_; }
 
-  // This direction's flags of `n` (seen_flag, closed_flag), without the other direction's.
-  uint16_t own_flags(uint32_t n) const { return states_->side_flags(n, side_); }
-  bool seen(uint32_t n) const { return (own_flags(n) & seen_flag_) != 0; }
-  bool closed(uint32_t n) const { return (own_flags(n) & closed_flag_) != 0; }
-  bool closed_by_other(uint32_t n) const {
-    return (states_->side_flags(n, 1 - side_) & other_closed_flag_) != 0;
-  }
+  bool seen(uint32_t n) const { return (states_->flags(n) & seen_flag_) != 0; }
+  bool closed(uint32_t n) const { return (states_->flags(n) & closed_flag_) != 0; }
+  bool closed_by_other(uint32_t n) const { return (states_->flags(n) & other_closed_flag_) != 0; }
   bool empty() const { return heap_.empty(); }
   double g(uint32_t n) const { return nodes_[n].g; }
   uint32_t parent(uint32_t n) const { return nodes_[n].parent; }
@@ -172,9 +137,6 @@ class alignas(kFalseSharingBytes) SearchSpace {
     }
   }
 
-  // The open node pop() removes next.
-  uint32_t top() const { return heap_.front().node; }
-
   // Removes the open node with the least f (ties: the larger g, i.e. the deeper node, which
   // expands fewer nodes on open ground) and marks it closed.
   uint32_t pop() {
@@ -182,7 +144,7 @@ class alignas(kFalseSharingBytes) SearchSpace {
     check_top_is_least();
 #endif
     const uint32_t top = heap_.front().node;
-    states_->close(top, closed_flag_);
+    states_->add(top, closed_flag_);
     const Entry last = heap_.back();
     heap_.pop_back();
     if (!heap_.empty()) {
@@ -256,7 +218,6 @@ class alignas(kFalseSharingBytes) SearchSpace {
   }
 
   CellStates* states_;
-  int side_;
   uint16_t seen_flag_, closed_flag_, other_closed_flag_;
   // What one direction knows of a cell, in one record: a search that reaches a cell reads and
   // writes its g, parent and heap position together, so they share a cache line (one miss

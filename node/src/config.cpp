@@ -8,7 +8,6 @@
 #include "vnsba/node/config.hpp"
 
 #include <arpa/inet.h>
-#include <sched.h>
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
@@ -577,32 +576,6 @@ void read_planner_budget(Section& planner, PlannerConfig& p) {
   planner.boolean("compute_length_ratio", s.compute_length_ratio);
 }
 
-// planner.vns_threads: 1, 2 or auto (unset, resolved at the node's start: resolve_vns_threads).
-void read_planner_threads(Section& planner, PlannerConfig& p) {
-  const core::OptionRange& range = core::kVnsThreadsRange;
-  constexpr int kAuto = 0;  // `threads` while it reads auto
-  int threads = p.settings.vns_threads.value_or(kAuto);
-  const bool ok = planner.get(
-      range.key, threads,
-      [&range](const YAML::Node& node, int& value) {
-        long long v = 0;
-        if (node.IsScalar() && node.Scalar() == kAutoVnsThreads) {
-          value = kAuto;
-        } else if (parse_integer(node, v) && range.contains(static_cast<double>(v))) {
-          value = static_cast<int>(v);
-        } else {
-          return std::string(
-              "1, 2 or auto (threads of one VNS-BA* search; auto: 2 when the CPUs available are "
-              "at least twice the planning workers, else 1)");
-        }
-        return std::string();
-      },
-      [](int value) {
-        return value == kAuto ? yaml_quoted(kAutoVnsThreads) : std::to_string(value);
-      });
-  if (ok) p.settings.vns_threads = threads == kAuto ? std::nullopt : std::optional<int>(threads);
-}
-
 // docs/algorithm.md section 8: costs, tolerances and path poses. Absent = 0 (the paper's binary
 // grid, exact start and goal) and the map's resolution for path_spacing. With every key that
 // decides it read, auto resolves to its planner here.
@@ -640,8 +613,12 @@ void read_planner(Section& top, NodeConfig& c) {
   read_planner_moves(planner, c.planner);
   read_planner_postprocessing(planner, c.planner);
   read_planner_budget(planner, c.planner);
-  read_planner_threads(planner, c.planner);
   read_planner_costs(planner, c.planner);
+  // Removed keys: refused by name with what replaced them, not as unknown keys.
+  if (planner.has("vns_threads"))
+    planner.report(
+        "planner.vns_threads: removed, delete the key: VNS-BA* plans on one thread per request "
+        "(two threads in lockstep saved too little time to keep; docs/limitations.md)");
   planner.finish();
 }
 
@@ -994,45 +971,6 @@ int planning_workers(const NodeConfig& config) {
   if (workers <= 0) workers = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   const size_t robots = std::max<size_t>(1, config.robots.size());
   return static_cast<int>(std::min<size_t>(static_cast<size_t>(workers), robots));
-}
-
-int available_cpus() {
-  cpu_set_t mask;
-  CPU_ZERO(&mask);
-  if (sched_getaffinity(0, sizeof(mask), &mask) == 0) {
-    const int count = CPU_COUNT(&mask);
-    if (count > 0) return count;
-  }
-  return static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
-}
-
-VnsThreads resolve_vns_threads(std::optional<int> configured, int cpus, int workers) {
-  cpus = std::max(1, cpus);
-  workers = std::max(1, workers);
-  const bool room = cpus >= 2 * workers;  // a core for each of every worker's two threads
-  VnsThreads out;
-  out.automatic = !configured.has_value();
-  out.threads = out.automatic ? (room ? 2 : 1) : *configured;
-  out.oversubscribed = out.threads == 2 && !room;
-  auto count = [](int n, const char* noun) {
-    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
-  };
-  const std::string cpus_text = count(cpus, "CPU") + " available";
-  const std::string workers_text = count(workers, "planning worker");
-  std::ostringstream msg;
-  msg << "planner.vns_threads" << (out.automatic ? " auto" : "") << ": " << out.threads;
-  if (out.oversubscribed) {
-    msg << " with " << cpus_text << " for " << workers_text << ": each worker's VNS-BA* search "
-        << "may use two cores, " << 2 * workers << " search threads on " << count(cpus, "CPU")
-        << " compete for them (auto would choose 1)";
-  } else {
-    msg << " (" << cpus_text << ", " << workers_text;
-    if (out.automatic && out.threads == 1)
-      msg << "; 2 needs " << 2 * workers << " CPUs, two per worker";
-    msg << ")";
-  }
-  out.message = msg.str();
-  return out;
 }
 
 core::Expected<std::string> normalized_namespace(std::string_view given) {

@@ -367,15 +367,6 @@ core::Status PlannerNode::Impl::add_robot_endpoints(Robot& robot) {
 }
 
 core::Status PlannerNode::Impl::start() {
-  // planner.vns_threads, auto resolved for this machine, in the settings every plan's options
-  // come from (each robot's view of the config is copied from cfg_ below).
-  const VnsThreads vns =
-      resolve_vns_threads(cfg_.planner.settings.vns_threads, available_cpus(), workers_);
-  cfg_.planner.settings.vns_threads = vns.threads;
-  if (vns.oversubscribed)
-    spdlog::warn("{}", vns.message);
-  else
-    spdlog::info("{}", vns.message);
   if (cfg_.robots.empty()) {
     robots_.push_back(std::make_unique<Robot>(cfg_, ""));
   } else {

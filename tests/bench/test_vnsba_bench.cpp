@@ -90,25 +90,6 @@ TEST(BenchHelpers, PlannerListNamesTheUnknownPlanner) {
   EXPECT_NE(bad.error().message.find("'dijkstra'"), std::string::npos) << bad.error().message;
 }
 
-TEST(BenchHelpers, VnsThreadsListParsesOneTwoOrBoth) {
-  for (const auto& [list, expected] : std::vector<std::pair<std::string, std::vector<int>>>{
-           {"1", {1}}, {"2", {2}}, {"1,2", {1, 2}}, {"2,1", {1, 2}}, {"2,2", {2}}}) {
-    const auto counts = bench::parse_vns_threads_list(list);
-    ASSERT_TRUE(counts) << list << ": " << counts.error().message;
-    EXPECT_EQ(*counts, expected) << list;
-  }
-  for (const std::string list : {"", "0", "3", "1,3", "two", "1,", ",2", "1,,2", " 1"}) {
-    const auto bad = bench::parse_vns_threads_list(list);
-    ASSERT_FALSE(bad) << "'" << list << "' was accepted";
-    // The flag and the valid values are named.
-    EXPECT_EQ(bad.error().message.rfind("--vns-threads: ", 0), 0u) << bad.error().message;
-    EXPECT_NE(bad.error().message.find("valid: 1, 2 or 1,2"), std::string::npos)
-        << bad.error().message;
-  }
-  EXPECT_NE(bench::parse_vns_threads_list("1,3").error().message.find("'3' is not 1 or 2"),
-            std::string::npos);
-}
-
 TEST(BenchHelpers, MapClassFromManifestOrName) {
   EXPECT_EQ(bench::movingai_map_class("/nonexistent", "Berlin_0_256.map"), "street");
   EXPECT_EQ(bench::movingai_map_class("/nonexistent", "maze512-4-0.map"), "maze");
@@ -480,95 +461,6 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
   fs::remove_all(dir);
 }
 
-// --vns-threads 1,2: VNS-BA* on one and on two threads, on the same queries, as two planners
-// with the same outputs (vns_threads changes the time only), and the table that compares them.
-TEST(VnsbaBench, MovingAiVnsThreadsRunsBothModes) {
-  const std::string source = VNSBA_DATA_DIR "/movingai/arena.map";
-  if (!fs::exists(source) || !fs::exists(source + ".scen"))
-    GTEST_SKIP() << source << "(.scen) is absent: the Moving AI data beside the project is needed";
-  const std::string dir = fresh_folder("movingai_threads");
-  fs::copy_file(source, dir + "/arena.map");
-  fs::copy_file(source + ".scen", dir + "/arena.map.scen");
-
-  const auto [code, output] =
-      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "astar,vns_bastar",
-                           "--vns-threads", "1,2", "--max-scenarios", "10", "--csv"});
-  ASSERT_EQ(code, 0) << output;
-  // scenario -> the row without planner and times, per planner name
-  std::map<std::string, std::map<std::string, std::string>> rows;
-  std::stringstream lines(output);
-  std::string line;
-  ASSERT_TRUE(std::getline(lines, line));
-  EXPECT_EQ(line, bench::kMovingAiCsvHeader);
-  while (std::getline(lines, line)) {
-    if (line.find(',') == std::string::npos) {  // the per-map line (stderr)
-      EXPECT_EQ(line, "arena (game): 10 scenarios x 3 configurations");
-      continue;
-    }
-    const auto f = split(line, ',');
-    ASSERT_EQ(f.size(), 20u) << line;
-    EXPECT_EQ(f[3], "OK") << line;
-    const double wall = std::stod(f[18]), cpu = std::stod(f[19]);
-    EXPECT_TRUE(std::isfinite(wall) && wall >= 0.0) << line;
-    EXPECT_TRUE(std::isfinite(cpu) && cpu >= 0.0) << line;
-    std::string outputs;
-    for (size_t i = 0; i < 18; ++i)
-      if (i != 2) outputs += f[i] + ",";
-    EXPECT_TRUE(rows[f[2]].emplace(f[1], outputs).second) << "a second row: " << line;
-  }
-  ASSERT_EQ(rows.size(), 3u) << output;
-  EXPECT_EQ(rows["astar"].size(), 10u);
-  EXPECT_EQ(rows["vns_bastar"].size(), 10u);
-  EXPECT_EQ(rows["vns_bastar+2threads"], rows["vns_bastar"]);
-
-  // --vns-threads 2 alone: VNS-BA* on two threads only, named so.
-  const auto [two_code, two_output] =
-      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "vns_bastar", "--vns-threads",
-                           "2", "--max-scenarios", "3", "--csv"});
-  ASSERT_EQ(two_code, 0) << two_output;
-  EXPECT_EQ(two_output.find(",vns_bastar,"), std::string::npos) << two_output;
-  size_t two_rows = 0;
-  for (size_t at = 0; (at = two_output.find(",vns_bastar+2threads,", at)) != std::string::npos;
-       ++at)
-    ++two_rows;
-  EXPECT_EQ(two_rows, 3u) << two_output;
-
-  // The summary: both as planners in the class table, and the wall / CPU table, per class and
-  // over all classes, every cell a number.
-  const auto [summary_code, summary] =
-      run_to_exit(kBench, {"movingai", "--maps", dir, "--planners", "astar,vns_bastar",
-                           "--vns-threads", "1,2", "--max-scenarios", "10"});
-  ASSERT_EQ(summary_code, 0) << summary;
-  EXPECT_NE(summary.find("| VNS-BA* (`vns_bastar`) | 10 | 100.0 %"), std::string::npos) << summary;
-  EXPECT_NE(summary.find("| VNS-BA* on 2 threads (`vns_bastar+2threads`) | 10 | 100.0 %"),
-            std::string::npos)
-      << summary;
-  const std::string header =
-      "| class | queries | 2 threads used | VNS-BA* 1 thread / A*, wall | VNS-BA* 1 thread / A*, "
-      "CPU | "
-      "VNS-BA* 2 threads / A*, wall | VNS-BA* 2 threads / A*, CPU (two cores used) | "
-      "2 threads / 1 thread, wall | 2 threads / 1 thread, CPU (two cores used) |";
-  const size_t table = summary.find(header);
-  ASSERT_NE(table, std::string::npos) << summary;
-  size_t numeric_rows = 0;
-  std::stringstream after(summary.substr(table));
-  while (std::getline(after, line) && !line.empty()) {
-    if (line.rfind("| game |", 0) != 0 && line.rfind("| all |", 0) != 0) continue;
-    const auto cells = split(line, '|');  // "", class, queries, used, six ratios, ""
-    ASSERT_EQ(cells.size(), 11u) << line;
-    EXPECT_EQ(std::stoi(cells[2]), 10) << line;
-    EXPECT_NE(cells[3].find(" %"), std::string::npos) << line;
-    const double used = std::stod(cells[3]);
-    EXPECT_TRUE(used >= 0.0 && used <= 100.0) << line;
-    for (size_t i = 4; i < 10; ++i) EXPECT_GT(std::stod(cells[i]), 0.0) << line;
-    ++numeric_rows;
-  }
-  EXPECT_EQ(numeric_rows, 2u) << summary;  // game (arena) and all
-  EXPECT_NE(summary.find("as a share of the CPU time inside them: 1 thread "), std::string::npos)
-      << summary;
-  fs::remove_all(dir);
-}
-
 TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
   {
     const auto [code, output] = run_to_exit(kBench, {"movingai", "--maps", "/no/such/folder"});
@@ -620,14 +512,6 @@ TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
   {
     const auto [code, output] = run_to_exit(kBench, {"movingai", "--no-such-option"});
     EXPECT_EQ(code, 2) << output;
-  }
-  for (const std::string list : {"3", "1,3", "two", ""}) {
-    const auto [code, output] = run_to_exit(
-        kBench, {"movingai", "--maps", VNSBA_PAPER_MAPS_DIR, "--vns-threads", list, "--csv"});
-    EXPECT_EQ(code, 2) << list << ": " << output;
-    EXPECT_NE(output.find("vnsba_bench movingai: --vns-threads: "), std::string::npos)
-        << list << ": " << output;
-    EXPECT_EQ(output.find("map,scenario"), std::string::npos) << "ran anyway: " << output;
   }
 }
 

@@ -30,7 +30,6 @@ inline void ExpectSameOptions(const core::PlannerOptions& a, const core::Planner
   EXPECT_EQ(a.smoother_closeness, b.smoother_closeness);
   EXPECT_EQ(a.smoother_cost, b.smoother_cost);
   EXPECT_EQ(a.smoother_iterations, b.smoother_iterations);
-  EXPECT_EQ(a.vns_threads, b.vns_threads);
 }
 
 }  // namespace vnsba::test

@@ -145,8 +145,6 @@ TEST_P(EveryPlanner, InvalidOptionsAreRejectedByName) {
        "2 * smoother_smoothness + smoother_closeness"},
       {[](PlannerOptions& o) { o.smoother_cost = NAN; }, "smoother_cost"},
       {[](PlannerOptions& o) { o.smoother_iterations = 0; }, "smoother_iterations"},
-      {[](PlannerOptions& o) { o.vns_threads = 0; }, "vns_threads"},
-      {[](PlannerOptions& o) { o.vns_threads = 3; }, "vns_threads"},
   };
   for (const Case& c : cases) {
     PlannerOptions o = default_options(GetParam());

@@ -58,7 +58,6 @@ std::vector<OneSetting> every_setting() {
        [](auto& o) { o.smoother_cost = 4.0; }},
       {"smoother_iterations", [](auto& s) { s.smoother_iterations = 77; },
        [](auto& o) { o.smoother_iterations = 77; }},
-      {"vns_threads", [](auto& s) { s.vns_threads = 2; }, [](auto& o) { o.vns_threads = 2; }},
   };
 }
 

@@ -1148,23 +1148,6 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_double("planner", "smoother_cost", s.smoother_cost, ds.smoother_cost);
   same_int("planner", "smoother_iterations", s.smoother_iterations.value_or(-1),
            ds.smoother_iterations.value_or(-1));
-  {
-    // planner.vns_threads: 1 or 2 kept as given; auto leaves the setting unset (the node resolves
-    // it at its start).
-    const auto v = find("planner", "vns_threads");
-    if (scalar(v, "planner.vns_threads")) {
-      const std::optional<int> want =
-          v->Scalar() == node::kAutoVnsThreads
-              ? std::nullopt
-              : std::optional<int>(static_cast<int>(strict_int(v->Scalar(), 1, 2).value_or(-1)));
-      if (s.vns_threads != want)
-        p->push_back("planner.vns_threads: field differs from the file's value");
-    } else if (s.vns_threads != ds.vns_threads) {
-      p->push_back("planner.vns_threads: absent but not the default");
-    }
-    if (s.vns_threads && !core::kVnsThreadsRange.contains(*s.vns_threads))
-      p->push_back("planner.vns_threads: accepted a value outside 1..2");
-  }
   same_bool("planner", "compute_length_ratio", s.compute_length_ratio, ds.compute_length_ratio);
   same_double("planner", "cost_weight", s.cost_weight, ds.cost_weight);
   same_double("planner", "goal_tolerance", s.goal_tolerance, ds.goal_tolerance);
@@ -2175,8 +2158,6 @@ TEST_F(FuzzLoaders, Config) {
                                           "inflation_radius",
                                           "goal_tolerance",
                                           "path_spacing",
-                                          "vns_threads",
-                                          "auto",
                                           "1e309"};
   run("config", Syntax::kYaml, words, single_file(good, "input.yaml", bad),
       on_first_file(check_config));

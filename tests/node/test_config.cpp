@@ -11,9 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "bench/costs.hpp"
@@ -264,7 +262,6 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "smoother_iterations:",
                           "max_planning_time:",
                           "compute_length_ratio:",
-                          "vns_threads:",
                           "cost_weight:",
                           "goal_tolerance:",
                           "start_tolerance:",
@@ -519,7 +516,6 @@ TEST(Config, EveryKeyReachesItsField) {
   EXPECT_EQ(p.max_planning_time, microseconds(250000));
   EXPECT_TRUE(p.compute_length_ratio);
   EXPECT_FALSE(p.record_expansions);  // the node sets it per request (debug readers)
-  EXPECT_EQ(p.vns_threads, 2);
   EXPECT_FALSE(c.preempt);
   EXPECT_EQ(c.queue_capacity, 8);
   EXPECT_EQ(c.debug, DebugPublishing::kAlways);
@@ -552,7 +548,7 @@ TEST(Config, MessageFormatIsKeyFoundExpected) {
 }
 
 TEST(Config, OutOfRangeValuesAreReportedWithTheirKeys) {
-  const ConfigResult r = LoadBad("out_of_range.yaml", 13);
+  const ConfigResult r = LoadBad("out_of_range.yaml", 12);
   EXPECT_TRUE(HasError(r, "domain_id", {"\"233\"", "0..232"}));
   EXPECT_TRUE(HasError(r, "map.occupied_threshold", {"\"0\"", "1..100"}));
   EXPECT_TRUE(HasError(r, "map.robot_radius", {"\"-0.1\"", ">= 0"}));
@@ -562,7 +558,6 @@ TEST(Config, OutOfRangeValuesAreReportedWithTheirKeys) {
   EXPECT_TRUE(HasError(r, "planner.smoothing_distance", {"\"0\"", "cells in (0, 1e6]"}));
   EXPECT_TRUE(HasError(r, "planner.sample_step", {"\"10.5\"", "cells in [0.05, 10]"}));
   EXPECT_TRUE(HasError(r, "planner.max_planning_time", {"\"3601\"", "seconds in [0, 3600]"}));
-  EXPECT_TRUE(HasError(r, "planner.vns_threads", {"\"3\"", "1, 2 or auto"}));
   EXPECT_TRUE(HasError(r, "requests.queue_capacity", {"\"100001\"", "1..100000"}));
   EXPECT_TRUE(HasError(r, "slicer.z_max", {"\"1\"", ">= slicer.z_min (2)"}));
   EXPECT_TRUE(HasError(r, "slicer.resolution", {"\"-0.5\"", ">= 0"}));
@@ -1202,100 +1197,19 @@ TEST(Config, RobotsAreDistinctNamespacesAndWorkersAreBounded) {
   }
 }
 
-// Issue 36: planner.vns_threads is 1, 2 or auto (default.yaml's). A number is a setting every
-// planner's options carry (only vns_bastar uses it); auto stays unset until the node resolves it
-// (resolve_vns_threads), and --print-config shows it as auto.
-TEST(Config, VnsThreadsIsOneTwoOrAuto) {
-  const NodeConfig defaults = *parse_config("").config;
-  EXPECT_FALSE(defaults.planner.settings.vns_threads.has_value());
-  EXPECT_EQ(defaults.planner.options().vns_threads, 1);  // unresolved: core's default
-  EXPECT_NE(config_as_yaml(defaults).find("  vns_threads: \"auto\"\n"), std::string::npos);
-  for (const int n : {1, 2}) {
-    SCOPED_TRACE(n);
-    const ConfigResult r = parse_config("planner: {vns_threads: " + std::to_string(n) + "}\n");
-    ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
-    EXPECT_EQ(r.config->planner.settings.vns_threads, n);
-    EXPECT_EQ(r.config->planner.options().vns_threads, n);
-    EXPECT_EQ(r.config->planner.auto_options().vns_threads, n);
-    for (PlannerKind kind : vnsba::core::all_planner_kinds())
-      EXPECT_EQ(r.config->planner.options(kind).vns_threads, n) << vnsba::core::to_string(kind);
-    EXPECT_NE(config_as_yaml(*r.config).find("  vns_threads: " + std::to_string(n) + "\n"),
-              std::string::npos);
-  }
-  const ConfigResult given_auto = parse_config("planner: {vns_threads: auto}\n");
-  ASSERT_TRUE(given_auto.config.has_value()) << Joined(given_auto.errors);
-  EXPECT_FALSE(given_auto.config->planner.settings.vns_threads.has_value());
-  for (const char* bad :
-       {"0", "3", "-1", "1.5", "2.0", "two", "Auto", "autoo", "[2]", "{a: 1}", "\"\"", "null"}) {
-    const ConfigResult r = parse_config(std::string("planner:\n  vns_threads: ") + bad + "\n");
-    EXPECT_TRUE(HasError(r, "planner.vns_threads", {"expected 1, 2 or auto"}))
-        << bad << Joined(r.errors);
-  }
-  // Reported with every other error of the file at once.
-  const ConfigResult several =
-      parse_config("planner: {vns_threads: 4, omega: abc}\nrequests: {workers: -1}\n");
-  EXPECT_EQ(several.errors.size(), 3u) << Joined(several.errors);
-  EXPECT_TRUE(HasError(several, "planner.vns_threads", {"\"4\"", "1, 2 or auto"}));
-  EXPECT_TRUE(HasError(several, "planner.omega"));
-  EXPECT_TRUE(HasError(several, "requests.workers"));
-}
-
-// auto is 2 when the CPUs available hold two threads for every planning worker, else 1; a given
-// value is kept, and 2 on too few CPUs is said (the node logs it as a warning).
-TEST(Config, VnsThreadsAutoResolvesFromTheCpusAndTheWorkers) {
-  struct Case {
-    std::optional<int> configured;
-    int cpus, workers;
-    int threads;
-    bool oversubscribed;
-  };
-  const Case cases[] = {
-      {std::nullopt, 1, 1, 1, false},
-      {std::nullopt, 2, 1, 2, false},
-      {std::nullopt, 3, 2, 1, false},
-      {std::nullopt, 4, 2, 2, false},
-      {std::nullopt, 64, 32, 2, false},
-      {std::nullopt, 63, 32, 1, false},
-      {1, 64, 1, 1, false},
-      {1, 1, 4, 1, false},
-      {2, 8, 4, 2, false},
-      {2, 7, 4, 2, true},
-      {2, 1, 1, 2, true},
-  };
-  for (const Case& c : cases) {
-    SCOPED_TRACE((c.configured ? std::to_string(*c.configured) : std::string("auto")) + ", " +
-                 std::to_string(c.cpus) + " CPUs, " + std::to_string(c.workers) + " workers");
-    const VnsThreads r = resolve_vns_threads(c.configured, c.cpus, c.workers);
-    EXPECT_EQ(r.threads, c.threads);
-    EXPECT_EQ(r.automatic, !c.configured.has_value());
-    EXPECT_EQ(r.oversubscribed, c.oversubscribed);
-    EXPECT_EQ(r.message.rfind(std::string("planner.vns_threads") +
-                                  (c.configured ? ": " : " auto: ") + std::to_string(c.threads),
-                              0),
-              0u)
-        << r.message;
-    EXPECT_NE(r.message.find(std::to_string(c.cpus) + " CPU"), std::string::npos) << r.message;
-    EXPECT_NE(r.message.find(std::to_string(c.workers) + " planning worker"), std::string::npos)
-        << r.message;
-    if (c.oversubscribed) {
-      EXPECT_NE(r.message.find("two cores"), std::string::npos) << r.message;
-      EXPECT_NE(r.message.find("auto would choose 1"), std::string::npos) << r.message;
-    }
-  }
-  EXPECT_EQ(resolve_vns_threads(std::nullopt, 4, 1).message,
-            "planner.vns_threads auto: 2 (4 CPUs available, 1 planning worker)");
-  EXPECT_EQ(resolve_vns_threads(std::nullopt, 3, 2).message,
-            "planner.vns_threads auto: 1 (3 CPUs available, 2 planning workers; 2 needs 4 CPUs, "
-            "two per worker)");
-  EXPECT_EQ(resolve_vns_threads(2, 3, 2).message,
-            "planner.vns_threads: 2 with 3 CPUs available for 2 planning workers: each worker's "
-            "VNS-BA* search may use two cores, 4 search threads on 3 CPUs compete for them "
-            "(auto would choose 1)");
-  // This process's CPUs: its affinity mask, never more than the machine has online.
-  const int cpus = available_cpus();
-  EXPECT_GE(cpus, 1);
-  if (std::thread::hardware_concurrency() > 0) {
-    EXPECT_LE(cpus, static_cast<int>(std::thread::hardware_concurrency()));
+// planner.vns_threads (VNS-BA* on two threads) was removed: a file that still gives it, with any
+// value, is refused by the key's name with what to do, among the file's other errors, and never
+// as an unknown key.
+TEST(Config, RemovedVnsThreadsIsRefusedByName) {
+  for (const char* value : {"1", "2", "auto"}) {
+    const ConfigResult r =
+        parse_config(std::string("planner: {vns_threads: ") + value + ", omega: abc}\n");
+    EXPECT_FALSE(r.config.has_value()) << value;
+    EXPECT_EQ(r.errors.size(), 2u) << Joined(r.errors);
+    EXPECT_TRUE(HasError(r, "planner.vns_threads", {"removed", "delete the key"}))
+        << Joined(r.errors);
+    EXPECT_TRUE(HasError(r, "planner.omega"));
+    for (const std::string& e : r.errors) EXPECT_EQ(e.find("unknown key"), std::string::npos) << e;
   }
 }
 

@@ -6,14 +6,12 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <random>
 #include <set>
 
 #include "bus_client.hpp"
 #include "geometry_msgs/msg/PointStampedPubSubTypes.h"
 #include "geometry_msgs/msg/PoseWithCovarianceStampedPubSubTypes.h"
-#include "log_capture.hpp"
 #include "rosgraph_msgs/msg/ClockPubSubTypes.h"
 #include "tf2_msgs/msg/TFMessagePubSubTypes.h"
 #include "vnsba/core/path_poses.hpp"
@@ -441,103 +439,6 @@ TEST(NodeIntegration, LengthRatioIsFilledOnlyWhenConfigured) {
       }
     }
   }
-}
-
-// Issue 36: planner.vns_threads 2 runs VNS-BA*'s two searches on two threads in lockstep, with
-// the answers of 1: the same status and the same poses for every query (a detour, a goal moved
-// by goal_tolerance, one no path reaches, one off the map), on default.yaml's robot (costs).
-// auto resolves once at the node's start, as resolve_vns_threads says for this machine, and
-// the value reaches the options the workers plan with.
-TEST(NodeIntegration, VnsThreadsOneAndTwoGiveTheSameAnswers) {
-  // 60 x 60 cells of 5 cm, rows top first: a wall down the middle, open for 12 rows at the top,
-  // and a closed box on the right.
-  std::vector<std::string> rows(60, std::string(60, '.'));
-  for (int r = 12; r < 60; ++r) rows[r][30] = '#';
-  for (int i = 40; i <= 52; ++i)
-    rows[20][i] = rows[32][i] = rows[i - 20][40] = rows[i - 20][52] = '#';
-  const core::OccupancyGrid grid = grid_from_rows(rows, 0.05, 0.0, 0.0);
-  struct Query {
-    const char* id;
-    double sx, sy, gx, gy;
-  };
-  auto at = [&](int x, int y) { return centre(grid, x, y); };  // y counts rows from the bottom
-  const Query queries[] = {
-      {"detour", at(5, 5).first, at(5, 5).second, at(57, 5).first, at(57, 5).second},
-      {"gap", at(5, 55).first, at(5, 55).second, at(57, 55).first, at(57, 55).second},
-      {"in_wall", at(5, 5).first, at(5, 5).second, at(30, 20).first + 0.01, at(30, 20).second},
-      {"boxed", at(10, 30).first, at(10, 30).second, at(46, 33).first, at(46, 33).second},
-      {"off_map", at(5, 5).first, at(5, 5).second, 10.0, 10.0},
-  };
-  auto same_number = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
-
-  std::map<std::string, PlanStatusMsg> first;  // the answers of the first mode, by query
-  for (const char* mode : {"1", "2", "auto"}) {
-    SCOPED_TRACE(std::string("planner.vns_threads: ") + mode);
-    const node::NodeConfig bus = test_config(std::string("vns_threads_") + mode);
-    const node::ConfigResult parsed =
-        node::parse_config(config_yaml(bus) + "planner:\n  vns_threads: " + mode + "\n");
-    ASSERT_TRUE(parsed.config.has_value()) << parsed.errors.front();
-    LogCapture log;  // outlives the node, which logs its choice once at start
-    Running run(*parsed.config);
-    ASSERT_TRUE(run.start_with_map(grid));
-    const node::VnsThreads expected =
-        node::resolve_vns_threads(parsed.config->planner.settings.vns_threads,
-                                  node::available_cpus(), node::planning_workers(*parsed.config));
-    EXPECT_EQ(expected.automatic, std::string(mode) == "auto");
-    if (!expected.automatic) {
-      EXPECT_EQ(expected.threads, std::stoi(mode));
-    }
-    EXPECT_EQ(run.node.config().planner.options(core::PlannerKind::kVnsBaStar).vns_threads,
-              expected.threads);
-    const auto logged = log.matching({"planner.vns_threads"});
-    ASSERT_EQ(logged.size(), 1u);
-    EXPECT_NE(logged[0].find(expected.message), std::string::npos) << logged[0];
-    EXPECT_EQ(logged[0].rfind(expected.oversubscribed ? "[warning]" : "[info]", 0), 0u)
-        << logged[0];
-
-    for (const Query& q : queries) {
-      SCOPED_TRACE(q.id);
-      run.client.publish_request(q.id, q.sx, q.sy, q.gx, q.gy, "vns_bastar");
-      const auto status = run.client.wait_status(q.id);
-      ASSERT_TRUE(status);
-      EXPECT_EQ(status->planner(), "vns_bastar");
-      const auto [it, inserted] = first.emplace(q.id, *status);
-      if (inserted) continue;
-      const PlanStatusMsg& a = it->second;
-      const PlanStatusMsg& b = *status;
-      EXPECT_EQ(code_name(b.code()), code_name(a.code()));
-      EXPECT_EQ(b.message(), a.message());
-      EXPECT_EQ(b.expanded(), a.expanded());
-      EXPECT_EQ(b.turns(), a.turns());
-      for (const auto& [name, x, y] :
-           {std::tuple{"length_m", a.length_m(), b.length_m()},
-            std::tuple{"raw_cost_cells", a.raw_cost_cells(), b.raw_cost_cells()},
-            std::tuple{"turn_angle_deg", a.turn_angle_deg(), b.turn_angle_deg()},
-            std::tuple{"clearance_m", a.clearance_m(), b.clearance_m()},
-            std::tuple{"goal_x", a.goal_x(), b.goal_x()},
-            std::tuple{"goal_y", a.goal_y(), b.goal_y()},
-            std::tuple{"goal_moved_m", a.goal_moved_m(), b.goal_moved_m()}})
-        EXPECT_TRUE(same_number(x, y)) << name << ": " << x << " and " << y;
-      const auto& pa = a.path().poses();
-      const auto& pb = b.path().poses();
-      ASSERT_EQ(pb.size(), pa.size());
-      for (size_t i = 0; i < pa.size(); ++i) {
-        const auto& u = pa[i].pose();
-        const auto& v = pb[i].pose();
-        EXPECT_TRUE(u.position().x() == v.position().x() && u.position().y() == v.position().y() &&
-                    u.orientation().z() == v.orientation().z() &&
-                    u.orientation().w() == v.orientation().w())
-            << "pose " << i;
-      }
-    }
-  }
-  // The queries reach what they were written for.
-  EXPECT_EQ(code_name(first.at("detour").code()), "OK") << first.at("detour").message();
-  EXPECT_EQ(code_name(first.at("gap").code()), "OK") << first.at("gap").message();
-  EXPECT_EQ(code_name(first.at("in_wall").code()), "OK") << first.at("in_wall").message();
-  EXPECT_TRUE(first.at("in_wall").goal_adjusted());
-  EXPECT_NE(code_name(first.at("boxed").code()), "OK");
-  EXPECT_EQ(code_name(first.at("off_map").code()), "GOAL_OUTSIDE_MAP");
 }
 
 TEST(NodeIntegration, GoalPoseUsesTheLatestRobotPose) {

@@ -365,8 +365,6 @@ TEST(VnsbaPlan, NewOptionsRefuseBadValuesNamingTheOptionAndUnit) {
            Case{{"--poses", poses, "--goal-yaw", "inf"}, {"--goal-yaw", "radians"}},
            Case{{"--path-spacing", "0.5"}, {"--path-spacing: only with --poses"}},
            Case{{"--goal-yaw", "1"}, {"--goal-yaw: only with --poses"}},
-           Case{{"--vns-threads", "3"}, {"--vns-threads", "1 or 2"}},
-           Case{{"--vns-threads", "0"}, {"--vns-threads", "1 or 2"}},
        }) {
     std::vector<std::string> args = {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5"};
     std::string flags;
@@ -633,44 +631,6 @@ TEST(VnsbaPlan, ConfigKeysPlanAsTheSameFlags) {
   EXPECT_EQ(override_output.rfind("vns_bastar OK", 0), 0u) << override_output;
   EXPECT_EQ(without_times(override_output), without_times(oracle_output));
   std::remove(config.c_str());
-}
-
-// Issue 36: --vns-threads 1 or 2, or the config's planner.vns_threads (auto resolved as the node
-// resolves it for one worker), plans the same path: one line, up to the times.
-TEST(VnsbaPlan, VnsThreadsOneAndTwoPrintTheSameLine) {
-  const std::vector<std::string> query = {kRooms, "--start", "2.5",       "2.5",       "--goal",
-                                          "29.5", "13.5",    "--planner", "vns_bastar"};
-  auto with = [&](const std::vector<std::string>& b) {
-    std::vector<std::string> a = query;
-    a.insert(a.end(), b.begin(), b.end());
-    return a;
-  };
-  const std::string automatic =
-      write_temp_file("plan_vns_auto.yaml", "planner: {vns_threads: auto}\n");
-  const std::string two = write_temp_file("plan_vns_two.yaml", "planner: {vns_threads: 2}\n");
-  const std::vector<std::vector<std::string>> runs[] = {
-      {{"--vns-threads", "1"}, {"--vns-threads", "2"}},
-      {{"--config", automatic},
-       {"--config", two},
-       {"--config", automatic, "--vns-threads", "1"},
-       {"--config", two, "--vns-threads", "1"}},
-  };
-  for (const auto& group : runs) {
-    std::optional<std::string> first;
-    for (const auto& flags : group) {
-      auto [code, output] = run_to_exit(kPlan, with(flags));
-      ASSERT_EQ(code, 0) << flags.back() << ": " << output;
-      // 2 on a machine of 1 CPU says so first ("warning: --vns-threads 2 with 1 CPU ...").
-      if (output.rfind("warning: ", 0) == 0 &&
-          output.find(" 2 with 1 CPU available") != std::string::npos)
-        output.erase(0, output.find('\n') + 1);
-      EXPECT_EQ(output.rfind("vns_bastar OK", 0), 0u) << output;
-      if (!first) first = without_times(output);
-      EXPECT_EQ(without_times(output), *first) << flags.back();
-    }
-  }
-  std::remove(automatic.c_str());
-  std::remove(two.c_str());
 }
 
 // --planner auto is the planner core::recommended_planner names for the options, pruned and

@@ -7,11 +7,9 @@
 //   if (r.status.is_ok()) use(r.world_path);
 //
 // A Planner reuses its flat search arrays across queries on the same map; it is not
-// thread-safe (one Planner per thread), but any number of Planners may share one GridMap. With
-// vns_threads 2 a Planner owns one more thread for VNS-BA*'s backward search, made at its first
-// such plan and ended by its destructor.
-// The constructor allocates the per-cell arrays of both search directions (36 bytes per cell
-// together, about 600 MB for 4096 x 4096 cells), so that no query pays for them: make the
+// thread-safe (one Planner per thread), but any number of Planners may share one GridMap.
+// The constructor allocates the per-cell arrays of both search directions (34 bytes per cell
+// together, about 570 MB for 4096 x 4096 cells), so that no query pays for them: make the
 // Planner when a map is installed, not at its first query (at 4096 x 4096 the allocation takes a
 // few hundred milliseconds, which the first plan and its cancel latency would otherwise include).
 #pragma once
@@ -159,13 +157,6 @@ class Planner {
   size_t search_state_bytes() const;
   // The most bytes of search state ever held by one direction, divided by the map's cell count.
   double peak_bytes_per_cell_per_direction() const;
-  // VNS-BA* searches (vns_threads 2) whose backward direction the second thread took over. A
-  // search starts on the calling thread and hands over once the second thread is awake, so a
-  // search that ends within a few microseconds runs on one thread (the same results either way).
-  int64_t searches_shared() const;
-  // Of those, the searches whose backward direction the calling thread took back (the second
-  // thread was not running for a millisecond, as on a loaded machine) and finished alone.
-  int64_t searches_taken_back() const;
 
  private:
   struct Impl;

@@ -85,10 +85,6 @@ inline constexpr OptionRange kSmootherCostRange{"smoother_cost", "", 0.0, 100.0,
 // point that moves.
 inline constexpr OptionRange kSmootherIterationsRange{"smoother_iterations", "", 1.0, 10000.0,
                                                       false};
-// Threads of one VNS-BA* search: 1 runs its forward and backward searches in strict alternation on
-// the calling thread; 2 runs them on two threads in lockstep (one kept per Planner), with the
-// same outputs (docs/algorithm.md section 3). Other planners ignore it.
-inline constexpr OptionRange kVnsThreadsRange{"vns_threads", "", 1.0, 2.0, false};
 
 // Move cost = length * (1 + cost_weight * c), c in [0, 1) (docs/algorithm.md section 8); 0 = the
 // paper's binary grid. 100 already makes a cell of cost 0.99 a hundred times dearer than free.
@@ -135,7 +131,6 @@ struct PlannerOptions {
   double smoother_closeness = 0.0;
   double smoother_cost = 0.1;
   int smoother_iterations = 10;
-  int vns_threads = 1;  // kVnsThreadsRange: 1 or 2 threads for a VNS-BA* search
 };
 
 // The planner `planner.name: auto` runs, chosen by measurement (`vnsba_bench costs`, the table
@@ -187,7 +182,6 @@ struct PlannerSettings {
   std::optional<double> smoother_closeness;
   std::optional<double> smoother_cost;
   std::optional<int> smoother_iterations;
-  std::optional<int> vns_threads;
 };
 
 // The options of a run: default_options(kind), then every setting that is set.

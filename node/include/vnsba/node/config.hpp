@@ -139,11 +139,6 @@ inline constexpr core::OptionRange kPathSpacingRange{"path_spacing", "metres", 0
 // of a request are make_options(the request's planner, or `kind`, settings), so a request that
 // picks another planner keeps every configured key. The bare struct starts with the node's own
 // defaults as settings (max_planning_time = 5 s), which hold for every planner too.
-//
-// planner.vns_threads is settings.vns_threads: 1 or 2 as the file gives it, unset for `auto`
-// (default.yaml's), which the node resolves once at its start (resolve_vns_threads: 2 where the
-// CPUs allow two threads per planning worker) and then sets. Left unset, a plan runs with core's
-// default, 1.
 struct PlannerConfig {
   core::PlannerKind kind = core::PlannerKind::kVnsBaStar;  // planner.name
   // planner.name: auto. `kind` is then core::recommended_planner for the file's cost_weight,
@@ -274,29 +269,6 @@ inline constexpr int kMaxWorkers = 256;
 // The planning threads a node runs for `config`: requests.workers (0: the cores), at most one per
 // robot, at least one.
 int planning_workers(const NodeConfig& config);
-
-// The CPUs this process may run on: the count of its affinity mask (sched_getaffinity, which
-// taskset and cpuset limits narrow), else std::thread::hardware_concurrency(); at least 1.
-int available_cpus();
-
-// planner.vns_threads's value that leaves the choice to resolve_vns_threads.
-inline constexpr const char* kAutoVnsThreads = "auto";
-
-// planner.vns_threads as it runs: the number each plan's PlannerOptions::vns_threads gets.
-struct VnsThreads {
-  int threads = 1;              // 1 or 2
-  bool automatic = false;       // the config said auto
-  bool oversubscribed = false;  // 2 given with fewer CPUs than two per planning worker
-  // One line for the log, naming the key, the value and why: "planner.vns_threads auto: 2 (4
-  // CPUs available, 1 planning worker)". With `oversubscribed`, a warning saying what it costs.
-  std::string message;
-};
-// `configured` is planner.vns_threads (settings.vns_threads: 1, 2, or unset for auto); `cpus` the
-// CPUs available (available_cpus()), `workers` the plans that may run at once (planning_workers(),
-// 1 for vnsba_plan). auto is 2 when cpus >= 2 * workers, else 1 (each worker's Planner runs its
-// second search thread beside it, so two per worker keep every thread on a core of its own). A
-// given 1 or 2 is kept; 2 with fewer CPUs than that is allowed and said (oversubscribed).
-VnsThreads resolve_vns_threads(std::optional<int> configured, int cpus, int workers);
 
 // The configuration as robot `robot` (an entry of `robots`, or "" for the node's own) sees it:
 // ros_namespace is the robot's namespace, so dds_topic_name gives the robot's topics.
