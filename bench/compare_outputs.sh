@@ -67,8 +67,13 @@ build_bench() {
   name=$2
   if [ -n "$revision" ]; then
     src="$work/$name-src"
-    git -C "$root" worktree remove --force "$src" >/dev/null 2>&1 || true
-    git -C "$root" worktree add --detach "$src" "$revision" >/dev/null
+    commit=$(git -C "$root" rev-parse --verify "$revision^{commit}")
+    # A VNSBA_COMPARE_DIR kept from an earlier run at the same commit is reused as it is, so
+    # that its build is up to date.
+    if [ "$(git -C "$src" rev-parse HEAD 2>/dev/null || true)" != "$commit" ]; then
+      git -C "$root" worktree remove --force "$src" >/dev/null 2>&1 || true
+      git -C "$root" worktree add --detach "$src" "$commit" >/dev/null
+    fi
   else
     src=$root
   fi
@@ -122,10 +127,12 @@ run_cost_records() {
 # Runs every planner on the scenarios into $work/$name$2.raw.csv ($2: the run's suffix).
 run_bench() {
   name=$1
-  echo "running $name's vnsba_bench on $scenarios scenarios per map (run ${2:-1}) ..." >&2
+  suffix=${2:-}
+  run_number=${suffix#.}
+  echo "running $name's vnsba_bench on $scenarios scenarios per map (run ${run_number:-1}) ..." >&2
   set -- movingai --maps "$data/movingai" --max-scenarios "$scenarios" --csv
   if [ -n "${VNSBA_PLANNERS:-}" ]; then set -- "$@" --planners "$VNSBA_PLANNERS"; fi
-  if ! "$work/$name-build/tools/vnsba_bench" "$@" > "$work/$name${2:-}.raw.csv"; then
+  if ! "$work/$name-build/tools/vnsba_bench" "$@" > "$work/$name$suffix.raw.csv"; then
     echo "compare_outputs: $name's vnsba_bench movingai failed (above)" >&2
     exit 1
   fi

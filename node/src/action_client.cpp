@@ -345,6 +345,11 @@ GoalState ActionClient::status_of(const GoalUuid& id) const {
   return it == impl_->statuses.end() ? GoalState::kUnknown : it->second;
 }
 
+size_t ActionClient::status_list_size() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->statuses.size();
+}
+
 bool ActionClient::wait_status(const GoalUuid& id, GoalState state, Duration timeout) const {
   std::unique_lock<std::mutex> lock(impl_->mutex);
   return impl_->cv.wait_for(lock, timeout, [&] {

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "action_types.hpp"
+#include "vnsba/node/reply_flow.hpp"
 
 namespace vnsba::node {
 
@@ -90,6 +91,7 @@ std::string uuid_text(const GoalUuid& id) {
   return hex(id);
 }
 
+
 // A ComputePathThroughPoses send_goal whose `goals` count cannot fit in its bytes: refused before
 // decoding, which would allocate every announced pose first (a count of 2^31 in a 40-byte
 // sample). A PoseStamped takes at least 68 bytes on the wire (stamp 8, frame_id length 4, pose
@@ -115,6 +117,9 @@ struct ReplyAddress {
   GuidPrefix prefix{};
 };
 
+// A finished goal's get_result reply message (status and result), encoded once.
+using EncodedResult = std::shared_ptr<const std::vector<uint8_t>>;
+
 class ActionServer::Impl {
  public:
   enum Service { kSendGoal = 0, kGetResult = 1, kCancel = 2 };
@@ -130,7 +135,14 @@ class ActionServer::Impl {
         hooks_(std::move(hooks)),
         goals_(config.actions.result_timeout, static_cast<size_t>(config.actions.max_results)),
         gates_{ReplyGate<Reply>(config.reply_wait), ReplyGate<Reply>(config.reply_wait),
-               ReplyGate<Reply>(config.reply_wait)} {}
+               ReplyGate<Reply>(config.reply_wait)},
+        flows_{ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout),
+               ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout),
+               ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout)} {}
+
+  static size_t reply_budget(const NodeConfig& config) {
+    return static_cast<size_t>(config.actions.replies_in_flight_mb) << 20;
+  }
 
   ActionServer& self_;
   const NodeConfig& cfg_;
@@ -138,15 +150,21 @@ class ActionServer::Impl {
   std::mutex& mutex_;
   std::condition_variable& cv_;
   Hooks hooks_;
-  ActionGoals<ActionOutcome, ReplyAddress> goals_;  // under mutex_
+  ActionGoals<EncodedResult, ReplyAddress> goals_;  // under mutex_
   std::array<ReplyGate<Reply>, 3> gates_;           // under mutex_
+  // Per service: replies held (gate, then unwritten_) per client, under mutex_, and the last
+  // warning about dropping one.
+  std::array<std::map<GuidPrefix, size_t>, 3> pending_;
+  std::map<GuidPrefix, Clock::time_point> drop_warned_;
+  std::array<ReplyFlow, 3> flows_;  // the replier thread's
   std::array<dds::DataWriter*, 3> reply_writers_{};
   std::array<std::unique_ptr<MatchedReaders>, 3> matched_;
   dds::DataWriter* status_writer_ = nullptr;
   dds::DataWriter* feedback_writer_ = nullptr;
   bool status_dirty_ = true;         // under mutex_; the first pass publishes the (empty) list
   Clock::time_point last_status_{};  // when the list was last published, under mutex_
-  // Replies a full writer history refused, retried first on the next pass (replier thread).
+  // Replies not written yet (their writer's flow said wait, or the write failed), retried first
+  // on the next pass, in order (replier thread). Bounded by pending_'s cap.
   std::deque<Reply> unwritten_;
   std::set<GuidPrefix> warned_;  // clients whose undecodable requests were logged, under mutex_
 
@@ -170,15 +188,36 @@ class ActionServer::Impl {
     return address;
   }
 
-  // Holds a reply for the replier thread; under mutex_.
-  template <class Msg>
-  void hold(Service service, const ReplyAddress& to, const Msg& msg, std::string what) {
+  // Holds a reply for the replier thread, unless the client has max_pending_replies held by
+  // this service already (then it is dropped with a warning, at most one a second per client);
+  // under mutex_.
+  void hold_sample(Service service, const ReplyAddress& to, RawSample sample, std::string what) {
+    size_t& pending = pending_[service][to.prefix];
+    if (pending >= static_cast<size_t>(cfg_.actions.max_pending_replies)) {
+      const Clock::time_point now = Clock::now();
+      auto [warned, first] = drop_warned_.try_emplace(to.prefix, now);
+      if (first || now - warned->second >= std::chrono::seconds(1)) {
+        warned->second = now;
+        spdlog::warn(
+            "{}: {} to participant {} dropped: {} {} replies to it wait already "
+            "(actions.max_pending_replies; its reply reader is not matched or not taking them)",
+            self_.ros_name_, what, hex(to.prefix), pending, kServiceNames[service]);
+      }
+      return;
+    }
+    ++pending;
     Reply reply;
     reply.writer = reply_writers_[service];
-    reply.sample = encode_reply(msg, to.mapping, to.header);
+    reply.service = service;
+    reply.client = to.prefix;
+    reply.sample = std::move(sample);
     if (to.mapping == WireMapping::kSampleIdentity) reply.related = to.related;
     reply.what = std::move(what);
     gates_[service].hold(to.prefix, std::move(reply), ReplyGate<Reply>::Clock::now());
+  }
+  template <class Msg>
+  void hold(Service service, const ReplyAddress& to, const Msg& msg, std::string what) {
+    hold_sample(service, to, encode_reply(msg, to.mapping, to.header), std::move(what));
   }
 
   // A request that cannot be decoded: logged once per client, never answered (without its
@@ -242,8 +281,12 @@ class ActionServer::Impl {
       std::lock_guard<std::mutex> lock(mutex_);
       auto answer = goals_.result_or_wait(id, from);
       if (!answer) return;  // answered when the goal finishes
-      hold(kGetResult, from, result_response<T>(answer->state, answer->result),
-           "the result of goal " + uuid_text(id));
+      const std::string what = "the result of goal " + uuid_text(id);
+      if (answer->result) {
+        hold_result(from, answer->result, what);
+      } else {  // a goal never seen, or forgotten: UNKNOWN with an empty result
+        hold(kGetResult, from, result_response<T>(GoalState::kUnknown, ActionOutcome{}), what);
+      }
     }
     cv_.notify_all();
   }
@@ -292,13 +335,14 @@ class ActionServer::Impl {
     result.error_msg(outcome.error_msg);
     return response;
   }
-  void hold_result(const ReplyAddress& to, const GoalUuid& id, GoalState state,
-                   const ActionOutcome& outcome) {
-    const std::string what = "the result of goal " + uuid_text(id);
+  // The goal's get_result message, encoded once for every requester.
+  EncodedResult encode_result(GoalState state, const ActionOutcome& outcome) {
     if (self_.kind_ == ActionKind::kComputePathToPose)
-      hold(kGetResult, to, result_response<ToPoseTypes>(state, outcome), what);
-    else
-      hold(kGetResult, to, result_response<ThroughPosesTypes>(state, outcome), what);
+      return encode_message(result_response<ToPoseTypes>(state, outcome));
+    return encode_message(result_response<ThroughPosesTypes>(state, outcome));
+  }
+  void hold_result(const ReplyAddress& to, const EncodedResult& result, std::string what) {
+    hold_sample(kGetResult, to, reply_with_message(result, to.mapping, to.header), std::move(what));
   }
 
   template <class T>
@@ -309,7 +353,7 @@ class ActionServer::Impl {
     auto reply_writer = [&](auto type, Service service, bool large) -> core::Status {
       matched_[service] = std::make_unique<MatchedReaders>(mutex_, cv_, gates_[service]);
       auto writer = participant.writer_on<RawOf<typename decltype(type)::type>>(
-          topic(kServiceNames[service], false), writer_qos(TopicQos::kStatus, large),
+          topic(kServiceNames[service], false), reply_writer_qos(kReplyHistory, large),
           matched_[service].get());
       if (!writer) return writer.error();
       reply_writers_[service] = *writer;
@@ -406,13 +450,23 @@ bool ActionServer::canceling(const GoalUuid& id) const {
 }
 
 void ActionServer::finish(const GoalUuid& id, ActionOutcome outcome) {
+  if (outcome.error_msg.size() > kMaxErrorMessageBytes) {
+    outcome.error_msg.resize(kMaxErrorMessageBytes - 3);
+    while (!outcome.error_msg.empty() && (outcome.error_msg.back() & 0xC0) == 0x80)
+      outcome.error_msg.pop_back();  // never cut a UTF-8 character
+    if (!outcome.error_msg.empty() && (outcome.error_msg.back() & 0x80) != 0)
+      outcome.error_msg.pop_back();
+    outcome.error_msg += "...";
+  }
+  // Encoded before the lock: a result of 100,000 poses takes milliseconds.
+  const EncodedResult result = impl_->encode_result(outcome.state, outcome);
+  const size_t bytes = result->size() + kKeptResultOverheadBytes;
   {
     std::lock_guard<std::mutex> lock(impl_->mutex_);
-    const GoalState state = outcome.state;
     const std::vector<ReplyAddress> waiting =
-        impl_->goals_.finish(id, state, std::move(outcome), Clock::now());
-    const auto answer = impl_->goals_.answer(id);
-    for (const ReplyAddress& to : waiting) impl_->hold_result(to, id, answer.state, answer.result);
+        impl_->goals_.finish(id, outcome.state, result, Clock::now(), bytes);
+    for (const ReplyAddress& to : waiting)
+      impl_->hold_result(to, result, "the result of goal " + uuid_text(id));
     impl_->status_dirty_ = true;
   }
   impl_->cv_.notify_all();
@@ -426,14 +480,19 @@ void ActionServer::take_due(Clock::time_point now, bool all, Due& out) {
   }
   for (auto& gate : impl_->gates_)
     for (Reply& reply : gate.release(release_at)) out.replies.push_back(std::move(reply));
+  for (const ReplyFlow& flow : impl_->flows_)
+    if (const auto next = flow.next_check(!impl_->unwritten_.empty()); next && now >= *next)
+      out.check_flows = true;
   if (impl_->goals_.expire(now) > 0) impl_->status_dirty_ = true;
-  // The list holds every goal kept (up to max_results finished ones): under a burst of goals,
-  // one list per kStatusPeriod carries every change since the last.
+  // The list holds every goal not finished and the last actions.status_finished_goals that
+  // finished: under a burst of goals, one list per kStatusPeriod carries every change since the
+  // last.
   if (!impl_->status_dirty_ || (!all && now < impl_->last_status_ + kStatusPeriod)) return;
   impl_->status_dirty_ = false;
   impl_->last_status_ = now;
   GoalStatusArrayMsg msg;
-  for (const auto& entry : impl_->goals_.statuses()) {
+  for (const auto& entry :
+       impl_->goals_.statuses(static_cast<size_t>(impl_->cfg_.actions.status_finished_goals))) {
     action_msgs::msg::dds_::GoalStatus_ status;
     status.goal_info().goal_id().uuid(entry.id);
     status.goal_info().stamp().sec(entry.stamp.sec);
@@ -444,7 +503,44 @@ void ActionServer::take_due(Clock::time_point now, bool all, Due& out) {
   out.status = std::move(msg);
 }
 
-bool ActionServer::write(Due& due, bool give_up) {
+bool ActionServer::write(Due& due, bool stopping, bool give_up) {
+  Impl& impl = *impl_;
+  const Clock::time_point now = Clock::now();
+  // A writer whose readers have acknowledged every reply written opens its window again; one
+  // whose window waited reply_ack_timeout names the clients of the replies in it, once.
+  for (int s = 0; s < 3; ++s) {
+    ReplyFlow& flow = impl.flows_[s];
+    dds::DataWriter* writer = impl.reply_writers_[s];
+    if (writer == nullptr || flow.unacknowledged_bytes() == 0) continue;
+    if (writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 0)) ==
+        ReturnCode_t::RETCODE_OK) {
+      flow.all_acknowledged();
+    } else if (const auto clients = flow.stalled(now)) {
+      std::string names;
+      for (size_t i = 0; i < clients->size() && i < 3; ++i)
+        names += (i ? ", " : "") + hex((*clients)[i].first) + " (" +
+                 std::to_string((*clients)[i].second) + ")";
+      if (clients->size() > 3) names += " and more";
+      // DDS does not say which reader lags: every participant with a reader on this topic.
+      std::vector<GuidPrefix> readers;
+      {
+        std::lock_guard<std::mutex> lock(impl.mutex_);
+        readers = impl.gates_[s].matched_participants();
+      }
+      std::string readers_text;
+      for (const GuidPrefix& participant : readers)
+        readers_text += (readers_text.empty() ? "" : ", ") + hex(participant);
+      spdlog::warn(
+          "{}: {} replies not acknowledged by every reader within actions.reply_ack_timeout "
+          "({:g} s): a reader does not take its replies (a stopped or overloaded client). "
+          "Replies waiting in it by client participant: {}; participants with a reader of it: "
+          "{}. The others' replies go on without waiting for it, and what only it lacks is "
+          "dropped",
+          ros_name_, Impl::kServiceNames[s],
+          static_cast<double>(impl.cfg_.actions.reply_ack_timeout.count()) / 1000.0, names,
+          readers_text);
+    }
+  }
   // A heartbeat that does not count these replies first, as the node does before statuses
   // (replier_loop): Cyclone DDS's volatile reader skips everything up to the last sequence
   // number of the first heartbeat it accepts from a writer, and a client that discovered the
@@ -454,31 +550,77 @@ bool ActionServer::write(Due& due, bool give_up) {
   for (const Reply& reply : due.replies)
     if (reply.writer != nullptr && asserted.insert(reply.writer).second)
       reply.writer->assert_liveliness();
-  for (size_t i = 0; i < due.replies.size(); ++i) {
-    Reply& reply = due.replies[i];
-    if (reply.writer == nullptr) continue;
-    eprosima::fastrtps::rtps::WriteParams params;
-    if (reply.related) params.related_sample_identity(*reply.related);
-    if (write_sample(reply.writer, &reply.sample, params)) continue;
+  // In order per service: a reply that must wait keeps every later one of its service waiting.
+  std::array<bool, 3> waiting{};
+  std::array<std::map<GuidPrefix, size_t>, 3> done;  // replies written or given up, per client
+  std::deque<Reply> keep;
+  for (Reply& reply : due.replies) {
+    const int s = reply.service;
+    if (reply.writer == nullptr) {
+      ++done[s][reply.client];
+      continue;
+    }
+    ReplyFlow& flow = impl.flows_[s];
+    const size_t bytes = reply.sample.size();
+    if (!waiting[s] && !stopping) {
+      const ReplyFlow::Step step = flow.next(bytes, now);
+      if (step == ReplyFlow::Step::kWait) waiting[s] = true;
+      if (step == ReplyFlow::Step::kClearHistory) {
+        size_t removed = 0;
+        reply.writer->clear_history(&removed);
+        flow.history_cleared();
+        spdlog::warn("{}: {} replies a reader has not acknowledged for actions.reply_ack_timeout "
+                     "dropped from the writer's history ({} of them)",
+                     ros_name_, Impl::kServiceNames[s], removed);
+      }
+    }
+    if (!waiting[s]) {
+      eprosima::fastrtps::rtps::WriteParams params;
+      if (reply.related) params.related_sample_identity(*reply.related);
+      if (write_sample(reply.writer, &reply.sample, params)) {
+        flow.written(reply.client, bytes, now);
+        ++done[s][reply.client];
+        continue;
+      }
+      waiting[s] = true;  // refused: tried again on the next pass
+    }
     if (give_up) {
       spdlog::error("{}: could not write {}: the shutdown's drain ran out of time", ros_name_,
                     reply.what);
+      ++done[s][reply.client];
       continue;
     }
-    // A history full of unacknowledged replies (a burst): this one and the rest wait, in order,
-    // for the next pass; none is dropped.
-    for (size_t j = i; j < due.replies.size(); ++j)
-      impl_->unwritten_.push_back(std::move(due.replies[j]));
-    due.replies.clear();
-    break;
+    keep.push_back(std::move(reply));
   }
-  if (due.status && impl_->status_writer_ != nullptr && !impl_->status_writer_->write(&*due.status))
+  due.replies.clear();
+  // Kept in order, ahead of what the next take_due brings.
+  while (!keep.empty()) {
+    impl.unwritten_.push_front(std::move(keep.back()));
+    keep.pop_back();
+  }
+  if (due.status && impl.status_writer_ != nullptr && !impl.status_writer_->write(&*due.status))
     spdlog::error("{}: could not publish the goal status list", ros_name_);
-  return impl_->unwritten_.empty();
+  {
+    std::lock_guard<std::mutex> lock(impl.mutex_);
+    for (int s = 0; s < 3; ++s)
+      for (const auto& [client, count] : done[s]) {
+        auto it = impl.pending_[s].find(client);
+        if (it == impl.pending_[s].end()) continue;
+        it->second -= std::min(it->second, count);
+        if (it->second == 0) impl.pending_[s].erase(it);
+      }
+  }
+  return impl.unwritten_.empty();
 }
 
 std::optional<ActionServer::Clock::time_point> ActionServer::next_deadline() const {
   std::optional<Clock::time_point> earliest = impl_->goals_.next_expiry();
+  // The flows' next look (the acknowledgements themselves are looked for every few milliseconds
+  // by the replier while replies wait).
+  for (const ReplyFlow& flow : impl_->flows_)
+    if (auto next = flow.next_check(!impl_->unwritten_.empty());
+        next && (!earliest || *next < *earliest))
+      earliest = next;
   if (impl_->status_dirty_) {
     const Clock::time_point list_due = impl_->last_status_ + kStatusPeriod;
     if (!earliest || list_due < *earliest) earliest = list_due;
@@ -494,6 +636,20 @@ std::array<dds::DataWriter*, 3> ActionServer::reply_writers() const {
 
 size_t ActionServer::goals() const {
   return impl_->goals_.size();
+}
+
+size_t ActionServer::kept_bytes() const {
+  return impl_->goals_.kept_bytes();
+}
+
+std::optional<FinishedGoal> ActionServer::oldest_finished(std::optional<bool> delivered) const {
+  return impl_->goals_.oldest_finished(delivered);
+}
+
+bool ActionServer::forget(const GoalUuid& id) {
+  if (!impl_->goals_.forget(id)) return false;
+  impl_->status_dirty_ = true;
+  return true;
 }
 
 }  // namespace vnsba::node

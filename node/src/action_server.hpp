@@ -13,6 +13,15 @@
 // calls finish(). Replies go out on the node's replier thread, each once a reply reader of the
 // client's participant is matched (at most requests.reply_wait), as plan_status does; the
 // mapping of a reply to its request is chosen per client (service_wire.hpp).
+//
+// Memory is bounded by bytes (issue 44): a goal's result is encoded once, when it finishes, and
+// every get_result reply of it shares that encoding (no copy per requester); the results all
+// servers keep share one budget (actions.kept_results_mb, forget_beyond_budget); a service holds
+// at most actions.max_pending_replies replies per client; the reply writers keep their last
+// replies only (reply_writer_qos), never blocking, and the writes are paced (reply_flow.hpp) so
+// that each writer holds at most actions.replies_in_flight_mb of replies not yet acknowledged,
+// and a client that does not acknowledge delays the others by at most about twice
+// actions.reply_ack_timeout and loses only its own replies.
 #pragma once
 
 #include <condition_variable>
@@ -60,9 +69,11 @@ struct ActionOutcome {
 uint16_t nav2_error_code(ActionKind kind, uint8_t wire_code, bool invalid_planner);
 // ComputePathThroughPoses's NO_VIAPOINTS_GIVEN (an empty goals list).
 constexpr uint16_t kNoViapointsGiven = 309;
-// At most this many poses in a ComputePathThroughPoses goal (each is a leg to plan); more is
-// ABORTED naming the field.
-constexpr size_t kMaxThroughPoses = 1000;
+// The longest error_msg a result carries, in bytes (a message that echoes input is cut there).
+constexpr size_t kMaxErrorMessageBytes = 1024;
+// Each reply writer's history (keep last): more replies than a burst leaves unacknowledged at
+// once (their bytes are bounded by the flow, reply_flow.hpp).
+constexpr int32_t kReplyHistory = 10000;
 // The status list is published at most this often (every change in between is in the next one).
 constexpr std::chrono::milliseconds kStatusPeriod{50};
 
@@ -110,12 +121,20 @@ class ActionServer {
   // the server. With `all`, everything held (shutdown).
   struct Due;
   void take_due(Clock::time_point now, bool all, Due& out);
-  // Writes them (the replier thread, without the lock). A reply the writer's full history
-  // refuses is kept, with those after it, for the next take_due; false when any was kept. With
-  // `give_up` (a shutdown out of time) nothing is kept.
-  bool write(Due& due, bool give_up = false);
-  // When something held next falls due (reply_wait, a result's expiry); under reply_mutex.
+  // Writes them (the replier thread, without the lock), as each reply writer's flow allows
+  // (reply_flow.hpp; `stopping`: all at once). A reply that must wait, or that the writer
+  // refuses, is kept with the later ones of its service, in order, for the next pass; false when
+  // any was kept. With `give_up` (a shutdown out of time) nothing is kept.
+  bool write(Due& due, bool stopping = false, bool give_up = false);
+  // When something held next falls due (reply_wait, a result's expiry, a reply waiting for
+  // acknowledgements); under reply_mutex.
   std::optional<Clock::time_point> next_deadline() const;
+
+  // The results kept, for the node's one budget over all servers (forget_beyond_budget); under
+  // reply_mutex.
+  size_t kept_bytes() const;
+  std::optional<FinishedGoal> oldest_finished(std::optional<bool> delivered = std::nullopt) const;
+  bool forget(const GoalUuid& id);
 
   ActionKind kind() const { return kind_; }
   const std::string& name() const { return ros_name_; }
@@ -126,6 +145,8 @@ class ActionServer {
 
   struct Reply {
     dds::DataWriter* writer = nullptr;
+    int service = 0;  // send_goal 0, get_result 1, cancel_goal 2
+    GuidPrefix client{};
     RawSample sample;
     std::optional<eprosima::fastrtps::rtps::SampleIdentity> related;  // rmw_fastrtps
     std::string what;                                                 // for the log
@@ -133,6 +154,9 @@ class ActionServer {
   struct Due {
     std::vector<Reply> replies;
     std::optional<GoalStatusArrayMsg> status;
+    // A reply writer's flow is due a look (its readers' acknowledgements, a reader that does not
+    // acknowledge to report) although no reply is due.
+    bool check_flows = false;
   };
 
  private:

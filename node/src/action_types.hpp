@@ -75,20 +75,23 @@ class RawOf : public dds::TopicDataType {
     m_isGetKeyDefined = false;
   }
   bool serialize(void* data, SerializedPayload_t* payload) override {
-    const auto& bytes = static_cast<RawSample*>(data)->bytes;
-    if (bytes.size() < 4 || bytes.size() > payload->max_size) return false;
-    std::copy(bytes.begin(), bytes.end(), payload->data);
-    payload->length = static_cast<uint32_t>(bytes.size());
+    const RawSample& sample = *static_cast<RawSample*>(data);
+    const auto& bytes = sample.bytes;
+    if (bytes.size() < 4 || sample.size() > payload->max_size) return false;
+    uint8_t* end = std::copy(bytes.begin(), bytes.end(), payload->data);
+    if (sample.shared_tail) std::copy(sample.shared_tail->begin(), sample.shared_tail->end(), end);
+    payload->length = static_cast<uint32_t>(sample.size());
     payload->encapsulation = bytes[1] == 0 ? CDR_BE : CDR_LE;
     return true;
   }
   bool deserialize(SerializedPayload_t* payload, void* data) override {
-    auto& bytes = static_cast<RawSample*>(data)->bytes;
-    bytes.assign(payload->data, payload->data + payload->length);
+    RawSample& sample = *static_cast<RawSample*>(data);
+    sample.bytes.assign(payload->data, payload->data + payload->length);
+    sample.shared_tail.reset();
     return true;
   }
   std::function<uint32_t()> getSerializedSizeProvider(void* data) override {
-    return [data] { return static_cast<uint32_t>(static_cast<RawSample*>(data)->bytes.size()); };
+    return [data] { return static_cast<uint32_t>(static_cast<RawSample*>(data)->size()); };
   }
   void* createData() override { return new RawSample(); }
   void deleteData(void* data) override { delete static_cast<RawSample*>(data); }

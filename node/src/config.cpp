@@ -360,8 +360,12 @@ const std::set<std::string> kSharedTopicKeys = {"projected_map", "octomap", "tf"
 // (Section::child) and closes it (Section::finish: unknown and repeated keys). A check across keys
 // runs where both keys have been read and reports through Section::report.
 
-const char* frame_name_problem(const std::string& s) {
-  return s.empty() ? "a non-empty frame name" : "";
+std::string frame_name_problem(const std::string& s) {
+  if (s.empty()) return "a non-empty frame name";
+  if (s.size() > kMaxFrameIdBytes)
+    return "a frame name of at most " + std::to_string(kMaxFrameIdBytes) +
+           " bytes (a request's frame_id is refused past it, so every goal would be)";
+  return "";
 }
 
 // Top level: the DDS domain, ROS 2 naming, the frame and the namespace.
@@ -502,6 +506,48 @@ void read_planner_name(Section& planner, PlannerConfig& p) {
       p.auto_kind ? core::kCostAwareChoice : core::planner_kind_from_string(name).value_or(p.kind);
 }
 
+// planner.aliases: a map of other names to planners ("default": planner.name).
+void read_planner_aliases(Section& planner, PlannerConfig& p) {
+  std::vector<std::string> targets = {kDefaultPlannerAlias, std::string(core::kAutoPlannerName)};
+  for (core::PlannerKind k : core::all_planner_kinds()) targets.emplace_back(to_string(k));
+  planner.get(
+      "aliases", p.aliases,
+      [&](const YAML::Node& node,
+          std::vector<std::pair<std::string, std::string>>& value) -> std::string {
+        const std::string expected =
+            "a map of names to planners, e.g. {GridBased: default} (each name at most " +
+            std::to_string(kMaxPlannerNameBytes) +
+            " bytes and not itself a planner; each planner one of " + join(targets) + ")";
+        if (node.IsNull()) {
+          value.clear();
+          return "";
+        }
+        if (!node.IsMap()) return expected;
+        std::vector<std::pair<std::string, std::string>> aliases;
+        for (const auto& entry : node) {
+          if (!entry.first.IsScalar() || !entry.second.IsScalar()) return expected;
+          const std::string& name = entry.first.Scalar();
+          const std::string& target = entry.second.Scalar();
+          if (name.empty() || name.size() > kMaxPlannerNameBytes ||
+              std::find(targets.begin(), targets.end(), name) != targets.end())
+            return expected + ": " + describe(entry.first) + " is not an alias name";
+          if (std::find(targets.begin(), targets.end(), target) == targets.end())
+            return expected + ": " + describe(entry.second) + " is not a planner";
+          for (const auto& [earlier, unused] : aliases)
+            if (earlier == name) return expected + ": " + describe(entry.first) + " given twice";
+          aliases.emplace_back(name, target);
+        }
+        value = std::move(aliases);
+        return "";
+      },
+      [](const std::vector<std::pair<std::string, std::string>>& aliases) {
+        std::string out = "{";
+        for (const auto& [name, target] : aliases)
+          out += (out.size() > 1 ? ", " : "") + yaml_quoted(name) + ": " + yaml_quoted(target);
+        return out + "}";
+      });
+}
+
 // planner.omega, planner.eta: VNS-BA*'s heuristic weights; not both 0 for it.
 void read_planner_weights(Section& planner, PlannerConfig& p) {
   core::PlannerSettings& s = p.settings;
@@ -609,6 +655,7 @@ void read_planner_costs(Section& planner, PlannerConfig& p) {
 void read_planner(Section& top, NodeConfig& c) {
   Section planner = top.child("planner");
   read_planner_name(planner, c.planner);
+  read_planner_aliases(planner, c.planner);
   read_planner_weights(planner, c.planner);
   read_planner_moves(planner, c.planner);
   read_planner_postprocessing(planner, c.planner);
@@ -624,12 +671,12 @@ void read_planner(Section& top, NodeConfig& c) {
 
 // A number of seconds in [0, max_s], stored in milliseconds.
 void read_milliseconds(Section& section, const char* key, std::chrono::milliseconds& out,
-                       double max_s) {
+                       double max_s, double min_s = 0.0) {
   std::optional<double> value_s = static_cast<double>(out.count()) / 1000.0;
   std::ostringstream expected;
-  expected << "a finite number of seconds in [0, " << max_s << "]";
+  expected << "a finite number of seconds in [" << min_s << ", " << max_s << "]";
   if (section.number(key, value_s, expected.str(),
-                     [max_s](double v) { return v >= 0.0 && v <= max_s; }) &&
+                     [min_s, max_s](double v) { return v >= min_s && v <= max_s; }) &&
       value_s) {
     out = std::chrono::milliseconds(std::llround(*value_s * 1000.0));
   }
@@ -656,6 +703,13 @@ void read_actions(Section& top, NodeConfig& c) {
                                {{"auto", ReplyMapping::kAuto},
                                 {"fastrtps", ReplyMapping::kFastRtps},
                                 {"cyclonedds", ReplyMapping::kCycloneDds}});
+  actions.integer("kept_results_mb", c.actions.kept_results_mb, 1, 65536);
+  actions.integer("max_result_poses", c.actions.max_result_poses, 1, 10000000);
+  actions.integer("max_goal_poses", c.actions.max_goal_poses, 1, 100000);
+  actions.integer("replies_in_flight_mb", c.actions.replies_in_flight_mb, 1, 4096);
+  read_milliseconds(actions, "reply_ack_timeout", c.actions.reply_ack_timeout, 60.0, 0.05);
+  actions.integer("max_pending_replies", c.actions.max_pending_replies, 1, 100000);
+  actions.integer("status_finished_goals", c.actions.status_finished_goals, 0, 100000);
   actions.finish();
 }
 
@@ -938,13 +992,31 @@ std::string overlong_topic_name(const NodeConfig& c) {
         << " (ROS 2's limit for a full topic name; Fast DDS would cut it and match nothing)";
     return msg.str();
   };
+  // An action's longest DDS topic: its cancel service's request topic, "rq" + the service's
+  // ROS name + "Request" (rmw's naming of service topics), which a ROS name of 247 characters
+  // takes to 256.
+  auto check_action = [&](const char* key, const std::string& name) -> std::string {
+    const std::string dds =
+        "rq" + ros_topic_name(view, name + kActionSuffix) + "Request";
+    if (dds.size() <= kMaxDdsTopicNameLength) return "";
+    std::ostringstream msg;
+    msg << (c.ros_namespace.empty() ? "" : "namespace, ")
+        << (!longest_robot.empty() ? "robots, " : "") << "topics." << key
+        << ": found the action's DDS topic \"" << dds.substr(0, 60) << "...\" of " << dds.size()
+        << " characters, expected at most " << kMaxDdsTopicNameLength
+        << " (Fast DDS's limit for a topic name; a longer one is cut and matches nothing)";
+    return msg.str();
+  };
   // One message says it: a long namespace makes every name long. Topics in table order, so the
   // map (read once, under the namespace alone) is named first.
   TopicNames names = c.topics;
   for (const auto& [key, name] : topic_keys(names)) {
     const bool robot_topic = kSharedTopicKeys.count(key) == 0;
-    const std::string derived = kActionKeys.count(key) > 0 ? *name + kActionSuffix : *name;
+    const bool action = kActionKeys.count(key) > 0;
+    const std::string derived = action ? *name + kActionSuffix : *name;
     if (std::string problem = check(key, derived, robot_topic); !problem.empty()) return problem;
+    if (action)
+      if (std::string problem = check_action(key, *name); !problem.empty()) return problem;
   }
   return "";
 }

@@ -164,6 +164,19 @@ dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
   return qos;
 }
 
+dds::DataWriterQos reply_writer_qos(int32_t history_depth, bool large_samples) {
+  dds::DataWriterQos qos = writer_qos(TopicQos::kStatus, large_samples);
+  qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = history_depth;
+  qos.resource_limits().max_samples = history_depth;
+  qos.resource_limits().max_samples_per_instance = history_depth;
+  // Readers acknowledge when a heartbeat asks them to: the replies' flow waits for those
+  // acknowledgements (reply_flow.hpp), so they are asked for often while replies are unacknowledged
+  // (a writer sends none while everything is acknowledged).
+  qos.reliable_writer_qos().times.heartbeatPeriod = {0, 20'000'000};
+  return qos;
+}
+
 dds::DataReaderQos reader_qos(TopicQos profile) {
   dds::DataReaderQos qos = dds::DATAREADER_QOS_DEFAULT;
   apply_common(qos, profile, /*reader=*/true);

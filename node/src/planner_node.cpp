@@ -155,6 +155,11 @@ class PlannerNode::Impl {
   Clock::time_point drain_deadline_ = Clock::time_point::max();
   std::thread replier_;
   std::atomic<uint64_t> replies_timed_out_{0};
+  // Every robot's action servers, for the one budget of kept results (replier thread, under
+  // reply_mutex_), and the results that budget made the node forget, with the last warning.
+  std::vector<ActionServer*> all_action_servers_;
+  uint64_t results_forgotten_for_budget_ = 0;
+  Clock::time_point budget_warned_{};
   class StatusReaders;  // a status writer's listener
   void replier_loop();
 
@@ -537,6 +542,10 @@ core::Status PlannerNode::Impl::start() {
         if (core::Status s = robot.actions.back()->create(*participant_, listeners_, robot.inputs);
             !s.is_ok())
           return s;
+        {
+          std::lock_guard<std::mutex> lock(reply_mutex_);
+          all_action_servers_.push_back(robot.actions.back().get());
+        }
       }
     }
   }
@@ -763,9 +772,34 @@ void PlannerNode::Impl::on_request(Robot& robot, Job job) {
   submit(robot, std::move(job));
 }
 
+// The queue's id of an action goal: the action and the goal's id, whatever the namespace (a
+// long namespace once made it longer than a request id may be, and every goal failed).
+std::string action_job_id(const ActionServer& server, const GoalUuid& id) {
+  return std::string(server.kind() == ActionKind::kComputePathToPose ? "compute_path_to_pose"
+                                                                     : "compute_path_through_poses") +
+         ":" + uuid_text(id);
+}
+
+// The fewest poses a path through `goals` from `start` can have at `spacing` metres: the straight
+// lines between them (a path is never shorter), one pose per spacing and one at each end.
+double fewest_poses(const std::vector<PoseStampedMsg>& goals, const PoseStampedMsg* start,
+                    double spacing) {
+  double length = 0.0;
+  const PoseStampedMsg* from = start;
+  for (const PoseStampedMsg& to : goals) {
+    if (from != nullptr) {
+      const double dx = to.pose().position().x() - from->pose().position().x();
+      const double dy = to.pose().position().y() - from->pose().position().y();
+      if (std::isfinite(dx) && std::isfinite(dy)) length += std::hypot(dx, dy);
+    }
+    from = &to;
+  }
+  return std::floor(length / spacing) + 1.0;
+}
+
 void PlannerNode::Impl::on_action_goal(Robot& robot, ActionServer& server, ActionGoal&& goal) {
   Job job;
-  job.id = server.name() + ":" + uuid_text(goal.id);
+  job.id = action_job_id(server, goal.id);
   job.identity = goal.identity;
   job.planner = std::move(goal.planner_id);
   job.action = std::make_shared<ActionJob>();
@@ -775,16 +809,33 @@ void PlannerNode::Impl::on_action_goal(Robot& robot, ActionServer& server, Actio
   ++robot.unanswered;  // until its result is stored (finish_action)
   // Checked before the request rules: Nav2's own codes for these.
   const size_t poses = goal.goals.size();
-  if (poses == 0 || poses > kMaxThroughPoses) {
-    const bool none = poses == 0;
+  const size_t max_poses = static_cast<size_t>(cfg_.actions.max_goal_poses);
+  std::string refused;
+  if (poses == 0) {
+    refused = "goals: empty (NO_VIAPOINTS_GIVEN)";
+  } else if (poses > max_poses) {
+    refused = "goals: found " + std::to_string(poses) + " poses, expected at most " +
+              std::to_string(max_poses) + " (actions.max_goal_poses)";
+  } else if (const std::shared_ptr<const ActiveMap> map = current_map()) {
+    // A result that cannot fit actions.max_result_poses is refused before any planning.
+    const double spacing = std::max(cfg_.planner.path_spacing_for(map->grid->resolution()),
+                                    min_path_spacing(map->grid->resolution()));
+    const double fewest = fewest_poses(goal.goals, goal.use_start ? &goal.start : nullptr, spacing);
+    if (fewest > cfg_.actions.max_result_poses) {
+      refused = fmt::format(
+          "goals: a path through them needs at least {:.0f} poses at {:g} m apart (the straight "
+          "lines between them), more than actions.max_result_poses ({})",
+          fewest, spacing, cfg_.actions.max_result_poses);
+    }
+  }
+  if (!refused.empty()) {
     ActionOutcome outcome;
     outcome.state = GoalState::kAborted;
-    outcome.error_code =
-        none ? kNoViapointsGiven : nav2_error_code(server.kind(), wire::INVALID_REQUEST, false);
-    outcome.error_msg = none ? "goals: empty (NO_VIAPOINTS_GIVEN)"
-                             : "goals: found " + std::to_string(poses) +
-                                   " poses, expected at most " + std::to_string(kMaxThroughPoses);
+    outcome.error_code = poses == 0 ? kNoViapointsGiven
+                                    : nav2_error_code(server.kind(), wire::INVALID_REQUEST, false);
+    outcome.error_msg = refused;
     spdlog::warn("goal '{}'{}: ABORTED ({})", job.id, robot.label(), outcome.error_msg);
+    server.execute(goal.id);  // rcl_action: ACCEPTED -> EXECUTING -> ABORTED
     server.finish(goal.id, std::move(outcome));
     --robot.unanswered;
     ++statuses_published_;
@@ -810,7 +861,7 @@ void PlannerNode::Impl::on_action_cancel(Robot& robot, ActionServer& server,
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     for (const GoalUuid& id : ids) {
-      std::vector<Job> jobs = robot.queue.cancel(server.name() + ":" + uuid_text(id), reason);
+      std::vector<Job> jobs = robot.queue.cancel(action_job_id(server, id), reason);
       for (Job& job : jobs) removed.push_back(std::move(job));
     }
   }
@@ -845,11 +896,15 @@ void PlannerNode::Impl::finish_action(Robot& robot, const Job& job, const WireSt
     outcome.state = GoalState::kCanceled;  // the client asked; otherwise (preempted, shutdown)
   } else {                                 // the goal is aborted, as Nav2's servers do
     outcome.state = GoalState::kAborted;
+    server.execute(job.action->goal_id);  // rcl_action: from ACCEPTED only through EXECUTING
   }
   outcome.error_code = nav2_error_code(server.kind(), status.code, job.action->invalid_planner);
   if (!status.ok() && job.action->tf_problem)
     outcome.error_code = nav2_error_code(server.kind(), wire::FRAME_MISMATCH, false);
-  outcome.error_msg = status.message;
+  // A success carries no error_msg, as Nav2's planner server's: what the plan's status message
+  // says beside it (a goal moved by goal_tolerance, costs not applied) is in the log line of
+  // the plan (handle) and on plan_status for plan_request clients.
+  if (!status.ok()) outcome.error_msg = status.message;
   if (outcome.state == GoalState::kCanceled) outcome.error_code = 0;
   if (metrics != nullptr) outcome.planning_time_s = metrics->planning_time_us / 1e6;
   outcome.path = std::move(path);
@@ -1108,8 +1163,22 @@ void PlannerNode::Impl::replier_loop() {
       for (const auto& action : robot->actions) {
         ActionServer::Due due;
         action->take_due(ReplyClock::now(), stopping, due);
-        if (!due.replies.empty() || due.status)
+        if (!due.replies.empty() || due.status || due.check_flows)
           action_dues.emplace_back(action.get(), std::move(due));
+      }
+    }
+    // One budget for the results every action server keeps (actions.kept_results_mb).
+    if (const size_t forgotten = forget_beyond_budget(
+            all_action_servers_, static_cast<size_t>(cfg_.actions.kept_results_mb) << 20);
+        forgotten > 0) {
+      results_forgotten_for_budget_ += forgotten;
+      if (Clock::now() - budget_warned_ >= std::chrono::seconds(60)) {
+        budget_warned_ = Clock::now();
+        spdlog::warn(
+            "action results forgotten before actions.result_timeout to stay within "
+            "actions.kept_results_mb ({} MiB): {} so far (a late get_result of one answers "
+            "UNKNOWN)",
+            cfg_.actions.kept_results_mb, results_forgotten_for_budget_);
       }
     }
     if (!action_dues.empty()) {
@@ -1117,12 +1186,13 @@ void PlannerNode::Impl::replier_loop() {
       const bool give_up = stopping && Clock::now() >= drain_deadline;
       bool all_written = true;
       for (auto& [action, due] : action_dues)
-        all_written = action->write(due, give_up) && all_written;
+        all_written = action->write(due, stopping, give_up) && all_written;
       lock.lock();
       // Statuses released this pass go out below, in the same pass.
       if (!unwritten) {
-        // Kept back by a full history (the write waited max_blocking_time already): again soon.
-        if (!all_written) reply_cv_.wait_for(lock, std::chrono::milliseconds(10));
+        // Replies waiting for their readers' acknowledgements (reply_flow.hpp), which arrive
+        // without a callback: looked for again shortly.
+        if (!all_written) reply_cv_.wait_for(lock, std::chrono::milliseconds(2));
         continue;
       }
     }
@@ -1342,6 +1412,19 @@ void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const Act
   // actually used) and their paths are joined; the first failure ends the goal with its code.
   const size_t legs = job.action ? 1 + job.action->more_goals.size() : 1;
   core::Metrics total = leg.result.metrics;
+  // An action's result carries at most actions.max_result_poses poses.
+  const size_t max_poses = static_cast<size_t>(cfg_.actions.max_result_poses);
+  auto over_size = [&](size_t leg_number) {
+    if (!job.action || !leg.status.ok() || leg.path.poses().size() <= max_poses) return false;
+    leg.status = {wire::INVALID_REQUEST,
+                  fmt::format("the path has {} poses{}, more than actions.max_result_poses ({})",
+                              leg.path.poses().size(),
+                              legs > 1 ? fmt::format(" after leg {} of {}", leg_number, legs) : "",
+                              max_poses)};
+    leg.path = PathMsg();
+    return true;
+  };
+  over_size(1);
   for (size_t k = 1; k < legs && leg.status.ok(); ++k) {
     Job next = job;  // the same id, client, planner, interruption and action
     next.start = leg.path.poses().back();
@@ -1365,6 +1448,7 @@ void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const Act
     if (!following.status.message.empty())
       leg.status.message += (leg.status.message.empty() ? "" : "; ") +
                             fmt::format("leg {}: {}", k + 1, following.status.message);
+    if (over_size(k + 1)) break;
   }
   if (legs > 1) leg.result.metrics = total;
   const std::string& planner_name = leg.planner_name;

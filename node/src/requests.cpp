@@ -69,6 +69,7 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
     return fail(wire::INVALID_REQUEST, too_long("id", job.id.size(), kMaxIdBytes));
   if (job.id.empty()) return fail(wire::INVALID_REQUEST, "id: must not be empty");
   if (job.planner.size() > kMaxPlannerNameBytes) {
+    out.invalid_planner = true;  // Nav2: INVALID_PLANNER, whatever the reason the name is bad
     return fail(wire::INVALID_REQUEST,
                 too_long("planner", job.planner.size(), kMaxPlannerNameBytes));
   }
@@ -83,17 +84,22 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   }
   // No planner named: the configured one (planner.name, auto's choice included). `auto`: auto's
   // rule on the file's keys. A planner: every configured key, the rest that planner's paper
-  // configuration.
-  if (job.planner.empty()) {
+  // configuration. An alias (planner.aliases, GridBased by default) names one of these.
+  std::string planner = job.planner;
+  if (const auto target = config.planner.alias_target(planner))
+    planner = *target == kDefaultPlannerAlias ? std::string() : *target;
+  if (planner.empty()) {
     out.options = config.planner.options();
-  } else if (job.planner == core::kAutoPlannerName) {
+  } else if (planner == core::kAutoPlannerName) {
     out.options = config.planner.auto_options();
-  } else if (const auto requested = core::planner_kind_from_string(job.planner)) {
+  } else if (const auto requested = core::planner_kind_from_string(planner)) {
     out.options = config.planner.options(*requested);
   } else {
     out.invalid_planner = true;
+    std::string known = core::accepted_planner_names();
+    for (const auto& [name, target] : config.planner.aliases) known += ", " + name;
     return fail(wire::INVALID_REQUEST, "planner: unknown planner '" + printable(job.planner) +
-                                           "' (known: " + core::accepted_planner_names() + ")");
+                                           "' (known: " + known + ")");
   }
   out.planner_name = std::string(core::to_string(out.options.planner));
   // jps plans on uniform costs only (its jump rules need every move of a kind to cost the same).

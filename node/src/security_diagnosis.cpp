@@ -209,7 +209,11 @@ std::string announced(const eprosima::fastrtps::rtps::ParticipantProxyData& data
     if (property.name() == "dds.ca.sn") ca = subject(property.value());
   }
   if (data.identity_token_.class_id().empty()) return out + ", no DDS Security identity";
-  return out + ", certificate " + certificate + " of CA " + ca;
+  // A token without the subjects (Cyclone DDS's carries its class only): said so, never blank.
+  auto named = [](const std::string& subject) {
+    return subject.empty() ? std::string("(subject not in its identity token)") : subject;
+  };
+  return out + ", certificate " + named(certificate) + " of CA " + named(ca);
 }
 
 constexpr const char* kWithoutSecurity =

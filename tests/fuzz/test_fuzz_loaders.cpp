@@ -1173,6 +1173,47 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
             std::string(cost_sources[static_cast<int>(d.map_cost_source)]));
   same_bool("actions", "enabled", c.actions.enabled, d.actions.enabled);
   same_int("actions", "max_results", c.actions.max_results, d.actions.max_results);
+  same_int("actions", "kept_results_mb", c.actions.kept_results_mb, d.actions.kept_results_mb);
+  same_int("actions", "max_result_poses", c.actions.max_result_poses, d.actions.max_result_poses);
+  same_int("actions", "max_goal_poses", c.actions.max_goal_poses, d.actions.max_goal_poses);
+  same_int("actions", "replies_in_flight_mb", c.actions.replies_in_flight_mb,
+           d.actions.replies_in_flight_mb);
+  same_int("actions", "max_pending_replies", c.actions.max_pending_replies,
+           d.actions.max_pending_replies);
+  same_int("actions", "status_finished_goals", c.actions.status_finished_goals,
+           d.actions.status_finished_goals);
+  {
+    const auto v = find("actions", "reply_ack_timeout");
+    if (scalar(v, "actions.reply_ack_timeout")) {
+      if (c.actions.reply_ack_timeout.count() != std::llround(v->as<double>() * 1000.0))
+        p->push_back("actions.reply_ack_timeout: field differs from the file's value");
+    } else if (c.actions.reply_ack_timeout != d.actions.reply_ack_timeout) {
+      p->push_back("actions.reply_ack_timeout: absent but not the default");
+    }
+  }
+  {
+    // planner.aliases: a map of names to planner names ("default", "auto" or a planner), kept as
+    // given; absent, default.yaml's.
+    const auto v = find("planner", "aliases");
+    if (v && !v->IsNull()) {
+      if (!v->IsMap()) {
+        p->push_back("planner.aliases: accepted a value that is not a map");
+      } else {
+        std::vector<std::pair<std::string, std::string>> want;
+        for (const auto& kv : *v) want.emplace_back(kv.first.Scalar(), kv.second.Scalar());
+        if (c.planner.aliases != want)
+          p->push_back("planner.aliases: field differs from the file's value");
+        for (const auto& [name, target] : c.planner.aliases)
+          if (target != node::kDefaultPlannerAlias && target != core::kAutoPlannerName &&
+              !core::planner_kind_from_string(target))
+            p->push_back("planner.aliases: accepted an alias of no planner");
+      }
+    } else if (!v && c.planner.aliases != d.planner.aliases) {
+      p->push_back("planner.aliases: absent but not the default");
+    } else if (v && !c.planner.aliases.empty()) {
+      p->push_back("planner.aliases: given no value, but not empty");
+    }
+  }
   const char* const mappings[] = {"auto", "fastrtps", "cyclonedds"};
   same_text("actions", "reply_mapping",
             std::string(mappings[static_cast<int>(c.actions.reply_mapping)]),
@@ -1259,7 +1300,14 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       c.transform_tolerance_s >= 0 && c.transform_tolerance_s <= 60 && c.reply_wait.count() >= 0 &&
       c.reply_wait.count() <= 10000 && c.actions.result_timeout.count() >= 0 &&
       c.actions.result_timeout.count() <= 86400000 && c.actions.max_results >= 1 &&
-      c.actions.max_results <= 100000 && std::isfinite(c.slicer.z_min) &&
+      c.actions.max_results <= 100000 && c.actions.kept_results_mb >= 1 &&
+      c.actions.kept_results_mb <= 65536 && c.actions.max_result_poses >= 1 &&
+      c.actions.max_result_poses <= 10000000 && c.actions.max_goal_poses >= 1 &&
+      c.actions.max_goal_poses <= 100000 && c.actions.replies_in_flight_mb >= 1 &&
+      c.actions.replies_in_flight_mb <= 4096 && c.actions.reply_ack_timeout.count() >= 50 &&
+      c.actions.reply_ack_timeout.count() <= 60000 && c.actions.max_pending_replies >= 1 &&
+      c.actions.max_pending_replies <= 100000 && c.actions.status_finished_goals >= 0 &&
+      c.actions.status_finished_goals <= 100000 && std::isfinite(c.slicer.z_min) &&
       std::isfinite(c.slicer.z_max) && c.slicer.z_min <= c.slicer.z_max &&
       std::isfinite(c.slicer.resolution) && c.slicer.resolution >= 0 &&
       std::isfinite(c.map.inflation_radius) &&
@@ -1288,9 +1336,11 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       if (!seen.insert(key).second) p->push_back(key + ": accepted a repeated key");
       const bool section = prefix.empty() && sections.count(key) > 0;
       if (!section && known.count(key) == 0) p->push_back(key + ": accepted an unknown key");
-      // A list key without a value is the empty list (the loader reads robots: and
-      // discovery.servers: so, as yaml-cpp reads `[]`); any other key needs a value.
-      const bool list_key = key == "robots" || key == "discovery.servers";
+      // A list or map key without a value is the empty list or map (the loader reads robots:,
+      // discovery.servers: and planner.aliases: so, as yaml-cpp reads `[]` and `{}`); any other
+      // key needs a value.
+      const bool list_key =
+          key == "robots" || key == "discovery.servers" || key == "planner.aliases";
       if (!section && !list_key && kv.second.IsNull())
         p->push_back(key + ": accepted a key without a value");
       if (section && !kv.second.IsMap() && !kv.second.IsNull()) {

@@ -2,6 +2,8 @@
 // service_wire.hpp), against rcl_action's rules as written in its documentation.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "nav2_msgs/action/ComputePathToPose.h"
 #include "vnsba/node/action_goals.hpp"
 #include "vnsba/node/service_wire.hpp"
@@ -92,6 +94,91 @@ TEST(ActionGoals, CancelFollowsRclActionsRules) {
     EXPECT_EQ(finished.code, CancelCode::kGoalTerminated);
     EXPECT_TRUE(finished.canceling.empty());
   }
+  // rcl_action_process_cancel_request's two cases the node once answered otherwise (issue 44):
+  {  // an id with a stamp: ERROR_NONE, never UNKNOWN_GOAL_ID or GOAL_TERMINATED
+    auto goals = fresh();
+    const auto unknown = goals->cancel(id(9), {2, 0});
+    EXPECT_EQ(unknown.code, CancelCode::kNone);
+    EXPECT_EQ(ids(unknown), (std::set<uint8_t>{1, 2}));
+    auto goals2 = fresh();
+    const auto finished = goals2->cancel(id(4), {0, 5});  // a stamp before every goal
+    EXPECT_EQ(finished.code, CancelCode::kNone);
+    EXPECT_TRUE(finished.canceling.empty());
+  }
+  {  // a goal that is CANCELING already cannot be canceled: GOAL_TERMINATED with an id alone,
+     // and left out of the list otherwise
+    auto goals = fresh();
+    ASSERT_EQ(ids(goals->cancel(id(2), {})), (std::set<uint8_t>{2}));
+    const auto again = goals->cancel(id(2), {});
+    EXPECT_EQ(again.code, CancelCode::kGoalTerminated);
+    EXPECT_TRUE(again.canceling.empty());
+    const auto all = goals->cancel(GoalUuid{}, {});
+    EXPECT_EQ(all.code, CancelCode::kNone);
+    EXPECT_EQ(ids(all), (std::set<uint8_t>{1, 3}));
+  }
+}
+
+// rcl_action_transition_goal_state: SUCCEEDED and ABORTED only from EXECUTING or CANCELING, and
+// CANCELED only from CANCELING. A goal that ends while ACCEPTED passes through EXECUTING or
+// CANCELING (an rclcpp_action server calls execute() first); a finished goal stays as it is.
+TEST(ActionGoals, OnlyRclActionsTransitionsHappen) {
+  const auto now = Goals::Clock::now();
+  for (const GoalState end : {GoalState::kSucceeded, GoalState::kAborted, GoalState::kCanceled}) {
+    Goals goals(10s, 10);
+    ASSERT_TRUE(goals.accept(id(1), {1, 0}));
+    EXPECT_TRUE(goals.finish(id(1), end, "r", now).empty());
+    EXPECT_EQ(goals.state(id(1)), end);
+    EXPECT_FALSE(goals.execute(id(1))) << "a finished goal does not execute";
+    EXPECT_EQ(goals.cancel(id(1), {}).code, CancelCode::kGoalTerminated);
+  }
+  Goals goals(10s, 10);
+  goals.accept(id(1), {1, 0});
+  EXPECT_TRUE(goals.finish(id(1), GoalState::kExecuting, "r", now).empty());
+  EXPECT_EQ(goals.state(id(1)), GoalState::kAccepted) << "finish() takes a terminal state only";
+}
+
+// The one byte budget over several servers (forget_beyond_budget): the oldest delivered result of
+// any server goes first, then the oldest of any; running goals are never forgotten.
+TEST(ActionGoals, OneByteBudgetOverSeveralServersForgetsTheOldestDeliveredFirst) {
+  const auto t0 = Goals::Clock::now();
+  Goals a(1000s, 100), b(1000s, 100);
+  auto finish = [&](Goals& g, uint8_t n, int ms, size_t bytes) {
+    g.accept(id(n), {n, 0});
+    g.finish(id(n), GoalState::kSucceeded, "r", t0 + std::chrono::milliseconds(ms), bytes);
+  };
+  finish(a, 1, 1, 100);
+  finish(b, 2, 2, 100);
+  finish(a, 3, 3, 100);
+  finish(b, 4, 4, 100);
+  b.accept(id(5), {5, 0});  // running
+  ASSERT_TRUE(b.result_or_wait(id(4), 0).has_value());  // 4's client has it
+  EXPECT_EQ(a.kept_bytes() + b.kept_bytes(), 400u);
+  const std::vector<Goals*> both = {&a, &b};
+  EXPECT_EQ(node::forget_beyond_budget(both, 400), 0u);
+  EXPECT_EQ(node::forget_beyond_budget(both, 300), 1u);
+  EXPECT_EQ(b.state(id(4)), GoalState::kUnknown) << "the delivered one went first";
+  EXPECT_EQ(node::forget_beyond_budget(both, 150), 2u);
+  EXPECT_EQ(a.state(id(1)), GoalState::kUnknown) << "then the oldest of any server";
+  EXPECT_EQ(b.state(id(2)), GoalState::kUnknown);
+  EXPECT_EQ(a.state(id(3)), GoalState::kSucceeded);
+  EXPECT_EQ(node::forget_beyond_budget(both, 0), 1u);
+  EXPECT_EQ(a.kept_bytes() + b.kept_bytes(), 0u);
+  EXPECT_EQ(b.state(id(5)), GoalState::kAccepted) << "a running goal is never forgotten";
+}
+
+// The status list: every goal not finished and the newest `max_finished` finished ones.
+TEST(ActionGoals, TheStatusListHoldsRunningGoalsAndTheLastFinished) {
+  const auto t0 = Goals::Clock::now();
+  Goals goals(1000s, 100);
+  for (uint8_t n = 1; n <= 10; ++n) {
+    goals.accept(id(n), {n, 0});
+    if (n <= 8) goals.finish(id(n), GoalState::kAborted, "r", t0 + std::chrono::milliseconds(n));
+  }
+  std::set<uint8_t> listed;
+  for (const auto& entry : goals.statuses(3)) listed.insert(entry.id[0]);
+  EXPECT_EQ(listed, (std::set<uint8_t>{6, 7, 8, 9, 10}));
+  EXPECT_EQ(goals.statuses(0).size(), 2u);
+  EXPECT_EQ(goals.statuses(100).size(), 10u);
 }
 
 TEST(ActionGoals, FinishedGoalsAreForgottenAfterTheTimeoutOrBeyondTheCap) {
@@ -151,6 +238,50 @@ TEST(ServiceWire, TheMappingFollowsTheVendorThenTheRequestThenTheOverride) {
             WireMapping::kSampleIdentity);
 }
 
+// A result encoded once and sent to many clients: every reply shares the message's bytes (none
+// copied per requester), and each decodes, under its client's mapping, to the message with the
+// client's own header.
+TEST(ServiceWire, RepliesOfOneEncodedMessageShareItsBytes) {
+  using Response = nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_;
+  Response response;
+  response.status(4);
+  response.result().error_msg("ok");
+  response.result().path().header().frame_id("map");
+  response.result().path().poses().resize(1000);
+  for (size_t i = 0; i < 1000; ++i)
+    response.result().path().poses()[i].pose().position().x(0.05 * static_cast<double>(i));
+  const auto message = node::encode_message(response);
+  node::RequestHeader header;
+  for (size_t i = 0; i < header.size(); ++i) header[i] = static_cast<uint8_t>(0x40 + i);
+  std::vector<node::RawSample> replies;
+  for (int i = 0; i < 50; ++i)
+    replies.push_back(node::reply_with_message(
+        message, i % 2 ? node::WireMapping::kRequestHeader : node::WireMapping::kSampleIdentity,
+        header));
+  EXPECT_EQ(message.use_count(), 51) << "every reply holds the one message";
+  for (int i = 0; i < 2; ++i) {
+    const auto mapping = i ? node::WireMapping::kRequestHeader : node::WireMapping::kSampleIdentity;
+    const node::RawSample& reply = replies[static_cast<size_t>(i)];
+    EXPECT_LE(reply.bytes.size(), 20u) << "only the encapsulation and the header are its own";
+    // The same bytes as encoding the message for this client alone.
+    const node::RawSample whole = node::encode_reply(response, mapping, header);
+    std::vector<uint8_t> joined = reply.bytes;
+    joined.insert(joined.end(), reply.shared_tail->begin(), reply.shared_tail->end());
+    EXPECT_EQ(joined, whole.bytes);
+    EXPECT_EQ(reply.size(), whole.bytes.size());
+    Response decoded;
+    node::RequestHeader back{};
+    node::RawSample flat;
+    flat.bytes = joined;
+    ASSERT_EQ(node::decode_reply(flat, mapping, decoded, back), "");
+    EXPECT_EQ(decoded.result().path().poses().size(), 1000u);
+    EXPECT_EQ(decoded.result().path().poses()[999].pose().position().x(), 0.05 * 999);
+    if (i) {
+      EXPECT_EQ(back, header);
+    }
+  }
+}
+
 // rmw_cyclonedds's request: the 16-byte header right after the encapsulation, then the message
 // as plain CDR; the same bytes without the header are rmw_fastrtps's.
 TEST(ServiceWire, ARequestHeaderPrecedesTheMessageAndComesBackWithIt) {
@@ -176,9 +307,11 @@ TEST(ServiceWire, ARequestHeaderPrecedesTheMessageAndComesBackWithIt) {
   EXPECT_EQ(back, header);
   EXPECT_EQ(decoded.goal_id().uuid(), goal_id);
   // Truncated or not CDR: a message, never a throw.
-  node::RawSample truncated{{0, 1, 0, 0, 1, 2}};
+  node::RawSample truncated;
+  truncated.bytes = {0, 1, 0, 0, 1, 2};
   EXPECT_NE(node::decode_request(truncated, node::WireMapping::kRequestHeader, decoded, back), "");
-  node::RawSample xcdr2{{0, 7, 0, 0}};
+  node::RawSample xcdr2;
+  xcdr2.bytes = {0, 7, 0, 0};
   EXPECT_NE(node::decode_request(xcdr2, node::WireMapping::kSampleIdentity, decoded, back), "");
 }
 

@@ -6,10 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <random>
 #include <thread>
 
 #include "bus_client.hpp"
+#include "log_capture.hpp"
+#include "nav2_msgs/action/ComputePathToPosePubSubTypes.h"
 #include "vnsba/node/action_client.hpp"
 #include "vnsba/node/planner_node.hpp"
 
@@ -358,6 +362,8 @@ std::vector<std::optional<node::ActionResultReply>> burst_of_goals(
 TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
   node::NodeConfig base;
   base.preempt = false;
+  // The serpentine's path is 3.1 km long: 91,691 poses at 5 cm, past the default's 50,000.
+  base.actions.max_result_poses = 200000;
   ActionRun run("act_cancel", WireMapping::kSampleIdentity, base);
   const core::OccupancyGrid grid = serpentine();
   ASSERT_TRUE(run.start(grid));
@@ -603,6 +609,242 @@ TEST(NavActions, MalformedRequestBytesAreDroppedAndTheNodeKeepsServing) {
   const auto ok2 = run.through->plan(ActionClient::random_id(), through, 15s);
   ASSERT_TRUE(ok2.has_value());
   EXPECT_EQ(ok2->status, GoalState::kSucceeded);
+}
+
+}  // namespace
+}  // namespace vnsba::test
+
+// Issue 44: limits that no client can push the node past, each named when it refuses.
+namespace vnsba::test {
+namespace {
+
+// 200 x 200 cells of 0.05 m, open but for a wall across the middle with a door at its left end.
+core::OccupancyGrid open_room() {
+  core::OccupancyGrid g;
+  g.width = 200;
+  g.height = 200;
+  g.resolution = 0.05;
+  g.data.assign(static_cast<size_t>(g.width * g.height), core::kOccupancyFree);
+  for (int x = 20; x < g.width; ++x) g.data[static_cast<size_t>(100 * g.width + x)] = 100;
+  return g;
+}
+
+// Nav2's default behaviour trees ask for planner "GridBased": planner.aliases maps it to the
+// configured planner by default, and a configured alias to the planner it names. An unknown id
+// is INVALID_PLANNER (201) naming the aliases too, and so is a 100 kB id (which once got 200),
+// whose message does not echo it.
+TEST(NavActions, GridBasedAndConfiguredAliasesNameAPlanner) {
+  node::NodeConfig base;
+  base.planner.kind = core::PlannerKind::kAStar;
+  base.planner.aliases = {{"GridBased", node::kDefaultPlannerAlias}, {"Fast", "jps"}};
+  ActionRun run("act_alias", WireMapping::kSampleIdentity, base);
+  LogCapture log;
+  ASSERT_TRUE(run.start(office()));
+  for (const auto& [id, planner] : {std::pair{"GridBased", "astar"}, std::pair{"Fast", "jps"}}) {
+    SCOPED_TRACE(id);
+    const auto goal_id = ActionClient::random_id();
+    const auto result = run.to_pose->plan(goal_id, to_pose(0.55, 0.45, 3.55, 0.35, id), 15s);
+    ASSERT_TRUE(result.has_value());
+    EXPECT_EQ(result->status, GoalState::kSucceeded) << result->error_msg;
+    EXPECT_TRUE(path_free(office(), result->path));
+    std::string hex;
+    for (uint8_t b : goal_id) {
+      char text[3];
+      std::snprintf(text, sizeof text, "%02x", b);
+      hex += text;
+    }
+    EXPECT_TRUE(log.wait_for({hex, std::string(" ") + planner + " OK"}, 5s))
+        << "the plan's log line does not name " << planner;
+  }
+  const auto unknown =
+      run.to_pose->plan(ActionClient::random_id(), to_pose(0.55, 0.45, 1.0, 1.0, "Smac"), 15s);
+  ASSERT_TRUE(unknown.has_value());
+  EXPECT_EQ(unknown->error_code, 201);
+  EXPECT_NE(unknown->error_msg.find("GridBased"), std::string::npos) << unknown->error_msg;
+  const std::string huge(100000, 'p');
+  const auto long_id =
+      run.to_pose->plan(ActionClient::random_id(), to_pose(0.55, 0.45, 1.0, 1.0, huge), 15s);
+  ASSERT_TRUE(long_id.has_value());
+  EXPECT_EQ(long_id->status, GoalState::kAborted);
+  EXPECT_EQ(long_id->error_code, 201) << long_id->error_msg;
+  EXPECT_LT(long_id->error_msg.size(), 200u) << "the id is echoed";
+}
+
+// actions.max_result_poses: a goal whose straight lines need more poses is refused before any
+// planning, one whose path turns out longer after it, each naming the key; actions.max_goal_poses
+// likewise for the goals of a ComputePathThroughPoses goal. A SUCCEEDED result carries no
+// error_msg (Nav2's planner server's do not), even when the goal was moved.
+TEST(NavActions, ResultsAndGoalListsOverTheirLimitsAreRefusedNamingTheKey) {
+  node::NodeConfig base;
+  base.actions.max_result_poses = 60;  // 3 m at 5 cm
+  base.actions.max_goal_poses = 3;
+  base.planner.settings.goal_tolerance = 0.2;
+  ActionRun run("act_limits", WireMapping::kSampleIdentity, base);
+  LogCapture log;
+  ASSERT_TRUE(run.start(open_room()));
+  // Straight: 8.5 m, 171 poses at least.
+  const auto far = run.to_pose->plan(ActionClient::random_id(), to_pose(0.5, 0.5, 9.0, 0.5), 15s);
+  ASSERT_TRUE(far.has_value());
+  EXPECT_EQ(far->status, GoalState::kAborted);
+  EXPECT_EQ(far->error_code, 200);
+  EXPECT_NE(far->error_msg.find("actions.max_result_poses (60)"), std::string::npos)
+      << far->error_msg;
+  EXPECT_NE(far->error_msg.find("straight lines"), std::string::npos) << far->error_msg;
+  EXPECT_TRUE(log.matching({"plan '", "actions.max_result_poses"}).empty())
+      << "it was planned first";
+  // 1 m apart across the wall (2 lines of 21 poses), but the path goes round through the door.
+  const auto round =
+      run.to_pose->plan(ActionClient::random_id(), to_pose(5.0, 4.5, 5.0, 5.5), 15s);
+  ASSERT_TRUE(round.has_value());
+  EXPECT_EQ(round->status, GoalState::kAborted);
+  EXPECT_EQ(round->error_code, 200);
+  EXPECT_NE(round->error_msg.find("the path has"), std::string::npos) << round->error_msg;
+  EXPECT_NE(round->error_msg.find("actions.max_result_poses (60)"), std::string::npos);
+  EXPECT_TRUE(round->path.poses().empty());
+  ActionGoalSpec four;
+  four.start = pose(0.5, 0.5);
+  four.goals = {pose(0.6, 0.5), pose(0.7, 0.5), pose(0.8, 0.5), pose(0.9, 0.5)};
+  const auto too_many = run.through->plan(ActionClient::random_id(), four, 15s);
+  ASSERT_TRUE(too_many.has_value());
+  EXPECT_EQ(too_many->error_code, 300);
+  EXPECT_NE(too_many->error_msg.find("actions.max_goal_poses"), std::string::npos)
+      << too_many->error_msg;
+  // Within the limits, with a goal in the wall that goal_tolerance moves: SUCCEEDED, the move in
+  // the log only.
+  const auto moved =
+      run.to_pose->plan(ActionClient::random_id(), to_pose(2.0, 4.0, 2.0, 5.02), 15s);
+  ASSERT_TRUE(moved.has_value());
+  EXPECT_EQ(moved->status, GoalState::kSucceeded) << moved->error_msg;
+  EXPECT_EQ(moved->error_msg, "");
+  EXPECT_TRUE(log.wait_for({"goal_tolerance"}, 5s)) << "the move is not in the log";
+}
+
+// Many get_result requests of one goal each get the whole result, the same; results kept past
+// actions.kept_results_mb are forgotten over both action servers, the oldest delivered first
+// (a later get_result answers UNKNOWN); the status list holds the goals not finished and the last
+// actions.status_finished_goals that did.
+TEST(NavActions, KeptResultsShareOneByteBudgetAndTheStatusListIsBounded) {
+  node::NodeConfig base;
+  base.actions.kept_results_mb = 1;
+  base.actions.status_finished_goals = 4;
+  base.preempt = false;
+  ActionRun run("act_budget", WireMapping::kSampleIdentity, base);
+  ASSERT_TRUE(run.start(open_room()));
+  // One goal's result asked 30 times: 30 equal results.
+  const auto first = ActionClient::random_id();
+  const auto result = run.to_pose->plan(first, to_pose(0.5, 0.5, 9.5, 9.5), 15s);
+  ASSERT_TRUE(result.has_value());
+  ASSERT_EQ(result->status, GoalState::kSucceeded) << result->error_msg;
+  std::vector<int64_t> asked;
+  for (int i = 0; i < 30; ++i) asked.push_back(run.to_pose->request_result(first));
+  for (int64_t request : asked) {
+    const auto again = run.to_pose->wait_result(request, 15s);
+    ASSERT_TRUE(again.has_value());
+    ASSERT_EQ(again->path.poses().size(), result->path.poses().size());
+    EXPECT_EQ(again->path.poses().back().pose().position().x(),
+              result->path.poses().back().pose().position().x());
+  }
+  // Each long result is 300-600 poses of 72 bytes: 40 of them, on both actions, exceed 1 MiB.
+  std::vector<node::GoalUuid> ids;
+  for (int i = 0; i < 20; ++i) {
+    ids.push_back(ActionClient::random_id());
+    const auto r = run.to_pose->plan(ids.back(), to_pose(0.5, 0.5, 9.5, 9.5 - 0.01 * i), 15s);
+    ASSERT_TRUE(r.has_value() && r->status == GoalState::kSucceeded);
+  }
+  for (int i = 0; i < 20; ++i) {
+    ActionGoalSpec spec;
+    spec.start = pose(0.5, 0.5);
+    spec.goals = {pose(9.5, 9.5 - 0.01 * i), pose(0.5, 9.5)};
+    const auto r = run.through->plan(ActionClient::random_id(), spec, 15s);
+    ASSERT_TRUE(r.has_value() && r->status == GoalState::kSucceeded) << (r ? r->error_msg : "");
+  }
+  const auto end = std::chrono::steady_clock::now() + 10s;
+  std::optional<node::ActionResultReply> oldest;
+  do {
+    oldest = run.to_pose->wait_result(run.to_pose->request_result(first), 15s);
+    ASSERT_TRUE(oldest.has_value());
+  } while (oldest->status != GoalState::kUnknown && std::chrono::steady_clock::now() < end);
+  EXPECT_EQ(oldest->status, GoalState::kUnknown) << "the oldest result was never forgotten";
+  const auto newest = run.to_pose->wait_result(run.to_pose->request_result(ids.back()), 15s);
+  ASSERT_TRUE(newest.has_value());
+  EXPECT_EQ(newest->status, GoalState::kSucceeded) << "the newest result was forgotten";
+  EXPECT_TRUE(run.to_pose->wait_status(ids.back(), GoalState::kSucceeded, 5s));
+  EXPECT_LE(run.to_pose->status_list_size(), 4u);
+  EXPECT_EQ(run.to_pose->status_of(ids.front()), GoalState::kUnknown) << "an old goal is listed";
+}
+
+// A reader of get_result replies whose process stops acknowledging (here its participant's
+// receiving thread is stuck in the reader's listener, as in a stopped or overloaded process)
+// held every other client's results once 1,024 were unacknowledged. With it matched, 1,100
+// goals of another client get their results, and the node names the readers' participants.
+class StuckListener : public eprosima::fastdds::dds::DataReaderListener {
+ public:
+  void on_data_available(eprosima::fastdds::dds::DataReader*) override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    cv_.wait(lock, [&] { return released_; });
+  }
+  void release() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      released_ = true;
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool released_ = false;
+};
+
+TEST(NavActions, AReaderThatNeverTakesItsRepliesStallsNoOtherClient) {
+  node::NodeConfig base;
+  base.preempt = false;
+  base.queue_capacity = 2000;
+  base.actions.reply_ack_timeout = std::chrono::milliseconds(300);
+  ActionRun run("act_stall", WireMapping::kSampleIdentity, base);
+  LogCapture log;
+  ASSERT_TRUE(run.start(office()));
+  // The stalled reader, on a participant of its own.
+  auto stalled = node::Participant::create(run.cfg.domain_id, "stalled_reader").value();
+  StuckListener stuck;
+  const eprosima::fastdds::dds::DataReaderQos qos = node::reader_qos(node::TopicQos::kEvents);
+  const std::string topic = "rr" + node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose) +
+                            "/_action/get_resultReply";
+  auto reader = stalled->reader_on<nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_PubSubType>(
+      topic, qos, &stuck);
+  ASSERT_TRUE(reader.has_value()) << reader.error().message;
+  {  // matched with the node's writer
+    eprosima::fastdds::dds::SubscriptionMatchedStatus matched;
+    const auto end = std::chrono::steady_clock::now() + 10s;
+    while ((*reader)->get_subscription_matched_status(matched) == ReturnCode_t::RETCODE_OK &&
+           matched.current_count == 0 && std::chrono::steady_clock::now() < end)
+      std::this_thread::sleep_for(20ms);
+    ASSERT_GT(matched.current_count, 0) << "the stalled reader never matched the node's writer";
+  }
+  // Goals answered at once (the goal is off the map): the replies come faster than acks.
+  const std::vector<ActionGoalSpec> goals(1100, to_pose(0.55, 0.45, 9.0, 1.0));
+  const auto t0 = std::chrono::steady_clock::now();
+  size_t answered = 0;
+  for (const auto& r : burst_of_goals(*run.to_pose, goals, 60s))
+    if (r && r->error_code == 204) ++answered;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_EQ(answered, goals.size()) << "results held back by a reader that never takes";
+  EXPECT_LT(seconds, 30.0);
+  const std::string prefix = [&] {
+    const auto guid = stalled->get()->guid();
+    char text[32] = {0};
+    for (int i = 0; i < 12; ++i)
+      std::snprintf(text + 2 * i, 3, "%02x", guid.guidPrefix.value[i]);
+    return std::string(text);
+  }();
+  EXPECT_TRUE(log.wait_for({"get_result replies not acknowledged", "actions.reply_ack_timeout",
+                            prefix},
+                           5s))
+      << "no warning naming the stalled reader's participant " << prefix;
+  stuck.release();
+  stalled->shutdown();
 }
 
 }  // namespace

@@ -460,13 +460,21 @@ TEST(Config, ANamespaceThatMakesTopicNamesTooLongIsRefused) {
   EXPECT_FALSE(result.config.has_value());
   EXPECT_TRUE(HasError(result, "namespace, topics.projected_map", {"247"}))
       << Joined(result.errors);
-  // The longest that fits: "/" + namespace + "/" + the longest topic name is 247 characters.
-  // The longest is an action's cancel service, which rcl_action derives from the action's name.
+  // The longest that fits: the longest DDS topic, an action's cancel service's requests, is "rq"
+  // + "/" + namespace + "/" + the action's name and "/_action/cancel_goal" (its ROS name, which
+  // rcl_action derives) + "Request": 255 characters at most (Fast DDS), one fewer than ROS 2's
+  // 247-character ROS name would allow (a namespace of 198 made that topic 256 long, and not all
+  // of the action's endpoints matched).
   const size_t longest_topic =
       std::string("compute_path_through_poses").size() + std::string("/_action/cancel_goal").size();
-  const std::string fits(vnsba::node::kMaxTopicNameLength - 2 - longest_topic, 'n');
+  const std::string fits(
+      vnsba::node::kMaxDdsTopicNameLength - std::string("rq//Request").size() - longest_topic, 'n');
   EXPECT_TRUE(parse_config("namespace: " + fits + "\n").config.has_value());
-  EXPECT_FALSE(parse_config("namespace: " + fits + "x\n").config.has_value());
+  const ConfigResult one_more = parse_config("namespace: " + fits + "x\n");
+  EXPECT_FALSE(one_more.config.has_value());
+  EXPECT_TRUE(HasError(one_more, "namespace, topics.compute_path_through_poses",
+                       {"DDS topic", "256 characters", "at most 255"}))
+      << Joined(one_more.errors);
   // A robot's name counts too.
   const ConfigResult robots = parse_config("robots: [r1, " + long_ns + "]\n");
   EXPECT_FALSE(robots.config.has_value());

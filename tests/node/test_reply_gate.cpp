@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "vnsba/node/reply_flow.hpp"
 #include "vnsba/node/reply_gate.hpp"
 
 namespace vnsba::test {
@@ -84,6 +85,81 @@ TEST(ReplyGate, AReaderThatWentAwayNoLongerReleases) {
   EXPECT_FALSE(gate.matched(client(1)));
   gate.hold(client(1), "answer", t0);
   EXPECT_TRUE(gate.release(t0 + 1ms).empty());
+}
+
+}  // namespace
+}  // namespace vnsba::test
+
+// ReplyFlow (reply_flow.hpp): when an action server may write its next reply on a writer whose
+// unacknowledged replies may hold at most a budget of bytes.
+namespace vnsba::test {
+namespace {
+
+using node::ReplyFlow;
+using Step = ReplyFlow::Step;
+
+// Replies go while the bytes not yet acknowledged fit the budget (one always goes); an
+// acknowledgement of everything empties the window.
+TEST(ReplyFlow, RepliesGoWhileTheUnacknowledgedBytesFitTheBudget) {
+  ReplyFlow flow(1000, 2000ms);
+  const auto t0 = ReplyFlow::Clock::now();
+  EXPECT_EQ(flow.next(5000, t0), Step::kWrite) << "one reply always goes, whatever its size";
+  flow.written(client(1), 5000, t0);
+  EXPECT_EQ(flow.next(1, t0), Step::kWait);
+  flow.all_acknowledged();
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_EQ(flow.next(250, t0), Step::kWrite) << i;
+    flow.written(client(1), 250, t0);
+  }
+  EXPECT_EQ(flow.unacknowledged_bytes(), 1000u);
+  EXPECT_EQ(flow.next(1, t0 + 1999ms), Step::kWait);
+  ASSERT_TRUE(flow.next_check(true).has_value());
+  EXPECT_EQ(*flow.next_check(true), t0 + 2000ms);
+  EXPECT_EQ(*flow.next_check(false), t0 + 2000ms) << "when it would be reported";
+  flow.all_acknowledged();
+  EXPECT_EQ(flow.next(1000, t0 + 1999ms), Step::kWrite);
+  EXPECT_FALSE(flow.is_stalled());
+  EXPECT_FALSE(flow.stalled(t0 + 1h).has_value()) << "nothing in flight: nothing stalled";
+  EXPECT_FALSE(flow.next_check(true).has_value());
+}
+
+// A window not acknowledged within ack_timeout is a reader that does not acknowledge: reported
+// once, with the clients of its replies (most first). Writes go on while the window has room;
+// once it is full, and nothing was written for ack_timeout (every reader that acknowledges has),
+// the history is cleared and the window starts afresh. Everything acknowledged ends the episode.
+TEST(ReplyFlow, AReaderThatDoesNotAcknowledgeDelaysTheOthersBoundedly) {
+  ReplyFlow flow(100, 500ms);
+  const auto t0 = ReplyFlow::Clock::now();
+  for (int i = 0; i < 3; ++i) flow.written(client(7), 30, t0);
+  flow.written(client(2), 10, t0);
+  EXPECT_EQ(flow.next(10, t0 + 499ms), Step::kWait);
+  EXPECT_FALSE(flow.stalled(t0 + 499ms).has_value());
+  EXPECT_EQ(flow.next(10, t0 + 500ms), Step::kClearHistory)
+      << "stalled, full, and nothing written for ack_timeout";
+  EXPECT_TRUE(flow.is_stalled());
+  const auto report = flow.stalled(t0 + 500ms);
+  ASSERT_TRUE(report.has_value());
+  ASSERT_EQ(report->size(), 2u);
+  EXPECT_EQ((*report)[0], std::make_pair(client(7), size_t{3}));
+  EXPECT_EQ((*report)[1], std::make_pair(client(2), size_t{1}));
+  EXPECT_FALSE(flow.stalled(t0 + 600ms).has_value()) << "reported once per episode";
+  EXPECT_FALSE(flow.next_check(false).has_value()) << "reported, nothing waits: nothing to do";
+  flow.history_cleared();
+  EXPECT_EQ(flow.unacknowledged_bytes(), 0u);
+  // Still stalled: the window fills again, then waits ack_timeout after its last write.
+  const auto t1 = t0 + 600ms;
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_EQ(flow.next(10, t1), Step::kWrite) << i;
+    flow.written(client(2), 10, t1);
+  }
+  EXPECT_EQ(flow.next(10, t1 + 499ms), Step::kWait);
+  EXPECT_EQ(*flow.next_check(true), t1 + 500ms);
+  EXPECT_EQ(flow.next(10, t1 + 500ms), Step::kClearHistory);
+  flow.all_acknowledged();
+  EXPECT_FALSE(flow.is_stalled());
+  flow.written(client(2), 100, t1 + 600ms);
+  EXPECT_EQ(flow.next(1, t1 + 600ms + 499ms), Step::kWait) << "a new episode waits afresh";
+  EXPECT_FALSE(flow.stalled(t1 + 600ms + 499ms).has_value());
 }
 
 }  // namespace

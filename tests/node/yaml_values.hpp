@@ -10,10 +10,14 @@
 
 namespace vnsba::test {
 
-// Every leaf key of a YAML document, dotted ("map.robot_radius"), with its node.
+// Every leaf key of a YAML document, dotted ("map.robot_radius"), with its node. A map written in
+// flow style below a section ("planner.aliases: {GridBased: default}", as --print-config writes a
+// map-valued key) is a value; a section is a map however it is written ("map: {max_cells: 9}").
 inline void CollectLeaves(const YAML::Node& node, const std::string& path,
                           std::map<std::string, YAML::Node>& out) {
-  if (node.IsMap()) {
+  const bool map_value =
+      node.Style() == YAML::EmitterStyle::Flow && path.find('.') != std::string::npos;
+  if (node.IsMap() && !map_value) {
     for (const auto& kv : node) {
       const std::string key = kv.first.Scalar();
       CollectLeaves(kv.second, path.empty() ? key : path + "." + key, out);
@@ -24,7 +28,7 @@ inline void CollectLeaves(const YAML::Node& node, const std::string& path,
 }
 
 // Two YAML values mean the same setting: numbers compared as numbers ("0.5" and "5e-1"), lists
-// item by item, anything else as text; a map is no value.
+// item by item, maps key by key, anything else as text.
 inline ::testing::AssertionResult SameYamlValue(const YAML::Node& expected,
                                                 const YAML::Node& actual) {
   if (expected.IsSequence() || actual.IsSequence()) {
@@ -34,8 +38,16 @@ inline ::testing::AssertionResult SameYamlValue(const YAML::Node& expected,
       if (auto same = SameYamlValue(expected[i], actual[i]); !same) return same;
     return ::testing::AssertionSuccess();
   }
-  if (expected.IsMap() || actual.IsMap())
-    return ::testing::AssertionFailure() << "a map is not a value";
+  if (expected.IsMap() || actual.IsMap()) {
+    if (!expected.IsMap() || !actual.IsMap() || expected.size() != actual.size())
+      return ::testing::AssertionFailure() << "a map on one side only, or of another size";
+    for (const auto& kv : expected) {
+      const YAML::Node other = actual[kv.first.Scalar()];
+      if (!other) return ::testing::AssertionFailure() << "no key " << kv.first.Scalar();
+      if (auto same = SameYamlValue(kv.second, other); !same) return same;
+    }
+    return ::testing::AssertionSuccess();
+  }
   double x = 0.0, y = 0.0;
   if (YAML::convert<double>::decode(expected, x) && YAML::convert<double>::decode(actual, y))
     return x == y ? ::testing::AssertionSuccess()

@@ -78,6 +78,8 @@ class ActionClient {
   // The state of `id` in the newest status list received (UNKNOWN when absent), and a wait for
   // a state.
   GoalState status_of(const GoalUuid& id) const;
+  // How many goals the newest status list received lists.
+  size_t status_list_size() const;
   bool wait_status(const GoalUuid& id, GoalState state, Duration timeout) const;
 
   // Sends `payload` as it is (the encapsulation and what follows) as a request of `service`:

@@ -65,7 +65,37 @@ struct ActionConfig {
   // results to a cap of 1,024, none to 10,000.
   int max_results = 10000;
   ReplyMapping reply_mapping = ReplyMapping::kAuto;
+  // actions.kept_results_mb, MiB in [1, 65536]: one budget for the results every action server
+  // of the node keeps (each result counted at its encoded size, kKeptResultOverheadBytes plus
+  // about 72 bytes a pose with frame_id "map"); over it the oldest delivered result of any server
+  // is forgotten first, then the oldest.
+  int kept_results_mb = 256;
+  // actions.max_result_poses, 1..10000000: the most poses a result may carry. A goal whose poses
+  // cannot fit (the straight lines through its goals, at planner.path_spacing) is ABORTED before
+  // it is planned, one whose path has more is ABORTED after, each naming this key.
+  int max_result_poses = 50000;
+  // actions.max_goal_poses, 1..100000: the most poses a ComputePathThroughPoses goal may list
+  // (each a leg to plan).
+  int max_goal_poses = 1000;
+  // actions.replies_in_flight_mb, MiB in [1, 4096], per action server: get_result replies written
+  // and not yet acknowledged by every reader at most (the reply writer's history holds this
+  // many bytes of results, at least 4 results).
+  int replies_in_flight_mb = 64;
+  // actions.reply_ack_timeout, seconds in [0.05, 60]: a reader that has not acknowledged the
+  // replies written within this is taken as not acknowledging; the others' replies then go on
+  // without waiting for it (reply_flow.hpp), and its own are dropped from the writer's history
+  // first.
+  std::chrono::milliseconds reply_ack_timeout{2000};
+  // actions.max_pending_replies, 1..100000: replies to one client held by one service of a
+  // server (waiting for its reply reader to match, or for the writer); more are dropped with a
+  // warning naming the client.
+  int max_pending_replies = 1000;
+  // actions.status_finished_goals, 0..100000: the status topic lists every goal not yet finished
+  // and this many of those that finished last (rcl_action lists every goal it keeps).
+  int status_finished_goals = 100;
 };
+// What a kept result costs beside its encoded bytes (the goal's entry, id and bookkeeping).
+inline constexpr size_t kKeptResultOverheadBytes = 256;
 
 // Where the start of a goal_pose goal comes from.
 enum class RobotPoseSource {
@@ -139,6 +169,14 @@ inline constexpr core::OptionRange kPathSpacingRange{"path_spacing", "metres", 0
 // of a request are make_options(the request's planner, or `kind`, settings), so a request that
 // picks another planner keeps every configured key. The bare struct starts with the node's own
 // defaults as settings (max_planning_time = 5 s), which hold for every planner too.
+// The longest planner name (a request's planner, a Nav2 planner_id, an alias) and frame id
+// (frame_id, a pose's header.frame_id) the node takes, in bytes.
+inline constexpr size_t kMaxPlannerNameBytes = 64;
+inline constexpr size_t kMaxFrameIdBytes = 256;
+
+// planner.aliases's target that means planner.name, whatever it is.
+inline constexpr const char* kDefaultPlannerAlias = "default";
+
 struct PlannerConfig {
   core::PlannerKind kind = core::PlannerKind::kVnsBaStar;  // planner.name
   // planner.name: auto. `kind` is then core::recommended_planner for the file's cost_weight,
@@ -152,6 +190,16 @@ struct PlannerConfig {
   // plan runs on. Not a core option: it shapes the published poses (core::path_poses), not the
   // plan, so it holds for every planner.
   std::optional<double> path_spacing;
+  // planner.aliases: other names a request's planner (a Nav2 goal's planner_id) may give, each
+  // for a planner name, `auto`, or kDefaultPlannerAlias: planner.name as configured. Nav2's
+  // default behaviour trees and planner_selector name "GridBased".
+  std::vector<std::pair<std::string, std::string>> aliases = {{"GridBased", kDefaultPlannerAlias}};
+  // The planner an alias stands for (its target), or nullopt when `name` is no alias.
+  std::optional<std::string> alias_target(const std::string& name) const {
+    for (const auto& [alias, target] : aliases)
+      if (alias == name) return target;
+    return std::nullopt;
+  }
 
   // The spacing of the poses of a path planned on a map of `resolution` metres per cell.
   double path_spacing_for(double resolution) const { return path_spacing.value_or(resolution); }
@@ -339,6 +387,9 @@ std::string ros_topic_name(const NodeConfig& config, const std::string& name);
 // ROS 2's longest full topic name (rmw's RMW_TOPIC_MAX_NAME_LENGTH: 255 less 8 characters kept for
 // the middleware's prefixes); config loading refuses a namespace, robot or topic past it.
 inline constexpr size_t kMaxTopicNameLength = 247;
+// Fast DDS's longest DDS topic name (a string_255 in discovery): the node's action services add
+// "rq" and "Request" to a ROS name, so an action's name must leave room for them.
+inline constexpr size_t kMaxDdsTopicNameLength = 255;
 // "" when every topic of `config` (of every robot) is within kMaxTopicNameLength, else one error
 // naming the keys that made it long ("namespace, topics.projected_map: found ...").
 std::string overlong_topic_name(const NodeConfig& config);

@@ -63,6 +63,10 @@ enum class TopicQos {
 constexpr int32_t kStatusHistory = 1024;
 
 dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples);
+// An action service's reply writer (action_server.hpp): kStatus's, but keeping the last
+// `history_depth` replies, as rclcpp_action's servers keep their last 10, so that a reader that
+// does not acknowledge can never block a write (reply_flow.hpp paces the writes).
+dds::DataWriterQos reply_writer_qos(int32_t history_depth, bool large_samples);
 dds::DataReaderQos reader_qos(TopicQos profile);
 // The profile in words, for messages: "reliable, transient local, keep last 1".
 std::string describe(TopicQos profile);

@@ -41,6 +41,12 @@ class ReplyGate {
     if (count <= 0) matched_.erase(prefix);
   }
   bool matched(const GuidPrefix& prefix) const { return matched_.count(prefix) > 0; }
+  // Every participant with a matched reader, in order.
+  std::vector<GuidPrefix> matched_participants() const {
+    std::vector<GuidPrefix> out;
+    for (const auto& entry : matched_) out.push_back(entry.first);
+    return out;
+  }
 
   // Holds `payload` for `requester` (none: ready at once) until matched or now + reply_wait.
   void hold(std::optional<GuidPrefix> requester, Payload payload, Clock::time_point now) {

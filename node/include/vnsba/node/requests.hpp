@@ -34,9 +34,8 @@ namespace vnsba::node {
 
 // Longest string fields a request may carry, in bytes; longer ones are refused with
 // INVALID_REQUEST naming the field (1,024 requests of 500 kB ids once took the node to 1 GB).
+// The planner's and the frame's limits are config.hpp's (the config checks against them too).
 constexpr size_t kMaxIdBytes = 256;
-constexpr size_t kMaxPlannerNameBytes = 64;
-constexpr size_t kMaxFrameIdBytes = 256;
 
 // Why a request must not be planned (or stop being planned); set under the queue's lock.
 struct Interruption {

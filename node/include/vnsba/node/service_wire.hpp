@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,9 +28,14 @@
 
 namespace vnsba::node {
 
-// A serialized DDS sample: the CDR encapsulation (4 bytes) and what follows.
+// A serialized DDS sample: the CDR encapsulation (4 bytes) and what follows, `bytes` then
+// `shared_tail` when there is one. A reply built from an encoded message (reply_with_message)
+// keeps only its encapsulation and request header in `bytes` and shares the message itself with
+// every other reply of the same message: a large result is held once however many clients ask.
 struct RawSample {
   std::vector<uint8_t> bytes;
+  std::shared_ptr<const std::vector<uint8_t>> shared_tail;
+  size_t size() const { return bytes.size() + (shared_tail ? shared_tail->size() : 0); }
 };
 
 enum class WireMapping {
@@ -92,6 +98,27 @@ RawSample encode_reply(const T& msg, WireMapping mapping, const RequestHeader& h
     for (uint8_t b : header) cdr.serialize(b);
   msg.serialize(cdr);
   out.bytes.resize(cdr.getSerializedDataLength());
+  return out;
+}
+
+// `msg` serialized alone (little-endian CDR, aligned from its own first byte), to be sent as
+// the message of any number of replies (reply_with_message).
+template <class T>
+std::shared_ptr<const std::vector<uint8_t>> encode_message(const T& msg) {
+  const RawSample whole = encode_reply(msg, WireMapping::kSampleIdentity, RequestHeader{});
+  return std::make_shared<const std::vector<uint8_t>>(whole.bytes.begin() + 4, whole.bytes.end());
+}
+
+// A reply under `mapping` whose message is `message` (encode_message), shared, not copied: the
+// encapsulation and, for rmw_cyclonedds, the 16-byte header in front. The header's 16 bytes keep
+// the message's 8-byte CDR alignment, which counts from the end of the encapsulation.
+inline RawSample reply_with_message(std::shared_ptr<const std::vector<uint8_t>> message,
+                                    WireMapping mapping, const RequestHeader& header) {
+  RawSample out;
+  out.bytes = {0, 1, 0, 0};  // CDR, little-endian
+  if (mapping == WireMapping::kRequestHeader)
+    out.bytes.insert(out.bytes.end(), header.begin(), header.end());
+  out.shared_tail = std::move(message);
   return out;
 }
 
