@@ -196,8 +196,9 @@ VendorId vendor_of(const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
 // How a remote participant announced itself: its name, and its certificate's and CA's subjects
 // from its identity token, or that it has none (an unsecured participant).
 std::string announced(const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
-  std::string out =
-      "'" + printable(data.m_participantName.to_string()) + "' on " + vendor_name(vendor_of(data));
+  const std::string name = printable(data.m_participantName.to_string());
+  std::string out = (name.empty() ? std::string("no participant name") : "'" + name + "'") +
+                    " on " + vendor_name(vendor_of(data));
   std::string certificate, ca;
   // X509_NAME_oneline's subjects ("/CN=\/vnsba\/node"), shown without its escapes.
   auto subject = [](std::string text) {
