@@ -134,8 +134,9 @@ class ActionServer::Impl {
         cv_(cv),
         hooks_(std::move(hooks)),
         goals_(config.actions.result_timeout, static_cast<size_t>(config.actions.max_results)),
-        gates_{ReplyGate<Reply>(config.reply_wait), ReplyGate<Reply>(config.reply_wait),
-               ReplyGate<Reply>(config.reply_wait)},
+        gates_{ReplyGate<Reply>(config.reply_wait, kReaderSettle),
+               ReplyGate<Reply>(config.reply_wait, kReaderSettle),
+               ReplyGate<Reply>(config.reply_wait, kReaderSettle)},
         flows_{ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout),
                ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout),
                ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout)} {}
@@ -478,8 +479,13 @@ void ActionServer::take_due(Clock::time_point now, bool all, Due& out) {
     out.replies.push_back(std::move(impl_->unwritten_.front()));
     impl_->unwritten_.pop_front();
   }
-  for (auto& gate : impl_->gates_)
-    for (Reply& reply : gate.release(release_at)) out.replies.push_back(std::move(reply));
+  for (size_t s = 0; s < impl_->gates_.size(); ++s) {
+    bool heartbeat = false;
+    for (Reply& reply : impl_->gates_[s].release(release_at, nullptr, &heartbeat))
+      out.replies.push_back(std::move(reply));
+    if (heartbeat && impl_->reply_writers_[s] != nullptr)
+      out.heartbeats.push_back(impl_->reply_writers_[s]);
+  }
   for (const ReplyFlow& flow : impl_->flows_)
     if (const auto next = flow.next_check(!impl_->unwritten_.empty()); next && now >= *next)
       out.check_flows = true;
@@ -546,7 +552,12 @@ bool ActionServer::write(Due& due, bool stopping, bool give_up) {
   // number of the first heartbeat it accepts from a writer, and a client that discovered the
   // reply writer after the node matched its reader missed the earlier heartbeats. An 885 kB
   // result (14 fragments) was lost so in 7 of 15 runs of the Cyclone client's cancel test.
+  // Not enough alone when the heartbeat goes to a multicast group and Fast DDS sends the reply's
+  // own heartbeat to the client's unicast locator (reply_gate.hpp): the gate's heartbeats
+  // (`due.heartbeats`) go out a settle ahead of such a reply.
   std::set<dds::DataWriter*> asserted;
+  for (dds::DataWriter* writer : due.heartbeats)
+    if (asserted.insert(writer).second) writer->assert_liveliness();
   for (const Reply& reply : due.replies)
     if (reply.writer != nullptr && asserted.insert(reply.writer).second)
       reply.writer->assert_liveliness();

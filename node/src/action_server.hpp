@@ -117,8 +117,9 @@ class ActionServer {
   bool canceling(const GoalUuid& id) const;
 
   // The replier thread, under reply_mutex: moves what may be written at `now` (replies whose
-  // client is matched or whose reply_wait has passed; a status array when goals changed) out of
-  // the server. With `all`, everything held (shutdown).
+  // client is matched, and in step with the writer (reply_gate.hpp), or whose reply_wait has
+  // passed; a status array when goals changed) out of the server. With `all`, everything held
+  // (shutdown).
   struct Due;
   void take_due(Clock::time_point now, bool all, Due& out);
   // Writes them (the replier thread, without the lock), as each reply writer's flow allows
@@ -157,6 +158,9 @@ class ActionServer {
     // A reply writer's flow is due a look (its readers' acknowledgements, a reader that does not
     // acknowledge to report) although no reply is due.
     bool check_flows = false;
+    // Reply writers to send a heartbeat on now, whether or not a reply goes out on them
+    // (reply_gate.hpp: a fresh requester's settle starts).
+    std::vector<dds::DataWriter*> heartbeats;
   };
 
  private:

@@ -105,7 +105,7 @@ class PlannerNode::Impl {
           cfg(robot_view(node, name)),
           // With several robots on one tf tree each has its own frames: "<robot>/base_link".
           base_frame(name.empty() ? node.base_frame : name + "/" + node.base_frame),
-          replies(node.reply_wait),
+          replies(node.reply_wait, kReaderSettle),
           queue(static_cast<size_t>(node.queue_capacity), node.preempt) {}
     const std::string name;  // "" without `robots`
     const NodeConfig cfg;    // the node's, with the robot's namespace
@@ -1156,16 +1156,27 @@ void PlannerNode::Impl::replier_loop() {
     bool unwritten = false;
     // The action servers' replies and status lists due now.
     std::vector<std::pair<ActionServer*, ActionServer::Due>> action_dues;
+    // Status writers whose gate asked for a heartbeat (reply_gate.hpp: a fresh requester).
+    std::vector<dds::DataWriter*> status_heartbeats;
     for (const auto& robot : robots_) {
-      for (HeldStatus& held : robot->replies.release(now, &timed_out))
+      bool heartbeat = false;
+      for (HeldStatus& held : robot->replies.release(now, &timed_out, &heartbeat))
         robot->unwritten.push_back(std::move(held));
+      if (heartbeat && robot->status_writer != nullptr)
+        status_heartbeats.push_back(robot->status_writer);
       unwritten = unwritten || !robot->unwritten.empty();
       for (const auto& action : robot->actions) {
         ActionServer::Due due;
         action->take_due(ReplyClock::now(), stopping, due);
-        if (!due.replies.empty() || due.status || due.check_flows)
+        if (!due.replies.empty() || due.status || due.check_flows || !due.heartbeats.empty())
           action_dues.emplace_back(action.get(), std::move(due));
       }
+    }
+    if (!status_heartbeats.empty()) {
+      // Heartbeats that count no status held now: a fresh requester's settle starts with them.
+      lock.unlock();
+      for (dds::DataWriter* writer : status_heartbeats) writer->assert_liveliness();
+      lock.lock();
     }
     // One budget for the results every action server keeps (actions.kept_results_mb).
     if (const size_t forgotten = forget_beyond_budget(
@@ -1215,6 +1226,8 @@ void PlannerNode::Impl::replier_loop() {
         // reader skips everything up to the last sequence number of the first heartbeat it gets
         // from a writer. A client that matched this writer after the node matched its reader
         // (discovery is not symmetric) missed the earlier heartbeats: it would lose its status.
+        // Not enough alone over multicast (reply_gate.hpp): a requester's first status also
+        // waited a settle after a heartbeat of its own (status_heartbeats above).
         if (writer != nullptr) writer->assert_liveliness();
         while (!queue.empty()) {
           HeldStatus& held = queue.front();

@@ -4,7 +4,9 @@
  * against the client's own map with its own line walk (grid_oracle.c). run_interop.sh starts the
  * node and runs this client (issue 32, item 6).
  *
- *   vnsba_cyclone_action_client --domain N [--namespace NS] [--wire | --cancel | --bench N]
+ *   vnsba_cyclone_action_client --domain N [--namespace NS]
+ *                               [--wire | --cancel | --bench N |
+ *                                --fresh N [--fresh-parallel P] [--fresh-resident]]
  *
  * The wire, as rcl_action and rmw_cyclonedds (jazzy) put it: an action <name> is three services,
  * <name>/_action/send_goal, get_result and cancel_goal, each the DDS topics
@@ -47,6 +49,16 @@
  *   round trips one at a time (send_goal -> accepted -> get_result -> result, as rclcpp_action
  *   calls them), each next to a plan_request -> plan_status round trip for the same plan;
  *   p50/p90 of both and of their difference.
+ * --fresh N: fresh clients' first goals (issue 44): the map latched on the node, then N fresh
+ *   client processes (this executable with --fresh-client), P at a time (--fresh-parallel P,
+ *   default 1), each a new participant with one ComputePathToPose client that sends its goal on
+ *   the client's map the moment every entity rcl_action_server_is_available() checks is matched
+ *   (as `ros2 action send_goal` and a freshly loaded BT node do: no settle time) and get_result
+ *   right after the acceptance. Every one must get the send_goal reply and the get_result reply
+ *   within 10 s each, the result SUCCEEDED (or, several at a time, ABORTED: preempted by another
+ *   client's goal); a lost reply fails the run, naming the client's participant.
+ *   --fresh-resident: this process keeps an idle ComputePathToPose client of its own matched
+ *   throughout, as a navigator does.
  * --wire: no node; the serialisation alone: each wrapped type serialises as the 16-byte header
  *   followed by the ROS message's own serialisation, byte for byte; the service writers put
  *   their instance handle and increasing sequence numbers in the first 16 bytes after the
@@ -54,12 +66,14 @@
  */
 #include <inttypes.h>
 #include <math.h>
+#include <spawn.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/random.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "action_msgs/msg/GoalStatusArray.h"
@@ -68,6 +82,8 @@
 #include "dds/dds.h"
 #include "dds/ddsi/ddsi_serdata.h"
 #include "rmw_cyclonedds_requests.h"
+
+extern char** environ;
 
 /* action_msgs/msg/GoalStatus's states. */
 enum {
@@ -235,10 +251,15 @@ typedef struct Action Action;
 /* Copies what a caller needs out of a reply sample (a wrapped type) into `out`. */
 typedef void (*CopyReply)(const Action* a, const void* sample, void* out);
 
+/* Whether replies to other clients are skipped, as rmw_take_response skips them (a --fresh
+ * client: other fresh clients may ask in the same namespace at the same time). */
+static bool skip_foreign_replies = false;
+
 /* Waits for the reply to request `seq` of `s`: the one whose header is (s->guid, seq), as
  * rmw_cyclonedds takes a reply (rmw_take_response filters on the guid, rcl on the sequence
- * number). Only this client asks in this run's namespace, so any other reply is the server's
- * mistake and fails the run. Returns the time it came (monotonic s), or a negative number. */
+ * number). Only this client asks in this run's namespace (except with skip_foreign_replies), so
+ * any other reply is the server's mistake and fails the run. Returns the time it came
+ * (monotonic s), or a negative number. */
 static double wait_reply(const Action* a, Service* s, int64_t seq, CopyReply copy, void* out,
                          double timeout) {
   const double end = now_s() + timeout;
@@ -253,7 +274,7 @@ static double wait_reply(const Action* a, Service* s, int64_t seq, CopyReply cop
       if (h->guid == s->guid && h->seq == seq && found < 0) {
         copy(a, samples[i], out);
         found = now_s();
-      } else {
+      } else if (!(skip_foreign_replies && h->guid != s->guid)) {
         CHECK(false,
               "rr/.../%s: a reply with header (guid 0x%016" PRIx64 ", seq %" PRId64
               "), not that of the request in flight (guid 0x%016" PRIx64 ", seq %" PRId64 ")",
@@ -1105,6 +1126,230 @@ static int bench(int count) {
 }
 
 /* ---------------------------------------------------------------------------------------------
+ * --fresh N: fresh clients' first goals (issue 44). */
+
+/* How long a fresh client waits for each reply (s): the node holds a reply at most
+ * requests.reply_wait (2 s by default) and plans the client's goal in milliseconds. */
+static const double kFreshReplyBound = 10.0;
+
+/* --fresh-client (run by --fresh): one fresh process as `ros2 action send_goal` or a freshly
+ * loaded BT node is: a participant with one ComputePathToPose client that sends its goal the
+ * moment rcl_action_server_is_available() holds (every entity of action_entities matched), and
+ * get_result right after the acceptance, as rclcpp_action does. Prints one line,
+ * "fresh-action <start -> discovered ms> <goal -> accepted ms> <accepted -> result ms>
+ * <result status> <status topic state>", -1 for a reply that never came (or a state never seen;
+ * result status -2: the goal was rejected), and on stderr which reply it lost, with its
+ * participant's GUID prefix (to find it in a Cyclone trace). Exits 0 when both replies came. */
+static int fresh_action_client(double started) {
+  skip_foreign_replies = true;
+  static Action a;
+  make_action(&a, &kToPose);
+  dds_entity_t entities[2 * kServices + 2];
+  const int n = action_entities(&a, entities);
+  const double discovered = wait_matched(entities, n, 20.0);
+  if (discovered < 0) {
+    fprintf(stderr, "fresh client %d: the node did not match its action client within 20 s\n",
+            (int)getpid());
+    printf("fresh-action -1 -1 -1 -1 -1\n");
+    return 1;
+  }
+  double sx, sy, gx, gy;
+  request_ends(&sx, &sy, &gx, &gy);
+  GoalSpec g;
+  goal_to(&g, sx, sy, gx, gy, "");
+  Call c;
+  memset(&c, 0, sizeof c);
+  c.id = new_goal_id();
+  c.sent = now_s();
+  c.goal_seq = send_goal(&a, &c.id, &g);
+  c.accepted_at = wait_reply(&a, &a.service[kSendGoal], c.goal_seq, copy_acceptance, &c.acceptance,
+                             kFreshReplyBound);
+  c.result_at = -1;
+  c.result.status = c.accepted_at >= 0 && !c.acceptance.accepted ? -2 : -1; /* -2: rejected */
+  int64_t result_seq = -1;
+  if (c.accepted_at >= 0 && c.acceptance.accepted) {
+    result_seq = send_get_result(&a, &c.id);
+    c.result_at = wait_reply(&a, &a.service[kGetResult], result_seq, copy_result, &c.result,
+                             kFreshReplyBound);
+  }
+  /* What the status topic says of the goal (transient local: its latest list is here by now,
+   * or comes within a second). */
+  Track t = track(&c.id);
+  wait_state(a.status, &t, is_terminal, now_s() + 1.0);
+  printf("fresh-action %.3f %.3f %.3f %d %d\n", 1e3 * (discovered - started),
+         c.accepted_at >= 0 ? 1e3 * (c.accepted_at - c.sent) : -1.0,
+         c.result_at >= 0 ? 1e3 * (c.result_at - c.accepted_at) : -1.0, c.result.status, t.latest);
+  fflush(stdout);
+  if (c.accepted_at < 0 || (c.acceptance.accepted && c.result_at < 0)) {
+    const dds_guid_t p = guid_of(participant);
+    char prefix[40];
+    int k = 0;
+    for (int i = 0; i < 12; ++i)
+      k += snprintf(prefix + k, sizeof prefix - (size_t)k, "%02x", p.v[i]);
+    const Service* lost = &a.service[c.accepted_at < 0 ? kSendGoal : kGetResult];
+    fprintf(stderr,
+            "fresh client %d (participant %s): lost the %s reply to request (guid 0x%016" PRIx64
+            ", seq %" PRId64 "); the status topic shows the goal in state %d\n",
+            (int)getpid(), prefix, c.accepted_at < 0 ? "send_goal" : "get_result", lost->guid,
+            c.accepted_at < 0 ? c.goal_seq : result_seq, t.latest);
+  }
+  /* The parent judges the result's status (fresh clients may preempt each other's goals). */
+  const bool ok = c.accepted_at >= 0 && c.acceptance.accepted && c.result_at >= 0;
+  free_path(&c.result.path);
+  dds_delete(participant);
+  return ok ? 0 : 1;
+}
+
+typedef enum {
+  kFreshAnswered,   /* both replies, SUCCEEDED */
+  kFreshPreempted,  /* both replies, ABORTED: another fresh client's goal preempted it */
+  kFreshLostAccept, /* no send_goal reply */
+  kFreshLostResult, /* no get_result reply */
+  kFreshFailed      /* anything else */
+} FreshOutcome;
+
+typedef struct {
+  pid_t pid;
+  FILE* out;
+} FreshChild;
+
+/* Starts this executable as a fresh client (`args`), its stdout a pipe to us. */
+static bool start_fresh_client(char* const* args, FreshChild* child) {
+  int fd[2];
+  if (pipe(fd) != 0) return false;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fd[1], STDOUT_FILENO);
+  posix_spawn_file_actions_addclose(&actions, fd[0]);
+  const int rc = posix_spawn(&child->pid, "/proc/self/exe", &actions, NULL, args, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(fd[1]);
+  if (rc != 0) {
+    close(fd[0]);
+    fprintf(stderr, "cannot start a fresh client: %s\n", strerror(rc));
+    return false;
+  }
+  child->out = fdopen(fd[0], "r");
+  return true;
+}
+
+/* Reads a fresh client's line and waits for it to exit. */
+static FreshOutcome finish_fresh_client(FreshChild* child, double* discovery_ms, double* accept_ms,
+                                        double* result_ms) {
+  char line[256] = "";
+  if (child->out == NULL || fgets(line, sizeof line, child->out) == NULL) line[0] = '\0';
+  if (child->out) fclose(child->out);
+  int status = 0;
+  waitpid(child->pid, &status, 0);
+  int result_status = -1, topic_state = -1;
+  if (sscanf(line, "fresh-action %lf %lf %lf %d %d", discovery_ms, accept_ms, result_ms,
+             &result_status, &topic_state) != 5 ||
+      *discovery_ms < 0)
+    return kFreshFailed;
+  if (*accept_ms < 0) return kFreshLostAccept;
+  if (result_status == -2) return kFreshFailed; /* the goal was rejected */
+  if (*result_ms < 0) return kFreshLostResult;
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) return kFreshFailed;
+  if (result_status == kStateSucceeded) return kFreshAnswered;
+  /* The node preempts a robot's running goal with a newer one (ABORTED). */
+  return result_status == kStateAborted ? kFreshPreempted : kFreshFailed;
+}
+
+/* --fresh N [--fresh-parallel P] [--fresh-resident]: the map latched on the node, then N fresh
+ * client processes, P at a time (default 1): every one must get both replies. With
+ * --fresh-resident this process keeps a ComputePathToPose client of its own matched throughout,
+ * idle, as a navigator's (bt_navigator) is: the node's reply writers then always have two or
+ * more Cyclone readers, which share Cyclone's multicast locator. */
+static int run_fresh(int domain, int count, int parallel, bool resident) {
+  const nav_msgs_msg_dds__OccupancyGrid_ map = map_message(&client_map);
+  const dds_entity_t map_writer = writer(&kMap, qos_of(true, 1));
+  dds_write(map_writer, &map);
+  static Action navigator;
+  dds_entity_t entities[1 + 2 * kServices + 2] = {map_writer};
+  int n = 1;
+  if (resident) {
+    make_action(&navigator, &kToPose);
+    n += action_entities(&navigator, entities + n);
+  }
+  if (wait_matched(entities, n, 20.0) < 0 ||
+      dds_wait_for_acks(map_writer, DDS_SECS(10)) != DDS_RETCODE_OK) {
+    fprintf(stderr, "FAILED: the node did not match (and acknowledge the map) within 30 s\n");
+    return 1;
+  }
+  char domain_text[16];
+  snprintf(domain_text, sizeof domain_text, "%d", domain);
+  char* args[] = {"vnsba_cyclone_action_client",
+                  "--fresh-client",
+                  "--domain",
+                  domain_text,
+                  "--namespace",
+                  (char*)ros_namespace,
+                  NULL};
+  const size_t size = (size_t)count;
+  double* discovery = malloc(sizeof(double) * size);
+  double* accept = malloc(sizeof(double) * size);
+  double* result = malloc(sizeof(double) * size);
+  FreshChild* children = malloc(sizeof(FreshChild) * (size_t)parallel);
+  int answered = 0, preempted = 0, lost_accept = 0, lost_result = 0, failed = 0;
+  for (int first = 0; first < count; first += parallel) {
+    const int batch = count - first < parallel ? count - first : parallel;
+    bool started[batch];
+    for (int i = 0; i < batch; ++i) started[i] = start_fresh_client(args, &children[i]);
+    for (int i = 0; i < batch; ++i) {
+      if (!started[i]) {
+        ++failed;
+        continue;
+      }
+      double d = -1, acc = -1, res = -1;
+      switch (finish_fresh_client(&children[i], &d, &acc, &res)) {
+        case kFreshAnswered:
+          discovery[answered] = d;
+          accept[answered] = acc;
+          result[answered++] = res;
+          break;
+        case kFreshPreempted:
+          ++preempted;
+          break;
+        case kFreshLostAccept:
+          ++lost_accept;
+          break;
+        case kFreshLostResult:
+          ++lost_result;
+          break;
+        case kFreshFailed:
+          ++failed;
+          break;
+      }
+    }
+  }
+  printf(
+      "fresh action clients: %d (each a new process: participant, one ComputePathToPose client, "
+      "its goal sent once the action server is available, %d at a time%s): %d answered, %d lost "
+      "the send_goal reply, %d lost the get_result reply, %d failed otherwise",
+      count, parallel, resident ? ", beside a resident client" : "", answered + preempted,
+      lost_accept, lost_result, failed);
+  if (preempted > 0) printf(" (%d answered ABORTED: preempted by another's goal)", preempted);
+  printf("\n");
+  if (answered > 0) {
+    print_stats("start -> action server available", discovery, answered);
+    print_stats("send_goal -> accepted", accept, answered);
+    print_stats("accepted -> result", result, answered);
+  }
+  CHECK(lost_accept + lost_result == 0,
+        "%d of %d fresh clients lost a reply (%d the send_goal reply, %d the get_result reply)",
+        lost_accept + lost_result, count, lost_accept, lost_result);
+  CHECK(failed == 0, "%d of %d fresh clients failed (not a lost reply)", failed, count);
+  /* One at a time, no goal is preempted: every result is SUCCEEDED. */
+  CHECK(parallel > 1 || preempted == 0, "%d of %d results ABORTED, none expected", preempted,
+        count);
+  free(discovery);
+  free(accept);
+  free(result);
+  free(children);
+  return report_run(participant, "interop action fresh clients");
+}
+
+/* ---------------------------------------------------------------------------------------------
  * --wire: the serialisation, no node. */
 
 /* One sample of `desc`'s type written on a topic of its own and read back serialized. */
@@ -1333,8 +1578,9 @@ static int run_wire(void) {
 /* --------------------------------------------------------------------------------------------- */
 
 int main(int argc, char** argv) {
-  int domain = -1, bench_count = -1;
-  bool wire = false, cancel = false;
+  const double started = now_s();
+  int domain = -1, bench_count = -1, fresh_count = -1, fresh_parallel = 1;
+  bool wire = false, cancel = false, fresh_child = false, fresh_resident = false;
   for (int i = 1; i < argc; ++i) {
     const char* arg = argv[i];
     const char* value = i + 1 < argc ? argv[i + 1] : NULL;
@@ -1344,29 +1590,42 @@ int main(int argc, char** argv) {
       ros_namespace = argv[++i];
     } else if (strcmp(arg, "--bench") == 0 && value && parse_int(value, 1, 1000000, &bench_count)) {
       ++i;
+    } else if (strcmp(arg, "--fresh") == 0 && value && parse_int(value, 1, 100000, &fresh_count)) {
+      ++i;
+    } else if (strcmp(arg, "--fresh-parallel") == 0 && value &&
+               parse_int(value, 1, 64, &fresh_parallel)) {
+      ++i;
+    } else if (strcmp(arg, "--fresh-resident") == 0) {
+      fresh_resident = true;
+    } else if (strcmp(arg, "--fresh-client") == 0) {
+      fresh_child = true;
     } else if (strcmp(arg, "--wire") == 0) {
       wire = true;
     } else if (strcmp(arg, "--cancel") == 0) {
       cancel = true;
     } else {
-      fprintf(stderr,
-              "%s: bad argument '%s'\nusage: %s --domain 0..232 [--namespace NS]"
-              " [--wire | --cancel | --bench N]\n",
-              argv[0], arg, argv[0]);
+      fprintf(
+          stderr,
+          "%s: bad argument '%s'\nusage: %s --domain 0..232 [--namespace NS]"
+          " [--wire | --cancel | --bench N | --fresh N [--fresh-parallel P] [--fresh-resident]]\n",
+          argv[0], arg, argv[0]);
       return 2;
     }
   }
-  if (domain < 0 || wire + cancel + (bench_count > 0) > 1) {
+  if (domain < 0 || wire + cancel + (bench_count > 0) + (fresh_count > 0) + fresh_child > 1) {
     fprintf(stderr,
-            "%s: --domain 0..232 is required, and at most one of --wire, --cancel, --bench\n",
+            "%s: --domain 0..232 is required, and at most one of --wire, --cancel, --bench, "
+            "--fresh\n",
             argv[0]);
     return 2;
   }
   make_map();
   participant = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
   if (participant < 0) die("cannot create the participant", participant);
+  if (fresh_child) return fresh_action_client(started);
   if (wire) return run_wire();
   if (cancel) return run_cancel();
   if (bench_count > 0) return bench(bench_count);
+  if (fresh_count > 0) return run_fresh(domain, fresh_count, fresh_parallel, fresh_resident);
   return run_checks();
 }

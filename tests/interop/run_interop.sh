@@ -4,7 +4,8 @@
 # Prints the node's log when anything failed.
 #   run_interop.sh NODE CLIENT MODE [client args...]
 #   MODE: transient_local | volatile | localhost | debug_layers | fresh_clients, CLIENT
-#         vnsba_cyclone_client; action | action_cancel, CLIENT vnsba_cyclone_action_client;
+#         vnsba_cyclone_client; action | action_cancel | action_fresh, CLIENT
+#         vnsba_cyclone_action_client;
 #         secure | secure_open | secure_other_ca, CLIENT vnsba_cyclone_client: the node secured
 #         with a keystore of tools/make_keystore.sh, the client secured with an enclave of the
 #         same keystore (it plans: every check of a default run), without security or with an
@@ -14,6 +15,7 @@
 # Measurements (nothing asserted), over loopback:
 #   run_interop.sh NODE CLIENT localhost --bench 2000 --fresh 40
 #   run_interop.sh NODE ACTION_CLIENT action --bench 1000
+#   run_interop.sh NODE ACTION_CLIENT action_fresh --fresh 200 --fresh-parallel 2
 #   run_interop.sh NODE CLIENT secure --bench 2000 (against transient_local --bench 2000)
 # secure also sends the Cyclone client's request from vnsba_send_goal ($VNSBA_SEND_GOAL).
 set -euo pipefail
@@ -27,18 +29,26 @@ case "$mode" in
   fresh_clients) domain=211 durability=transient_local localhost=true ;;
   action) domain=216 durability=transient_local localhost=false ;;
   action_cancel) domain=217 durability=transient_local localhost=false ;;
+  action_fresh) domain=222 durability=transient_local localhost=false ;;
   secure) domain=219 durability=transient_local localhost=false ;;
   secure_open) domain=220 durability=transient_local localhost=false ;;
   secure_other_ca) domain=221 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
-      "fresh_clients, action, action_cancel, secure, secure_open or secure_other_ca" >&2
+      "fresh_clients, action, action_cancel, action_fresh, secure, secure_open or" \
+      "secure_other_ca" >&2
     exit 2
     ;;
 esac
 case "$mode" in
   action) client_args=(--domain "$domain") ;;
   action_cancel) client_args=(--domain "$domain" --cancel) ;;
+  # 40 fresh action clients one after another, each sending its goal the moment the action
+  # server is available (no settle time), beside an idle resident client (a navigator's), over
+  # Cyclone's default configuration (the machine's interface, multicast locators): every one
+  # must get its send_goal and get_result replies. Arguments after the mode add to these (the
+  # last --fresh wins): --fresh N, --fresh-parallel P.
+  action_fresh) client_args=(--domain "$domain" --fresh 40 --fresh-resident) ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi

@@ -1,5 +1,6 @@
 // ReplyGate (reply_gate.hpp) without DDS: statuses wait for their requester's status reader, at
-// most reply_wait, and are released in order per client.
+// most reply_wait, and are released in order per client; with a settle, the first reply to a
+// client also waits that long after a heartbeat the gate asks for (issue 44).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -85,6 +86,95 @@ TEST(ReplyGate, AReaderThatWentAwayNoLongerReleases) {
   EXPECT_FALSE(gate.matched(client(1)));
   gate.hold(client(1), "answer", t0);
   EXPECT_TRUE(gate.release(t0 + 1ms).empty());
+}
+
+// Issue 44: the first reply to a matched client goes a settle after the heartbeat the gate asks
+// for, which a Cyclone DDS reader must handle before the reply's own heartbeat.
+TEST(ReplyGate, TheFirstReplyToAClientGoesASettleAfterTheHeartbeatItAsksFor) {
+  Gate gate(2000ms, 20ms);
+  const auto t0 = Gate::Clock::now();
+  gate.reader_matched(client(1), +1);
+  gate.hold(client(1), "accepted", t0);
+  bool heartbeat = false;
+  EXPECT_TRUE(gate.release(t0 + 1ms, nullptr, &heartbeat).empty());
+  EXPECT_TRUE(heartbeat);  // sent now: the settle counts from here
+  EXPECT_EQ(gate.next_deadline(), t0 + 21ms);
+  heartbeat = false;
+  EXPECT_TRUE(gate.release(t0 + 20ms, nullptr, &heartbeat).empty());
+  EXPECT_FALSE(heartbeat);  // asked for once
+  EXPECT_FALSE(gate.synced(client(1)));
+  size_t timed_out = 0;
+  EXPECT_EQ(gate.release(t0 + 21ms, &timed_out, &heartbeat), std::vector<std::string>{"accepted"});
+  EXPECT_EQ(timed_out, 0u);
+  EXPECT_TRUE(gate.synced(client(1)));
+  // In step now: its next replies go at once, without a heartbeat of their own.
+  gate.hold(client(1), "result", t0 + 30ms);
+  EXPECT_EQ(gate.release(t0 + 30ms, nullptr, &heartbeat), std::vector<std::string>{"result"});
+  EXPECT_FALSE(heartbeat);
+}
+
+TEST(ReplyGate, TheSettleStartsOnceTheRequestersReaderIsMatched) {
+  Gate gate(2000ms, 20ms);
+  const auto t0 = Gate::Clock::now();
+  gate.hold(client(1), "accepted", t0);
+  bool heartbeat = false;
+  EXPECT_TRUE(gate.release(t0 + 100ms, nullptr, &heartbeat).empty());
+  EXPECT_FALSE(heartbeat);  // nothing to send it to yet
+  gate.reader_matched(client(1), +1);
+  EXPECT_TRUE(gate.release(t0 + 150ms, nullptr, &heartbeat).empty());
+  EXPECT_TRUE(heartbeat);
+  EXPECT_EQ(gate.release(t0 + 170ms), std::vector<std::string>{"accepted"});
+}
+
+TEST(ReplyGate, ASettlingClientHoldsUpNoOtherClient) {
+  Gate gate(2000ms, 20ms);
+  const auto t0 = Gate::Clock::now();
+  gate.reader_matched(client(1), +1);
+  gate.reader_matched(client(2), +1);
+  gate.hold(client(2), "b1", t0);
+  bool heartbeat = false;
+  EXPECT_TRUE(gate.release(t0, nullptr, &heartbeat).empty());
+  EXPECT_EQ(gate.release(t0 + 20ms), std::vector<std::string>{"b1"});  // client 2 is synced
+  gate.hold(client(1), "a1", t0 + 21ms);
+  gate.hold(client(2), "b2", t0 + 22ms);
+  gate.hold(std::nullopt, "map report", t0 + 23ms);
+  heartbeat = false;
+  EXPECT_EQ(gate.release(t0 + 23ms, nullptr, &heartbeat),
+            (std::vector<std::string>{"b2", "map report"}));
+  EXPECT_TRUE(heartbeat);  // client 1's settle starts
+  gate.hold(client(1), "a2", t0 + 30ms);
+  EXPECT_TRUE(gate.release(t0 + 42ms).empty());
+  EXPECT_EQ(gate.release(t0 + 43ms), (std::vector<std::string>{"a1", "a2"}));  // in order
+}
+
+TEST(ReplyGate, AClientWhoseReadersWentAwaySettlesAgain) {
+  Gate gate(2000ms, 20ms);
+  const auto t0 = Gate::Clock::now();
+  gate.reader_matched(client(1), +1);
+  gate.hold(client(1), "a1", t0);
+  gate.release(t0);
+  EXPECT_EQ(gate.release(t0 + 20ms), std::vector<std::string>{"a1"});
+  EXPECT_TRUE(gate.synced(client(1)));
+  gate.reader_matched(client(1), -1);
+  gate.reader_matched(client(1), +1);  // a new reader: it has heard no heartbeat of ours
+  EXPECT_FALSE(gate.synced(client(1)));
+  gate.hold(client(1), "a2", t0 + 30ms);
+  bool heartbeat = false;
+  EXPECT_TRUE(gate.release(t0 + 30ms, nullptr, &heartbeat).empty());
+  EXPECT_TRUE(heartbeat);
+  EXPECT_EQ(gate.release(t0 + 50ms), std::vector<std::string>{"a2"});
+}
+
+TEST(ReplyGate, AShutdownReleasesASettlingReplyAtOnce) {
+  Gate gate(2000ms, 20ms);
+  const auto t0 = Gate::Clock::now();
+  gate.reader_matched(client(1), +1);
+  gate.hold(client(1), "accepted", t0);
+  gate.hold(client(2), "unmatched", t0);
+  size_t timed_out = 0;
+  EXPECT_EQ(gate.release(Gate::Clock::time_point::max(), &timed_out),
+            (std::vector<std::string>{"accepted", "unmatched"}));
+  EXPECT_EQ(timed_out, 1u);  // only the one without a matched reader
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ struct ActionConfig {
   // actions.max_pending_replies, 1..100000: replies to one client held by one service of a
   // server (waiting for its reply reader to match, or for the writer); more are dropped with a
   // warning naming the client.
-  int max_pending_replies = 1000;
+  int max_pending_replies = 10000;
   // actions.status_finished_goals, 0..100000: the status topic lists every goal not yet finished
   // and this many of those that finished last (rcl_action lists every goal it keeps).
   int status_finished_goals = 100;
