@@ -271,6 +271,12 @@ for goal in "${goals[@]}"; do
   line=$("$send_goal_bin" --config "$config" --domain "$domain" --id "demo-$id" \
            --planner "$planner" --start "$sx" "$sy" --goal "$gx" "$gy" --wait 30 \
            --min-readers 2 2>>"$logs/send_goal.log") || code=$?
+  # Ctrl-C (or SIGTERM) reached vnsba_send_goal, which caught it and exited 130 (143): bash runs
+  # no INT trap for a child that caught the signal, so the demo stops here itself.
+  if [ "$code" -ge 128 ]; then
+    echo "[demo] interrupted" >&2
+    exit "$code"
+  fi
   read -r _ status _ <<<"$line"
   status="${status:-NO_STATUS}"
   got[$id]="$status"

@@ -580,7 +580,7 @@ int main(int argc, char** argv) {
   double max_open_mb = kDefaultMaxOpenMb;
   app.add_option("--out", out_dir, "folder for <id>.svg and <id>.json (created if missing)");
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)");
+  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
   std::optional<std::string> participant_profile;

@@ -42,8 +42,11 @@
 // with another status (the line is printed, its message goes to stderr; --action: the goal was
 // rejected, ABORTED or CANCELED); 2 usage error: the command line or the config is bad (stderr
 // names the option or key), nothing was sent; 3 no answer: no node (action server) matched or no
-// status (result) came within --wait seconds (no node, wrong domain or topic names), or SIGINT or
-// SIGTERM came first; 4 DDS failure (a participant, endpoint or write refused).
+// status (result) came within --wait seconds (no node, wrong domain or topic names); 4 DDS
+// failure (a participant, endpoint or write refused); 130 or 143: SIGINT or SIGTERM came first
+// (128 + the signal, as a shell reports a command the signal killed, so that a script that runs
+// this tool stops on Ctrl-C too: bash runs no INT trap for a child that caught SIGINT and exited
+// otherwise).
 //
 // Order matters on the bus: the status reader exists and has matched the node's status writer
 // before the request goes out (the reader is volatile, as ROS 2's default; the node holds our
@@ -102,7 +105,7 @@ constexpr const char* kExitCodesHelp =
     "Exit codes: 0 the node answered OK (--action: the goal SUCCEEDED); 1 it answered with "
     "another status (printed; --action: the goal was rejected, ABORTED or CANCELED); 2 bad "
     "command line or config, nothing sent; 3 no answer within --wait (no node or action server "
-    "matched, no status or result) or interrupted; 4 DDS failure.";
+    "matched, no status or result); 4 DDS failure; 130 / 143 interrupted by SIGINT / SIGTERM.";
 
 // Longest --wait and --cancel-after accepted, seconds: an hour is far beyond any planning
 // budget.
@@ -129,10 +132,16 @@ class Budget {
   double seconds() const { return seconds_; }  // --wait
   // Whether SIGINT or SIGTERM came (polled; stays true once seen).
   bool interrupted() {
-    stopped_ = stopped_ || signals_.wait_for(std::chrono::milliseconds(0)).has_value();
+    if (!stopped_)
+      if (const auto signal = signals_.wait_for(std::chrono::milliseconds(0))) {
+        stopped_ = true;
+        signal_ = *signal;
+      }
     return stopped_;
   }
   bool stopped_by_signal() const { return stopped_; }
+  // The exit code of a run the signal ended: 128 + the signal (130 SIGINT, 143 SIGTERM).
+  int signal_exit_code() const { return 128 + signal_; }
   bool expired() const { return Clock::now() >= deadline_; }
   // Time left, never negative.
   std::chrono::milliseconds left() const {
@@ -150,6 +159,7 @@ class Budget {
   Clock::time_point deadline_;
   const node::StopSignals& signals_;
   bool stopped_ = false;
+  int signal_ = SIGINT;  // the one that came, once stopped_
 };
 
 // Shuts the participant down when it goes out of scope: declared after the listeners its readers
@@ -421,7 +431,7 @@ int run_action(node::Participant& bus, const node::NodeConfig& config, node::Act
           "no {} server on domain {} matched '{}' within {} s (no node, another domain "
           "or action name, or a node with actions.enabled false)",
           action_type, config.domain_id, action_name, budget.seconds());
-    return kNoStatus;
+    return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
   }
 
   const node::GoalUuid id = node::ActionClient::random_id();
@@ -452,7 +462,7 @@ int run_action(node::Participant& bus, const node::NodeConfig& config, node::Act
     else
       spdlog::error("cancel of goal {}: no answer within {} s", goal,
                     std::chrono::duration<double>(kCancelWait).count());
-    return kNoStatus;
+    return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
   };
 
   const int64_t goal_request = client->send_goal(id, action_goal(request, config.frame_id));
@@ -596,7 +606,7 @@ int run_plan_request(node::Participant& bus, const node::NodeConfig& config,
         "within {} s",
         min_readers, config.domain_id, request_topic_name, budget.seconds());
   }
-  if (!matched) return kNoStatus;
+  if (!matched) return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
 
   node::PlanRequestMsg request;
   request.id(request_id);
@@ -627,7 +637,7 @@ int run_plan_request(node::Participant& bus, const node::NodeConfig& config,
       spdlog::error("no status for '{}' on '{}' within {} s", node::printable(request_id),
                     status_topic_name, budget.seconds());
     }
-    return kNoStatus;
+    return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
   }
   std::string adjusted;
   if (status->start_adjusted()) {
@@ -672,7 +682,7 @@ int main(int argc, char** argv) {
   std::optional<std::string> action, mapping_name;
   std::optional<double> cancel_after;
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides domain_id)")
+  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)")
       ->check(CLI::Range(0, 232));
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);

@@ -1082,6 +1082,21 @@ bool ros_localhost_only_from_environment() {
   return value != nullptr && std::string_view(value) == "1";
 }
 
+core::Expected<std::optional<int>> ros_domain_id_from_environment() {
+  const char* value = std::getenv("ROS_DOMAIN_ID");
+  if (value == nullptr || *value == '\0') return std::optional<int>();
+  const std::string_view text(value);
+  int domain = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), domain);
+  if (error != std::errc{} || end != text.data() + text.size() || domain < 0 || domain > 232) {
+    return core::Status::error(
+        core::StatusCode::kInvalidRequest,
+        "ROS_DOMAIN_ID: found \"" + std::string(text.substr(0, 32)) +
+            "\" in the environment, expected an integer 0..232 (unset it, or give --domain)");
+  }
+  return std::optional<int>(domain);
+}
+
 core::Expected<std::string> find_default_config() {
   namespace fs = std::filesystem;
   std::vector<fs::path> candidates;

@@ -42,7 +42,22 @@ std::optional<NodeConfig> load_config_or_report(
     return std::nullopt;
   }
   NodeConfig config = std::move(*loaded.config);
-  if (domain_override >= 0) config.domain_id = domain_override;
+  // The domain: --domain, else ROS_DOMAIN_ID (as every ROS 2 node takes it), else domain_id.
+  const core::Expected<std::optional<int>> ros_domain = ros_domain_id_from_environment();
+  if (!ros_domain) {
+    spdlog::error("{}", ros_domain.error().message);
+    return std::nullopt;
+  }
+  if (domain_override >= 0) {
+    if (*ros_domain && **ros_domain != domain_override)
+      spdlog::info("DDS domain {} (--domain; ROS_DOMAIN_ID={} in the environment is not used)",
+                   domain_override, **ros_domain);
+    config.domain_id = domain_override;
+  } else if (*ros_domain) {
+    spdlog::info("DDS domain {} (ROS_DOMAIN_ID; domain_id {} of the config is not used)",
+                 **ros_domain, config.domain_id);
+    config.domain_id = **ros_domain;
+  }
   if (namespace_override) {
     auto ns = normalized_namespace(*namespace_override);
     if (!ns) {

@@ -67,11 +67,12 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# The environment must not change the run: ROS_LOCALHOST_ONLY=1 would turn localhost_only on
+# The environment must not change the run: ROS_DOMAIN_ID would replace the domain_id below,
+# ROS_LOCALHOST_ONLY=1 would turn localhost_only on
 # for the node, ROS_DISCOVERY_SERVER would make it a Discovery Server client and
 # ROS_SECURITY_ENABLE a secured participant (neither reachable by this client), a CYCLONEDDS_URI
 # would reconfigure the client.
-unset ROS_LOCALHOST_ONLY ROS_DISCOVERY_SERVER ROS_SECURITY_ENABLE CYCLONEDDS_URI
+unset ROS_DOMAIN_ID ROS_LOCALHOST_ONLY ROS_DISCOVERY_SERVER ROS_SECURITY_ENABLE CYCLONEDDS_URI
 ns="interop_${mode}_$$"
 # Secured runs use the default topic names (a keystore's permissions name topics; the domains
 # 219..221 are these runs' alone among the interop runs; participants of other suites there

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
@@ -31,6 +33,54 @@ planer:
   for (const char* key : {"domain_id", "planner.name", "planner.omega", "map.occupied_threshold",
                           "requests.queue_capacity", "topics.plan", "planer"}) {
     EXPECT_NE(output.find(key), std::string::npos) << key << " not named in:\n" << output;
+  }
+}
+
+// ROS users' habit (issue 45): ROS_DOMAIN_ID picks the domain, as for every ROS 2 node, over the
+// config's domain_id; --domain wins over both; each choice is logged; a bad value is refused
+// naming the variable. --print-config shows the domain the node would run on.
+TEST(NodeProcess, RosDomainIdPicksTheDomainAndDomainWins) {
+  const std::string path = write_temp_file("domain5.yaml", "domain_id: 5\n");
+  auto run = [&](const char* env, std::vector<std::string> args) {
+    if (env != nullptr)
+      setenv("ROS_DOMAIN_ID", env, 1);
+    else
+      unsetenv("ROS_DOMAIN_ID");
+    args.insert(args.begin(), {"--config", path, "--print-config"});
+    auto result = run_to_exit(kNode, args);
+    unsetenv("ROS_DOMAIN_ID");
+    return result;
+  };
+  {
+    const auto [code, output] = run(nullptr, {});
+    EXPECT_EQ(code, 0) << output;
+    EXPECT_NE(output.find("domain_id: 5\n"), std::string::npos) << output;
+  }
+  {
+    const auto [code, output] = run("128", {});
+    EXPECT_EQ(code, 0) << output;
+    EXPECT_NE(output.find("domain_id: 128\n"), std::string::npos) << output;
+    EXPECT_NE(output.find("DDS domain 128 (ROS_DOMAIN_ID; domain_id 5 of the config is not used)"),
+              std::string::npos)
+        << output;
+  }
+  {
+    const auto [code, output] = run("128", {"--domain", "42"});
+    EXPECT_EQ(code, 0) << output;
+    EXPECT_NE(output.find("domain_id: 42\n"), std::string::npos) << output;
+    EXPECT_NE(output.find("ROS_DOMAIN_ID=128 in the environment is not used"), std::string::npos)
+        << output;
+  }
+  {
+    const auto [code, output] = run("", {});  // empty: as unset (rcl's rule)
+    EXPECT_EQ(code, 0) << output;
+    EXPECT_NE(output.find("domain_id: 5\n"), std::string::npos) << output;
+  }
+  for (const char* bad : {"233", "-1", "seven", "12x"}) {
+    const auto [code, output] = run(bad, {});
+    EXPECT_EQ(code, 2) << bad << ": " << output;
+    EXPECT_NE(output.find(std::string("ROS_DOMAIN_ID: found \"") + bad + "\""), std::string::npos)
+        << output;
   }
 }
 

@@ -363,6 +363,9 @@ core::Expected<std::string> find_default_config();
 
 // ROS_LOCALHOST_ONLY=1 in the environment (as rmw_fastrtps reads it): forces localhost_only.
 bool ros_localhost_only_from_environment();
+// ROS_DOMAIN_ID in the environment, as rcl reads it: unset or empty is nullopt (no choice); an
+// integer 0..232 the domain; anything else an error naming the variable and its value.
+core::Expected<std::optional<int>> ros_domain_id_from_environment();
 // Every tool's --config help text, which says where the file comes from without the option.
 inline constexpr const char* kConfigOptionHelp =
     "YAML configuration file (default: <prefix>/share/vnsba/default.yaml of this installation, "
