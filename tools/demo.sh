@@ -65,7 +65,7 @@ goals=(
   "office_route_jps    jps          2   -6     16    -6.5  OK"
   "hall_to_corridor    vns_bastar  16   -6.5   -6     0    OK"
   "closed_room         vns_bastar  -6    0      0     4    NO_VALID_PATH"
-  "into_wall           vns_bastar  -6    0     10    -1.4  GOAL_OCCUPIED"
+  "into_wall           vns_bastar  -6    0     10     1.3  GOAL_OCCUPIED"
 )
 
 started_at=$SECONDS

@@ -664,12 +664,10 @@ int run_plan_request(node::Participant& bus, const node::NodeConfig& config,
     std::fprintf(stderr, "%s\n", node::printable(status->message(), 4096).c_str());
   return kStatusOk;
 }
-}  // namespace
 
-int main(int argc, char** argv) {
-  // SIGINT/SIGTERM are blocked before DDS starts its threads and polled while waiting, so an
-  // interrupt still tears the participant down cleanly.
-  const node::StopSignals stop_signals;
+// The whole run, from the command line to the answer; the participant is torn down when it
+// returns.
+int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
   node::init_logging("vnsba_send_goal");
   CLI::App app{"vnsba_send_goal: send one plan request (or Nav2 action goal) and print the answer"};
   app.footer(kExitCodesHelp);
@@ -838,4 +836,16 @@ int main(int argc, char** argv) {
                       budget);
   }
   return run_plan_request(**participant, config, goal_request, request_id, min_readers, budget);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  // SIGINT/SIGTERM are blocked before DDS starts its threads and polled while waiting, so an
+  // interrupt still tears the participant down cleanly.
+  const node::StopSignals stop_signals;
+  const int code = send_goal(argc, argv, stop_signals);
+  // A signal that came after the answer, while DDS was torn down, ends the process here as the
+  // signal it is (a demo or script that ran us stops too, not only this tool).
+  stop_signals.release();
+  return code;
 }

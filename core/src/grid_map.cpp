@@ -34,6 +34,7 @@ struct ObstacleDistances {
   double radius_cells;      // robot_radius in cells
   double gradient_cells;    // inflation_radius in cells (0: no gradient)
   double scaling_per_cell;  // cost_scaling_factor * resolution
+  bool unknown_is_obstacle;  // blocked unknown cells count as obstacles (inflate_unknown)
 
   bool run(const std::atomic<bool>* cancel) {
     // cells^2; for a whole radius both sides of the comparison below are exact integers.
@@ -47,7 +48,7 @@ struct ObstacleDistances {
         width, height, cap,
         [&](int32_t x, int32_t y) {
           const CellLayer layer = layers[static_cast<size_t>(y) * w + x];
-          return layer == CellLayer::kOccupied || layer == CellLayer::kUnknown;
+          return GridMap::is_obstacle_layer(layer, unknown_is_obstacle);
         },
         [&](int32_t y, const int64_t* squared) {
           CellLayer* layer_row = &layers[static_cast<size_t>(y) * w];
@@ -179,6 +180,8 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
       const int8_t v = grid.at(x, y);
       const CellLayer layer = classify_value(v, options.occupied_threshold, options.allow_unknown);
       if (layer == CellLayer::kFree && v > 0) graded = true;
+      if (layer == CellLayer::kUnknown && !options.inflate_unknown)
+        map.blocked_non_obstacles_ = true;
       map.layers_[static_cast<size_t>(y) * grid.width + x] = layer;
     }
   }
@@ -200,7 +203,8 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
                               map.height_,
                               metres_to_cells(options.robot_radius, grid.resolution),
                               metres_to_cells(options.inflation_radius, grid.resolution),
-                              options.cost_scaling_factor * grid.resolution};
+                              options.cost_scaling_factor * grid.resolution,
+                              options.inflate_unknown};
   if (!distances.run(cancel)) return canceled();
   map.blocked_.assign(padded, 1);
   for (int32_t y = 0; y < grid.height; ++y) {

@@ -108,10 +108,6 @@ double segment_square_distance(const Point2& a, const Point2& b, int32_t x, int3
   return best;
 }
 
-bool is_obstacle(CellLayer layer) {
-  return layer == CellLayer::kOccupied || layer == CellLayer::kUnknown;
-}
-
 // The end cells of a grid path's straight run: [a, b] from a cell centre to a cell centre along
 // an axis or a diagonal, both in the map; nullopt for any other segment.
 std::optional<std::pair<Cell, Cell>> straight_run_cells(const GridMap& map, const Point2& a,
@@ -160,7 +156,7 @@ bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point
   const int32_t y1 = std::min(map.height() - 1, clamp_y(std::max(a.y(), b.y()) + cells));
   for (int32_t y = y0; y <= y1; ++y)
     for (int32_t x = x0; x <= x1; ++x)
-      if (is_obstacle(map.layer({x, y})) && segment_square_distance(a, b, x, y) < cells)
+      if (map.is_obstacle(map.layer({x, y})) && segment_square_distance(a, b, x, y) < cells)
         return false;
   return true;
 }
@@ -198,7 +194,8 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
         bound, map.obstacle_distance(c) * (1.0 + kFloatRounding) + (v - centre).norm() + 1e-9);
   }
   // Then each segment against the obstacle squares of its band, line by line from the map's bit
-  // lines (the blocked bits are the obstacles plus inflation, which layer() tells apart): rows
+  // lines (the blocked bits are the obstacles plus inflation and blocked unknown cells not
+  // inflated, which layer() tells apart): rows
   // for a flat segment, columns for a steep one, so that a straight run of a grid path crosses
   // three lines, not one a cell. A square nearer than `reach` to the segment has its centre
   // within that plus sqrt 2 / 2 of it (a square's points lie within sqrt 2 / 2 of its centre):
@@ -206,7 +203,10 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
   // of the line. The result is the least exact distance measured, never the bound (which only
   // narrows the bands).
   constexpr double kHalfDiagonal = kSqrt2 / 2;
-  const bool inflation = map.build_options().robot_radius > 0.0;
+  // Without inflation, and with unknown cells free or obstacles, every blocked bit is one.
+  const GridBuildOptions& built = map.build_options();
+  const bool every_blocked_is_obstacle =
+      built.robot_radius <= 0.0 && (built.allow_unknown || built.inflate_unknown);
   double best = kInfinity;
   auto reach = [&] { return std::min(best, bound) + kHalfDiagonal + 1e-9; };  // cells
   auto measure = [&](const Point2& a, const Point2& b) {
@@ -267,7 +267,7 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
           std::floor(a_u + t_near * ab_u), static_cast<double>(u0), static_cast<double>(u1)));
       auto cell_at = [&](int32_t u) { return columns ? Cell{v, u} : Cell{u, v}; };
       auto is_obstacle_at = [&](int32_t u) {
-        return !inflation || is_obstacle(map.layer(cell_at(u)));
+        return every_blocked_is_obstacle || map.is_obstacle(map.layer(cell_at(u)));
       };
       auto consider = [&](int32_t u) {
         const Cell c = cell_at(u);

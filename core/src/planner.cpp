@@ -412,6 +412,48 @@ std::string why_blocked(const GridMap& map, const Cell& c) {
   return "is free";
 }
 
+// Whether `from` and `to` would connect if the blocked unknown cells were free: a flood over the
+// cells that are free or unknown (occupied and inflated ones stay blocked), 8-connected, a
+// diagonal step only between two such orthogonal neighbours (corners never cut: it may miss a
+// connection a corner_policy allows, never find one the planner lacks otherwise). Only for a
+// failed plan's message, on a map with blocked unknown cells: O(the cells reached), polling
+// `budget` (false once it has run out).
+bool connected_through_unknown(const GridMap& map, const Cell& from, const Cell& to,
+                               PlanningBudget& budget) {
+  if (map.build_options().allow_unknown) return false;
+  const int32_t w = map.width(), h = map.height();
+  auto passable = [&](int32_t x, int32_t y) {
+    if (x < 0 || y < 0 || x >= w || y >= h) return false;
+    const CellLayer layer = map.layer({x, y});
+    return layer == CellLayer::kFree || layer == CellLayer::kUnknown;
+  };
+  bool any_unknown = false;
+  for (int32_t y = 0; y < h && !any_unknown; ++y)
+    for (int32_t x = 0; x < w && !any_unknown; ++x)
+      any_unknown = map.layer({x, y}) == CellLayer::kUnknown;
+  if (!any_unknown || !passable(from.x, from.y) || !passable(to.x, to.y)) return false;
+  std::vector<bool> seen(static_cast<size_t>(w) * static_cast<size_t>(h), false);
+  std::vector<Cell> stack = {from};
+  seen[static_cast<size_t>(from.y) * w + from.x] = true;
+  while (!stack.empty()) {
+    if (budget.poll() != StatusCode::kOk) return false;
+    const Cell c = stack.back();
+    stack.pop_back();
+    if (c == to) return true;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int32_t x = c.x + dx, y = c.y + dy;
+        if ((dx == 0 && dy == 0) || !passable(x, y)) continue;
+        if (dx != 0 && dy != 0 && !(passable(c.x + dx, c.y) && passable(c.x, c.y + dy))) continue;
+        const size_t i = static_cast<size_t>(y) * w + x;
+        if (seen[i]) continue;
+        seen[i] = true;
+        stack.push_back({x, y});
+      }
+  }
+  return false;
+}
+
 // The message of a plan that ran out of its budget at `stage` ("while pruning the path").
 std::string budget_message(StatusCode code, const PlannerOptions& options, const char* stage) {
   if (code == StatusCode::kCanceled) return std::string("planning canceled ") + stage;
@@ -653,7 +695,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
                   "no path from " +
                       describe_point(map, "start", endpoints->start_point, resolved.start) +
                       " to " + describe_point(map, "goal", endpoints->goal_point, resolved.goal) +
-                      ": they are not connected");
+                      ": they are not connected" +
+                      (connected_through_unknown(map, resolved.start, resolved.goal, budget)
+                           ? "; unknown cells close the way (with allow_unknown true they "
+                             "would connect)"
+                           : ""));
     case StatusCode::kTimeout:
     case StatusCode::kCanceled:
       return budget_failure(outcome.code, "before a path was found");

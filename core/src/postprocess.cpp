@@ -307,7 +307,8 @@ Point2 cost_gradient(const GridMap& map, const Point2& p) {
 // distance from the centre of every cell the segment touches (or passes at a corner) to an
 // obstacle's centre, so above the robot's radius in cells none of those cells is inflated. Near
 // obstacles (and within a cell of the map's edge) the exact line_of_sight and
-// segment_clearance_at_least decide.
+// segment_clearance_at_least decide, and so they do everywhere on a map with blocked cells that
+// are no obstacles (unknown cells not inflated), which the distance transform does not see.
 class RelaxedSegmentCheck {
  public:
   RelaxedSegmentCheck(const GridMap& map, double floor, CornerPolicy policy)
@@ -316,14 +317,15 @@ class RelaxedSegmentCheck {
         policy_(policy),
         // Inflated cells have their centre within this of an obstacle's (grid_map.cpp snaps the
         // radius to a whole cell within 1e-9; the margin covers that).
-        inflated_within_(map.build_options().robot_radius / map.resolution() + 1e-6) {}
+        inflated_within_(map.build_options().robot_radius / map.resolution() + 1e-6),
+        bound_decides_(!map.has_blocked_non_obstacles()) {}
 
   bool operator()(const Point2& a, const Point2& b) const {
     // The map's border counts as blocked, and the distance transform does not see it: the bound
     // decides only for segments at least a cell inside the map.
     const double low_x = std::min(a.x(), b.x()), high_x = std::max(a.x(), b.x());
     const double low_y = std::min(a.y(), b.y()), high_y = std::max(a.y(), b.y());
-    if (low_x >= 1.0 && low_y >= 1.0 && high_x <= map_.width() - 1.0 &&
+    if (bound_decides_ && low_x >= 1.0 && low_y >= 1.0 && high_x <= map_.width() - 1.0 &&
         high_y <= map_.height() - 1.0) {
       const double bound = segment_clearance_bound(map_, a, b);
       if (bound > inflated_within_ && bound >= floor_) return true;
@@ -336,6 +338,7 @@ class RelaxedSegmentCheck {
   double floor_;
   CornerPolicy policy_;
   double inflated_within_;
+  bool bound_decides_;  // the distance transform's bound may clear a segment on its own
 };
 
 // The path with points added so that no segment is longer than `spacing` (its own points kept).

@@ -451,6 +451,7 @@ void read_map(Section& top, NodeConfig& c) {
   Section map = top.child("map");
   map.integer("occupied_threshold", c.map.occupied_threshold, 1, 100);
   map.boolean("allow_unknown", c.map.allow_unknown);
+  map.boolean("inflate_unknown", c.map.inflate_unknown);
   const bool radius_ok =
       map.number("robot_radius", c.map.robot_radius, "a finite number of metres >= 0",
                  [](double v) { return v >= 0.0; });

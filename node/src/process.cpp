@@ -4,6 +4,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <csignal>
 #include <ctime>
 #include <filesystem>
 
@@ -118,6 +119,12 @@ std::optional<int> StopSignals::wait_for(std::chrono::milliseconds timeout) cons
   const int received = sigtimedwait(&signals_, nullptr, &interval);
   if (received == SIGINT || received == SIGTERM) return received;
   return std::nullopt;
+}
+
+void StopSignals::release() const {
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  pthread_sigmask(SIG_UNBLOCK, &signals_, nullptr);
 }
 
 int StopSignals::wait() const {

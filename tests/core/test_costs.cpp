@@ -75,6 +75,7 @@ struct Scenario {
     s.precision(17);
     s << grid.width << " x " << grid.height << " cells at " << grid.resolution << " m, threshold "
       << options.occupied_threshold << ", allow_unknown " << options.allow_unknown
+      << ", inflate_unknown " << options.inflate_unknown
       << ", robot_radius " << options.robot_radius << ", inflation_radius "
       << options.inflation_radius << ", cost_scaling_factor " << options.cost_scaling_factor;
     return s.str();
@@ -103,6 +104,9 @@ Scenario random_scenario(std::mt19937& rng, const Spec& spec = {}) {
   static const std::vector<int> thresholds = {65, 65, 65, 40, 90};
   o.occupied_threshold = pick(rng, thresholds);
   o.allow_unknown = spec.no_obstacles || rng() % 4 == 0;
+  // Half the maps inflate their unknown cells (drawn without the generator: the maps stay those
+  // the tests were written with).
+  o.inflate_unknown = (g.width + g.height) % 2 == 0;
   const double p_occupied = spec.no_obstacles ? 0.0 : uniform(rng, 0.0, spec.max_occupied);
   const double p_unknown = rng() % 4 == 0 ? 0.0 : uniform(rng, 0.0, 0.08);
   const double p_graded =
@@ -154,7 +158,7 @@ struct Truth {
   std::vector<int64_t> squared;    // cells^2 to the nearest obstacle centre; -1 without any
   std::vector<double> cost;        // free cells (0 elsewhere)
   std::vector<uint8_t> ambiguous;  // centre exactly on the inflation_radius: either cost is right
-  std::vector<Cell> obstacles;     // occupied and unknown cells
+  std::vector<Cell> obstacles;     // occupied cells, and unknown ones with inflate_unknown
   bool graded = false;             // some value 0 < v < threshold
 
   size_t index(int32_t x, int32_t y) const { return static_cast<size_t>(y) * width + x; }
@@ -186,7 +190,11 @@ Truth brute_force(const Scenario& s) {
       } else if (v > 0) {
         t.graded = true;
       }
-      if (t.layer[t.index(x, y)] != CellLayer::kFree) t.obstacles.push_back({x, y});
+      // Inflation and costs grow from occupied cells, and from blocked unknown ones only with
+      // inflate_unknown (Nav2's inflation layer inflates lethal cells only).
+      const CellLayer layer = t.layer[t.index(x, y)];
+      if (layer == CellLayer::kOccupied || (o.inflate_unknown && layer == CellLayer::kUnknown))
+        t.obstacles.push_back({x, y});
     }
   }
   double r = o.robot_radius / g.resolution;  // cells, snapped to a whole number within 1e-9
@@ -912,7 +920,8 @@ std::vector<Point2> clearance_samples(const std::vector<Point2>& polyline, doubl
   return out;
 }
 
-// Smallest distance (cells) from the samples to the square of any occupied or unknown cell.
+// Smallest distance (cells) from the samples to the square of any obstacle cell (occupied, and
+// unknown with inflate_unknown).
 double brute_clearance_cells(const Truth& t, const std::vector<Point2>& polyline, double step) {
   double best = kInf;
   for (const Point2& p : clearance_samples(polyline, step))

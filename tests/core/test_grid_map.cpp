@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <atomic>
 #include <cmath>
 #include <random>
@@ -123,6 +125,48 @@ TEST(GridMap, InflationMatchesBruteForce) {
           for (int ox = 0; ox < w && !expect; ++ox)
             expect = g.at(ox, oy) == 100 && (ox - x) * (ox - x) + (oy - y) * (oy - y) <= r * r;
         ASSERT_EQ(map->blocked(x, y), expect) << "cell " << x << "," << y << " trial " << trial;
+      }
+    }
+  }
+}
+
+// Unknown cells (-1) are blocked (allow_unknown false) but, by default, not inflated and not a
+// source of the cost gradient: only occupied cells are (Nav2's inflation layer). With
+// inflate_unknown they are both, and the obstacle distance counts them. Brute force over random
+// maps with occupied and unknown cells.
+TEST(GridMap, UnknownCellsAreBlockedButInflatedOnlyWhenAsked) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int w = 6 + trial % 13, h = 5 + (trial * 5) % 11;
+    OccupancyGrid g = grid_of(w, h);
+    g.resolution = 0.1;
+    std::discrete_distribution<int> kind({0.8, 0.1, 0.1});  // free, occupied, unknown
+    for (auto& v : g.data) {
+      const int k = kind(rng);
+      v = k == 0 ? 0 : k == 1 ? 100 : -1;
+    }
+    for (const bool inflate_unknown : {false, true}) {
+      SCOPED_TRACE("trial " + std::to_string(trial) + ", inflate_unknown " +
+                   std::to_string(inflate_unknown));
+      GridBuildOptions options;
+      options.robot_radius = 0.1 * (1 + trial % 3);
+      options.inflation_radius = options.robot_radius + 0.2;
+      options.inflate_unknown = inflate_unknown;
+      auto map = GridMap::build(g, options);
+      ASSERT_TRUE(map);
+      const double r = options.robot_radius / g.resolution;
+      for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+          double nearest = std::numeric_limits<double>::infinity();  // cells, to a source
+          for (int oy = 0; oy < h; ++oy)
+            for (int ox = 0; ox < w; ++ox) {
+              const bool source = g.at(ox, oy) == 100 || (inflate_unknown && g.at(ox, oy) == -1);
+              if (source) nearest = std::min(nearest, std::hypot(ox - x, oy - y));
+            }
+          const bool own_blocked = g.at(x, y) != 0;  // occupied, or unknown (allow_unknown false)
+          ASSERT_EQ(map->blocked(x, y), own_blocked || nearest <= r + 1e-9) << x << "," << y;
+          EXPECT_NEAR(map->obstacle_distance({x, y}), nearest, 1e-4) << x << "," << y;
+        }
       }
     }
   }

@@ -86,6 +86,33 @@ TEST_P(EveryPlanner, NoPathBetweenComponents) {
   EXPECT_GT(r.metrics.expanded, 0);
 }
 
+// NO_VALID_PATH says when blocked unknown cells close the way (a slice's scan frontiers are
+// unknown): a wall of unknown cells does, one of occupied cells does not, nor a wall of unknown
+// cells behind which an occupied wall closes the way anyway.
+TEST_P(EveryPlanner, NoValidPathSaysWhenUnknownCellsCloseTheWay) {
+  struct Case {
+    int8_t column3, column5;  // the values of two whole columns
+    bool hinted;
+  };
+  for (const Case& c : {Case{-1, 0, true}, Case{100, 0, false}, Case{-1, 100, false}}) {
+    core::OccupancyGrid g;
+    g.width = 7;
+    g.height = 4;
+    g.data.assign(28, 0);
+    for (int y = 0; y < 4; ++y) {
+      g.data[static_cast<size_t>(y * 7 + 3)] = c.column3;
+      g.data[static_cast<size_t>(y * 7 + 5)] = c.column5;
+    }
+    const bool hinted = c.hinted;
+    auto map = std::make_shared<const GridMap>(GridMap::build(g).value());
+    core::Planner planner(map);
+    const PlanResult r = planner.plan({{0, 0}, {6, 3}}, default_options(GetParam()));
+    ASSERT_EQ(r.status.code, StatusCode::kNoValidPath) << r.status.message;
+    EXPECT_EQ(r.status.message.find("unknown cells close the way") != std::string::npos, hinted)
+        << r.status.message;
+  }
+}
+
 TEST_P(EveryPlanner, StartEqualsGoalIsTheOneCellPath) {
   auto map = shared(kWallMap);
   core::Planner planner(map);

@@ -1122,6 +1122,7 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_bool("", "use_sim_time", c.use_sim_time, d.use_sim_time);
   same_int("map", "occupied_threshold", c.map.occupied_threshold, d.map.occupied_threshold);
   same_bool("map", "allow_unknown", c.map.allow_unknown, d.map.allow_unknown);
+  same_bool("map", "inflate_unknown", c.map.inflate_unknown, d.map.inflate_unknown);
   same_double("map", "robot_radius", c.map.robot_radius, d.map.robot_radius);
   same_double("map", "inflation_radius", c.map.inflation_radius, d.map.inflation_radius);
   same_double("map", "cost_scaling_factor", c.map.cost_scaling_factor, d.map.cost_scaling_factor);

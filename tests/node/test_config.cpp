@@ -106,6 +106,7 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.use_sim_time, b.use_sim_time);
   EXPECT_EQ(a.map.occupied_threshold, b.map.occupied_threshold);
   EXPECT_EQ(a.map.allow_unknown, b.map.allow_unknown);
+  EXPECT_EQ(a.map.inflate_unknown, b.map.inflate_unknown);
   EXPECT_EQ(a.map.robot_radius, b.map.robot_radius);
   EXPECT_EQ(a.map.inflation_radius, b.map.inflation_radius);
   EXPECT_EQ(a.map.cost_scaling_factor, b.map.cost_scaling_factor);
@@ -240,6 +241,7 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "map:",
                           "occupied_threshold:",
                           "allow_unknown:",
+                          "inflate_unknown:",
                           "robot_radius:",
                           "inflation_radius:",
                           "cost_scaling_factor:",
@@ -508,6 +510,7 @@ TEST(Config, EveryKeyReachesItsField) {
   EXPECT_EQ(c.topics.octomap, "~/octomap_full");
   EXPECT_EQ(c.map.occupied_threshold, 50);
   EXPECT_TRUE(c.map.allow_unknown);
+  EXPECT_TRUE(c.map.inflate_unknown);
   EXPECT_DOUBLE_EQ(c.map.robot_radius, 0.25);
   EXPECT_EQ(c.map.max_cells, 1000000);
   EXPECT_EQ(c.planner.kind, PlannerKind::kBidirectionalAStar);

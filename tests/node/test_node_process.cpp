@@ -9,6 +9,7 @@
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
+#include "vnsba/node/process.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -162,6 +163,38 @@ TEST(NodeProcess, SigtermDrainsAndExitsZero) {
       << node_process.output();
   EXPECT_EQ(node_process.output().find("could not publish"), std::string::npos)
       << node_process.output();
+}
+
+// A tool that does its work and exits (vnsba_send_goal) must not swallow a Ctrl-C that came while
+// DDS was torn down: bash takes a child that exited normally after SIGINT as having handled it
+// and runs the script's next command (the demo then waited out every remaining goal). release()
+// lets a signal still pending end the process as that signal.
+TEST(StopSignals, ASignalStillPendingEndsTheProcessOnRelease) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  for (const int signal : {SIGINT, SIGTERM}) {
+    EXPECT_EXIT(
+        {
+          const node::StopSignals stop;
+          ::raise(signal);  // blocked: pending until taken or released
+          stop.release();
+          std::exit(0);  // reached only if the signal was lost
+        },
+        testing::KilledBySignal(signal), "")
+        << node::StopSignals::name(signal);
+  }
+}
+
+TEST(StopSignals, ASignalAlreadyTakenDoesNotEndTheProcessOnRelease) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        const node::StopSignals stop;
+        ::raise(SIGINT);
+        const std::optional<int> taken = stop.wait_for(std::chrono::milliseconds(0));
+        stop.release();
+        std::exit(taken == SIGINT ? 3 : 4);  // the tool's own exit code stands
+      },
+      testing::ExitedWithCode(3), "");
 }
 
 }  // namespace

@@ -43,6 +43,11 @@ constexpr int64_t kMaxCellsLimit = int64_t{1} << 28;
 struct GridBuildOptions {
   int occupied_threshold = 65;  // values >= this are blocked (1..100)
   bool allow_unknown = false;   // unknown (-1) cells are free when true, blocked otherwise
+  // Whether blocked unknown cells are inflated (robot_radius) and give costs (inflation_radius)
+  // like occupied ones. false, Nav2's convention (its inflation layer inflates lethal cells
+  // only): an OctoMap slice has unknown cells along every scan frontier, and inflating them
+  // closed corridors no occupied cell narrows. true: a margin around unknown space.
+  bool inflate_unknown = false;
   double robot_radius = 0.0;    // metres; cells whose centre is within this of a blocked centre
                                 // are blocked too (0 = no inflation). At most the diagonal of
                                 // the map it inflates (checked per map by validate()).
@@ -145,8 +150,19 @@ class GridMap {
   CellLayer layer(const Cell& c) const {
     return layers_[static_cast<size_t>(c.y) * static_cast<size_t>(width_) + c.x];
   }
-  // Distance in cells from the centre of `c` to the nearest obstacle centre (occupied or unknown
-  // cell, inflation not counted): 0 on an obstacle, +infinity when the map has none. Exact (the
+  // Whether cells of `layer` are obstacles: what inflation and the cost gradient grow from and
+  // what clearance measures to. Occupied cells, and blocked unknown ones with inflate_unknown.
+  bool is_obstacle(CellLayer layer) const {
+    return is_obstacle_layer(layer, options_.inflate_unknown);
+  }
+  static constexpr bool is_obstacle_layer(CellLayer layer, bool inflate_unknown) {
+    return layer == CellLayer::kOccupied || (inflate_unknown && layer == CellLayer::kUnknown);
+  }
+  // Whether some blocked cell is neither an obstacle nor inflation (a blocked unknown cell that
+  // is not inflated): then obstacle_distance alone cannot tell that a cell is free.
+  bool has_blocked_non_obstacles() const { return blocked_non_obstacles_; }
+  // Distance in cells from the centre of `c` to the nearest obstacle centre (is_obstacle,
+  // inflation not counted): 0 on an obstacle, +infinity when the map has none. Exact (the
   // Euclidean distance transform). The cell must be in the map.
   double obstacle_distance(const Cell& c) const {
     return obstacle_distance_[static_cast<size_t>(c.y) * static_cast<size_t>(width_) + c.x];
@@ -229,6 +245,7 @@ class GridMap {
   std::vector<float> costs_;              // padded, empty without costs (see cost_data())
   std::vector<int32_t> summed_area_;      // (width+1) x (height+1) blocked counts
   int64_t blocked_total_ = 0;
+  bool blocked_non_obstacles_ = false;  // see has_blocked_non_obstacles()
   std::vector<uint64_t> row_bits_;     // height rows of row_words_ words each, a spare word
   std::vector<uint64_t> column_bits_;  // width columns of column_words_ words each, a spare word
   size_t row_words_ = 0;               // ceil(width / 64)

@@ -49,6 +49,12 @@ class StopSignals {
   // Waits until one comes; returns it.
   int wait() const;
   static const char* name(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
+  // Unblocks the signals with their default action, in the calling thread: one that came and was
+  // not taken ends the process now, killed by it, and so does one that comes later. Call it last
+  // in a tool that does its work and exits once DDS is torn down: a shell that ran the tool when
+  // the user pressed Ctrl-C must see a command the signal killed, or (bash's "wait and cooperative
+  // exit") it takes the interrupt as handled and runs the script's next command.
+  void release() const;
 
  private:
   sigset_t signals_;
