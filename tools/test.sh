@@ -20,21 +20,149 @@
 # a Release build with every suite (VNSBA_BUILD_ALL_TESTS=ON, above) or in build/asan:
 #   ctest --test-dir build/release --output-on-failure -L stress
 # Build folders: build/release and build/asan (reused, so a second run only rebuilds changes).
+#
+# Each stage's tests run with TMPDIR a new, empty folder made for that stage (under the caller's
+# TMPDIR, else /tmp) and removed at the end, also on a failure or Ctrl-C: nothing an earlier run
+# left can make a test pass (issue 45), and nothing is left behind. The tests make their own
+# folders inside it (tests/temp_dir.hpp).
+#
+# On a failure the script names the stage, the tests that failed and the command that reruns one
+# with its output (with the stage's environment); the last line is always one summary:
+#   [test] all passed: release N tests, sanitizer M tests, in <minutes>m<seconds>s
+#   [test] FAILED in stage 'sanitizer tests': F of M tests failed, after <minutes>m<seconds>s
+# A build or the bootstrap that fails is named the same way, with the command that reruns it.
+# The whole run takes about 20 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 jobs=$(nproc 2>/dev/null || echo 2)
+started=$SECONDS
+stage="setup"          # what is running: named by the summary if the script stops
+rerun=""               # the command that reruns it, for that summary
+summary_printed=0
+release_count="" sanitizer_count=""
+work=""
+
+elapsed() {
+  local s=$((SECONDS - started))
+  printf '%dm%02ds' $((s / 60)) $((s % 60))
+}
+
+# On every exit: remove the scratch folder and, unless a summary was printed, say where the run
+# stopped (a build that failed, Ctrl-C).
+finish() {
+  local status=$?
+  trap - EXIT INT TERM
+  if [ -n "$work" ]; then rm -rf "$work"; fi
+  if [ "$summary_printed" = 0 ]; then
+    if [ "$status" -ge 128 ]; then
+      echo "[test] INTERRUPTED in stage '$stage' (signal $((status - 128))), after $(elapsed)"
+    else
+      if [ -n "$rerun" ]; then
+        echo
+        echo "[test] stage '$stage' failed (exit $status); rerun it (from $PWD) with:"
+        echo "  $rerun"
+      fi
+      echo "[test] FAILED in stage '$stage' (exit $status), after $(elapsed)"
+    fi
+  fi
+  exit "$status"
+}
+trap finish EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+# The run's scratch folder: each test stage's TMPDIR and ctest's output, removed on exit.
+work=$(mktemp -d "${TMPDIR:-/tmp}/vnsba_test.XXXXXX")
+
+# The failed tests of ctest's output file $1, one "name (reason)" a line: ctest's own list after
+# "The following tests FAILED:" ("  12 - Suite.Name (Failed)", labels may follow).
+failed_tests() {
+  sed -n '/^The following tests FAILED:/,$p' "$1" |
+    sed -nE 's/^[[:space:]]*[0-9]+ - (.*) \(([^()]*)\).*$/\1 (\2)/p'
+}
+
+# A ctest -R expression matching test name $1 only.
+exact_regex() {
+  printf '^%s$' "$(printf '%s' "$1" | sed -e 's/[][\\.*^$+?(){}|]/\\&/g')"
+}
+
+# Runs ctest over build folder $2 for stage $1 ("release", "sanitizer") with the environment of
+# the array stage_env and TMPDIR a new empty folder; the other arguments go to ctest. Sets
+# <stage>_count to the number of tests run. On a failure: the failed tests, the command that
+# reruns one, the summary; then exits.
+run_tests() {
+  local name=$1 dir=$2
+  shift 2
+  local tmp="$work/$name.tmp" out="$work/$name.out" status=0
+  mkdir "$tmp"
+  # ctest writes it on a failure only: an old one would name tests of an earlier run.
+  rm -f "$dir/Testing/Temporary/LastTestsFailed.log"
+  # tee -i: on Ctrl-C tee copies on until ctest has stopped; a tee gone first would end ctest with
+  # SIGPIPE in the middle of what it writes.
+  env ${stage_env[@]+"${stage_env[@]}"} TMPDIR="$tmp" ctest --test-dir "$dir" "$@" 2>&1 |
+    tee -i "$out" || status=$?
+  local count
+  count=$(grep -Eo 'tests? failed out of [0-9]+' "$out" | grep -Eo '[0-9]+$' | tail -n 1 || true)
+  printf -v "${name}_count" '%s' "${count:-0}"
+  local left
+  left=$(find "$tmp" -mindepth 1 -maxdepth 1 | head -n 10 || true)
+  if [ -n "$left" ]; then
+    # Not a failure of its own (a crashed test cannot clean up; it fails anyway), but worth
+    # knowing: a test should leave nothing behind.
+    echo "[test] left in the stage's TMPDIR after its tests (removed now):"
+    printf '%s\n' "$left" | sed 's/^/[test]   /'
+  fi
+  [ "$status" = 0 ] && return 0
+
+  local failed failed_count=0
+  failed=$(failed_tests "$out")
+  if [ -z "$failed" ] && [ -s "$dir/Testing/Temporary/LastTestsFailed.log" ]; then
+    failed=$(sed -E 's/^[0-9]+://' "$dir/Testing/Temporary/LastTestsFailed.log")
+  fi
+  local env_words=""
+  [ ${#stage_env[@]} -gt 0 ] && env_words="$(printf '%q ' "${stage_env[@]}")"
+  echo
+  echo "[test] stage '$stage' failed (ctest exit $status)."
+  if [ -n "$failed" ]; then
+    failed_count=$(printf '%s\n' "$failed" | wc -l)
+    echo "[test] failed tests ($failed_count of ${count:-?}):"
+    printf '%s\n' "$failed" | sed 's/^/[test]   /'
+    local first
+    first=$(printf '%s\n' "$failed" | head -n 1 | sed -E 's/ \([^()]*\)$//')
+    echo "[test] rerun one with its output (from $PWD):"
+    echo "  ${env_words}ctest --test-dir $dir --output-on-failure -R '$(exact_regex "$first")'"
+    echo "[test] or every test that failed:"
+    echo "  ${env_words}ctest --test-dir $dir --output-on-failure --rerun-failed"
+  else
+    echo "[test] ctest named no failed test: its output is above."
+  fi
+  summary_printed=1
+  if [ "$failed_count" -gt 0 ]; then
+    echo "[test] FAILED in stage '$stage': $failed_count of ${count:-?} tests failed," \
+      "after $(elapsed)"
+  else
+    echo "[test] FAILED in stage '$stage': ctest exit $status, after $(elapsed)"
+  fi
+  exit 1
+}
+
+stage="bootstrap" rerun="bash tools/bootstrap.sh"
 bash tools/bootstrap.sh
 
+stage="release build" rerun="cmake --build build/release -j $jobs"
 echo "[test] release build"
 # Without the suites it does not run (VNSBA_BUILD_ALL_TESTS=OFF): they build in the sanitizer
 # stage. For all of them in Release: cmake -S . -B build/release -DVNSBA_BUILD_ALL_TESTS=ON
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DVNSBA_BUILD_ALL_TESTS=OFF >/dev/null
 cmake --build build/release -j "$jobs"
+stage="release tests" rerun=""
 echo "[test] release tests"
-ctest --test-dir build/release --output-on-failure -j "$jobs" --timeout 900 \
+stage_env=()
+run_tests release build/release --output-on-failure -j "$jobs" --timeout 900 \
   -LE "core|node|fuzz|soak|stress"  # a regular expression: fuzz also matches fuzz_long
 
+stage="sanitizer build" rerun="cmake --build build/asan -j $jobs"
 echo "[test] sanitizer build (address, undefined) of everything but the benchmarks and the soak"
 # -O1 -g1: the optimisation level the sanitizers' authors recommend, and line tables only, which
 # is all a sanitizer report needs for file:line. With RelWithDebInfo's -O2 -g, a file that
@@ -44,11 +172,17 @@ cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_REL
   -DVNSBA_SANITIZE=ON \
   -DVNSBA_BUILD_BENCH=OFF -DVNSBA_BUILD_SOAK=OFF -DVNSBA_CORE_ONLY=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
+stage="sanitizer tests" rerun=""
 echo "[test] sanitizer tests"
 # tests/lsan_suppressions.txt and asan_suppressions.txt: leaks and one overread inside libraries
 # we do not build (fontconfig's caches, Fast DDS), each explained there.
-ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:suppressions=$PWD/tests/asan_suppressions.txt" UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  LSAN_OPTIONS="suppressions=$PWD/tests/lsan_suppressions.txt:print_suppressions=0" \
-  ctest --test-dir build/asan --output-on-failure -j "$jobs" -L "core|node|fuzz" -LE fuzz_long \
+stage_env=(
+  "ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:suppressions=$PWD/tests/asan_suppressions.txt"
+  "UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1"
+  "LSAN_OPTIONS=suppressions=$PWD/tests/lsan_suppressions.txt:print_suppressions=0"
+)
+run_tests sanitizer build/asan --output-on-failure -j "$jobs" -L "core|node|fuzz" -LE fuzz_long \
   --timeout 1800
-echo "[test] all passed"
+
+summary_printed=1
+echo "[test] all passed: release $release_count tests, sanitizer $sanitizer_count tests, in $(elapsed)"

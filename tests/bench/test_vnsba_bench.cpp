@@ -17,6 +17,7 @@
 #include "bench/paper.hpp"
 #include "bench/sweep.hpp"
 #include "node/child_process.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/maps/map_io.hpp"
 
 namespace vnsba::test {
@@ -25,13 +26,9 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kBench = VNSBA_BENCH_BINARY;
 
-// A fresh, empty folder under the test temp dir.
+// A fresh, empty folder of its own (temp_dir.hpp).
 std::string fresh_folder(const std::string& name) {
-  const std::string folder =
-      ::testing::TempDir() + "/vnsba_bench_" + name + "_" + std::to_string(getpid());
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
+  return FreshTempDir("bench_" + name).string();
 }
 
 std::vector<std::string> split(const std::string& line, char separator) {
@@ -91,11 +88,13 @@ TEST(BenchHelpers, PlannerListNamesTheUnknownPlanner) {
 }
 
 TEST(BenchHelpers, MapClassFromManifestOrName) {
-  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "Berlin_0_256.map"), "street");
-  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "maze512-4-0.map"), "maze");
-  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "16room_000.map"), "room");
-  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "random512-20-0.map"), "random");
-  EXPECT_EQ(bench::movingai_map_class("/nonexistent", "den312d.map"), "game");
+  // Without a MANIFEST.tsv (an empty folder), from the name alone.
+  const std::string none = fresh_folder("no_manifest");
+  EXPECT_EQ(bench::movingai_map_class(none, "Berlin_0_256.map"), "street");
+  EXPECT_EQ(bench::movingai_map_class(none, "maze512-4-0.map"), "maze");
+  EXPECT_EQ(bench::movingai_map_class(none, "16room_000.map"), "room");
+  EXPECT_EQ(bench::movingai_map_class(none, "random512-20-0.map"), "random");
+  EXPECT_EQ(bench::movingai_map_class(none, "den312d.map"), "game");
   const std::string dir = VNSBA_DATA_DIR "/movingai";
   if (!fs::exists(dir + "/MANIFEST.tsv")) GTEST_SKIP() << dir << "/MANIFEST.tsv is absent";
   EXPECT_EQ(bench::movingai_map_class(dir, "AR0011SR.map"), "game");  // bg512
@@ -462,15 +461,17 @@ TEST(VnsbaBench, MovingAiCsvRowsAndOptimalAStar) {
 }
 
 TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
+  // A folder that cannot exist: in an empty directory of its own.
+  const std::string missing = fresh_folder("missing") + "/no_such_folder";
   {
-    const auto [code, output] = run_to_exit(kBench, {"movingai", "--maps", "/no/such/folder"});
+    const auto [code, output] = run_to_exit(kBench, {"movingai", "--maps", missing});
     EXPECT_EQ(code, 2);
-    EXPECT_NE(output.find("--maps: no such folder: /no/such/folder"), std::string::npos) << output;
+    EXPECT_NE(output.find("--maps: no such folder: " + missing), std::string::npos) << output;
   }
   {
-    const auto [code, output] = run_to_exit(kBench, {"optimality", "--maps", "/no/such/folder"});
+    const auto [code, output] = run_to_exit(kBench, {"optimality", "--maps", missing});
     EXPECT_EQ(code, 2);
-    EXPECT_NE(output.find("--maps: no such folder: /no/such/folder"), std::string::npos) << output;
+    EXPECT_NE(output.find("--maps: no such folder: " + missing), std::string::npos) << output;
   }
   {
     // A file where the output folder should go.
@@ -505,9 +506,9 @@ TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
     EXPECT_NE(output.find("--repetitions"), std::string::npos) << output;
   }
   {
-    const auto [code, output] = run_to_exit(kBench, {"sweep", "--maps", "/no/such/maps"});
+    const auto [code, output] = run_to_exit(kBench, {"sweep", "--maps", missing});
     EXPECT_EQ(code, 2);
-    EXPECT_NE(output.find("--maps: no such folder: /no/such/maps"), std::string::npos) << output;
+    EXPECT_NE(output.find("--maps: no such folder: " + missing), std::string::npos) << output;
   }
   {
     const auto [code, output] = run_to_exit(kBench, {"movingai", "--no-such-option"});

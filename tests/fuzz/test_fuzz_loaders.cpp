@@ -12,9 +12,12 @@
 //
 // Reproducing: the base seed (VNSBA_FUZZ_SEED) is printed; VNSBA_FUZZ_ITERATION=I runs only
 // input I, and a failing input is saved under VNSBA_FUZZ_OUT_DIR/<folder>/<loader>-seed-S-
-// iteration-I/ (<folder> is the loader without its "_data" suffix). Copy such a folder to
+// iteration-I/ (<folder> is the loader without its "_data" suffix): in the build folder, not
+// under TMPDIR, so it outlives the run (tools/test.sh removes its TMPDIR). Copy such a folder to
 // tests/fixtures/fuzz/<folder>/ to keep it as a regression input: FuzzRegression replays every
-// folder there with the same checks.
+// folder there with the same checks. An input that kills the process is not saved there: the
+// inputs follow from the seed, so the test run again (tools/test.sh prints the command) dies on
+// it again and leaves its scratch directory, named in its output, with the input and ITERATION.
 #include <gtest/gtest.h>
 #include <octomap/ColorOcTree.h>
 #include <octomap/OcTree.h>
@@ -47,6 +50,7 @@
 #include <vector>
 
 #include "fuzz/mutator.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
@@ -1595,11 +1599,10 @@ class FuzzLoaders : public ::testing::Test {
   void SetUp() override {
     ASSERT_TRUE(read_settings(&settings_));
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    // Unique per test and process: ctest runs the tests of this executable in parallel.
-    dir_ = fs::temp_directory_path() /
-           ("vnsba_fuzz_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    // A fresh directory of this test's own (temp_dir.hpp): ctest runs the tests of this
+    // executable in parallel. Removed after the test, and by the process when it exits; only a
+    // process that dies mid-input (a sanitizer report, a crash) leaves it, with that input in it.
+    dir_ = vnsba::test::FreshTempDir("fuzz_" + std::string(info->name()));
   }
   void TearDown() override {
     std::error_code ec;

@@ -1,24 +1,15 @@
-// Scratch files for the map tests: a fresh folder per test, and whole files read and written as
-// bytes.
+// Scratch files for the map tests: a fresh folder per call (FreshTempDir, temp_dir.hpp), and
+// whole files read and written as bytes.
 #pragma once
-
-#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 
-namespace vnsba::test {
+#include "temp_dir.hpp"
 
-// A fresh, empty folder under the gtest temp dir.
-inline std::filesystem::path FreshTempDir(const std::string& name) {
-  const std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) / ("vnsba_maps_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+namespace vnsba::test {
 
 inline std::string ReadBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -200,7 +200,7 @@ TEST(MovingAiScenarios, PrintedPrecisionOfTheOptimum) {
   const auto eight = load_movingai_scenarios(Fixture("maps/tiny.map.scen"));
   ASSERT_TRUE(eight.has_value());
   EXPECT_DOUBLE_EQ((*eight)[0].optimal_resolution, 1e-8);  // "5.00000000"
-  const std::string path = ::testing::TempDir() + "/two_decimals.scen";
+  const std::string path = (FreshTempDir("two_decimals") / "two_decimals.scen").string();
   std::ofstream(path) << "version 1\n0\ttiny.map\t6\t4\t0\t3\t5\t3\t3206.91\n"
                       << "0\ttiny.map\t6\t4\t0\t3\t5\t3\t5\n";
   const auto two = load_movingai_scenarios(path);
@@ -428,11 +428,9 @@ TEST(MapServer, EveryTruncationOfAP5ImageFailsCleanly) {
 
 // --- map_server YAML through yaml-cpp ---
 
-// A folder holding p5_8bit.pgm (4 x 3, see P5MapSaverOutputWithCrlfYaml) and `name` with `yaml`.
-std::string YamlBesideImage(const std::string& folder, const std::string& name,
-                            const std::string& yaml) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("vnsba_map_io_" + folder);
-  fs::create_directories(dir);
+// `name` with `yaml` in `dir` (the test's own FreshTempDir), beside p5_8bit.pgm (4 x 3, see
+// P5MapSaverOutputWithCrlfYaml), copied there by the first call.
+std::string YamlBesideImage(const fs::path& dir, const std::string& name, const std::string& yaml) {
   if (!fs::exists(dir / "p5_8bit.pgm")) {
     fs::copy_file(Fixture("map_server/p5_8bit.pgm"), dir / "p5_8bit.pgm");
   }
@@ -446,7 +444,7 @@ std::string YamlBesideImage(const std::string& folder, const std::string& name,
 TEST(MapServerYaml, QuotesCommentsListsAnchorsAndFlowStyleLoadTheSameMap) {
   const fs::path dir = FreshTempDir("yaml_spellings");
   const auto plain = load_map_server(YamlBesideImage(
-      "yaml_spellings", "plain.yaml",
+      dir, "plain.yaml",
       "image: p5_8bit.pgm\nresolution: 0.05\norigin: [-10.0, -5.5, 0.0]\nnegate: 0\n"));
   ASSERT_TRUE(plain.has_value()) << plain.error().message;
   EXPECT_EQ(plain->origin_x, -10.0);
@@ -479,7 +477,7 @@ TEST(MapServerYaml, QuotesCommentsListsAnchorsAndFlowStyleLoadTheSameMap) {
   };
   for (const auto& [name, yaml] : spellings) {
     SCOPED_TRACE(name);
-    const auto grid = load_map_server(YamlBesideImage("yaml_spellings", "spelling.yaml", yaml));
+    const auto grid = load_map_server(YamlBesideImage(dir, "spelling.yaml", yaml));
     ASSERT_TRUE(grid.has_value()) << grid.error().message;
     EXPECT_EQ(grid->resolution, plain->resolution);
     EXPECT_EQ(grid->origin_x, plain->origin_x);
@@ -489,14 +487,14 @@ TEST(MapServerYaml, QuotesCommentsListsAnchorsAndFlowStyleLoadTheSameMap) {
   }
   // A quoted name keeps what YAML quotes for: a '#' after a space, a leading space.
   fs::copy_file(Fixture("map_server/p5_8bit.pgm"), dir / "a #1.pgm");
-  const auto hashed = load_map_server(
-      YamlBesideImage("yaml_spellings", "hashed.yaml",
-                      "image: \"a #1.pgm\"\nresolution: 0.05\norigin: [-10.0, -5.5, 0.0]\n"));
+  const auto hashed = load_map_server(YamlBesideImage(
+      dir, "hashed.yaml", "image: \"a #1.pgm\"\nresolution: 0.05\norigin: [-10.0, -5.5, 0.0]\n"));
   ASSERT_TRUE(hashed.has_value()) << hashed.error().message;
   EXPECT_EQ(hashed->data, plain->data);
 }
 
 TEST(MapServerYaml, MalformedYamlNamesFileLineAndKey) {
+  const fs::path dir = FreshTempDir("yaml_malformed");
   const std::string head = "image: p5_8bit.pgm\nresolution: 0.05\n";
   const std::string origin = "origin: [0.0, 0.0, 0.0]\n";
   const auto resolution = [&](const std::string& value) {  // line 2
@@ -588,13 +586,13 @@ TEST(MapServerYaml, MalformedYamlNamesFileLineAndKey) {
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
-    const std::string path = YamlBesideImage("yaml_malformed", "bad.yaml", c.yaml);
+    const std::string path = YamlBesideImage(dir, "bad.yaml", c.yaml);
     EXPECT_TRUE(FailsNaming(load_map_server(path), path, c.line, c.problem));
   }
   // An alias bomb that is otherwise a good map loads: yaml-cpp shares aliased nodes (10^9 "x"
   // would otherwise be read), and the reader walks only the keys it knows.
-  const auto bomb = load_map_server(
-      YamlBesideImage("yaml_malformed", "bomb.yaml", billion_laughs + head + origin));
+  const auto bomb =
+      load_map_server(YamlBesideImage(dir, "bomb.yaml", billion_laughs + head + origin));
   EXPECT_TRUE(bomb.has_value()) << bomb.error().message;
 }
 

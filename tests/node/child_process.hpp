@@ -15,6 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include "temp_dir.hpp"
+
 namespace vnsba::test {
 
 // The executables under test, where this test target is given their paths.
@@ -34,9 +36,7 @@ inline const std::string kSendGoal = VNSBA_SEND_GOAL_BINARY;
 class ChildProcess {
  public:
   ChildProcess(const std::string& binary, const std::vector<std::string>& args) {
-    static int counter = 0;
-    log_ = ::testing::TempDir() + "/child_" + std::to_string(getpid()) + "_" +
-           std::to_string(++counter) + ".log";
+    log_ = (FreshTempDir("child") / "output.log").string();
     // Everything the child needs is made before fork(): the parent has DDS threads, one of which
     // may hold an allocator lock at the fork, and the child (this thread alone) would wait for
     // it forever: a child spun 4 minutes in AddressSanitizer's allocator, between freopen() and
@@ -110,8 +110,9 @@ inline std::pair<int, std::string> run_to_exit(
   return {code, child.output()};
 }
 
+// `text` as `name` in a fresh directory of its own (FreshTempDir): nothing else is beside it.
 inline std::string write_temp_file(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + std::to_string(getpid()) + "_" + name;
+  const std::string path = (FreshTempDir("file") / name).string();
   std::ofstream(path) << text;
   return path;
 }

@@ -22,6 +22,7 @@
 #include <random>
 
 #include "bus_client.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
@@ -163,13 +164,6 @@ node::NodeConfig default_config() {
   return loaded.config.value_or(node::NodeConfig());
 }
 
-fs::path temp_dir(const std::string& tag) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("map_parity_" + std::to_string(getpid()) + "_" + tag);
-  fs::create_directories(dir);
-  return dir;
-}
-
 // --- The loader against the oracle, cell by cell (no DDS). ---
 
 void write_pgm(const fs::path& path, bool ascii, int width, int height, uint32_t maxval,
@@ -216,7 +210,7 @@ void expect_same_grid(const fs::path& yaml) {
 }
 
 TEST(MapParity, VnsbaPlanReadsEveryMapServerFileAsMapServerPublishesIt) {
-  const fs::path dir = temp_dir("modes");
+  const fs::path dir = FreshTempDir("map_parity_modes");
   // Every 8-bit sample, and a 16-bit ramp (every 97th value); resolutions that are not floats.
   std::vector<uint32_t> eight(256), sixteen;
   for (uint32_t s = 0; s < 256; ++s) eight[s] = s;
@@ -367,7 +361,7 @@ TEST(MapParity, TheNodeOnTheBusPlansTheDemoSceneAsVnsbaPlanDoes) {
   ASSERT_TRUE(slice) << slice.error().message;
   // vnsba_slicer --publish: its slice as a message.
   parity.compare("slicer", node::to_slice_msg(*slice, "map", node::now_msg()), scene);
-  const fs::path dir = temp_dir("scene");
+  const fs::path dir = FreshTempDir("map_parity_scene");
   for (const double resolution : {0.05, 0.1}) {
     core::OccupancyGrid cells = *slice;
     cells.resolution = resolution;

@@ -9,6 +9,7 @@
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/node/process.hpp"
 
 namespace vnsba::test {
@@ -86,9 +87,11 @@ TEST(NodeProcess, RosDomainIdPicksTheDomainAndDomainWins) {
 }
 
 TEST(NodeProcess, MissingConfigFileIsNamed) {
-  const auto [code, output] = run_to_exit(kNode, {"--config", "no/such/file.yaml"});
+  // In an empty directory of its own: nothing can have made it.
+  const std::string missing = (FreshTempDir("missing_config") / "no/such/file.yaml").string();
+  const auto [code, output] = run_to_exit(kNode, {"--config", missing});
   EXPECT_EQ(code, 2);
-  EXPECT_NE(output.find("no/such/file.yaml"), std::string::npos) << output;
+  EXPECT_NE(output.find(missing), std::string::npos) << output;
 }
 
 // Issue 31: a usage error exits 2 from every executable on the bus, naming the flag (vnsba_node

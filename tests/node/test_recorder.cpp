@@ -13,6 +13,7 @@
 #include "bus_client.hpp"
 #include "child_process.hpp"
 #include "render/svg_test_support.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/node/planner_node.hpp"
 #include "vnsba/records/run_record.hpp"
@@ -22,11 +23,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A folder that does not exist yet (the recorder makes its --out folder), in a fresh directory.
 fs::path fresh_dir(const std::string& tag) {
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("recorder_" + std::to_string(getpid()) + "_" + tag);
-  fs::remove_all(dir);
-  return dir;
+  return FreshTempDir("recorder_" + tag) / "out";
 }
 
 // The rooms fixture at 0.5 m per cell with its origin at (-3, 2) m (so metres and cells differ),

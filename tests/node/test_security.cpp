@@ -22,6 +22,7 @@
 #include "bus_client.hpp"
 #include "child_process.hpp"
 #include "log_capture.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/node/refused_peers.hpp"
 #include "vnsba/node/security.hpp"
 
@@ -41,10 +42,8 @@ int security_domain() {
 // may only read statuses (no publish permission at all).
 const std::string& keystore() {
   static const std::string path = [] {
-    const std::string dir = fs::path(::testing::TempDir() + "/keystore_" + std::to_string(getpid()))
-                                .lexically_normal()
-                                .string();
-    fs::remove_all(dir);
+    // make_keystore.sh makes the folder itself.
+    const std::string dir = (FreshTempDir("keystore") / "keystore").string();
     const std::string command = "bash '" + kMakeKeystore + "' '" + dir +
                                 "' --enclave /test/no_request - plan_status >/dev/null";
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
@@ -309,12 +308,14 @@ TEST(SecureBus, AnXmlProfileEnablingSecurityIsHonoured) {
 // The security section's files replace a profile's properties of the same name: a profile
 // naming a governance file that does not exist does not break the enclave's participant.
 TEST(SecureBus, TheSecuritySectionWinsOverAProfilesProperties) {
+  // In an empty directory of its own: nothing can have made it.
+  const std::string stale = (FreshTempDir("stale_governance") / "governance.p7s").string();
   const std::string profiles = write_temp_file("stale_security_profiles.xml",
                                                R"(<?xml version="1.0" encoding="UTF-8" ?>
 <profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
   <participant profile_name="stale_security"><rtps><propertiesPolicy><properties>
     <property><name>dds.sec.access.builtin.Access-Permissions.governance</name>
-      <value>file:///no/such/governance.p7s</value></property>
+      <value>file://)" + stale + R"(</value></property>
     <property><name>vnsba.test.kept</name><value>yes</value></property>
   </properties></propertiesPolicy></rtps></participant>
 </profiles>
@@ -469,11 +470,7 @@ struct RefusalScene {
 // answers, and the timeout reports it. Either way: one line, naming the peer's GUID prefix, its
 // name and certificate, and why, however often the handshake is retried.
 TEST(SecureBus, APeerFromAnotherCaIsLoggedOnceNamingItsGuidPrefixAndWhy) {
-  const std::string other_keystore =
-      fs::path(::testing::TempDir() + "/keystore_other_ca_" + std::to_string(getpid()))
-          .lexically_normal()
-          .string();
-  fs::remove_all(other_keystore);
+  const std::string other_keystore = (FreshTempDir("keystore_other_ca") / "keystore").string();
   const std::string command = "bash '" + kMakeKeystore + "' '" + other_keystore + "' >/dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   // A peer of this participant's own keystore authenticates: nothing is said of it, also after

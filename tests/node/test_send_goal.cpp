@@ -23,6 +23,7 @@
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/node/planner_node.hpp"
 
 namespace vnsba::test {
@@ -578,14 +579,14 @@ TEST(SendGoalWithoutNode, NoActionServerExitsThreeNamingTheAction) {
 // participant is refused before it exists, its keystore missing under security's Enforce.
 TEST(SendGoalWithoutNode, ADdsFailureExitsFour) {
   const node::NodeConfig cfg = test_config("sg_dds");
-  const std::string path =
-      write_temp_file("sg_dds.yaml", config_yaml(cfg) +
-                                         "security:\n  enable: true\n  keystore: /nonexistent/ks\n"
-                                         "  strategy: Enforce\n");
+  const std::string keystore = (FreshTempDir("sg_dds") / "ks").string();  // never made
+  const std::string path = write_temp_file(
+      "sg_dds.yaml", config_yaml(cfg) + "security:\n  enable: true\n  keystore: " + keystore +
+                         "\n  strategy: Enforce\n");
   const auto [code, output] = run_to_exit(kSendGoal, {"--config", path, "--start", "0.5", "0.5",
                                                       "--goal", "1.5", "0.5", "--wait", "1"});
   EXPECT_EQ(code, 4) << output;
-  EXPECT_NE(output.find("/nonexistent/ks"), std::string::npos) << output;
+  EXPECT_NE(output.find(keystore), std::string::npos) << output;
 }
 
 // The exit codes are in --help, each with its meaning.
@@ -625,6 +626,7 @@ TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
   const node::NodeConfig cfg = test_config("sg_args");
   const std::string path = write_temp_file("sg_args.yaml", config_yaml(cfg));
   const std::string bad_config = write_temp_file("sg_bad.yaml", "planner:\n  name: dijkstra\n");
+  const std::string missing = (FreshTempDir("sg_args") / "no/such/file.yaml").string();
   expect_usage_errors(
       {
           {{"--start", "0", "0"}, "--goal"},
@@ -639,8 +641,7 @@ TEST(SendGoalArguments, BadInputExitsTwoNamingTheOption) {
           {{"--start", "0", "0", "--goal", "1", "1", "--id", ""}, "--id"},
           {{"--start", "0", "0", "--goal", "1", "1", "--id", std::string(300, 'x')},
            "--id: 300 bytes"},
-          {{"--start", "0", "0", "--goal", "1", "1", "--config", "no/such/file.yaml"},
-           "no/such/file.yaml"},
+          {{"--start", "0", "0", "--goal", "1", "1", "--config", missing}, missing},
           {{"--start", "0", "0", "--goal", "1", "1", "--config", bad_config}, "planner.name"},
       },
       path);
@@ -672,18 +673,19 @@ TEST(SendGoalArguments, BadActionFlagsExitTwoNamingTheFlag) {
 // Issue 31: `--goal-pose 16 -6.5` was reported as "--goal is required". The unknown flag comes
 // first, with the flag it was probably meant to be; nothing is sent (no config is even read).
 TEST(SendGoalArguments, AMisspeltFlagIsNamedBeforeAMissingOne) {
+  const std::string missing = (FreshTempDir("sg_misspelt") / "no/such/file.yaml").string();
   for (const auto& [misspelt, meant] :
        {std::pair{"--goal-pose", "--goal"}, std::pair{"--gaol", "--goal"},
         std::pair{"--min", "--min-readers"}}) {
-    const auto [code, output] = run_to_exit(
-        kSendGoal, {misspelt, "16", "-6.5", "--start", "2", "-6", "--config", "no/such/file.yaml"});
+    const auto [code, output] =
+        run_to_exit(kSendGoal, {misspelt, "16", "-6.5", "--start", "2", "-6", "--config", missing});
     EXPECT_EQ(code, 2) << output;
     EXPECT_NE(
         output.find("unknown option " + std::string(misspelt) + " (did you mean " + meant + "?)"),
         std::string::npos)
         << output;
     EXPECT_EQ(output.find("is required"), std::string::npos) << output;
-    EXPECT_EQ(output.find("no/such/file.yaml"), std::string::npos) << output;
+    EXPECT_EQ(output.find(missing), std::string::npos) << output;
   }
 }
 

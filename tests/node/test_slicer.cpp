@@ -5,11 +5,13 @@
 #include <octomap/OcTree.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
 #include "octomap_msgs/msg/OctomapPubSubTypes.h"
+#include "temp_dir.hpp"
 #include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
@@ -35,8 +37,9 @@ std::shared_ptr<octomap::OcTree> room_tree(bool extra = false) {
   return tree;
 }
 
+// `tree` as `name` in a fresh directory of its own.
 std::string write_tree(const octomap::OcTree& tree, const std::string& name) {
-  const std::string path = ::testing::TempDir() + "/" + std::to_string(getpid()) + "_" + name;
+  const std::string path = (FreshTempDir("tree") / name).string();
   EXPECT_TRUE(const_cast<octomap::OcTree&>(tree).writeBinary(path));
   return path;
 }
@@ -51,7 +54,7 @@ maps::SliceOptions band(double z_min, double z_max) {
 TEST(SlicerProcess, FileToMapServerMapEqualsTheCoreSlice) {
   const auto tree = room_tree();
   const std::string bt = write_tree(*tree, "room.bt");
-  const std::string out = ::testing::TempDir() + "/" + std::to_string(getpid()) + "_room.pgm";
+  const std::string out = (FreshTempDir("slicer_out") / "room.pgm").string();
   const auto [code, output] =
       run_to_exit(kSlicer, {bt, "--z-min", "0.2", "--z-max", "0.8", "--out", out, "--config",
                             VNSBA_CONFIG_DIR "/default.yaml"});
@@ -76,15 +79,17 @@ TEST(SlicerProcess, BadFilesAndOptionsGiveClearErrors) {
     std::string words;
   };
   const std::string def = VNSBA_CONFIG_DIR "/default.yaml";
+  // A tree that cannot exist and an --out no case may write, in an empty directory of their own.
+  const std::filesystem::path dir = FreshTempDir("slicer_errors");
+  const std::string missing = (dir / "no/such/tree.bt").string();
+  const std::string x = (dir / "x.pgm").string();
   const std::vector<Case> cases = {
-      {{"no/such/tree.bt", "--out", "x.pgm", "--config", def}, "no/such/tree.bt"},
-      {{text, "--out", "x.pgm", "--config", def}, "not_a_tree.bt"},
-      {{bt, "--z-min", "1.0", "--z-max", "0.5", "--out", "x.pgm", "--config", def},
-       "--z-min <= --z-max"},
-      {{bt, "--z-min", "5", "--z-max", "6", "--out", "x.pgm", "--config", def}, "height range"},
-      {{bt, "--resolution", "0.15", "--out", "x.pgm", "--config", def}, "resolution"},
-      {{bt, "--z-min", "0.2", "--z-max", "0.8", "--out", "x.pgm", "--config", small_limit},
-       "max_cells"},
+      {{missing, "--out", x, "--config", def}, missing},
+      {{text, "--out", x, "--config", def}, "not_a_tree.bt"},
+      {{bt, "--z-min", "1.0", "--z-max", "0.5", "--out", x, "--config", def}, "--z-min <= --z-max"},
+      {{bt, "--z-min", "5", "--z-max", "6", "--out", x, "--config", def}, "height range"},
+      {{bt, "--resolution", "0.15", "--out", x, "--config", def}, "resolution"},
+      {{bt, "--z-min", "0.2", "--z-max", "0.8", "--out", x, "--config", small_limit}, "max_cells"},
       {{bt, "--config", def}, "nothing to do"},
   };
   for (const Case& c : cases) {
@@ -101,7 +106,7 @@ TEST(SlicerProcess, ErrorsNameTheFlagOrTheConfigKeyAndBoundsTakeCommas) {
   const std::string bt = write_tree(*room_tree(), "room_names.bt");
   const std::string coarse = write_temp_file("coarse.yaml", "slicer:\n  resolution: 0.15\n");
   const std::string small_limit = write_temp_file("small_names.yaml", "map:\n  max_cells: 100\n");
-  const std::string out = ::testing::TempDir() + "/" + std::to_string(getpid()) + "_names.pgm";
+  const std::string out = (FreshTempDir("slicer_out") / "names.pgm").string();
   struct Case {
     std::vector<std::string> args;
     std::vector<std::string> words;
@@ -167,7 +172,7 @@ TEST(SlicerBus, FileToSlicerToNodeToPlan) {
 
   // --watch: a changed file is sliced again and the node takes the new map.
   std::this_thread::sleep_for(1100ms);  // file times have coarse resolution on some filesystems
-  write_tree(*room_tree(/*extra=*/true), "room_bus.bt");
+  EXPECT_TRUE(room_tree(/*extra=*/true)->writeBinary(bt));  // the watched file itself
   const auto end = std::chrono::steady_clock::now() + 15s;
   while (planner_node.stats().maps_accepted < 2 && std::chrono::steady_clock::now() < end)
     std::this_thread::sleep_for(50ms);
@@ -253,8 +258,9 @@ std::vector<std::vector<char>> char_rows(const std::vector<std::string>& text) {
   return rows;
 }
 
+// `name` in a fresh directory of its own (not made: what the slicer writes there).
 std::string temp_path(const std::string& name) {
-  return ::testing::TempDir() + "/" + std::to_string(getpid()) + "_" + name;
+  return (FreshTempDir("slicer") / name).string();
 }
 
 void expect_cells(const std::vector<int>& got, const ExpectedMap& e, const std::string& what) {
@@ -493,9 +499,10 @@ void write_pgm(const std::string& path, const std::vector<std::vector<int>>& gre
 // relative to its folder. Returns the YAML's path.
 std::string write_map_server(const std::string& name, const std::vector<std::vector<int>>& grey,
                              const std::string& yaml_keys) {
-  write_pgm(temp_path(name + ".pgm"), grey);
-  const std::string yaml = temp_path(name + ".yaml");
-  std::ofstream(yaml) << "image: " << std::to_string(getpid()) + "_" + name + ".pgm\n" << yaml_keys;
+  const std::filesystem::path dir = FreshTempDir("map_server");
+  write_pgm((dir / (name + ".pgm")).string(), grey);
+  const std::string yaml = (dir / (name + ".yaml")).string();
+  std::ofstream(yaml) << "image: " << name + ".pgm\n" << yaml_keys;
   return yaml;
 }
 

@@ -12,6 +12,7 @@
 
 #include "bus_client.hpp"
 #include "child_process.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/node/planner_node.hpp"
 
 namespace vnsba::test {
@@ -99,15 +100,6 @@ class WorkingDirectory {
  private:
   std::filesystem::path previous_;
 };
-
-// A fresh empty directory under the test temp dir.
-std::filesystem::path fresh_dir(const std::string& name) {
-  const std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) / (std::to_string(getpid()) + "_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 // A participant profile's lease duration reaches the participant and what its peers see of it;
 // a data_writer profile named after a topic reaches that topic's writer, with the node's own
@@ -205,7 +197,8 @@ TEST(XmlProfiles, TheNodeUsesItsConfiguredProfileAndRefusesAnUnknownOne) {
 TEST(XmlProfiles, AMissingOrMalformedFileIsAnErrorNamingIt) {
   const node::NodeConfig cfg = test_config("xml_bad");
   {
-    const std::string missing = ::testing::TempDir() + "/no_such_profiles.xml";
+    // In an empty directory of its own: nothing can have made it.
+    const std::string missing = (FreshTempDir("xml_bad") / "no_such_profiles.xml").string();
     ProfilesFile env(missing);
     auto participant = node::Participant::create(cfg.domain_id, "bad");
     ASSERT_FALSE(participant);
@@ -261,10 +254,10 @@ TEST(XmlProfiles, AFileWithARefusedProfileIsAnErrorNamingIt) {
 TEST(XmlProfiles, TheWorkingDirectorysFileIsReadOnceAndSkippedOnRequest) {
   const node::NodeConfig cfg = test_config("xml_cwd");
   const std::string profile = "vnsba_cwd_" + std::to_string(getpid());
-  const std::filesystem::path good = fresh_dir("xml_cwd_good");
+  const std::filesystem::path good = FreshTempDir("xml_cwd_good");
   std::ofstream(good / "DEFAULT_FASTRTPS_PROFILES.xml")
       << profiles_xml(profile, profile + "_topic");
-  const std::filesystem::path bad = fresh_dir("xml_cwd_bad");
+  const std::filesystem::path bad = FreshTempDir("xml_cwd_bad");
   std::ofstream(bad / "DEFAULT_FASTRTPS_PROFILES.xml") << "<profiles><participant";
   {
     WorkingDirectory cwd(good);
@@ -299,7 +292,7 @@ TEST(XmlProfiles, ExecutablesTakeTheProfileFromTheFlagOrTheConfigAndNameAnUnknow
   const std::string profile = "vnsba_cli_" + std::to_string(getpid());
   ProfilesFile env(write_temp_file("cli_profiles.xml", profiles_xml(profile, profile + "_topic")));
   const std::string config = write_temp_file("xml_cli.yaml", config_yaml(cfg));
-  const std::string out_dir = fresh_dir("xml_cli_out").string();
+  const std::string out_dir = FreshTempDir("xml_cli_out").string();
   const std::string map = std::string(VNSBA_CONFIG_DIR) + "/scenes/geb079.bt";
   const std::vector<std::pair<std::string, std::vector<std::string>>> runs = {
       {kNode, {"--config", config}},

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "svg_test_support.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/render/png.hpp"
@@ -89,7 +90,7 @@ TEST(Png, FractionalSizeRoundsUp) {
 }
 
 TEST(Png, WritesTheFile) {
-  const std::string path = ::testing::TempDir() + "/png_" + std::to_string(getpid()) + ".png";
+  const std::string path = (FreshTempDir("png") / "picture.png").string();
   const std::string svg = run_svg();
   ASSERT_TRUE(render::write_png_file(path, svg).is_ok());
   std::ifstream in(path, std::ios::binary);
@@ -109,7 +110,9 @@ TEST(Png, BadSvgAndUnwritableFileAreClearErrors) {
   ASSERT_FALSE(huge);
   EXPECT_NE(huge.error().message.find("pixels"), std::string::npos) << huge.error().message;
 
-  const std::string path = "/nonexistent-dir/picture.png";
+  // A folder that does not exist, in an empty directory of its own: nothing can have made it.
+  const std::string path =
+      (FreshTempDir("png_unwritable") / "no_such_dir" / "picture.png").string();
   const core::Status written = render::write_png_file(path, run_svg());
   ASSERT_FALSE(written.is_ok());
   EXPECT_NE(written.message.find(path), std::string::npos) << written.message;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "svg_test_support.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/render/run_picture.hpp"
@@ -410,7 +411,7 @@ TEST(RunPicture, RsvgConvertRendersItToPng) {
   RoomsRun run;
   auto picture = std::make_shared<const render::MapPicture>(render::map_picture(run.grid));
   const std::string svg = render::render_svg(render::picture_of(picture, run.query, run.result));
-  const std::string base = ::testing::TempDir() + "/vnsba_render_" + std::to_string(getpid());
+  const std::string base = (FreshTempDir("render") / "run").string();
   ASSERT_TRUE(render::write_text_file(base + ".svg", svg).is_ok());
   const std::string command =
       std::string("'") + VNSBA_RSVG_CONVERT + "' '" + base + ".svg' -o '" + base + ".png' 2>&1";

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "svg_test_support.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/records/open_runs.hpp"
 #include "vnsba/records/run_record.hpp"
@@ -359,8 +360,7 @@ TEST(RunRecord, MismatchedOrMissingPartsStillDraw) {
 }
 
 TEST(RunRecord, RenderRecordFileReadsTheMapBesideIt) {
-  const std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) / ("vnsba_record_" + std::to_string(getpid()));
+  const std::filesystem::path dir = FreshTempDir("record");
   std::filesystem::create_directories(dir / "maps");
   core::OccupancyGrid grid;
   grid.width = 4;
@@ -400,8 +400,7 @@ TEST(RunRecord, RenderRecordFileReadsTheMapBesideIt) {
 // radius, debug cells outside the debug grid. With the map file beside it and without. A null
 // (to_json's NaN) is said to be null, naming its field.
 TEST(RunRecord, RenderRefusesGeometryItCannotDraw) {
-  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
-                                    ("vnsba_bad_geometry_" + std::to_string(getpid()));
+  const std::filesystem::path dir = FreshTempDir("bad_geometry");
   std::filesystem::create_directories(dir / "maps");
   core::OccupancyGrid grid;
   grid.width = 4;

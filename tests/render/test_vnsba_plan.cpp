@@ -15,6 +15,7 @@
 
 #include "node/child_process.hpp"
 #include "svg_test_support.hpp"
+#include "temp_dir.hpp"
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
@@ -59,8 +60,15 @@ std::optional<std::string> field(const std::string& output, const std::string& k
   return output.substr(begin, output.find_first_of(" \n", begin) - begin);
 }
 
+// `name` in a fresh directory of its own (not made: what vnsba_plan writes there).
 std::string temp_file(const std::string& name) {
-  return ::testing::TempDir() + "/plan_" + name + "_" + std::to_string(getpid());
+  return (FreshTempDir("plan_" + name) / name).string();
+}
+
+// A file in a folder that does not exist, in an empty directory of its own: nothing can have made
+// it, and nothing can be written there.
+std::string unreachable_file(const std::string& name) {
+  return (FreshTempDir("plan_unreachable") / "no_such_dir" / name).string();
 }
 
 // The poses file: one `x y yaw` per line.
@@ -83,7 +91,7 @@ double angle_difference(double a, double b) {
 }
 
 TEST(VnsbaPlan, PlansAndDrawsTheRun) {
-  const std::string svg = ::testing::TempDir() + "/plan_" + std::to_string(getpid()) + ".svg";
+  const std::string svg = temp_file("plan") + ".svg";
   // Metres on a Moving AI map are cells (1 m cells, origin 0, rows counted from the bottom).
   const auto [code, output] =
       run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--svg", svg});
@@ -172,7 +180,7 @@ TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
 
   const std::string bt = VNSBA_DATA_DIR "/octomap/geb079.bt";
   if (!std::ifstream(bt)) GTEST_SKIP() << bt << " is absent (third-party data beside the project)";
-  const std::string svg = ::testing::TempDir() + "/plan_bt_" + std::to_string(getpid()) + ".svg";
+  const std::string svg = temp_file("plan_bt") + ".svg";
   // A band at hip height, both ends in the building's long corridor would need the map: just
   // require the slice to load and a planner answer with a picture of the map.
   const auto [bt_code, bt_output] =
@@ -266,6 +274,7 @@ TEST(VnsbaPlan, BadInputExitsTwoNamingTheOption) {
     std::vector<std::string> args;
     const char* named;
   };
+  const std::string unwritable_svg = unreachable_file("x.svg");
   for (const Case& c : {
            Case{{kRooms, "--start", "1", "1", "--goal", "2", "2", "--planner", "dijkstra"},
                 "--planner"},
@@ -277,9 +286,8 @@ TEST(VnsbaPlan, BadInputExitsTwoNamingTheOption) {
                 "none.map"},
            Case{{VNSBA_FIXTURE_DIR "/config/empty.yaml", "--start", "1", "1", "--goal", "2", "2"},
                 "empty.yaml"},
-           Case{
-               {kRooms, "--start", "2", "2", "--goal", "3", "3", "--svg", "/nonexistent-dir/x.svg"},
-               "--svg"},
+           Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--svg", unwritable_svg},
+                "--svg"},
            Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--neighborhood", "4"},
                 "--neighborhood"},
            Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--corner-policy", "sometimes"},
@@ -683,7 +691,7 @@ TEST(VnsbaPlan, BadConfigNamesEveryKey) {
   EXPECT_NE(output.find("map.robot_radius"), std::string::npos) << output;
   const auto [missing_code, missing_output] =
       run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config",
-                          "/nonexistent-dir/none.yaml"});
+                          unreachable_file("none.yaml")});
   EXPECT_EQ(missing_code, 2) << missing_output;
   EXPECT_NE(missing_output.find("none.yaml"), std::string::npos) << missing_output;
   std::remove(config.c_str());
@@ -841,8 +849,9 @@ std::string read_bytes(const std::string& path) {
 // --json writes the run record the recorder writes: it reads back with run_record_from_json and
 // records::render_record_file draws the same final path as the run's own --svg.
 TEST(VnsbaPlan, JsonIsARunRecordThatRendersAsTheRun) {
-  const std::string json = temp_file("record") + ".json";
-  const std::string svg = temp_file("record") + ".svg";
+  const std::string record_base = temp_file("record");
+  const std::string json = record_base + ".json";
+  const std::string svg = record_base + ".svg";
   const auto [code, output] =
       run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5",
                           "--robot-radius", "0.4", "--json", json, "--svg", svg});
@@ -887,16 +896,16 @@ TEST(VnsbaPlan, JsonIsARunRecordThatRendersAsTheRun) {
     EXPECT_LT((record_path[0][i] - run_path[0][i]).norm(), 1e-3) << i;
   EXPECT_EQ(data_count(find_id(from_record.RootElement(), "expanded-forward")),
             data_count(find_id(from_run.RootElement(), "expanded-forward")));
-  for (const std::string& f :
-       {json, svg, temp_file("record") + "_map.yaml", temp_file("record") + "_map.pgm"})
+  for (const std::string& f : {json, svg, record_base + "_map.yaml", record_base + "_map.pgm"})
     std::remove(f.c_str());
 }
 
 // --png writes a PNG (signature, then IHDR) of the size the SVG of the same run declares; an
 // unwritable file is exit 2 naming it.
 TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
-  const std::string png = temp_file("picture") + ".png";
-  const std::string svg = temp_file("picture") + ".svg";
+  const std::string picture_base = temp_file("picture");
+  const std::string png = picture_base + ".png";
+  const std::string svg = picture_base + ".svg";
   const auto [code, output] = run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5",
                                                   "13.5", "--png", png, "--svg", svg});
   ASSERT_EQ(code, 0) << output;
@@ -914,12 +923,13 @@ TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
   std::remove(svg.c_str());
 
   for (const char* option : {"--png", "--json"}) {
-    const std::string bad = std::string("/nonexistent-dir/picture") +
-                            (std::string(option) == "--png" ? ".png" : ".json");
+    // The message names the file or, for --json, the map beside it: the stem is in both.
+    const std::string stem = unreachable_file("picture");
+    const std::string bad = stem + (std::string(option) == "--png" ? ".png" : ".json");
     const auto [bad_code, bad_output] = run_to_exit(
         kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", option, bad});
     EXPECT_EQ(bad_code, 2) << bad_output;
-    EXPECT_NE(bad_output.find("/nonexistent-dir/picture"), std::string::npos) << bad_output;
+    EXPECT_NE(bad_output.find(stem), std::string::npos) << bad_output;
     EXPECT_NE(bad_output.find(option), std::string::npos) << bad_output;
   }
 }
