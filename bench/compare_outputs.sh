@@ -27,7 +27,8 @@
 # are the ones compared above; every run's must match them.
 #
 # A revision whose vnsba_plan has `--vns-threads` (the short-lived two-thread VNS-BA*, removed
-# since: it could hang) gets `--vns-threads 1`, and its records' vns_threads key is dropped.
+# since: it could hang) gets `--vns-threads 1`, and its records' vns_threads key is dropped. One
+# whose vnsba_plan has `--paper` (without it, default.yaml since issue 45) gets `--paper`.
 #
 # Exit 0 when every row is identical, 1 when any differs (the first differences are printed) or a
 # run fails, 2 on bad use. Environment: VNSBA_DATA_DIR (default ../shared/data beside the
@@ -87,12 +88,15 @@ build_bench() {
 run_cost_records() {
   name=$1
   plan="$work/$name-build/tools/vnsba_plan"
-  threads_flag=""
-  if "$plan" --help 2>/dev/null | grep -q -- '--vns-threads'; then threads_flag="--vns-threads 1"; fi
+  revision_flags=""  # what this revision needs to plan as the other: see above
+  if "$plan" --help 2>/dev/null | grep -q -- '--vns-threads'; then revision_flags=" --vns-threads 1"; fi
+  # Revisions with --paper read default.yaml without it: --paper keeps the bare setting that
+  # older revisions plan on without a config, the flags below adding the same costs to both.
+  if "$plan" --help 2>/dev/null | grep -q -- '--paper'; then revision_flags="$revision_flags --paper"; fi
   out="$work/$name-records"
   rm -rf "$out"
   mkdir -p "$out"
-  echo "running $name's vnsba_plan${threads_flag:+ $threads_flag}, cost-aware, on $cost_scenarios lines per map ..." >&2
+  echo "running $name's vnsba_plan${revision_flags:+$revision_flags}, cost-aware, on $cost_scenarios lines per map ..." >&2
   for scen in "$data"/movingai/*.map.scen; do
     map=${scen%.scen}
     lines=$(($(wc -l < "$scen") - 1))
@@ -108,7 +112,7 @@ run_cost_records() {
           [ "$smoother" = "default" ] || flag="--smoother $smoother"
           # shellcheck disable=SC2086
           "$plan" "$map" --scen "$scen" --scen-index "$index" --planner "$planner" --prune --smooth \
-            --cost-weight 2 --inflation-radius 11 --cost-scaling-factor 0.15 $flag $threads_flag \
+            --cost-weight 2 --inflation-radius 11 --cost-scaling-factor 0.15 $flag $revision_flags \
             --json "$record" >/dev/null 2>&1 || echo "failed" > "$record"
           # Without the time, and without the thread count a two-thread-era record names; a comma
           # left before a closing bracket by that goes too.

@@ -31,7 +31,11 @@
 // --config FILE reads the node's config (node::load_config, no DDS): its planner section (name,
 // options, costs, tolerances, path_spacing), its map section (thresholds, robot_radius, cost
 // gradient, max_cells) and, for OctoMaps, its slicer band are the defaults; every flag given
-// overrides its key. A bad file is refused with every error the loader reports.
+// overrides its key. A bad file is refused with every error the loader reports. Without --config
+// the tool reads default.yaml where the node finds it (node::find_default_config), so the
+// shortest command plans for the same robot as the node and every other tool. --paper asks for
+// the paper's setting instead: a binary grid (no robot radius, inflation or cost gradient), the
+// exact start and goal, vns_bastar and each planner's options as the paper gives them.
 //
 // --scen FILE runs Moving AI scenario lines as the file writes them (its rows count from the
 // top; the loader turns them into ours), on MAP or, without MAP, on the map the first line names,
@@ -53,9 +57,8 @@
 // `vnsba_recorder render FILE` redraws it. --png FILE writes the picture as PNG (librsvg,
 // in-process).
 //
-// The planner options are core::make_options(--planner, the option flags given): a flag left out
-// follows the chosen planner's paper configuration, exactly as a config key left out does in
-// vnsba_node.
+// With --paper the planner options are core::make_options(--planner, the option flags given): a
+// flag left out follows the chosen planner's paper configuration.
 //
 // Exit codes: 0 a path was found (with --scen: every line planned, and matched its optimum where
 // the planner is exact), 1 the planner answered another status (printed) or missed an optimum,
@@ -399,11 +402,17 @@ int main(int argc, char** argv) {
                                       "bidirectional_astar, alternating_bidirectional_astar, jps "
                                       "(auto: jps with pruning and smoothing where costs are off, "
                                       "else the cost-aware choice; default: the config's "
-                                      "planner.name, else vns_bastar)");
-  app.add_option("--config", config_path,
-                 "the node's YAML config: its planner and map sections (and, for OctoMaps, its "
-                 "slicer band) are the defaults of the options below; a flag given overrides its "
-                 "key");
+                                      "planner.name, vns_bastar with --paper)");
+  auto* config_flag = app.add_option(
+      "--config", config_path,
+      "the node's YAML config: its planner and map sections (and, for OctoMaps, its slicer band) "
+      "are the defaults of the options below; a flag given overrides its key (default: "
+      "default.yaml, as the node)");
+  bool paper = false;
+  app.add_flag("--paper", paper,
+               "no config: the paper's setting (a binary grid without robot radius, inflation or "
+               "costs; the exact start and goal; vns_bastar and each planner's paper options)")
+      ->excludes(config_flag);
   app.add_option("--svg", out.svg, "write a picture of the run here");
   app.add_option("--png", out.png, "write the picture as PNG here (rendered in-process)");
   app.add_option("--json", out.json,
@@ -538,6 +547,15 @@ int main(int argc, char** argv) {
 
   // The config's sections are the defaults of every flag below.
   std::optional<node::NodeConfig> config;
+  if (config_path.empty() && !paper) {
+    const core::Expected<std::string> found = node::find_default_config();
+    if (!found) {
+      std::fprintf(stderr, "%s: give --config FILE, or --paper for the paper's setting\n",
+                   found.error().message.c_str());
+      return kBadInput;
+    }
+    config_path = *found;
+  }
   if (!config_path.empty()) {
     node::ConfigResult loaded = node::load_config(config_path);
     if (!loaded.config) {
@@ -810,6 +828,13 @@ int main(int argc, char** argv) {
     else
       std::printf("\n");
     std::fflush(stdout);
+    // The files' optima are the bare grid's: a robot's config (costs, radius) plans another
+    // problem, which is what the ratios above measure.
+    if (!exact && with_optimum > 0 && !paper)
+      std::fprintf(stderr,
+                   "note: the optima are the bare grid's shortest paths; %s plans for the robot "
+                   "of %s (give --paper, and --planner astar or jps, to match them exactly)\n",
+                   std::string(core::to_string(options.planner)).c_str(), config_path.c_str());
     if (scenarios.size() == 1 && !write_outputs(out, map_path, *grid, build, map, last_query, last))
       return kBadInput;
     return ok == scenarios.size() && (!exact || matched == with_optimum) ? 0 : kPlanFailed;

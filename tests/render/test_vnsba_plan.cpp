@@ -27,6 +27,21 @@ namespace {
 
 const std::string kPlan = VNSBA_PLAN_BINARY;
 const std::string kRooms = VNSBA_FIXTURE_DIR "/maps/rooms_32.map";
+const std::string kSourceConfigDir = VNSBA_SOURCE_DIR "/config";
+
+// vnsba_plan as these tests mean it: the paper's setting (--paper) unless the arguments give a
+// config, so that the core oracles below (bare PlannerSettings, GridBuildOptions) plan the same
+// problem. Without either the tool reads default.yaml: tested on its own below.
+std::pair<int, std::string> run_plan(std::vector<std::string> args) {
+  if (std::find(args.begin(), args.end(), "--config") == args.end() &&
+      std::find(args.begin(), args.end(), "--paper") == args.end())
+    args.push_back("--paper");
+  return run_to_exit(kPlan, args);
+}
+
+std::pair<int, std::string> run_plan_as_given(const std::vector<std::string>& args) {
+  return run_to_exit(kPlan, args);
+}
 
 // The clearance as vnsba_plan prints it: metres with 3 decimals, "inf" without obstacles.
 std::string printed_clearance(double clearance_m) {
@@ -94,7 +109,7 @@ TEST(VnsbaPlan, PlansAndDrawsTheRun) {
   const std::string svg = temp_file("plan") + ".svg";
   // Metres on a Moving AI map are cells (1 m cells, origin 0, rows counted from the bottom).
   const auto [code, output] =
-      run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--svg", svg});
+      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--svg", svg});
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("vns_bastar OK"), std::string::npos) << output;
   tinyxml2::XMLDocument doc;
@@ -110,8 +125,7 @@ TEST(VnsbaPlan, PlansAndDrawsTheRun) {
 }
 
 TEST(VnsbaPlan, CellsAndOtherPlanners) {
-  const auto [code, output] = run_to_exit(
-      kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--planner", "astar"});
+  const auto [code, output] = run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--planner", "astar"});
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("astar OK"), std::string::npos) << output;
 }
@@ -163,7 +177,7 @@ TEST(VnsbaPlan, PlannerFlagsAreSettingsOnTopOfThePlannersPaperConfiguration) {
     if (!c.flags.empty()) {
       EXPECT_NE(expected, printed(c.kind, {}));
     }
-    const auto [code, output] = run_to_exit(kPlan, args);
+    const auto [code, output] = run_plan(args);
     ASSERT_EQ(code, 0) << output;
     EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n"
                                                         << output;
@@ -173,7 +187,7 @@ TEST(VnsbaPlan, PlannerFlagsAreSettingsOnTopOfThePlannersPaperConfiguration) {
 TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
   // map_server: a 8-bit P5 image with its YAML (the whole map is checked by the map_io tests).
   const auto [code, output] =
-      run_to_exit(kPlan, {VNSBA_FIXTURE_DIR "/map_server/p5_8bit.yaml", "--cells", "--start", "0",
+      run_plan({VNSBA_FIXTURE_DIR "/map_server/p5_8bit.yaml", "--cells", "--start", "0",
                           "0", "--goal", "0", "0", "--planner", "astar"});
   EXPECT_TRUE(code == 0 || code == 1) << output;  // a plan ran: OK or a planner status
   EXPECT_NE(output.find("astar "), std::string::npos) << output;
@@ -184,7 +198,7 @@ TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
   // A band at hip height, both ends in the building's long corridor would need the map: just
   // require the slice to load and a planner answer with a picture of the map.
   const auto [bt_code, bt_output] =
-      run_to_exit(kPlan, {bt, "--z-min", "0.3", "--z-max", "1.2", "--start", "0", "0", "--goal",
+      run_plan({bt, "--z-min", "0.3", "--z-max", "1.2", "--start", "0", "0", "--goal",
                           "1", "1", "--svg", svg});
   EXPECT_TRUE(bt_code == 0 || bt_code == 1) << bt_output;
   tinyxml2::XMLDocument doc;
@@ -201,7 +215,7 @@ TEST(VnsbaPlan, BoundsPlanOnAPartOfATreeTooLargeToSliceWhole) {
   const std::string bt = VNSBA_DATA_DIR "/octomap/simple.bt";
   if (!std::ifstream(bt)) GTEST_SKIP() << bt << " is absent (third-party data beside the project)";
   const auto [whole_code, whole] =
-      run_to_exit(kPlan, {bt, "--start", "0", "0", "--goal", "1", "1"});
+      run_plan({bt, "--start", "0", "0", "--goal", "1", "1"});
   EXPECT_EQ(whole_code, 2) << whole;
   for (const std::string& part : {bt + ": the slice would have ", std::string("--bounds"),
                                   std::string("--resolution"), std::string("the tree's extent")})
@@ -237,7 +251,7 @@ TEST(VnsbaPlan, BoundsPlanOnAPartOfATreeTooLargeToSliceWhole) {
         bt,       "--start",        metres(start.x()), metres(start.y()),
         "--goal", metres(goal.x()), metres(goal.y())};
     args.insert(args.end(), bounds.begin(), bounds.end());
-    const auto [code, output] = run_to_exit(kPlan, args);
+    const auto [code, output] = run_plan(args);
     EXPECT_EQ(code, 0) << output;
     EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n"
                                                         << output;
@@ -256,7 +270,7 @@ TEST(VnsbaPlan, BoundsPlanOnAPartOfATreeTooLargeToSliceWhole) {
        }) {
     std::vector<std::string> args = c.args;
     for (const char* a : {"--start", "1", "1", "--goal", "2", "2"}) args.push_back(a);
-    const auto [code, output] = run_to_exit(kPlan, args);
+    const auto [code, output] = run_plan(args);
     EXPECT_EQ(code, 2) << output;
     EXPECT_NE(output.find(c.named), std::string::npos) << c.named << ": " << output;
   }
@@ -264,7 +278,7 @@ TEST(VnsbaPlan, BoundsPlanOnAPartOfATreeTooLargeToSliceWhole) {
 
 TEST(VnsbaPlan, PlannerFailuresExitOneWithTheStatus) {
   const auto [code, output] =
-      run_to_exit(kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "0", "0"});
+      run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "0", "0"});
   EXPECT_EQ(code, 1) << output;
   EXPECT_NE(output.find("GOAL_OCCUPIED"), std::string::npos) << output;
 }
@@ -296,7 +310,7 @@ TEST(VnsbaPlan, BadInputExitsTwoNamingTheOption) {
            Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--omega", "0", "--eta", "0"},
                 "omega and eta"},
        }) {
-    const auto [code, output] = run_to_exit(kPlan, c.args);
+    const auto [code, output] = run_plan(c.args);
     EXPECT_EQ(code, 2) << output;
     EXPECT_NE(output.find(c.named), std::string::npos) << c.named << ": " << output;
   }
@@ -314,7 +328,7 @@ TEST(VnsbaPlan, AnUnknownFlagIsNamedWithTheNearestKnownOne) {
            {{kRooms, "--start", "1", "1", "--goal", "2", "2", "--no-such-flag"},
             "unknown option --no-such-flag"},
        }) {
-    const auto [code, output] = run_to_exit(kPlan, args);
+    const auto [code, output] = run_plan(args);
     EXPECT_EQ(code, 2) << output;
     EXPECT_NE(output.find(said), std::string::npos) << said << " not in:\n" << output;
   }
@@ -334,14 +348,14 @@ TEST(VnsbaPlan, ASliceValueFromTheConfigIsNamedByItsKey) {
       "plan_slicer.yaml", std::string("slicer:\n  resolution: ") + resolution + "\n");
   const std::vector<std::string> query = {bt,   "--start", "2",        "-6",  "--goal",
                                           "16", "-6.5",    "--config", config};
-  const auto [code, output] = run_to_exit(kPlan, query);
+  const auto [code, output] = run_plan(query);
   EXPECT_EQ(code, 2) << output;
   EXPECT_NE(output.find("slicer.resolution in " + config), std::string::npos) << output;
   EXPECT_EQ(output.find("--resolution"), std::string::npos) << output;
 
   std::vector<std::string> with_flag = query;
   with_flag.insert(with_flag.end(), {"--resolution", resolution});
-  const auto [flag_code, flag_output] = run_to_exit(kPlan, with_flag);
+  const auto [flag_code, flag_output] = run_plan(with_flag);
   EXPECT_EQ(flag_code, 2) << flag_output;
   EXPECT_NE(flag_output.find("--resolution is"), std::string::npos) << flag_output;
   EXPECT_EQ(flag_output.find("slicer.resolution"), std::string::npos) << flag_output;
@@ -381,7 +395,7 @@ TEST(VnsbaPlan, NewOptionsRefuseBadValuesNamingTheOptionAndUnit) {
       flags += f + " ";
     }
     SCOPED_TRACE(flags);
-    const auto [code, output] = run_to_exit(kPlan, args);
+    const auto [code, output] = run_plan(args);
     EXPECT_EQ(code, 2) << output;
     for (const std::string& part : c.named)
       EXPECT_NE(output.find(part), std::string::npos) << part << " not in: " << output;
@@ -405,8 +419,7 @@ TEST(VnsbaPlan, CostOptionsAreTheMapBuildAndPlannerSettings) {
   const std::string expected = printed_line(costly, query, core::PlannerKind::kVnsBaStar, settings);
   ASSERT_NE(expected.find(" OK "), std::string::npos) << expected;
   EXPECT_NE(expected, printed_line(plain, query, core::PlannerKind::kVnsBaStar, {}));
-  const auto [code, output] = run_to_exit(
-      kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--inflation-radius",
+  const auto [code, output] = run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--inflation-radius",
               "4", "--cost-scaling-factor", "0.5", "--cost-weight", "20"});
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n" << output;
@@ -415,7 +428,7 @@ TEST(VnsbaPlan, CostOptionsAreTheMapBuildAndPlannerSettings) {
 // clearance_m comes right after length_m: positive metres on a map with walls, inf without any.
 TEST(VnsbaPlan, PrintsTheClearance) {
   const auto [code, output] =
-      run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5"});
+      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5"});
   ASSERT_EQ(code, 0) << output;
   const auto clearance = field(output, "clearance_m");
   ASSERT_TRUE(clearance) << output;
@@ -430,7 +443,7 @@ TEST(VnsbaPlan, PrintsTheClearance) {
   const std::string open = temp_file("open") + ".map";
   std::ofstream(open) << "type octile\nheight 4\nwidth 6\nmap\n......\n......\n......\n......\n";
   const auto [open_code, open_output] =
-      run_to_exit(kPlan, {open, "--cells", "--start", "0", "0", "--goal", "5", "3"});
+      run_plan({open, "--cells", "--start", "0", "0", "--goal", "5", "3"});
   ASSERT_EQ(open_code, 0) << open_output;
   EXPECT_EQ(field(open_output, "clearance_m"), std::optional<std::string>("inf")) << open_output;
   std::remove(open.c_str());
@@ -454,7 +467,7 @@ TEST(VnsbaPlan, PosesAreAtMostTheSpacingApartWithTheTangentAsYaw) {
                                      "29.5", "13.5",    "--poses", poses_file};
     args.insert(args.end(), c.flags.begin(), c.flags.end());
     SCOPED_TRACE(::testing::PrintToString(c.flags));
-    const auto [code, output] = run_to_exit(kPlan, args);
+    const auto [code, output] = run_plan(args);
     ASSERT_EQ(code, 0) << output;
     const std::vector<core::Pose2> poses = read_poses(poses_file);
     ASSERT_GE(poses.size(), 30u);  // 27 m across and 11 m up, at most 1 m apart
@@ -489,8 +502,7 @@ TEST(VnsbaPlan, PosesAreAtMostTheSpacingApartWithTheTangentAsYaw) {
     EXPECT_NEAR(length, std::stod(*length_m), 1e-3 + 1e-5 * static_cast<double>(poses.size()));
   }
   // A failed plan leaves an empty file (no stale poses of an earlier run).
-  const auto [code, output] = run_to_exit(
-      kPlan, {kRooms, "--cells", "--start", "2", "2", "--goal", "0", "0", "--poses", poses_file});
+  const auto [code, output] = run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "0", "0", "--poses", poses_file});
   EXPECT_EQ(code, 1) << output;
   EXPECT_TRUE(read_poses(poses_file).empty());
   std::remove(poses_file.c_str());
@@ -500,7 +512,7 @@ TEST(VnsbaPlan, PosesAreAtMostTheSpacingApartWithTheTangentAsYaw) {
 // tolerance, moved to the nearest free cell centre with it, measured from the requested point.
 TEST(VnsbaPlan, GoalToleranceMovesABlockedGoalToTheNearestFreeCell) {
   const std::vector<std::string> args = {kRooms, "--start", "2.5", "2.5", "--goal", "15.3", "2.5"};
-  const auto [blocked_code, blocked] = run_to_exit(kPlan, args);
+  const auto [blocked_code, blocked] = run_plan(args);
   EXPECT_EQ(blocked_code, 1) << blocked;
   EXPECT_NE(blocked.find("GOAL_OCCUPIED"), std::string::npos) << blocked;
   EXPECT_NE(blocked.find("occupied cell"), std::string::npos) << blocked;  // the layer
@@ -510,7 +522,7 @@ TEST(VnsbaPlan, GoalToleranceMovesABlockedGoalToTheNearestFreeCell) {
   const std::string poses_file = temp_file("tolerant_poses");
   for (const char* a : {"--goal-tolerance", "1", "--poses", poses_file.c_str()})
     tolerant.push_back(a);
-  const auto [code, output] = run_to_exit(kPlan, tolerant);
+  const auto [code, output] = run_plan(tolerant);
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("vns_bastar OK"), std::string::npos) << output;
   // (14.5, 2.5) is 0.8 m from the requested (15.3, 2.5); (16.5, 2.5) is 1.2 m.
@@ -529,7 +541,7 @@ TEST(VnsbaPlan, GoalToleranceMovesABlockedGoalToTheNearestFreeCell) {
   std::vector<std::string> short_reach = args;
   short_reach.push_back("--goal-tolerance");
   short_reach.push_back("0.5");
-  const auto [short_code, short_output] = run_to_exit(kPlan, short_reach);
+  const auto [short_code, short_output] = run_plan(short_reach);
   EXPECT_EQ(short_code, 1) << short_output;
   EXPECT_NE(short_output.find("occupied cell"), std::string::npos) << short_output;
   EXPECT_NE(short_output.find("goal_tolerance"), std::string::npos) << short_output;
@@ -540,7 +552,7 @@ TEST(VnsbaPlan, GoalToleranceMovesABlockedGoalToTheNearestFreeCell) {
 TEST(VnsbaPlan, GoalToleranceBringsAGoalOutsideTheMapIn) {
   // Column 31 is the border wall; (30.5, 5.5) is the nearest free centre to (33, 5.5): 2.5 m.
   const std::vector<std::string> args = {kRooms, "--start", "2.5", "2.5", "--goal", "33", "5.5"};
-  const auto [outside_code, outside] = run_to_exit(kPlan, args);
+  const auto [outside_code, outside] = run_plan(args);
   EXPECT_EQ(outside_code, 2) << outside;
   EXPECT_NE(outside.find("--goal is outside the map"), std::string::npos) << outside;
   EXPECT_NE(outside.find("--goal-tolerance"), std::string::npos) << outside;
@@ -548,12 +560,12 @@ TEST(VnsbaPlan, GoalToleranceBringsAGoalOutsideTheMapIn) {
   std::vector<std::string> tolerant = args;
   tolerant.push_back("--goal-tolerance");
   tolerant.push_back("3");
-  const auto [code, output] = run_to_exit(kPlan, tolerant);
+  const auto [code, output] = run_plan(tolerant);
   ASSERT_EQ(code, 0) << output;
   EXPECT_EQ(field(output, "goal_moved_m"), std::optional<std::string>("2.500")) << output;
 
   tolerant.back() = "1";
-  const auto [far_code, far] = run_to_exit(kPlan, tolerant);
+  const auto [far_code, far] = run_plan(tolerant);
   EXPECT_EQ(far_code, 1) << far;
   EXPECT_NE(far.find("GOAL_OUTSIDE_MAP"), std::string::npos) << far;
 }
@@ -564,7 +576,7 @@ TEST(VnsbaPlan, StartToleranceMovesAStartOutOfInflation) {
   // The goal stays in the same room: a 1 m radius closes the rooms map's doors.
   const std::vector<std::string> args = {kRooms, "--start",        "1.5", "1.5", "--goal", "12.5",
                                          "2.5",  "--robot-radius", "1"};
-  const auto [blocked_code, blocked] = run_to_exit(kPlan, args);
+  const auto [blocked_code, blocked] = run_plan(args);
   EXPECT_EQ(blocked_code, 1) << blocked;
   EXPECT_NE(blocked.find("START_OCCUPIED"), std::string::npos) << blocked;
   EXPECT_NE(blocked.find("inflation"), std::string::npos) << blocked;
@@ -572,7 +584,7 @@ TEST(VnsbaPlan, StartToleranceMovesAStartOutOfInflation) {
   std::vector<std::string> tolerant = args;
   tolerant.push_back("--start-tolerance");
   tolerant.push_back("2");
-  const auto [code, output] = run_to_exit(kPlan, tolerant);
+  const auto [code, output] = run_plan(tolerant);
   ASSERT_EQ(code, 0) << output;
   const auto moved = field(output, "start_moved_m");
   ASSERT_TRUE(moved) << output;
@@ -619,22 +631,21 @@ TEST(VnsbaPlan, ConfigKeysPlanAsTheSameFlags) {
     a.insert(a.end(), b.begin(), b.end());
     return a;
   };
-  const auto [config_code, config_output] = run_to_exit(kPlan, with(query, {"--config", config}));
+  const auto [config_code, config_output] = run_plan(with(query, {"--config", config}));
   ASSERT_EQ(config_code, 0) << config_output;
   const auto [flag_code, flag_output] =
-      run_to_exit(kPlan, with(with(query, as_flags), {"--planner", "astar"}));
+      run_plan(with(with(query, as_flags), {"--planner", "astar"}));
   ASSERT_EQ(flag_code, 0) << flag_output;
   EXPECT_EQ(config_output.rfind("astar OK", 0), 0u) << config_output;  // planner.name was read
   EXPECT_EQ(without_times(config_output), without_times(flag_output));
 
   // Flags override: the config's planner and smoothing replaced.
-  const auto [override_code, override_output] = run_to_exit(
-      kPlan, with(query, {"--config", config, "--planner", "vns_bastar", "--no-smooth"}));
+  const auto [override_code, override_output] = run_plan(with(query, {"--config", config, "--planner", "vns_bastar", "--no-smooth"}));
   ASSERT_EQ(override_code, 0) << override_output;
   std::vector<std::string> override_flags = as_flags;
   override_flags[3] = "--no-smooth";
   const auto [oracle_code, oracle_output] =
-      run_to_exit(kPlan, with(with(query, override_flags), {"--planner", "vns_bastar"}));
+      run_plan(with(with(query, override_flags), {"--planner", "vns_bastar"}));
   ASSERT_EQ(oracle_code, 0) << oracle_output;
   EXPECT_EQ(override_output.rfind("vns_bastar OK", 0), 0u) << override_output;
   EXPECT_EQ(without_times(override_output), without_times(oracle_output));
@@ -649,7 +660,7 @@ TEST(VnsbaPlan, AutoIsJpsWithoutCostsAndTheCostAwareChoiceWithThem) {
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = query;
     args.insert(args.end(), extra.begin(), extra.end());
-    return run_to_exit(kPlan, args);
+    return run_plan(args);
   };
   const std::vector<std::string> costs = {"--cost-weight", "2", "--inflation-radius", "2"};
   for (const bool with_costs : {false, true}) {
@@ -679,18 +690,54 @@ TEST(VnsbaPlan, AutoIsJpsWithoutCostsAndTheCostAwareChoiceWithThem) {
   EXPECT_NE(bad_output.find("known: auto,"), std::string::npos) << bad_output;
 }
 
+// Issue 45: the shortest command plans for the node's robot. Without --config vnsba_plan reads
+// default.yaml, as the node does (the oracle: the same file given with --config); --paper plans
+// the paper's setting (the oracle: config/paper.yaml, which spells that setting out), and the two
+// flags together are refused.
+TEST(VnsbaPlan, WithoutConfigPlansAsDefaultYamlAndPaperAsThePaper) {
+  const std::vector<std::string> query = {kRooms,   "--start", "2.5", "2.5",
+                                          "--goal", "29.5",    "13.5"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = query;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_plan_as_given(args);
+  };
+  const auto [bare_code, bare_output] = with({});
+  ASSERT_EQ(bare_code, 0) << bare_output;
+  const auto [default_code, default_output] =
+      with({"--config", kSourceConfigDir + "/default.yaml"});
+  ASSERT_EQ(default_code, 0) << default_output;
+  EXPECT_EQ(without_times(bare_output), without_times(default_output));
+
+  const auto [paper_code, paper_output] = with({"--paper"});
+  ASSERT_EQ(paper_code, 0) << paper_output;
+  const auto [paper_file_code, paper_file_output] =
+      with({"--config", kSourceConfigDir + "/paper.yaml"});
+  ASSERT_EQ(paper_file_code, 0) << paper_file_output;
+  EXPECT_EQ(without_times(paper_output), without_times(paper_file_output));
+  EXPECT_EQ(paper_output.rfind("vns_bastar OK", 0), 0u) << paper_output;
+  // default.yaml's robot plans with costs: another planner (auto's cost-aware choice), so
+  // another line.
+  EXPECT_NE(without_times(bare_output), without_times(paper_output));
+
+  const auto [both_code, both_output] =
+      with({"--paper", "--config", kSourceConfigDir + "/default.yaml"});
+  EXPECT_EQ(both_code, 2) << both_output;
+  EXPECT_NE(both_output.find("--paper"), std::string::npos) << both_output;
+  EXPECT_NE(both_output.find("--config"), std::string::npos) << both_output;
+}
+
 // A bad config is refused with every error the loader finds, each naming its key.
 TEST(VnsbaPlan, BadConfigNamesEveryKey) {
   const std::string config = write_temp_file("plan_bad_config.yaml",
                                              "planner:\n  name: dijkstra\n"
                                              "map:\n  robot_radius: -1\n");
-  const auto [code, output] = run_to_exit(
-      kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config", config});
+  const auto [code, output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config", config});
   EXPECT_EQ(code, 2) << output;
   EXPECT_NE(output.find("planner.name"), std::string::npos) << output;
   EXPECT_NE(output.find("map.robot_radius"), std::string::npos) << output;
   const auto [missing_code, missing_output] =
-      run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config",
+      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config",
                           unreachable_file("none.yaml")});
   EXPECT_EQ(missing_code, 2) << missing_output;
   EXPECT_NE(missing_output.find("none.yaml"), std::string::npos) << missing_output;
@@ -734,7 +781,7 @@ TEST(VnsbaPlan, ScenarioLinesAsWrittenMatchTheirOptima) {
   for (const bool with_map : {true, false}) {
     std::vector<std::string> args = {"--scen", kTinyScen, "--planner", "astar"};
     if (with_map) args.insert(args.begin(), kTinyMap);
-    const auto [code, output] = run_to_exit(kPlan, args);
+    const auto [code, output] = run_plan(args);
     ASSERT_EQ(code, 0) << output;
     for (size_t i = 0; i < scenarios->size(); ++i) {
       const maps::MovingAiScenario& s = (*scenarios)[i];
@@ -764,7 +811,7 @@ TEST(VnsbaPlan, ScenarioLinesAsWrittenMatchTheirOptima) {
 TEST(VnsbaPlan, ScenarioSummaryOfOtherPlannersIsTheLengthRatio) {
   auto scenarios = maps::load_movingai_scenarios(kTinyScen);
   ASSERT_TRUE(scenarios);
-  const auto [code, output] = run_to_exit(kPlan, {kTinyMap, "--scen", kTinyScen});
+  const auto [code, output] = run_plan({kTinyMap, "--scen", kTinyScen});
   ASSERT_EQ(code, 0) << output;
   double sum = 0.0, largest = 0.0;
   for (const maps::MovingAiScenario& s : *scenarios) {
@@ -788,7 +835,7 @@ TEST(VnsbaPlan, ScenIndexRunsOneLine) {
   ASSERT_TRUE(scenarios);
   ASSERT_GE(scenarios->size(), 2u);
   const auto [code, output] =
-      run_to_exit(kPlan, {kTinyMap, "--scen", kTinyScen, "--scen-index", "1", "--planner", "jps"});
+      run_plan({kTinyMap, "--scen", kTinyScen, "--scen-index", "1", "--planner", "jps"});
   ASSERT_EQ(code, 0) << output;
   EXPECT_TRUE(scenario_line(output, (*scenarios)[1].line)) << output;
   EXPECT_FALSE(scenario_line(output, (*scenarios)[0].line)) << output;
@@ -809,7 +856,7 @@ TEST(VnsbaPlan, BadScenarioInputExitsTwoNamingTheOption) {
            Case{{kRooms, "--start", "2", "2", "--goal", "3", "3", "--scen-index", "0"},
                 "--scen-index"},
        }) {
-    const auto [code, output] = run_to_exit(kPlan, c.args);
+    const auto [code, output] = run_plan(c.args);
     EXPECT_EQ(code, 2) << output;
     EXPECT_NE(output.find(c.named), std::string::npos) << c.named << ": " << output;
   }
@@ -820,11 +867,11 @@ TEST(VnsbaPlan, BadScenarioInputExitsTwoNamingTheOption) {
 TEST(VnsbaPlan, RepeatReportsFirstAndMedianTimes) {
   const std::vector<std::string> query = {kRooms,   "--start", "2.5", "2.5",
                                           "--goal", "29.5",    "13.5"};
-  const auto [single_code, single] = run_to_exit(kPlan, query);
+  const auto [single_code, single] = run_plan(query);
   ASSERT_EQ(single_code, 0) << single;
   std::vector<std::string> args = query;
   args.insert(args.end(), {"--repeat", "7"});
-  const auto [code, output] = run_to_exit(kPlan, args);
+  const auto [code, output] = run_plan(args);
   ASSERT_EQ(code, 0) << output;
   EXPECT_EQ(without_times(output), without_times(single));
   EXPECT_EQ(field(output, "repeats"), "7") << output;
@@ -835,8 +882,7 @@ TEST(VnsbaPlan, RepeatReportsFirstAndMedianTimes) {
   EXPECT_GE(std::stoll(*median), 0);
   EXPECT_EQ(field(output, "time_us"), first) << output;  // time_us stays the first plan's
   EXPECT_EQ(field(single, "repeats"), std::nullopt) << single;
-  const auto [bad_code, bad] = run_to_exit(
-      kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--repeat", "0"});
+  const auto [bad_code, bad] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--repeat", "0"});
   EXPECT_EQ(bad_code, 2) << bad;
   EXPECT_NE(bad.find("--repeat"), std::string::npos) << bad;
 }
@@ -853,7 +899,7 @@ TEST(VnsbaPlan, JsonIsARunRecordThatRendersAsTheRun) {
   const std::string json = record_base + ".json";
   const std::string svg = record_base + ".svg";
   const auto [code, output] =
-      run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5",
+      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5",
                           "--robot-radius", "0.4", "--json", json, "--svg", svg});
   ASSERT_EQ(code, 0) << output;
   const auto parsed = nlohmann::json::parse(read_bytes(json), nullptr, false);
@@ -906,7 +952,7 @@ TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
   const std::string picture_base = temp_file("picture");
   const std::string png = picture_base + ".png";
   const std::string svg = picture_base + ".svg";
-  const auto [code, output] = run_to_exit(kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5",
+  const auto [code, output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5",
                                                   "13.5", "--png", png, "--svg", svg});
   ASSERT_EQ(code, 0) << output;
   const std::string bytes = read_bytes(png);
@@ -926,8 +972,7 @@ TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
     // The message names the file or, for --json, the map beside it: the stem is in both.
     const std::string stem = unreachable_file("picture");
     const std::string bad = stem + (std::string(option) == "--png" ? ".png" : ".json");
-    const auto [bad_code, bad_output] = run_to_exit(
-        kPlan, {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", option, bad});
+    const auto [bad_code, bad_output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", option, bad});
     EXPECT_EQ(bad_code, 2) << bad_output;
     EXPECT_NE(bad_output.find(stem), std::string::npos) << bad_output;
     EXPECT_NE(bad_output.find(option), std::string::npos) << bad_output;
