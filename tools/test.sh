@@ -26,6 +26,12 @@
 # left can make a test pass (issue 45), and nothing is left behind. The tests make their own
 # folders inside it (tests/temp_dir.hpp).
 #
+# After each stage's tests, every test ctest skipped gets a line with its reason, taken from its
+# output (ctest itself prints only "Skipped"), and a hint when the third-party data the build reads
+# (VNSBA_DATA_DIR, ../shared/data beside the project) is missing or incomplete (issue 45, item 6):
+#   [test] skipped: MovingAiOptimality.AStarMatchesPublishedOptima: Moving AI data not found at D
+#   [test] the third-party data in D is missing or incomplete ... tools/fetch_data.sh --dest D ...
+#
 # On a failure the script names the stage, the tests that failed and the command that reruns one
 # with its output (with the stage's environment); the last line is always one summary:
 #   [test] all passed: release N tests, sanitizer M tests, in <minutes>m<seconds>s
@@ -74,12 +80,70 @@ trap 'exit 143' TERM
 
 # The run's scratch folder: each test stage's TMPDIR and ctest's output, removed on exit.
 work=$(mktemp -d "${TMPDIR:-/tmp}/vnsba_test.XXXXXX")
+work=$(cd "$work" && pwd)  # absolute: ctest writes its JUnit file relative to the build folder
 
 # The failed tests of ctest's output file $1, one "name (reason)" a line: ctest's own list after
 # "The following tests FAILED:" ("  12 - Suite.Name (Failed)", labels may follow).
 failed_tests() {
   sed -n '/^The following tests FAILED:/,$p' "$1" |
     sed -nE 's/^[[:space:]]*[0-9]+ - (.*) \(([^()]*)\).*$/\1 (\2)/p'
+}
+
+# The tests ctest skipped, from its JUnit file $1, one "name: reason" a line. The reason comes from
+# the test's output: GoogleTest's "file:line: Skipped" and the message under it (GTEST_SKIP), a
+# script's "skipped: ..." line (SKIP_RETURN_CODE), else its last line.
+skipped_tests() {
+  awk '
+    function unescape(s) {
+      gsub(/&lt;/, "<", s); gsub(/&gt;/, ">", s); gsub(/&quot;/, "\"", s)
+      gsub(/&apos;/, "\047", s); gsub(/&amp;/, "\\&", s)
+      return s
+    }
+    function reason(   i, j, r) {
+      for (i = 1; i <= n; i++) {
+        if (lines[i] !~ /: Skipped$/) continue
+        for (j = i + 1; j <= n && lines[j] != "" && lines[j] !~ /^\[  SKIPPED \]/; j++)
+          r = r (r == "" ? "" : " ") lines[j]
+        if (r != "") return r
+        return "GTEST_SKIP without a message at " substr(lines[i], 1, length(lines[i]) - 9)
+      }
+      for (i = 1; i <= n; i++) if (lines[i] ~ /^skipped: /) return substr(lines[i], 10)
+      for (i = n; i >= 1; i--) if (lines[i] ~ /[^ \t]/) return lines[i]
+      return "(no output)"
+    }
+    /<testcase / {
+      name = $0; sub(/.*<testcase name="/, "", name); sub(/".*/, "", name); name = unescape(name)
+      skipped = 0; n = 0; out = 0
+    }
+    # Skipped by the test itself; other "notrun" tests (no executable, ...) are failures.
+    /<skipped message="SKIP_/ { skipped = 1 }
+    /<system-out>/ { out = 1; sub(/.*<system-out>/, "") }
+    out {
+      line = $0
+      if (sub(/<\/system-out>.*/, "", line)) out = 0
+      lines[++n] = unescape(line)
+      next
+    }
+    /<\/testcase>/ { if (skipped) print name ": " reason() }
+  ' "$1"
+}
+
+# After a stage's tests (build folder $1, ctest's JUnit file $2): each skipped test with its
+# reason, and, if some were skipped and the build's data folder (VNSBA_DATA_DIR in its cache) does
+# not match tools/data_manifest.tsv (tools/fetch_data.sh --check: no network, under a second),
+# how to fetch the data.
+report_skipped() {
+  local dir=$1 junit=$2 skipped data
+  [ -s "$junit" ] || return 0
+  skipped=$(skipped_tests "$junit" || true)
+  [ -n "$skipped" ] || return 0
+  printf '%s\n' "$skipped" | sed 's/^/[test] skipped: /'
+  data=$(sed -n 's/^VNSBA_DATA_DIR:PATH=//p' "$dir/CMakeCache.txt" 2>/dev/null || true)
+  if [ -n "$data" ] && ! bash tools/fetch_data.sh --check --dest "$data" >/dev/null 2>&1; then
+    echo "[test] the third-party data in $data is missing or incomplete" \
+      "(tools/fetch_data.sh --check --dest $data names the files): tests that read it skip;" \
+      "fetch it with tools/fetch_data.sh --dest $data (docs/benchmarks.md, \"The data\")"
+  fi
 }
 
 # A ctest -R expression matching test name $1 only.
@@ -94,14 +158,15 @@ exact_regex() {
 run_tests() {
   local name=$1 dir=$2
   shift 2
-  local tmp="$work/$name.tmp" out="$work/$name.out" status=0
+  local tmp="$work/$name.tmp" out="$work/$name.out" junit="$work/$name.junit.xml" status=0
   mkdir "$tmp"
   # ctest writes it on a failure only: an old one would name tests of an earlier run.
   rm -f "$dir/Testing/Temporary/LastTestsFailed.log"
   # tee -i: on Ctrl-C tee copies on until ctest has stopped; a tee gone first would end ctest with
   # SIGPIPE in the middle of what it writes.
-  env ${stage_env[@]+"${stage_env[@]}"} TMPDIR="$tmp" ctest --test-dir "$dir" "$@" 2>&1 |
-    tee -i "$out" || status=$?
+  env ${stage_env[@]+"${stage_env[@]}"} TMPDIR="$tmp" ctest --test-dir "$dir" \
+    --output-junit "$junit" "$@" 2>&1 | tee -i "$out" || status=$?
+  report_skipped "$dir" "$junit"
   local count
   count=$(grep -Eo 'tests? failed out of [0-9]+' "$out" | grep -Eo '[0-9]+$' | tail -n 1 || true)
   printf -v "${name}_count" '%s' "${count:-0}"
