@@ -1,6 +1,16 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages this project needs, only those missing. Idempotent: a second
-# run installs nothing and makes no network access. Run as root (or with sudo available).
+# Installs the packages this project needs, only those missing. Idempotent: a second run installs
+# nothing and makes no network access. Run as root (or with sudo available).
+#
+# The distribution comes from /etc/os-release (issue 45, item 5):
+#   Debian 12 (bookworm): what CI builds and tests on.
+#   Ubuntu 24.04 (noble): every package under the same name (the DDS, OctoMap, CLI11, benchmark
+#     and JSON ones looked up on packages.ubuntu.com; most are in universe), in other versions
+#     (Fast DDS 2.11 instead of 2.9, Cyclone DDS 0.10.4, GCC 13): not tested. A package apt cannot
+#     find stops the script, by name, before anything is installed.
+#   Anything else: the list of Debian 12 packages it needs, and exit 1. Install their equivalents
+#     yourself, then run tools/test.sh or tools/demo.sh with VNSBA_BOOTSTRAP=skip.
+# docs/platforms.md says what is known of each.
 set -euo pipefail
 
 packages=(
@@ -13,6 +23,42 @@ packages=(
   openssl libssl-dev
   cyclonedds-dev cyclonedds-tools fastdds-tools
 )
+
+if [ "${VNSBA_BOOTSTRAP:-}" = skip ]; then
+  echo "[bootstrap] skipped (VNSBA_BOOTSTRAP=skip): the ${#packages[@]} packages are up to you"
+  exit 0
+fi
+
+os_id="" os_version="" os_name="an unknown distribution (no /etc/os-release)"
+if [ -r /etc/os-release ]; then
+  # shellcheck disable=SC1091  # the system's file
+  os_id=$(. /etc/os-release && echo "${ID:-}")
+  # shellcheck disable=SC1091
+  os_version=$(. /etc/os-release && echo "${VERSION_ID:-}")
+  # shellcheck disable=SC1091
+  os_name=$(. /etc/os-release && echo "${PRETTY_NAME:-$os_id $os_version}")
+fi
+
+case "$os_id:$os_version" in
+  debian:12) ;;
+  ubuntu:24.04)
+    # Every package has the same name as on Debian 12. Not tested there: say so once.
+    echo "[bootstrap] $os_name: Ubuntu 24.04's packages under Debian 12's names; this platform" \
+      "is not tested (docs/platforms.md)"
+    ;;
+  *)
+    {
+      echo "[bootstrap] $os_name is not supported: this script installs the packages of"
+      echo "[bootstrap] Debian 12 (and Ubuntu 24.04). The build needs, by Debian 12's names:"
+      printf '%s\n' "${packages[@]}" | paste -sd' ' | fold -s -w 90 |
+        sed 's/ *$//; s/^/[bootstrap]   /'
+      echo "[bootstrap] Install their equivalents (Fast DDS 2.x with fastddsgen, Cyclone DDS 0.10"
+      echo "[bootstrap] for the interop tests), then run tools/test.sh or tools/demo.sh with"
+      echo "[bootstrap] VNSBA_BOOTSTRAP=skip. See docs/platforms.md."
+    } >&2
+    exit 1
+    ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do
@@ -34,5 +80,27 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
+
+# A package the configured sources do not have stops here, by name, rather than in apt-get's
+# error halfway through.
+unavailable=()
+for p in "${missing[@]}"; do
+  candidate=$(apt-cache policy "$p" 2>/dev/null | sed -n 's/^ *Candidate: *//p')
+  if [ -z "$candidate" ] || [ "$candidate" = "(none)" ]; then
+    unavailable+=("$p")
+  fi
+done
+if [ ${#unavailable[@]} -gt 0 ]; then
+  {
+    echo "[bootstrap] not available from this machine's apt sources: ${unavailable[*]}"
+    if [ "$os_id" = ubuntu ]; then
+      echo "[bootstrap] On Ubuntu most of them are in the universe component:" \
+        "sudo add-apt-repository universe, then run this script again."
+    fi
+    echo "[bootstrap] Nothing was installed. docs/platforms.md says what the build needs them for."
+  } >&2
+  exit 1
+fi
+
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 echo "[bootstrap] done"
