@@ -169,72 +169,20 @@ for bin in "$node_bin" "$slicer_bin" "$recorder_bin" "$send_goal_bin"; do
 done
 
 # --- Processes: started in the background, stopped on every exit --------------------------------
-declare -A pid_of=()   # name -> pid, while running
-declare -A exit_of=()  # name -> exit code, once stopped
-
-is_running() {  # PID: alive and not a zombie waiting to be reaped
-  local state
-  [ -r "/proc/$1/stat" ] || return 1
-  state=$(sed 's/^.*) //' "/proc/$1/stat" 2>/dev/null | cut -d' ' -f1) || return 1
-  [ -n "$state" ] && [ "$state" != Z ]
-}
-
-start() {  # NAME BINARY ARGS...: output to $logs/NAME.log
-  local name="$1"
-  shift
-  "$@" >"$logs/$name.log" 2>&1 &
-  pid_of[$name]=$!
-}
-
-# Stops NAME: SIGINT (each tool drains, writes what it holds and exits 0), SIGKILL after
-# TIMEOUT seconds. Records the exit code in exit_of.
-stop() {  # NAME [TIMEOUT]
-  local name="$1" timeout="${2:-10}" pid="${pid_of[$1]:-}" tenths=0 code=0
-  [ -n "$pid" ] || return 0
-  kill -INT "$pid" 2>/dev/null || true
-  while is_running "$pid" && [ "$tenths" -lt $((timeout * 10)) ]; do
-    sleep 0.1
-    tenths=$((tenths + 1))
-  done
-  if is_running "$pid"; then
-    echo "[demo] $name did not stop within $timeout s: killing it" >&2
-    kill -KILL "$pid" 2>/dev/null || true
-  fi
-  wait "$pid" 2>/dev/null || code=$?
-  exit_of[$name]=$code
-  unset "pid_of[$name]"
-}
+say() { echo "[demo] $*" >&2; }
+# shellcheck source=tools/lib/processes.sh
+source tools/lib/processes.sh
 
 cleanup() {
   local code=$?
   trap - EXIT INT TERM
-  local name
-  [ "${#pid_of[@]}" -eq 0 ] || echo "[demo] stopping ${!pid_of[*]}" >&2
-  for name in recorder slicer node; do
-    [ -z "${pid_of[$name]:-}" ] || stop "$name" 5
-  done
+  [ "${#pid_of[@]}" -eq 0 ] || say "stopping ${!pid_of[*]}"
+  proc_stop_all recorder slicer node
   exit "$code"
 }
 trap cleanup EXIT
 trap 'exit 130' INT
 trap 'exit 143' TERM
-
-# Waits until NAME's log contains TEXT; fails if NAME exits first or after TIMEOUT seconds.
-wait_for_log() {  # NAME TEXT TIMEOUT
-  local name="$1" text="$2" timeout="$3" tenths=0
-  until grep -qF -- "$text" "$logs/$name.log" 2>/dev/null; do
-    if ! is_running "${pid_of[$name]}"; then
-      tail -n 20 "$logs/$name.log" >&2
-      fail "$name exited before '$text' (log: $logs/$name.log)"
-    fi
-    if [ "$tenths" -ge $((timeout * 10)) ]; then
-      tail -n 20 "$logs/$name.log" >&2
-      fail "no '$text' from $name within $timeout s (log: $logs/$name.log)"
-    fi
-    sleep 0.1
-    tenths=$((tenths + 1))
-  done
-}
 
 # Runs of an earlier demo must not pass for this one's.
 for goal in "${goals[@]}"; do
