@@ -79,6 +79,7 @@
 #include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/maps/world_text.hpp"
 #include "vnsba/node/command_line.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/status_codes.hpp"
@@ -131,12 +132,9 @@ core::Expected<Endpoint> to_endpoint(const core::GridMap& map, const std::vector
   if (const auto cell = map.world_to_cell(xy[0], xy[1])) return Endpoint{*cell, point};
   const bool far = !(std::abs(point.x()) <= kFarCells && std::abs(point.y()) <= kFarCells);
   if (!outside_ok || far) {
-    char bounds[160];
-    std::snprintf(bounds, sizeof bounds, "[%g, %g] x [%g, %g] m", map.origin_x(),
-                  map.origin_x() + map.width() * map.resolution(), map.origin_y(),
-                  map.origin_y() + map.height() * map.resolution());
     return core::Status::error(core::StatusCode::kInvalidRequest,
-                               option + " is outside the map " + bounds +
+                               maps::describe_position(option, xy[0], xy[1]) +
+                                   " is outside the map " + maps::describe_world_bounds(map) +
                                    (option == "--goal" && !outside_ok
                                         ? " (with --goal-tolerance, the plan goes to the nearest "
                                           "free cell within it)"
@@ -366,6 +364,7 @@ void print_result_line(const core::PlanResult& result, const std::vector<int64_t
                 static_cast<long long>(std::llround(median)));
   }
   std::printf("\n");
+  std::fflush(stdout);  // the line before its message, also when both go to one pipe
   if (!result.status.is_ok()) std::fprintf(stderr, "%s\n", result.status.message.c_str());
 }
 
@@ -859,6 +858,11 @@ int main(int argc, char** argv) {
     result = planner.plan(query, options);
     times_us.push_back(result.metrics.planning_time_us);
   }
+  // Core names the goal's cell; given in metres, the message gives the point and the map in
+  // metres, as the node's does.
+  if (result.status.code == core::StatusCode::kGoalOutsideMap && !cells)
+    result.status.message =
+        maps::goal_outside_message(*map, goal[0], goal[1], options.goal_tolerance);
   print_result_line(result, times_us, repeat_flag->count() > 0);
   std::fflush(stdout);
   if (!write_outputs(out, map_path, *grid, build, map, query, result)) return kBadInput;

@@ -401,7 +401,7 @@ node::ActionGoalSpec action_goal(const GoalRequest& request, const std::string& 
 // The goal as an action goal through `kind`'s server. Returns the exit code.
 int run_action(node::Participant& bus, const node::NodeConfig& config, node::ActionKind kind,
                node::WireMapping mapping, const GoalRequest& request,
-               std::optional<double> cancel_after, Budget& budget) {
+               std::optional<double> cancel_after, int min_servers, Budget& budget) {
   const bool to_pose = kind == node::ActionKind::kComputePathToPose;
   const std::string action_name =
       node::ros_topic_name(config, to_pose ? config.topics.compute_path_to_pose
@@ -422,7 +422,7 @@ int run_action(node::Participant& bus, const node::NodeConfig& config, node::Act
 
   bool matched = false;
   while (!matched && !budget.expired() && !budget.interrupted())
-    matched = client->wait_for_server(budget.slice(kPollStep));
+    matched = client->wait_for_server(budget.slice(kPollStep), min_servers);
   if (!matched) {
     if (budget.stopped_by_signal())
       spdlog::error("interrupted before a {} server matched: nothing was sent", action_type);
@@ -516,8 +516,22 @@ int run_action(node::Participant& bus, const node::NodeConfig& config, node::Act
               render::format_metres(path_length(result->path)).c_str(), result->path.poses().size(),
               std::llround(result->planning_time_s * 1e6));
   const std::string message = node::printable(result->error_msg, 4096);
+  if (client->servers_replied() > 1)
+    spdlog::warn(
+        "{} servers answered on '{}' (domain {}): more than one node serves this action, each "
+        "plans every goal it hears and the first answer was taken; give each node a namespace "
+        "or a domain of its own",
+        client->servers_replied(), action_name, config.domain_id);
   if (result->status != node::GoalState::kSucceeded) {
-    spdlog::warn("{}", message);
+    if (!message.empty())
+      spdlog::warn("{}", message);
+    else if (result->status == node::GoalState::kUnknown)
+      spdlog::warn(
+          "the server does not know goal {} (a result it no longer keeps, or another "
+          "server's answer)",
+          goal);
+    else
+      spdlog::warn("goal {} ended {} with no message", goal, goal_state_name(result->status));
     return kRefused;
   }
   if (!message.empty()) std::fprintf(stderr, "%s\n", message.c_str());
@@ -717,10 +731,10 @@ int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
                  "seconds to wait for the node and its answer, in (0, 3600]")
       ->capture_default_str();
   app.add_option("--min-readers", min_readers,
-                 "send only once this many request readers matched (the node counts as one)")
+                 "send only once this many request readers matched (the node counts as one; "
+                 "with --action: this many servers)")
       ->check(CLI::Range(1, 1000))
-      ->capture_default_str()
-      ->excludes(action_option);
+      ->capture_default_str();
   app.add_option("--mapping", mapping_name,
                  "with --action: how replies are tied to requests, fastrtps (rmw_fastrtps) or "
                  "cyclonedds (rmw_cyclonedds; the node must answer so: actions.reply_mapping "
@@ -833,7 +847,7 @@ int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
   }
   if (use_action) {
     return run_action(**participant, config, action_kind, mapping, goal_request, cancel_after,
-                      budget);
+                      min_readers, budget);
   }
   return run_plan_request(**participant, config, goal_request, request_id, min_readers, budget);
 }

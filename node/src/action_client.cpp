@@ -50,7 +50,9 @@ class ActionClient::Impl {
   std::map<GoalUuid, GoalState> statuses;               // newest status list, under mutex
   size_t unmatched = 0;                                 // under mutex
   size_t duplicates = 0;                                // under mutex
-  std::array<std::set<int64_t>, 3> answered;            // sequences replied to, under mutex
+  std::set<eprosima::fastrtps::rtps::GuidPrefix_t>
+      servers;                                // participants that replied, under mutex
+  std::array<std::set<int64_t>, 3> answered;  // sequences replied to, under mutex
 
   // Takes the replies of one service; keeps those that answer this client's requests.
   void on_reply(Service service, RawSample&& raw, const dds::SampleInfo& info) {
@@ -66,6 +68,7 @@ class ActionClient::Impl {
     }
     {
       std::lock_guard<std::mutex> lock(mutex);
+      if (sequence >= 0) servers.insert(info.sample_identity.writer_guid().guidPrefix);
       if (sequence < 0)
         ++unmatched;
       else if (!answered[service].insert(sequence).second)
@@ -260,21 +263,21 @@ core::Expected<std::unique_ptr<ActionClient>> ActionClient::create(Participant& 
   return client;
 }
 
-bool ActionClient::wait_for_server(Duration timeout) {
+bool ActionClient::wait_for_server(Duration timeout, int servers) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   auto ready = [&] {
     for (dds::DataWriter* writer : impl_->request_writers)
-      if (matched_readers(writer) == 0) return false;
+      if (matched_readers(writer) < servers) return false;
     for (dds::DataReader* reader : impl_->reply_readers) {
       dds::SubscriptionMatchedStatus matched;
       if (reader->get_subscription_matched_status(matched) != ReturnCode_t::RETCODE_OK ||
-          matched.current_count == 0)
+          matched.current_count < servers)
         return false;
     }
     for (dds::DataReader* reader : {impl_->status_reader, impl_->feedback_reader}) {
       dds::SubscriptionMatchedStatus matched;
       if (reader->get_subscription_matched_status(matched) != ReturnCode_t::RETCODE_OK ||
-          matched.current_count == 0)
+          matched.current_count < servers)
         return false;
     }
     return true;
@@ -371,6 +374,11 @@ void ActionClient::send_raw(ActionService service, const RawSample& payload) {
 size_t ActionClient::duplicate_replies() const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->duplicates;
+}
+
+size_t ActionClient::servers_replied() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->servers.size();
 }
 
 }  // namespace vnsba::node

@@ -211,6 +211,8 @@ class PlannerNode::Impl {
       maps_rejected_{0}, maps_superseded_{0}, plans_ok_{0};
   std::atomic<size_t> queue_peak_{0};
 
+  // The DDS topic of the slices: one map for every robot, under the node's namespace.
+  std::string map_topic() const { return dds_topic_name(cfg_, cfg_.topics.projected_map); }
   std::shared_ptr<const ActiveMap> current_map() const {
     std::lock_guard<std::mutex> lock(map_mutex_);
     return active_map_;
@@ -775,8 +777,9 @@ void PlannerNode::Impl::on_request(Robot& robot, Job job) {
 // The queue's id of an action goal: the action and the goal's id, whatever the namespace (a
 // long namespace once made it longer than a request id may be, and every goal failed).
 std::string action_job_id(const ActionServer& server, const GoalUuid& id) {
-  return std::string(server.kind() == ActionKind::kComputePathToPose ? "compute_path_to_pose"
-                                                                     : "compute_path_through_poses") +
+  return std::string(server.kind() == ActionKind::kComputePathToPose
+                         ? "compute_path_to_pose"
+                         : "compute_path_through_poses") +
          ":" + uuid_text(id);
 }
 
@@ -925,10 +928,11 @@ void PlannerNode::Impl::expire_waiting_for_map(bool all) {
     }
   }
   for (WaitingForMap& waiting : expired) {
-    const std::string why = all && stopping_
-                                ? "node is shutting down before a map arrived"
-                                : fmt::format("no map received within requests.map_wait ({:g} s)",
-                                              static_cast<double>(cfg_.map_wait.count()) / 1000.0);
+    const std::string why =
+        all && stopping_
+            ? "node is shutting down before a map arrived"
+            : fmt::format("no map received within requests.map_wait ({:g} s) on '{}'",
+                          static_cast<double>(cfg_.map_wait.count()) / 1000.0, map_topic());
     const WireStatus status{all && stopping_ ? wire::CANCELED : wire::NO_MAP, why};
     spdlog::warn("request '{}'{}: {} ({})", printable(waiting.job.id), waiting.robot->label(),
                  code_name(status.code), status.message);
@@ -963,7 +967,8 @@ void PlannerNode::Impl::submit(Robot& robot, Job job) {
     }
     map = active_map_;  // arrived meanwhile
   }
-  const ResolvedRequest resolved = resolve_request(job, robot.cfg, map ? map->grid.get() : nullptr);
+  const ResolvedRequest resolved =
+      resolve_request(job, robot.cfg, map ? map->grid.get() : nullptr, map_topic());
   if (!resolved.status.ok()) {
     if (job.action) job.action->invalid_planner = resolved.invalid_planner;
     spdlog::warn("request '{}'{}: {} ({})", printable(job.id), robot.label(),
@@ -1353,7 +1358,7 @@ PlannerNode::Impl::Leg PlannerNode::Impl::plan_leg(Robot& robot, Job& job, const
                                                    size_t worker) {
   Leg leg;
   // Checked again: the map may have changed since the request arrived.
-  ResolvedRequest resolved = resolve_request(job, robot.cfg, map.grid.get());
+  ResolvedRequest resolved = resolve_request(job, robot.cfg, map.grid.get(), map_topic());
   leg.planner_name = resolved.planner_name;
   if (!resolved.status.ok()) {
     if (job.action) job.action->invalid_planner = resolved.invalid_planner;
@@ -1417,7 +1422,9 @@ void PlannerNode::Impl::handle(Robot& robot, Job& job, std::shared_ptr<const Act
   if (!interrupted.empty()) return reject({wire::CANCELED, interrupted});
   if (job.action) job.action->server->execute(job.action->goal_id);
   map = current_map();
-  if (!map) return reject({wire::NO_MAP, "no map has been accepted yet"});
+  if (!map)
+    return reject(
+        {wire::NO_MAP, "no map has been accepted yet (slices arrive on '" + map_topic() + "')"});
 
   Leg leg = plan_leg(robot, job, *map, worker);
   if (!leg.planned) return reject(leg.status, leg.planner_name, map->stamp);

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "vnsba/core/path_poses.hpp"
+#include "vnsba/maps/world_text.hpp"
 
 namespace vnsba::node {
 
@@ -15,18 +16,6 @@ namespace {
 std::string too_long(const char* field, size_t bytes, size_t limit) {
   return std::string(field) + ": " + std::to_string(bytes) + " bytes, longer than the limit of " +
          std::to_string(limit) + " bytes";
-}
-
-// Metres to the millimetre, as map bounds are given; %g beyond 1e9 m, so that any magnitude
-// fits (a fixed 96-byte buffer once cut 1e300 off mid-number).
-std::string metres(double v) {
-  char text[64];
-  std::snprintf(text, sizeof(text), std::abs(v) < 1e9 ? "%.3f" : "%.6g", v);
-  return text;
-}
-
-std::string format_position(const char* which, double x, double y) {
-  return std::string(which) + " (" + metres(x) + ", " + metres(y) + ") m";
 }
 
 // A setting as a user typed it: 0.3, 100 (not 0.300).
@@ -45,21 +34,14 @@ double distance_to_map(const core::GridMap& map, double x, double y) {
   return std::hypot(dx, dy);
 }
 
-std::string describe_world_bounds(const core::GridMap& map) {
-  const Eigen::Vector2d lo = map.grid_to_world({0, 0});
-  const Eigen::Vector2d hi = map.grid_to_world({double(map.width()), double(map.height())});
-  return "[" + metres(lo.x()) + ", " + metres(hi.x()) + "] x [" + metres(lo.y()) + ", " +
-         metres(hi.y()) + "] m";
-}
-
 }  // namespace
 
 std::string echoed_id(const std::string& id) {
   return id.size() <= kMaxIdBytes ? id : id.substr(0, kMaxIdBytes);
 }
 
-ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
-                                const core::GridMap* map) {
+ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map,
+                                const std::string& map_topic) {
   ResolvedRequest out;
   auto fail = [&](uint8_t code, std::string message) {
     out.status = {code, std::move(message)};
@@ -98,8 +80,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
     out.invalid_planner = true;
     std::string known = core::accepted_planner_names();
     for (const auto& [name, target] : config.planner.aliases) known += ", " + name;
-    return fail(wire::INVALID_REQUEST, "planner: unknown planner '" + printable(job.planner) +
-                                           "' (known: " + known + ")");
+    return fail(wire::INVALID_REQUEST,
+                "planner: unknown planner '" + printable(job.planner) + "' (known: " + known + ")");
   }
   out.planner_name = std::string(core::to_string(out.options.planner));
   // jps plans on uniform costs only (its jump rules need every move of a kind to cost the same).
@@ -127,21 +109,22 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
   const PoseCheck goal = check_pose(job.goal, "goal", config.frame_id);
   if (!goal.status.ok()) return fail(goal.status.code, goal.status.message);
   if (map == nullptr) {
-    return fail(wire::NO_MAP, "no map has been accepted yet (slices arrive on '" +
-                                  dds_topic_name(config, config.topics.projected_map) + "')");
+    return fail(
+        wire::NO_MAP,
+        "no map has been accepted yet (slices arrive on '" +
+            (map_topic.empty() ? dds_topic_name(config, config.topics.projected_map) : map_topic) +
+            "')");
   }
   const auto start_cell = map->world_to_cell(start.x, start.y);
   if (!start_cell) {
-    return fail(wire::START_OUTSIDE_MAP, format_position("start", start.x, start.y) +
-                                             " is outside the map " + describe_world_bounds(*map));
+    return fail(wire::START_OUTSIDE_MAP, maps::describe_position("start", start.x, start.y) +
+                                             " is outside the map " +
+                                             maps::describe_world_bounds(*map));
   }
   const double goal_tolerance = out.options.goal_tolerance;
   auto goal_outside = [&] {
-    std::string message = format_position("goal", goal.x, goal.y) + " is outside the map " +
-                          describe_world_bounds(*map);
-    if (goal_tolerance > 0.0)
-      message += "; no free cell within goal_tolerance " + short_number(goal_tolerance) + " m";
-    return fail(wire::GOAL_OUTSIDE_MAP, message);
+    return fail(wire::GOAL_OUTSIDE_MAP,
+                maps::goal_outside_message(*map, goal.x, goal.y, goal_tolerance));
   };
   const core::Point2 goal_point = map->world_to_grid(goal.x, goal.y);
   std::optional<core::Cell> goal_cell = map->world_to_cell(goal.x, goal.y);
@@ -156,8 +139,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config,
     constexpr double kMaxCellIndex = 1e9;
     if (!(std::abs(goal_point.x()) < kMaxCellIndex && std::abs(goal_point.y()) < kMaxCellIndex)) {
       return fail(wire::GOAL_OUTSIDE_MAP,
-                  format_position("goal", goal.x, goal.y) + " is outside the map " +
-                      describe_world_bounds(*map) + ", more than 1e9 cells of " +
+                  maps::describe_position("goal", goal.x, goal.y) + " is outside the map " +
+                      maps::describe_world_bounds(*map) + ", more than 1e9 cells of " +
                       short_number(map->resolution()) + " m away (beyond a cell index)");
     }
     goal_cell = core::Cell{static_cast<int32_t>(std::floor(goal_point.x())),

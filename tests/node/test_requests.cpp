@@ -137,6 +137,17 @@ TEST(ResolveRequest, EveryCheckNamesItsField) {
     EXPECT_NE(r.status.message.find(c.words), std::string::npos)
         << c.job.id << ": " << r.status.message;
   }
+  // NO_MAP names the topic the slices arrive on: the config's, or the one the node gives (a
+  // fleet's robot has a namespace of its own, the map is the node's).
+  const auto no_map = node::resolve_request(job("m", 0.5, 0.5, 8.5, 0.5), cfg, nullptr);
+  EXPECT_NE(
+      no_map.status.message.find("'" + node::dds_topic_name(cfg, cfg.topics.projected_map) + "'"),
+      std::string::npos)
+      << no_map.status.message;
+  const auto fleet_no_map =
+      node::resolve_request(job("m", 0.5, 0.5, 8.5, 0.5), cfg, nullptr, "rt/site2/projected_map");
+  EXPECT_NE(fleet_no_map.status.message.find("'rt/site2/projected_map'"), std::string::npos)
+      << fleet_no_map.status.message;
   const auto ok = node::resolve_request(job("ok", 0.5, 0.5, 8.5, 4.5), cfg, &map);
   ASSERT_TRUE(ok.status.ok()) << ok.status.message;
   EXPECT_EQ(ok.query.start, (core::Cell{0, 0}));

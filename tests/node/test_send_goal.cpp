@@ -549,6 +549,30 @@ TEST_F(SendGoalAction, AnInterruptedGoalIsCanceledFirst) {
   EXPECT_FALSE(find_action_line(output)) << output;
 }
 
+// Two nodes serving one action on one domain (issue 45): each hears and plans every goal, the
+// client takes the first answer; the tool says that two servers answered and what to do, never
+// a bare status with an empty warning. --min-readers 2 waits for both servers, so that both
+// answer. The second node has no map: whichever answers first, the goal ends (SUCCEEDED from the
+// first, ABORTED NO_MAP from the second), and the warning names both.
+TEST_F(SendGoalAction, TwoServersOnOneDomainAreNamed) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node("sga_two"));
+  node::NodeConfig second = config_;
+  second.map_wait = std::chrono::milliseconds(0);
+  node::PlannerNode other(second);
+  ASSERT_TRUE(other.start().is_ok());
+  std::vector<std::string> args = action_args("to_pose", {0.55, 0.55}, {{3.55, 0.55}});
+  args.insert(args.end(), {"--min-readers", "2"});
+  const auto [code, output] = run_to_exit(kSendGoal, args);
+  other.stop();
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << "no result line in:\n" << output;
+  EXPECT_NE(output.find("2 servers answered on '"), std::string::npos) << output;
+  EXPECT_NE(output.find("more than one node serves this action"), std::string::npos) << output;
+  // No warning line without words after its level.
+  EXPECT_EQ(output.find("[warning] \n"), std::string::npos) << output;
+  EXPECT_TRUE(code == 0 || code == 1) << output;
+}
+
 TEST(SendGoalWithoutNode, NoAnswerExitsThreeWithinTheWait) {
   const node::NodeConfig cfg = test_config("sg_nobody");
   const std::string path = write_temp_file("sg_nobody.yaml", config_yaml(cfg));
@@ -658,7 +682,7 @@ TEST(SendGoalArguments, BadActionFlagsExitTwoNamingTheFlag) {
           {{"--action", "--cancel-after", "-1", "--goal", "1", "1"}, "--cancel-after"},
           {{"--action", "--cancel-after", "nan", "--goal", "1", "1"}, "--cancel-after"},
           {{"--action", "--id", "x", "--goal", "1", "1"}, "--id"},
-          {{"--action", "--min-readers", "2", "--goal", "1", "1"}, "--min-readers"},
+          {{"--action", "--min-readers", "0", "--goal", "1", "1"}, "--min-readers"},
           {{"--action", "--goal", "1", "1", "--goal", "2", "2"}, "--goal: 2 goals"},
           {{"--start", "0", "0", "--goal", "1", "1", "--goal", "2", "2"}, "--goal: 2 goals"},
           {{"--action", "through_poses", "--goal", "1", "1", "2"}, "--goal: 3 numbers"},

@@ -125,7 +125,8 @@ TEST(VnsbaPlan, PlansAndDrawsTheRun) {
 }
 
 TEST(VnsbaPlan, CellsAndOtherPlanners) {
-  const auto [code, output] = run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--planner", "astar"});
+  const auto [code, output] = run_plan(
+      {kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--planner", "astar"});
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find("astar OK"), std::string::npos) << output;
 }
@@ -187,8 +188,8 @@ TEST(VnsbaPlan, PlannerFlagsAreSettingsOnTopOfThePlannersPaperConfiguration) {
 TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
   // map_server: a 8-bit P5 image with its YAML (the whole map is checked by the map_io tests).
   const auto [code, output] =
-      run_plan({VNSBA_FIXTURE_DIR "/map_server/p5_8bit.yaml", "--cells", "--start", "0",
-                          "0", "--goal", "0", "0", "--planner", "astar"});
+      run_plan({VNSBA_FIXTURE_DIR "/map_server/p5_8bit.yaml", "--cells", "--start", "0", "0",
+                "--goal", "0", "0", "--planner", "astar"});
   EXPECT_TRUE(code == 0 || code == 1) << output;  // a plan ran: OK or a planner status
   EXPECT_NE(output.find("astar "), std::string::npos) << output;
 
@@ -197,9 +198,8 @@ TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
   const std::string svg = temp_file("plan_bt") + ".svg";
   // A band at hip height, both ends in the building's long corridor would need the map: just
   // require the slice to load and a planner answer with a picture of the map.
-  const auto [bt_code, bt_output] =
-      run_plan({bt, "--z-min", "0.3", "--z-max", "1.2", "--start", "0", "0", "--goal",
-                          "1", "1", "--svg", svg});
+  const auto [bt_code, bt_output] = run_plan({bt, "--z-min", "0.3", "--z-max", "1.2", "--start",
+                                              "0", "0", "--goal", "1", "1", "--svg", svg});
   EXPECT_TRUE(bt_code == 0 || bt_code == 1) << bt_output;
   tinyxml2::XMLDocument doc;
   ASSERT_EQ(doc.LoadFile(svg.c_str()), tinyxml2::XML_SUCCESS);
@@ -214,8 +214,7 @@ TEST(VnsbaPlan, ReadsMapServerAndOctoMapFiles) {
 TEST(VnsbaPlan, BoundsPlanOnAPartOfATreeTooLargeToSliceWhole) {
   const std::string bt = VNSBA_DATA_DIR "/octomap/simple.bt";
   if (!std::ifstream(bt)) GTEST_SKIP() << bt << " is absent (third-party data beside the project)";
-  const auto [whole_code, whole] =
-      run_plan({bt, "--start", "0", "0", "--goal", "1", "1"});
+  const auto [whole_code, whole] = run_plan({bt, "--start", "0", "0", "--goal", "1", "1"});
   EXPECT_EQ(whole_code, 2) << whole;
   for (const std::string& part : {bt + ": the slice would have ", std::string("--bounds"),
                                   std::string("--resolution"), std::string("the tree's extent")})
@@ -419,16 +418,16 @@ TEST(VnsbaPlan, CostOptionsAreTheMapBuildAndPlannerSettings) {
   const std::string expected = printed_line(costly, query, core::PlannerKind::kVnsBaStar, settings);
   ASSERT_NE(expected.find(" OK "), std::string::npos) << expected;
   EXPECT_NE(expected, printed_line(plain, query, core::PlannerKind::kVnsBaStar, {}));
-  const auto [code, output] = run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--inflation-radius",
-              "4", "--cost-scaling-factor", "0.5", "--cost-weight", "20"});
+  const auto [code, output] =
+      run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "29", "13", "--inflation-radius",
+                "4", "--cost-scaling-factor", "0.5", "--cost-weight", "20"});
   ASSERT_EQ(code, 0) << output;
   EXPECT_NE(output.find(expected), std::string::npos) << "expected: " << expected << "\n" << output;
 }
 
 // clearance_m comes right after length_m: positive metres on a map with walls, inf without any.
 TEST(VnsbaPlan, PrintsTheClearance) {
-  const auto [code, output] =
-      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5"});
+  const auto [code, output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5"});
   ASSERT_EQ(code, 0) << output;
   const auto clearance = field(output, "clearance_m");
   ASSERT_TRUE(clearance) << output;
@@ -502,7 +501,8 @@ TEST(VnsbaPlan, PosesAreAtMostTheSpacingApartWithTheTangentAsYaw) {
     EXPECT_NEAR(length, std::stod(*length_m), 1e-3 + 1e-5 * static_cast<double>(poses.size()));
   }
   // A failed plan leaves an empty file (no stale poses of an earlier run).
-  const auto [code, output] = run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "0", "0", "--poses", poses_file});
+  const auto [code, output] =
+      run_plan({kRooms, "--cells", "--start", "2", "2", "--goal", "0", "0", "--poses", poses_file});
   EXPECT_EQ(code, 1) << output;
   EXPECT_TRUE(read_poses(poses_file).empty());
   std::remove(poses_file.c_str());
@@ -554,7 +554,11 @@ TEST(VnsbaPlan, GoalToleranceBringsAGoalOutsideTheMapIn) {
   const std::vector<std::string> args = {kRooms, "--start", "2.5", "2.5", "--goal", "33", "5.5"};
   const auto [outside_code, outside] = run_plan(args);
   EXPECT_EQ(outside_code, 2) << outside;
-  EXPECT_NE(outside.find("--goal is outside the map"), std::string::npos) << outside;
+  // In metres, as given, with the map's rectangle: rooms_32 is 32 x 16 cells of 1 m at (0, 0).
+  EXPECT_NE(outside.find("--goal (33.000, 5.500) m is outside the map [0.000, 32.000] x "
+                         "[0.000, 16.000] m"),
+            std::string::npos)
+      << outside;
   EXPECT_NE(outside.find("--goal-tolerance"), std::string::npos) << outside;
 
   std::vector<std::string> tolerant = args;
@@ -568,6 +572,12 @@ TEST(VnsbaPlan, GoalToleranceBringsAGoalOutsideTheMapIn) {
   const auto [far_code, far] = run_plan(tolerant);
   EXPECT_EQ(far_code, 1) << far;
   EXPECT_NE(far.find("GOAL_OUTSIDE_MAP"), std::string::npos) << far;
+  // Metres, as the node words it (core's message names the cell), never cells.
+  EXPECT_NE(far.find("goal (33.000, 5.500) m is outside the map [0.000, 32.000] x "
+                     "[0.000, 16.000] m; no free cell within goal_tolerance 1 m"),
+            std::string::npos)
+      << far;
+  EXPECT_EQ(far.find("cells)"), std::string::npos) << far;
 }
 
 // --start-tolerance moves a start blocked by inflation only (--robot-radius) to a free cell.
@@ -640,7 +650,8 @@ TEST(VnsbaPlan, ConfigKeysPlanAsTheSameFlags) {
   EXPECT_EQ(without_times(config_output), without_times(flag_output));
 
   // Flags override: the config's planner and smoothing replaced.
-  const auto [override_code, override_output] = run_plan(with(query, {"--config", config, "--planner", "vns_bastar", "--no-smooth"}));
+  const auto [override_code, override_output] =
+      run_plan(with(query, {"--config", config, "--planner", "vns_bastar", "--no-smooth"}));
   ASSERT_EQ(override_code, 0) << override_output;
   std::vector<std::string> override_flags = as_flags;
   override_flags[3] = "--no-smooth";
@@ -732,13 +743,14 @@ TEST(VnsbaPlan, BadConfigNamesEveryKey) {
   const std::string config = write_temp_file("plan_bad_config.yaml",
                                              "planner:\n  name: dijkstra\n"
                                              "map:\n  robot_radius: -1\n");
-  const auto [code, output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config", config});
+  const auto [code, output] =
+      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config", config});
   EXPECT_EQ(code, 2) << output;
   EXPECT_NE(output.find("planner.name"), std::string::npos) << output;
   EXPECT_NE(output.find("map.robot_radius"), std::string::npos) << output;
   const auto [missing_code, missing_output] =
       run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--config",
-                          unreachable_file("none.yaml")});
+                unreachable_file("none.yaml")});
   EXPECT_EQ(missing_code, 2) << missing_output;
   EXPECT_NE(missing_output.find("none.yaml"), std::string::npos) << missing_output;
   std::remove(config.c_str());
@@ -882,7 +894,8 @@ TEST(VnsbaPlan, RepeatReportsFirstAndMedianTimes) {
   EXPECT_GE(std::stoll(*median), 0);
   EXPECT_EQ(field(output, "time_us"), first) << output;  // time_us stays the first plan's
   EXPECT_EQ(field(single, "repeats"), std::nullopt) << single;
-  const auto [bad_code, bad] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--repeat", "0"});
+  const auto [bad_code, bad] =
+      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--repeat", "0"});
   EXPECT_EQ(bad_code, 2) << bad;
   EXPECT_NE(bad.find("--repeat"), std::string::npos) << bad;
 }
@@ -898,9 +911,8 @@ TEST(VnsbaPlan, JsonIsARunRecordThatRendersAsTheRun) {
   const std::string record_base = temp_file("record");
   const std::string json = record_base + ".json";
   const std::string svg = record_base + ".svg";
-  const auto [code, output] =
-      run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5",
-                          "--robot-radius", "0.4", "--json", json, "--svg", svg});
+  const auto [code, output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5",
+                                        "--robot-radius", "0.4", "--json", json, "--svg", svg});
   ASSERT_EQ(code, 0) << output;
   const auto parsed = nlohmann::json::parse(read_bytes(json), nullptr, false);
   ASSERT_FALSE(parsed.is_discarded());
@@ -952,8 +964,8 @@ TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
   const std::string picture_base = temp_file("picture");
   const std::string png = picture_base + ".png";
   const std::string svg = picture_base + ".svg";
-  const auto [code, output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5",
-                                                  "13.5", "--png", png, "--svg", svg});
+  const auto [code, output] = run_plan(
+      {kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--png", png, "--svg", svg});
   ASSERT_EQ(code, 0) << output;
   const std::string bytes = read_bytes(png);
   ASSERT_GE(bytes.size(), 24u);
@@ -972,7 +984,8 @@ TEST(VnsbaPlan, PngIsThePictureAtTheSvgsSize) {
     // The message names the file or, for --json, the map beside it: the stem is in both.
     const std::string stem = unreachable_file("picture");
     const std::string bad = stem + (std::string(option) == "--png" ? ".png" : ".json");
-    const auto [bad_code, bad_output] = run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", option, bad});
+    const auto [bad_code, bad_output] =
+        run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", option, bad});
     EXPECT_EQ(bad_code, 2) << bad_output;
     EXPECT_NE(bad_output.find(stem), std::string::npos) << bad_output;
     EXPECT_NE(bad_output.find(option), std::string::npos) << bad_output;

@@ -56,7 +56,7 @@ class ActionClient {
 
   // Until the three services' request readers and reply writers and the status and feedback
   // writers of a server are matched (what rclcpp_action's wait_for_action_server checks).
-  bool wait_for_server(Duration timeout);
+  bool wait_for_server(Duration timeout, int servers = 1);
 
   // A fresh random goal id.
   static GoalUuid random_id();
@@ -91,6 +91,10 @@ class ActionClient {
   size_t unmatched_replies() const;
   // Replies to a request that had been answered already (never, from a correct server).
   size_t duplicate_replies() const;
+  // How many servers (DDS participants) replied to this client's requests: more than one when
+  // two nodes serve the action on one domain, each answering every goal it hears (and one that
+  // did not accept a goal answers its get_result UNKNOWN, as rcl_action does).
+  size_t servers_replied() const;
 
  private:
   ActionClient();

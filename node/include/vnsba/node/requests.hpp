@@ -98,7 +98,10 @@ struct ResolvedRequest {
 // robot_pose), both poses (frame, finite), then start and goal against the map: the start inside
 // it (START_OUTSIDE_MAP), the goal inside it or, with planner.goal_tolerance > 0, within that
 // distance of it (GOAL_OUTSIDE_MAP), then core::check_query (blocked cells, tolerances).
-ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map);
+// `map_topic` is the DDS topic the node's slices arrive on, which NO_MAP names (one for every
+// robot of a fleet, under the node's namespace, not the robot's); empty: config's own.
+ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map,
+                                const std::string& map_topic = "");
 
 // The waiting requests and the one being planned. Not thread-safe: the node holds its lock.
 class RequestQueue {
