@@ -39,6 +39,14 @@ if [ -r /etc/os-release ]; then
   os_name=$(. /etc/os-release && echo "${PRETTY_NAME:-$os_id $os_version}")
 fi
 
+# What is missing, by Debian's names, wherever dpkg answers (Debian and its derivatives).
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
 case "$os_id:$os_version" in
   debian:12) ;;
   ubuntu:24.04)
@@ -47,6 +55,13 @@ case "$os_id:$os_version" in
       "is not tested (docs/platforms.md)"
     ;;
   *)
+    # Another system with every package installed (a Debian derivative, a newer Debian): go on,
+    # untested; otherwise say what it needs.
+    if [ ${#missing[@]} -eq 0 ]; then
+      echo "[bootstrap] $os_name: every package present; this platform is not tested" \
+        "(docs/platforms.md)"
+      exit 0
+    fi
     {
       echo "[bootstrap] $os_name is not supported: this script installs the packages of"
       echo "[bootstrap] Debian 12 (and Ubuntu 24.04). The build needs, by Debian 12's names:"
@@ -59,13 +74,6 @@ case "$os_id:$os_version" in
     exit 1
     ;;
 esac
-
-missing=()
-for p in "${packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$p")
-  fi
-done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "[bootstrap] all ${#packages[@]} packages present"

@@ -210,7 +210,6 @@ stage "node: map accepted"
 
 # --- Goals ------------------------------------------------------------------------------------
 stage "sending ${#goals[@]} goals with vnsba_send_goal"
-declare -A got=()  # id -> status name
 failures=0
 for goal in "${goals[@]}"; do
   read -r id planner sx sy gx gy expected <<<"$goal"
@@ -219,15 +218,14 @@ for goal in "${goals[@]}"; do
   line=$("$send_goal_bin" --config "$config" --domain "$domain" --id "demo-$id" \
            --planner "$planner" --start "$sx" "$sy" --goal "$gx" "$gy" --wait 30 \
            --min-readers 2 2>>"$logs/send_goal.log") || code=$?
-  # Ctrl-C (or SIGTERM) reached vnsba_send_goal, which caught it and exited 130 (143): bash runs
-  # no INT trap for a child that caught the signal, so the demo stops here itself.
+  # Ctrl-C (or SIGTERM) reached vnsba_send_goal, which tore DDS down and ended killed by it
+  # (130, 143): bash runs the INT trap then; a TERM that reached the tool alone ends here.
   if [ "$code" -ge 128 ]; then
     echo "[demo] interrupted" >&2
     exit "$code"
   fi
   read -r _ status _ <<<"$line"
   status="${status:-NO_STATUS}"
-  got[$id]="$status"
   verdict="as expected"
   if [ "$status" != "$expected" ]; then
     verdict="EXPECTED $expected (exit code $code)"

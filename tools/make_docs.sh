@@ -31,7 +31,7 @@
 # The blocks show commands with $V and $? as a reader types them, in single quotes.
 # shellcheck disable=SC2016,SC1003
 set -euo pipefail
-root=$(cd "$(dirname "$0")/.." && pwd)
+root=$(cd "$(dirname "$0")/.." && pwd -P)
 cd "$root"
 export LC_ALL=C
 
@@ -84,6 +84,14 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT
 trap 'exit 143' TERM
+
+# The docs show what a plain shell prints: no ROS 2 or Fast DDS settings of the caller's
+# environment (each adds log lines or changes discovery); the domains are given on the command
+# line, and no ./DEFAULT_FASTRTPS_PROFILES.xml is read (SKIP_DEFAULT_XML_FILE, Fast DDS's own).
+unset ROS_DOMAIN_ID ROS_LOCALHOST_ONLY ROS_SECURITY_ENABLE ROS_SECURITY_STRATEGY \
+  ROS_SECURITY_KEYSTORE ROS_SECURITY_ENCLAVE ROS_SECURITY_ENCLAVE_OVERRIDE \
+  FASTRTPS_DEFAULT_PROFILES_FILE ROS_DISCOVERY_SERVER
+export SKIP_DEFAULT_XML_FILE=1
 
 # A DDS domain of its own for each bus session (two sessions in one run differ).
 domain_base=$((100 + $$ % 90))
@@ -158,6 +166,7 @@ close_session() {  # NAME: the node's log kept as $work/NAME/node.log
 send() {  # ARGS...: prints vnsba_send_goal's stdout and, on a failure, its exit code
   local code=0 line
   line=$("$send_goal_bin" --domain "$session_domain" "$@" 2>>"$logs/send_goal.log") || code=$?
+  [ "$code" -lt 128 ] || exit "$code"  # interrupted: nothing half-done is written
   echo "$line"
   echo "$code"
 }

@@ -4,7 +4,7 @@
 //              [--config FILE] [--repeat N] [--json run.json] [--png out.png]
 //              [--z-min A --z-max B] [--resolution R] [--bounds XMIN,YMIN,XMAX,YMAX]
 //                                                       (OctoMap files)
-//              [--allow-unknown] [--robot-radius M] [--occupied-threshold T]
+//              [--allow-unknown] [--inflate-unknown] [--robot-radius M] [--occupied-threshold T]
 //              [--neighborhood 8|8-11-13] [--corner-policy never|touch|always]
 //              [--prune|--no-prune] [--smooth|--no-smooth] [--omega W] [--eta W]
 //              [--inflation-radius M] [--cost-scaling-factor PER_M] [--cost-weight W]
@@ -133,8 +133,7 @@ core::Expected<Endpoint> to_endpoint(const core::GridMap& map, const std::vector
   const bool far = !(std::abs(point.x()) <= kFarCells && std::abs(point.y()) <= kFarCells);
   if (!outside_ok || far) {
     return core::Status::error(core::StatusCode::kInvalidRequest,
-                               maps::describe_position(option, xy[0], xy[1]) +
-                                   " is outside the map " + maps::describe_world_bounds(map) +
+                               maps::outside_map_message(option, map, xy[0], xy[1]) +
                                    (option == "--goal" && !outside_ok
                                         ? " (with --goal-tolerance, the plan goes to the nearest "
                                           "free cell within it)"
@@ -143,12 +142,6 @@ core::Expected<Endpoint> to_endpoint(const core::GridMap& map, const std::vector
   return Endpoint{core::Cell{static_cast<int32_t>(std::floor(point.x())),
                              static_cast<int32_t>(std::floor(point.y()))},
                   point};
-}
-
-std::string metres(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
 }
 
 // Prints why a value given for `flag` is refused and returns false.
@@ -226,11 +219,7 @@ records::RunRecord run_record(const std::string& request_id, const core::GridMap
   ref.resolution = map.resolution();
   ref.origin_x = map.origin_x();
   ref.origin_y = map.origin_y();
-  ref.occupied_threshold = build.occupied_threshold;
-  ref.allow_unknown = build.allow_unknown;
-  ref.robot_radius = build.robot_radius;
-  ref.inflation_radius = build.inflation_radius;
-  ref.cost_scaling_factor = build.cost_scaling_factor;
+  ref.set_build_options(build);
   record.map = ref;
   return record;
 }
@@ -457,6 +446,10 @@ int main(int argc, char** argv) {
                      "occupancy percent at or above which a cell is blocked (1..100)");
   auto* allow_unknown_flag =
       app.add_flag("--allow-unknown", cli.allow_unknown, "plan through unknown cells");
+  auto* inflate_unknown_flag = app.add_flag(
+      "--inflate-unknown", cli.inflate_unknown,
+      "inflate and cost unknown cells like obstacles (map.inflate_unknown; default: they are "
+      "blocked, or free with --allow-unknown, but no inflation source, as in Nav2)");
   auto* robot_radius_flag =
       app.add_option("--robot-radius", cli.robot_radius, "inflate obstacles by this, metres");
   auto* inflation_radius_flag = app.add_option(
@@ -606,6 +599,7 @@ int main(int argc, char** argv) {
       config ? node::planning_grid_options(*config) : core::GridBuildOptions{};
   if (*occupied_threshold_flag) build.occupied_threshold = cli.occupied_threshold;
   if (*allow_unknown_flag) build.allow_unknown = cli.allow_unknown;
+  if (*inflate_unknown_flag) build.inflate_unknown = cli.inflate_unknown;
   if (*robot_radius_flag) build.robot_radius = cli.robot_radius;
   if (*inflation_radius_flag) build.inflation_radius = cli.inflation_radius;
   if (*cost_scaling_flag) build.cost_scaling_factor = cli.cost_scaling_factor;
@@ -650,8 +644,8 @@ int main(int argc, char** argv) {
       ((inflation_radius_flag->count() == 0 && robot_radius_flag->count() == 0) ||
        build.inflation_radius == 0.0 || build.inflation_radius >= build.robot_radius ||
        refuse("--inflation-radius",
-              "0 (no cost gradient) or at least --robot-radius (" + metres(build.robot_radius) +
-                  " metres)",
+              "0 (no cost gradient) or at least --robot-radius (" +
+                  maps::short_number(build.robot_radius) + " metres)",
               build.inflation_radius)) &&
       (cost_scaling_flag->count() == 0 ||
        (std::isfinite(build.cost_scaling_factor) && build.cost_scaling_factor >= 0.0) ||

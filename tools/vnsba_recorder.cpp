@@ -443,12 +443,7 @@ class Recorder {
         ref.origin_x = map->grid.origin_x;
         ref.origin_y = map->grid.origin_y;
         // As the node built its grid (map.cost_source costmap: the costmap's own values).
-        const core::GridBuildOptions grid = node::planning_grid_options(config_);
-        ref.occupied_threshold = grid.occupied_threshold;
-        ref.allow_unknown = grid.allow_unknown;
-        ref.robot_radius = grid.robot_radius;
-        ref.inflation_radius = grid.inflation_radius;
-        ref.cost_scaling_factor = grid.cost_scaling_factor;
+        ref.set_build_options(node::planning_grid_options(config_));
         record.map = ref;
       }
       // The options the node plans with: its config's for the planner the run names (a
@@ -580,7 +575,8 @@ int main(int argc, char** argv) {
   double max_open_mb = kDefaultMaxOpenMb;
   app.add_option("--out", out_dir, "folder for <id>.svg and <id>.json (created if missing)");
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
+  app.add_option("--domain", domain,
+                 "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
   std::optional<std::string> participant_profile;

@@ -44,9 +44,9 @@
 // names the option or key), nothing was sent; 3 no answer: no node (action server) matched or no
 // status (result) came within --wait seconds (no node, wrong domain or topic names); 4 DDS
 // failure (a participant, endpoint or write refused); 130 or 143: SIGINT or SIGTERM came first
-// (128 + the signal, as a shell reports a command the signal killed, so that a script that runs
-// this tool stops on Ctrl-C too: bash runs no INT trap for a child that caught SIGINT and exited
-// otherwise).
+// (the tool tears DDS down, then ends killed by that signal, which a shell reports as 128 + the
+// signal: a script that runs this tool stops on Ctrl-C too, where bash would take a child that
+// caught SIGINT and exited normally as having handled it).
 //
 // Order matters on the bus: the status reader exists and has matched the node's status writer
 // before the request goes out (the reader is volatile, as ROS 2's default; the node holds our
@@ -66,6 +66,7 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
@@ -516,12 +517,12 @@ int run_action(node::Participant& bus, const node::NodeConfig& config, node::Act
               render::format_metres(path_length(result->path)).c_str(), result->path.poses().size(),
               std::llround(result->planning_time_s * 1e6));
   const std::string message = node::printable(result->error_msg, 4096);
-  if (client->servers_replied() > 1)
+  if (client->servers_seen() > 1)
     spdlog::warn(
-        "{} servers answered on '{}' (domain {}): more than one node serves this action, each "
+        "{} servers of '{}' on domain {}: more than one node serves this action, each "
         "plans every goal it hears and the first answer was taken; give each node a namespace "
         "or a domain of its own",
-        client->servers_replied(), action_name, config.domain_id);
+        client->servers_seen(), action_name, config.domain_id);
   if (result->status != node::GoalState::kSucceeded) {
     if (!message.empty())
       spdlog::warn("{}", message);
@@ -858,8 +859,12 @@ int main(int argc, char** argv) {
   // interrupt still tears the participant down cleanly.
   const node::StopSignals stop_signals;
   const int code = send_goal(argc, argv, stop_signals);
+  std::fflush(stdout);  // the answer line is out before a signal may end the process below
   // A signal that came after the answer, while DDS was torn down, ends the process here as the
-  // signal it is (a demo or script that ran us stops too, not only this tool).
+  // signal it is; so does one the run took and stopped for (130, 143). A shell that ran us sees a
+  // command the signal killed and stops its script too (bash takes a child that exited normally
+  // as having handled the interrupt, and goes on).
   stop_signals.release();
+  if (code == 128 + SIGINT || code == 128 + SIGTERM) std::raise(code - 128);
   return code;
 }

@@ -376,9 +376,14 @@ size_t ActionClient::duplicate_replies() const {
   return impl_->duplicates;
 }
 
-size_t ActionClient::servers_replied() const {
+size_t ActionClient::servers_seen() const {
+  size_t matched = 0;
+  dds::SubscriptionMatchedStatus status;
+  if (impl_->reply_readers[kSendGoal]->get_subscription_matched_status(status) ==
+      ReturnCode_t::RETCODE_OK)
+    matched = static_cast<size_t>(std::max(status.current_count, 0));
   std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->servers.size();
+  return std::max(matched, impl_->servers.size());
 }
 
 }  // namespace vnsba::node

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "vnsba/core/path_poses.hpp"
+#include "vnsba/maps/world_text.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/status_codes.hpp"
 
@@ -488,18 +489,12 @@ double min_path_spacing(double resolution) {
 
 std::string describe_adjusted_endpoints(const core::Endpoints& endpoints, const core::GridMap& map,
                                         const core::PlannerOptions& options) {
-  auto fixed = [](double v) {
-    char text[64];
-    std::snprintf(text, sizeof(text), std::abs(v) < 1e9 ? "%.3f" : "%.6g", v);
-    return std::string(text);
-  };
   auto moved = [&](const char* which, const core::Cell& cell, double distance, double tolerance,
                    const char* key) {
     const Eigen::Vector2d c = map.cell_centre_world(cell);
-    char tol[32];
-    std::snprintf(tol, sizeof(tol), "%g", tolerance);
-    return std::string(which) + " moved " + fixed(distance) + " m to the nearest free cell (" +
-           fixed(c.x()) + ", " + fixed(c.y()) + ") m (" + key + " " + tol + " m)";
+    return std::string(which) + " moved " + maps::metres_text(distance) +
+           " m to the nearest free cell (" + maps::metres_text(c.x()) + ", " +
+           maps::metres_text(c.y()) + ") m (" + key + " " + maps::short_number(tolerance) + " m)";
   };
   std::string out;
   if (endpoints.start_adjusted)

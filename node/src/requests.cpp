@@ -18,13 +18,6 @@ std::string too_long(const char* field, size_t bytes, size_t limit) {
          std::to_string(limit) + " bytes";
 }
 
-// A setting as a user typed it: 0.3, 100 (not 0.300).
-std::string short_number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g", v);
-  return text;
-}
-
 // Distance (metres) from (x, y) to the map's rectangle; 0 inside it.
 double distance_to_map(const core::GridMap& map, double x, double y) {
   const Eigen::Vector2d lo = map.grid_to_world({0, 0});
@@ -91,7 +84,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const 
   if (const double configured = out.options.cost_weight;
       core::drop_unsupported_costs(out.options)) {
     out.warning = "warning: " + out.planner_name +
-                  " plans on uniform cell costs: planner.cost_weight " + short_number(configured) +
+                  " plans on uniform cell costs: planner.cost_weight " +
+                  maps::short_number(configured) +
                   " not applied (this is the shortest path, not the cheapest: astar plans the "
                   "cheapest)";
   }
@@ -117,9 +111,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const 
   }
   const auto start_cell = map->world_to_cell(start.x, start.y);
   if (!start_cell) {
-    return fail(wire::START_OUTSIDE_MAP, maps::describe_position("start", start.x, start.y) +
-                                             " is outside the map " +
-                                             maps::describe_world_bounds(*map));
+    return fail(wire::START_OUTSIDE_MAP,
+                maps::outside_map_message("start", *map, start.x, start.y));
   }
   const double goal_tolerance = out.options.goal_tolerance;
   auto goal_outside = [&] {
@@ -138,10 +131,10 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const 
     // resolution below about 1e-7 m, 100 m are more cells than that (the cast would be undefined).
     constexpr double kMaxCellIndex = 1e9;
     if (!(std::abs(goal_point.x()) < kMaxCellIndex && std::abs(goal_point.y()) < kMaxCellIndex)) {
-      return fail(wire::GOAL_OUTSIDE_MAP,
-                  maps::describe_position("goal", goal.x, goal.y) + " is outside the map " +
-                      maps::describe_world_bounds(*map) + ", more than 1e9 cells of " +
-                      short_number(map->resolution()) + " m away (beyond a cell index)");
+      return fail(wire::GOAL_OUTSIDE_MAP, maps::outside_map_message("goal", *map, goal.x, goal.y) +
+                                              ", more than 1e9 cells of " +
+                                              maps::short_number(map->resolution()) +
+                                              " m away (beyond a cell index)");
     }
     goal_cell = core::Cell{static_cast<int32_t>(std::floor(goal_point.x())),
                            static_cast<int32_t>(std::floor(goal_point.y()))};
@@ -160,8 +153,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const 
   if (!out.goal_yaw) {
     const double norm = std::sqrt(q.x() * q.x() + q.y() * q.y() + q.z() * q.z() + q.w() * q.w());
     out.warning += std::string(out.warning.empty() ? "" : "; ") +
-                   "warning: goal orientation ignored: quaternion norm " + short_number(norm) +
-                   " is not 1 (the last pose faces along the path)";
+                   "warning: goal orientation ignored: quaternion norm " +
+                   maps::short_number(norm) + " is not 1 (the last pose faces along the path)";
   }
   return out;
 }

@@ -290,6 +290,7 @@ json skeleton(const RunRecord& r) {
                 {"origin", point({m.origin_x, m.origin_y})},
                 {"occupied_threshold", m.occupied_threshold},
                 {"allow_unknown", m.allow_unknown},
+                {"inflate_unknown", m.inflate_unknown},
                 {"robot_radius", number(m.robot_radius)},
                 {"inflation_radius", number(m.inflation_radius)},
                 {"cost_scaling_factor", number(m.cost_scaling_factor)}};
@@ -463,6 +464,9 @@ core::Expected<RunRecord> run_record_from_json(const json& j,
       map.occupied_threshold =
           static_cast<int>(in.integer(*m, "occupied_threshold", "map", 1, 100));
     map.allow_unknown = in.boolean(*m, "allow_unknown", "map");
+    // Absent (records from before map.inflate_unknown): unknown cells were inflated then.
+    map.inflate_unknown =
+        m->contains("inflate_unknown") ? in.boolean(*m, "inflate_unknown", "map") : true;
     // Absent (older records): no inflation. Null, written for a non-finite value, stays NaN, which
     // check_record refuses.
     const double radius = in.geometry(*m, "robot_radius", "map");

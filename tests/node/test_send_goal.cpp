@@ -550,7 +550,7 @@ TEST_F(SendGoalAction, AnInterruptedGoalIsCanceledFirst) {
 }
 
 // Two nodes serving one action on one domain (issue 45): each hears and plans every goal, the
-// client takes the first answer; the tool says that two servers answered and what to do, never
+// client takes the first answer; the tool says that two servers serve it and what to do, never
 // a bare status with an empty warning. --min-readers 2 waits for both servers, so that both
 // answer. The second node has no map: whichever answers first, the goal ends (SUCCEEDED from the
 // first, ABORTED NO_MAP from the second), and the warning names both.
@@ -566,7 +566,7 @@ TEST_F(SendGoalAction, TwoServersOnOneDomainAreNamed) {
   other.stop();
   const auto line = find_action_line(output);
   ASSERT_TRUE(line) << "no result line in:\n" << output;
-  EXPECT_NE(output.find("2 servers answered on '"), std::string::npos) << output;
+  EXPECT_NE(output.find("2 servers of '"), std::string::npos) << output;
   EXPECT_NE(output.find("more than one node serves this action"), std::string::npos) << output;
   // No warning line without words after its level.
   EXPECT_EQ(output.find("[warning] \n"), std::string::npos) << output;

@@ -125,6 +125,43 @@ TEST(RunRecord, CostGradientRoundTripsAndOlderRecordsHaveNone) {
   EXPECT_EQ(back->map->cost_scaling_factor, core::GridBuildOptions{}.cost_scaling_factor);
 }
 
+// map.inflate_unknown travels with the map reference (a redraw builds the grid the node planned
+// on); a record written before the key existed reads true: unknown cells were inflated then.
+TEST(RunRecord, InflateUnknownRoundTripsAndOlderRecordsInflated) {
+  RunRecord r = full_record();
+  for (const bool inflate : {false, true}) {
+    r.map->inflate_unknown = inflate;
+    const auto back =
+        records::run_record_from_json(nlohmann::json::parse(records::to_json(r).dump()));
+    ASSERT_TRUE(back) << back.error().message;
+    EXPECT_EQ(back->map->inflate_unknown, inflate);
+    EXPECT_EQ(back->map->build_options().inflate_unknown, inflate);
+  }
+  r.map->inflate_unknown = false;
+  nlohmann::json older = records::to_json(r);
+  older["map"].erase("inflate_unknown");
+  const auto back = records::run_record_from_json(older);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_TRUE(back->map->inflate_unknown);
+  // set_build_options is build_options' inverse.
+  records::MapReference ref;
+  core::GridBuildOptions options;
+  options.occupied_threshold = 70;
+  options.allow_unknown = true;
+  options.inflate_unknown = true;
+  options.robot_radius = 0.3;
+  options.inflation_radius = 0.8;
+  options.cost_scaling_factor = 1.5;
+  ref.set_build_options(options);
+  const core::GridBuildOptions again = ref.build_options();
+  EXPECT_EQ(again.occupied_threshold, 70);
+  EXPECT_TRUE(again.allow_unknown);
+  EXPECT_TRUE(again.inflate_unknown);
+  EXPECT_EQ(again.robot_radius, 0.3);
+  EXPECT_EQ(again.inflation_radius, 0.8);
+  EXPECT_EQ(again.cost_scaling_factor, 1.5);
+}
+
 // The clearance: metres, "inf" for a map without obstacles, null for NaN; a record written before
 // it existed reads NaN and still draws (without a clearance in the caption).
 TEST(RunRecord, ClearanceRoundTripsAndOlderRecordsReadNaN) {

@@ -91,10 +91,11 @@ class ActionClient {
   size_t unmatched_replies() const;
   // Replies to a request that had been answered already (never, from a correct server).
   size_t duplicate_replies() const;
-  // How many servers (DDS participants) replied to this client's requests: more than one when
-  // two nodes serve the action on one domain, each answering every goal it hears (and one that
-  // did not accept a goal answers its get_result UNKNOWN, as rcl_action does).
-  size_t servers_replied() const;
+  // How many servers this client has met: the send_goal reply writers matched now, or the DDS
+  // participants that replied, whichever is more. More than one when two nodes serve the action
+  // on one domain, each answering every goal it hears (one that did not accept a goal answers
+  // its get_result UNKNOWN, as rcl_action does).
+  size_t servers_seen() const;
 
  private:
   ActionClient();

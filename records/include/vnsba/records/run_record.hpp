@@ -41,19 +41,32 @@ struct MapReference {
   // gradient (records written before the gradient existed have none).
   int occupied_threshold = 65;
   bool allow_unknown = false;
+  // Unknown cells inflated like obstacles (map.inflate_unknown); records from before the key were
+  // built so and read back as true.
+  bool inflate_unknown = false;
   double robot_radius = 0.0;         // metres
   double inflation_radius = 0.0;     // metres, 0 = no gradient
   double cost_scaling_factor = 3.0;  // per metre
 
-  // How the node built its planning map from the slice (the one conversion of these fields).
+  // How the node built its planning map from the slice (the one conversion of these fields,
+  // both ways).
   core::GridBuildOptions build_options() const {
     core::GridBuildOptions options;
     options.occupied_threshold = occupied_threshold;
     options.allow_unknown = allow_unknown;
+    options.inflate_unknown = inflate_unknown;
     options.robot_radius = robot_radius;
     options.inflation_radius = inflation_radius;
     options.cost_scaling_factor = cost_scaling_factor;
     return options;
+  }
+  void set_build_options(const core::GridBuildOptions& options) {
+    occupied_threshold = options.occupied_threshold;
+    allow_unknown = options.allow_unknown;
+    inflate_unknown = options.inflate_unknown;
+    robot_radius = options.robot_radius;
+    inflation_radius = options.inflation_radius;
+    cost_scaling_factor = options.cost_scaling_factor;
   }
 };
 
