@@ -123,11 +123,17 @@ plan() {  # ARGS...
   (cd "$work/try" && "$plan_bin" "$@" 2>&1) || true
 }
 
-demo_done=0
+# Runs FUNCTION once per run of this script; later calls return at once.
+declare -A ran=()
+once() {  # FUNCTION
+  [ -z "${ran[$1]:-}" ] || return 0
+  ran[$1]=1
+  "$1"
+}
+
 demo_table=""
-run_demo() {
-  [ "$demo_done" = 0 ] || return 0
-  demo_done=1
+run_demo() { once demo; }
+demo() {
   say "running the demo (tools/demo.sh --no-build)"
   local out
   out=$(bash tools/demo.sh --no-build --build-dir "$build_dir" --out "$work/demo" \
@@ -172,10 +178,8 @@ send() {  # ARGS...: prints vnsba_send_goal's stdout and, on a failure, its exit
 }
 
 # The getting-started session on the demo scene (domain 57 in the docs): three requests, the log.
-getting_started_done=0
-run_getting_started() {
-  [ "$getting_started_done" = 0 ] || return 0
-  getting_started_done=1
+run_getting_started() { once getting_started_session; }
+getting_started_session() {
   say "bus session: the getting-started requests on the demo scene"
   open_session getting_started config/scenes/geb079.bt 1
   send --start 2 -6 --goal 16 -6.5 >"$work/getting_started/1"
@@ -190,10 +194,8 @@ gs_line() { run_getting_started; head -n 1 "$work/getting_started/$1.shown"; }
 gs_code() { run_getting_started; tail -n 1 "$work/getting_started/$1.shown"; }
 
 # The tools.md session on the demo scene: a request and a ComputePathToPose action.
-tools_done=0
-run_tools() {
-  [ "$tools_done" = 0 ] || return 0
-  tools_done=1
+run_tools() { once tools_session; }
+tools_session() {
   say "bus session: the tools page's request and action on the demo scene"
   open_session tools config/scenes/geb079.bt 2
   send --start 2 -6 --goal 16 -6.5 >"$work/tools/request"
@@ -202,10 +204,8 @@ run_tools() {
 }
 
 # The Moving AI session (domain 42 in the docs): rooms_32 from the test fixtures.
-rooms_done=0
-run_rooms() {
-  [ "$rooms_done" = 0 ] || return 0
-  rooms_done=1
+run_rooms() { once rooms_session; }
+rooms_session() {
   say "bus session: requests and actions on tests/fixtures/maps/rooms_32.map"
   open_session rooms tests/fixtures/maps/rooms_32.map 3
   send --start 2.5 2.5 --goal 28.5 13.5 >"$work/rooms/request"
