@@ -11,9 +11,12 @@
 # output. docs/demo.svg, the README's picture, is the demo's office_route run as the recorder
 # draws it.
 #
-#   tools/make_docs.sh [--check] [--build-dir DIR] [--docs FILE...]
+#   tools/make_docs.sh [--check] [--build-dir DIR] [--docs FILE...] [--results]
 #
 #   (no flag)        rewrite every block (and docs/demo.svg) from this build's output
+#   --results        first regenerate docs/RESULTS.md and docs/results/ with bench/make_results.sh
+#                    (the benchmarks: minutes; their times differ from run to run, so --check
+#                    never compares them)
 #   --check          write nothing: exit 1 naming every block (and the picture) that differs from
 #                    what this build prints, with a diff; 0 when all match
 #   --build-dir DIR  the build folder with the executables (default build/release)
@@ -37,6 +40,7 @@ export LC_ALL=C
 
 mode="write"
 build_dir=build/release
+with_results=0
 docs=()
 fail() { echo "[make_docs] error: $*" >&2; exit 2; }
 say() { echo "[make_docs] $*" >&2; }
@@ -44,6 +48,7 @@ usage() { sed -n '/^#   tools\/make_docs.sh/,/^#                    by default)/
 while [ $# -gt 0 ]; do
   case "$1" in
     --check) mode=check ;;
+    --results) with_results=1 ;;
     --build-dir) [ $# -ge 2 ] || fail "--build-dir needs a folder"; build_dir="$2"; shift ;;
     --docs)
       shift
@@ -54,6 +59,11 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
+if [ "$with_results" = 1 ]; then
+  [ "$mode" = write ] || fail "--results rewrites RESULTS.md: not with --check"
+  say "regenerating docs/RESULTS.md (bench/make_results.sh)"
+  sh bench/make_results.sh || { echo "[make_docs] bench/make_results.sh failed" >&2; exit 1; }
+fi
 with_picture=0
 if [ ${#docs[@]} -eq 0 ]; then
   docs=(README.md docs/*.md)
