@@ -449,13 +449,20 @@ class Recorder {
       // The options the node plans with: its config's for the planner the run names (a
       // request names nothing else), as the node applies them (no costs for jps).
       // A request that named no planner (and a goal) ran the configured one, auto's options
-      // included; one that named `auto` auto's; one that named a planner that planner's.
-      const std::string requested = record.request ? record.request->planner : std::string();
+      // included; one that named `auto` auto's; one that named a planner that planner's. A
+      // request the recorder did not hear (its reader matched the client's writer after the
+      // sample went out) is known by its status, which names the planner that ran: the
+      // configured one's options where that is it, that planner's otherwise.
+      const core::PlannerOptions configured = config_.planner.options();
+      std::string requested = record.request ? record.request->planner : std::string();
+      if (!record.request && record.status &&
+          record.status->planner != core::to_string(configured.planner))
+        requested = record.status->planner;
       const auto named = core::planner_kind_from_string(requested);
       core::PlannerOptions run_options = requested == core::kAutoPlannerName
                                              ? config_.planner.auto_options()
                                          : named ? config_.planner.options(*named)
-                                                 : config_.planner.options();
+                                                 : configured;
       core::drop_unsupported_costs(run_options);
       record.options = records::options_record(run_options);
       // What the bus brought is recorded as it came; what cannot be drawn is said.

@@ -298,6 +298,54 @@ TEST(RecorderProcess, BadDataInOneRunDoesNotStopTheOthers) {
   fs::remove_all(out);
 }
 
+// A run whose request the recorder did not hear (only its status came: a reader that matched the
+// client after the request went out) is drawn with the options of the planner its status names:
+// the configured planner's options where it is that one, that planner's otherwise. Found by
+// docs_generated: the demo's vns_bastar picture once said "8 neighbourhood", auto's.
+// Oracle: the node's own option building on default.yaml (config_yaml leaves planner.* to it).
+TEST(RecorderProcess, ARunWhoseRequestItMissedHasTheOptionsOfThePlannerItsStatusNames) {
+  const node::NodeConfig cfg = test_config("recmissed");
+  const fs::path out = fresh_dir("missed");
+  const std::string config = write_temp_file("recmissed.yaml", config_yaml(cfg));
+  ChildProcess recorder(
+      kRecorder, {"--out", out.string(), "--config", config, "--runs", "2", "--debug-wait", "0.2"});
+  const FakeNode fake(cfg);
+  ASSERT_TRUE(fake.matched(recorder)) << recorder.output();
+
+  const node::ConfigResult defaults = node::default_config();
+  ASSERT_TRUE(defaults.config);
+  const node::PlannerConfig& planner = defaults.config->planner;
+  const core::PlannerOptions configured = planner.options();
+  const core::PlannerKind other = configured.planner == core::PlannerKind::kVnsBaStar
+                                      ? core::PlannerKind::kAStar
+                                      : core::PlannerKind::kVnsBaStar;
+  const core::PlannerOptions named = planner.options(other);
+  // The two must differ in what a picture shows, or this test could not tell them apart.
+  ASSERT_NE(configured.neighborhood, named.neighborhood);
+
+  const node::RequestIdentity request;
+  const std::pair<const char*, core::PlannerKind> runs[] = {{"ran_configured", configured.planner},
+                                                            {"ran_other", other}};
+  for (const auto& [id, kind] : runs) {
+    PlanStatusMsg status =
+        node::to_status_msg(id, &request, {node::wire::OK, ""}, std::string(core::to_string(kind)),
+                            nullptr, node::now_msg(), PathMsg());
+    ASSERT_TRUE(fake.status_writer->write(&status));
+  }
+  ASSERT_EQ(recorder.wait(), 0) << recorder.output();
+  for (const auto& [id, kind] : runs) {
+    auto record = records::run_record_from_json(read_json(out / (std::string(id) + ".json")));
+    ASSERT_TRUE(record) << id << ": " << record.error().message;
+    EXPECT_FALSE(record->request) << id;
+    const core::PlannerOptions& expected = kind == configured.planner ? configured : named;
+    ASSERT_TRUE(record->options && record->options->neighborhood) << id;
+    EXPECT_EQ(*record->options->neighborhood, expected.neighborhood) << id;
+    EXPECT_EQ(record->options->prune, expected.prune) << id;
+    EXPECT_EQ(record->options->smooth, expected.smooth) << id;
+  }
+  fs::remove_all(out);
+}
+
 // The peak resident memory of a running process, bytes (VmHWM in /proc/PID/status).
 size_t peak_resident_bytes(pid_t pid) {
   std::ifstream status("/proc/" + std::to_string(pid) + "/status");
