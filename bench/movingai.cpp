@@ -173,7 +173,8 @@ std::string speed_summary(const std::vector<Run>& runs,
   };
   const auto astar = index_of(core::PlannerKind::kAStar);
   const std::pair<const char*, std::optional<size_t>> against_astar[] = {
-      {"VNS-BA*", index_of(core::PlannerKind::kVnsBaStar)}, {"JPS", index_of(core::PlannerKind::kJps)}};
+      {"VNS-BA*", index_of(core::PlannerKind::kVnsBaStar)},
+      {"JPS", index_of(core::PlannerKind::kJps)}};
   std::vector<std::string> headers = {"class"};
   for (const auto& [name, index] : against_astar) {
     if (!astar || !index) continue;

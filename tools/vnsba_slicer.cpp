@@ -214,7 +214,8 @@ int main(int argc, char** argv) {
   app.add_flag("--watch", watch, "with --publish: republish when the file changes");
   app.add_flag("--subscribe", subscribe, "slice the binary octomaps received on the octomap topic");
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
+  app.add_option("--domain", domain,
+                 "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
   std::optional<std::string> participant_profile;

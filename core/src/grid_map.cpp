@@ -31,9 +31,9 @@ struct ObstacleDistances {
   std::vector<float>& distance;    // width x height, filled (cells)
   std::vector<float>* costs;       // padded; null when there is no gradient
   int32_t width, height;
-  double radius_cells;      // robot_radius in cells
-  double gradient_cells;    // inflation_radius in cells (0: no gradient)
-  double scaling_per_cell;  // cost_scaling_factor * resolution
+  double radius_cells;       // robot_radius in cells
+  double gradient_cells;     // inflation_radius in cells (0: no gradient)
+  double scaling_per_cell;   // cost_scaling_factor * resolution
   bool unknown_is_obstacle;  // blocked unknown cells count as obstacles (inflate_unknown)
 
   bool run(const std::atomic<bool>* cancel) {

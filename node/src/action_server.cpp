@@ -91,7 +91,6 @@ std::string uuid_text(const GoalUuid& id) {
   return hex(id);
 }
 
-
 // A ComputePathThroughPoses send_goal whose `goals` count cannot fit in its bytes: refused before
 // decoding, which would allocate every announced pose first (a count of 2^31 in a 40-byte
 // sample). A PoseStamped takes at least 68 bytes on the wire (stamp 8, frame_id length 4, pose
@@ -580,9 +579,10 @@ bool ActionServer::write(Due& due, bool stopping, bool give_up) {
         size_t removed = 0;
         reply.writer->clear_history(&removed);
         flow.history_cleared();
-        spdlog::warn("{}: {} replies a reader has not acknowledged for actions.reply_ack_timeout "
-                     "dropped from the writer's history ({} of them)",
-                     ros_name_, Impl::kServiceNames[s], removed);
+        spdlog::warn(
+            "{}: {} replies a reader has not acknowledged for actions.reply_ack_timeout "
+            "dropped from the writer's history ({} of them)",
+            ros_name_, Impl::kServiceNames[s], removed);
       }
     }
     if (!waiting[s]) {

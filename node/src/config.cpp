@@ -997,8 +997,7 @@ std::string overlong_topic_name(const NodeConfig& c) {
   // ROS name + "Request" (rmw's naming of service topics), which a ROS name of 247 characters
   // takes to 256.
   auto check_action = [&](const char* key, const std::string& name) -> std::string {
-    const std::string dds =
-        "rq" + ros_topic_name(view, name + kActionSuffix) + "Request";
+    const std::string dds = "rq" + ros_topic_name(view, name + kActionSuffix) + "Request";
     if (dds.size() <= kMaxDdsTopicNameLength) return "";
     std::ostringstream msg;
     msg << (c.ros_namespace.empty() ? "" : "namespace, ")

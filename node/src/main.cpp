@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   std::string config_path = "";
   int domain = -1;
   app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
+  app.add_option("--domain", domain,
+                 "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, vnsba::node::kNamespaceOptionHelp);
   std::optional<std::string> participant_profile;

@@ -75,9 +75,9 @@ struct Scenario {
     s.precision(17);
     s << grid.width << " x " << grid.height << " cells at " << grid.resolution << " m, threshold "
       << options.occupied_threshold << ", allow_unknown " << options.allow_unknown
-      << ", inflate_unknown " << options.inflate_unknown
-      << ", robot_radius " << options.robot_radius << ", inflation_radius "
-      << options.inflation_radius << ", cost_scaling_factor " << options.cost_scaling_factor;
+      << ", inflate_unknown " << options.inflate_unknown << ", robot_radius "
+      << options.robot_radius << ", inflation_radius " << options.inflation_radius
+      << ", cost_scaling_factor " << options.cost_scaling_factor;
     return s.str();
   }
 };

@@ -1,9 +1,8 @@
 #include <gtest/gtest.h>
 
-#include <limits>
-
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "core/test_support.hpp"

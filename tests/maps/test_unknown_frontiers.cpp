@@ -84,8 +84,7 @@ std::vector<int> components(const OccupancyGrid& g, const std::vector<bool>& blo
           for (int dx = -1; dx <= 1; ++dx) {
             const int x = c.x + dx, y = c.y + dy;
             if ((dx == 0 && dy == 0) || !free_at(x, y)) continue;
-            if (dx != 0 && dy != 0 && !(free_at(c.x + dx, c.y) && free_at(c.x, c.y + dy)))
-              continue;
+            if (dx != 0 && dy != 0 && !(free_at(c.x + dx, c.y) && free_at(c.x, c.y + dy))) continue;
             int& l = label[static_cast<size_t>(y) * g.width + x];
             if (l >= 0) continue;
             l = next;
@@ -172,10 +171,11 @@ void check_octomap(const std::string& path) {
   const Counts open = check_slice(*slice, nav2, queries);
   const Counts closed = check_slice(*slice, inflated, queries);
   EXPECT_GE(open.found, closed.found);
-  std::printf("%s: %d x %d cells, %zu unknown; of 40 queries %d connect with unknown cells not "
-              "inflated, %d with them inflated\n",
-              fs::path(path).filename().c_str(), slice->width, slice->height, unknown, open.found,
-              closed.found);
+  std::printf(
+      "%s: %d x %d cells, %zu unknown; of 40 queries %d connect with unknown cells not "
+      "inflated, %d with them inflated\n",
+      fs::path(path).filename().c_str(), slice->width, slice->height, unknown, open.found,
+      closed.found);
 }
 
 TEST(UnknownFrontiers, TheSceneConnectsAsNav2sConventionSays) {

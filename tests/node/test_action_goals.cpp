@@ -150,7 +150,7 @@ TEST(ActionGoals, OneByteBudgetOverSeveralServersForgetsTheOldestDeliveredFirst)
   finish(b, 2, 2, 100);
   finish(a, 3, 3, 100);
   finish(b, 4, 4, 100);
-  b.accept(id(5), {5, 0});  // running
+  b.accept(id(5), {5, 0});                              // running
   ASSERT_TRUE(b.result_or_wait(id(4), 0).has_value());  // 4's client has it
   EXPECT_EQ(a.kept_bytes() + b.kept_bytes(), 400u);
   const std::vector<Goals*> both = {&a, &b};

@@ -693,8 +693,7 @@ TEST(NavActions, ResultsAndGoalListsOverTheirLimitsAreRefusedNamingTheKey) {
   EXPECT_TRUE(log.matching({"plan '", "actions.max_result_poses"}).empty())
       << "it was planned first";
   // 1 m apart across the wall (2 lines of 21 poses), but the path goes round through the door.
-  const auto round =
-      run.to_pose->plan(ActionClient::random_id(), to_pose(5.0, 4.5, 5.0, 5.5), 15s);
+  const auto round = run.to_pose->plan(ActionClient::random_id(), to_pose(5.0, 4.5, 5.0, 5.5), 15s);
   ASSERT_TRUE(round.has_value());
   EXPECT_EQ(round->status, GoalState::kAborted);
   EXPECT_EQ(round->error_code, 200);
@@ -809,10 +808,12 @@ TEST(NavActions, AReaderThatNeverTakesItsRepliesStallsNoOtherClient) {
   auto stalled = node::Participant::create(run.cfg.domain_id, "stalled_reader").value();
   StuckListener stuck;
   const eprosima::fastdds::dds::DataReaderQos qos = node::reader_qos(node::TopicQos::kEvents);
-  const std::string topic = "rr" + node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose) +
+  const std::string topic = "rr" +
+                            node::ros_topic_name(run.cfg, run.cfg.topics.compute_path_to_pose) +
                             "/_action/get_resultReply";
-  auto reader = stalled->reader_on<nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_PubSubType>(
-      topic, qos, &stuck);
+  auto reader =
+      stalled->reader_on<nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_PubSubType>(
+          topic, qos, &stuck);
   ASSERT_TRUE(reader.has_value()) << reader.error().message;
   {  // matched with the node's writer
     eprosima::fastdds::dds::SubscriptionMatchedStatus matched;
@@ -835,13 +836,11 @@ TEST(NavActions, AReaderThatNeverTakesItsRepliesStallsNoOtherClient) {
   const std::string prefix = [&] {
     const auto guid = stalled->get()->guid();
     char text[32] = {0};
-    for (int i = 0; i < 12; ++i)
-      std::snprintf(text + 2 * i, 3, "%02x", guid.guidPrefix.value[i]);
+    for (int i = 0; i < 12; ++i) std::snprintf(text + 2 * i, 3, "%02x", guid.guidPrefix.value[i]);
     return std::string(text);
   }();
-  EXPECT_TRUE(log.wait_for({"get_result replies not acknowledged", "actions.reply_ack_timeout",
-                            prefix},
-                           5s))
+  EXPECT_TRUE(log.wait_for(
+      {"get_result replies not acknowledged", "actions.reply_ack_timeout", prefix}, 5s))
       << "no warning naming the stalled reader's participant " << prefix;
   stuck.release();
   stalled->shutdown();

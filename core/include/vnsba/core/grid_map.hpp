@@ -48,9 +48,9 @@ struct GridBuildOptions {
   // only): an OctoMap slice has unknown cells along every scan frontier, and inflating them
   // closed corridors no occupied cell narrows. true: a margin around unknown space.
   bool inflate_unknown = false;
-  double robot_radius = 0.0;    // metres; cells whose centre is within this of a blocked centre
-                                // are blocked too (0 = no inflation). At most the diagonal of
-                                // the map it inflates (checked per map by validate()).
+  double robot_radius = 0.0;  // metres; cells whose centre is within this of a blocked centre
+                              // are blocked too (0 = no inflation). At most the diagonal of
+                              // the map it inflates (checked per map by validate()).
   // The cost gradient beyond the robot's radius (docs/algorithm.md section 8, Nav2's inflation
   // layer): a free cell whose centre is d metres from the nearest obstacle centre, with
   // robot_radius < d <= inflation_radius, costs 0.99 * exp(-cost_scaling_factor * (d -
@@ -246,10 +246,10 @@ class GridMap {
   std::vector<int32_t> summed_area_;      // (width+1) x (height+1) blocked counts
   int64_t blocked_total_ = 0;
   bool blocked_non_obstacles_ = false;  // see has_blocked_non_obstacles()
-  std::vector<uint64_t> row_bits_;     // height rows of row_words_ words each, a spare word
-  std::vector<uint64_t> column_bits_;  // width columns of column_words_ words each, a spare word
-  size_t row_words_ = 0;               // ceil(width / 64)
-  size_t column_words_ = 0;            // ceil(height / 64)
+  std::vector<uint64_t> row_bits_;      // height rows of row_words_ words each, a spare word
+  std::vector<uint64_t> column_bits_;   // width columns of column_words_ words each, a spare word
+  size_t row_words_ = 0;                // ceil(width / 64)
+  size_t column_words_ = 0;             // ceil(height / 64)
 };
 
 }  // namespace vnsba::core

@@ -28,8 +28,8 @@ struct Metrics {
 
 // The smallest distance, in cells, from any point of `polyline` (continuous cell coordinates) to
 // the square of an obstacle cell (GridMap::is_obstacle: occupied, and unknown with
-// inflate_unknown; inflation is not an obstacle). +inf when the map has no obstacle or the polyline is empty.
-// Exact: the distance from each segment itself, the limit of the sampling that
+// inflate_unknown; inflation is not an obstacle). +inf when the map has no obstacle or the polyline
+// is empty. Exact: the distance from each segment itself, the limit of the sampling that
 // docs/algorithm.md section 8 allows (points at most 0.1 cell apart, which can only overstate it,
 // by up to 0.05 cell). The distance transform bounds which obstacles can be nearest, and only those
 // are measured, about once per cell of the path's length.

@@ -231,7 +231,8 @@ class ActionGoals {
     const auto* from = &delivered_;
     if (delivered == false) from = &undelivered_;
     if (!delivered) {
-      if (delivered_.empty()) from = &undelivered_;
+      if (delivered_.empty())
+        from = &undelivered_;
       else if (!undelivered_.empty() && *undelivered_.begin() < *delivered_.begin())
         from = &undelivered_;
     }
@@ -314,8 +315,9 @@ size_t forget_beyond_budget(const std::vector<Server*>& servers, size_t max_byte
     for (const bool delivered : {true, false}) {
       for (Server* server : servers) {
         const auto oldest = server->oldest_finished(delivered);
-        if (oldest && (!victim || oldest->finished_at < victim->finished_at ||
-                       (oldest->finished_at == victim->finished_at && oldest->order < victim->order))) {
+        if (oldest &&
+            (!victim || oldest->finished_at < victim->finished_at ||
+             (oldest->finished_at == victim->finished_at && oldest->order < victim->order))) {
           victim = oldest;
           owner = server;
         }
