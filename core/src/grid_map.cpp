@@ -180,8 +180,7 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
       const int8_t v = grid.at(x, y);
       const CellLayer layer = classify_value(v, options.occupied_threshold, options.allow_unknown);
       if (layer == CellLayer::kFree && v > 0) graded = true;
-      if (layer == CellLayer::kUnknown && !options.inflate_unknown)
-        map.blocked_non_obstacles_ = true;
+      if (layer == CellLayer::kUnknown) map.blocked_unknown_ = true;
       map.layers_[static_cast<size_t>(y) * grid.width + x] = layer;
     }
   }

@@ -420,18 +420,14 @@ std::string why_blocked(const GridMap& map, const Cell& c) {
 // `budget` (false once it has run out).
 bool connected_through_unknown(const GridMap& map, const Cell& from, const Cell& to,
                                PlanningBudget& budget) {
-  if (map.build_options().allow_unknown) return false;
+  if (!map.has_blocked_unknown()) return false;
   const int32_t w = map.width(), h = map.height();
   auto passable = [&](int32_t x, int32_t y) {
     if (x < 0 || y < 0 || x >= w || y >= h) return false;
     const CellLayer layer = map.layer({x, y});
     return layer == CellLayer::kFree || layer == CellLayer::kUnknown;
   };
-  bool any_unknown = false;
-  for (int32_t y = 0; y < h && !any_unknown; ++y)
-    for (int32_t x = 0; x < w && !any_unknown; ++x)
-      any_unknown = map.layer({x, y}) == CellLayer::kUnknown;
-  if (!any_unknown || !passable(from.x, from.y) || !passable(to.x, to.y)) return false;
+  if (!passable(from.x, from.y) || !passable(to.x, to.y)) return false;
   std::vector<bool> seen(static_cast<size_t>(w) * static_cast<size_t>(h), false);
   std::vector<Cell> stack = {from};
   seen[static_cast<size_t>(from.y) * w + from.x] = true;

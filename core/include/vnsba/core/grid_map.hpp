@@ -160,7 +160,9 @@ class GridMap {
   }
   // Whether some blocked cell is neither an obstacle nor inflation (a blocked unknown cell that
   // is not inflated): then obstacle_distance alone cannot tell that a cell is free.
-  bool has_blocked_non_obstacles() const { return blocked_non_obstacles_; }
+  bool has_blocked_non_obstacles() const { return blocked_unknown_ && !options_.inflate_unknown; }
+  // Whether some unknown cell is blocked (allow_unknown false and the slice has unknown cells).
+  bool has_blocked_unknown() const { return blocked_unknown_; }
   // Distance in cells from the centre of `c` to the nearest obstacle centre (is_obstacle,
   // inflation not counted): 0 on an obstacle, +infinity when the map has none. Exact (the
   // Euclidean distance transform). The cell must be in the map.
@@ -245,11 +247,11 @@ class GridMap {
   std::vector<float> costs_;              // padded, empty without costs (see cost_data())
   std::vector<int32_t> summed_area_;      // (width+1) x (height+1) blocked counts
   int64_t blocked_total_ = 0;
-  bool blocked_non_obstacles_ = false;  // see has_blocked_non_obstacles()
-  std::vector<uint64_t> row_bits_;      // height rows of row_words_ words each, a spare word
-  std::vector<uint64_t> column_bits_;   // width columns of column_words_ words each, a spare word
-  size_t row_words_ = 0;                // ceil(width / 64)
-  size_t column_words_ = 0;             // ceil(height / 64)
+  bool blocked_unknown_ = false;       // see has_blocked_unknown()
+  std::vector<uint64_t> row_bits_;     // height rows of row_words_ words each, a spare word
+  std::vector<uint64_t> column_bits_;  // width columns of column_words_ words each, a spare word
+  size_t row_words_ = 0;               // ceil(width / 64)
+  size_t column_words_ = 0;            // ceil(height / 64)
 };
 
 }  // namespace vnsba::core
