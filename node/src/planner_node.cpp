@@ -407,13 +407,6 @@ core::Status PlannerNode::Impl::start() {
   for (const auto& robot : robots_)
     if (core::Status s = add_robot_endpoints(*robot); !s.is_ok()) return s;
 
-  replier_ = std::thread([this] { replier_loop(); });
-  intake_ = std::thread([this] { intake_loop(); });
-  map_thread_ = std::thread([this] { map_loop(); });
-  for (int w = 0; w < workers_; ++w)
-    worker_threads_.emplace_back([this, w] { worker_loop(static_cast<size_t>(w)); });
-  started_ = true;
-
   // Then the readers; each listener lives in listeners_ until stop(). `topic` is the DDS name.
   // `input`, when given, is the robot whose requests the reader carries (Robot::inputs).
   auto add_reader = [&](auto type, const std::string& topic, const dds::DataReaderQos& qos,
@@ -538,16 +531,14 @@ core::Status PlannerNode::Impl::start() {
         hooks.may_take = has_room;
         hooks.wake_intake = wake;
         hooks.now = [this] { return time_.now(); };
-        robot.actions.push_back(std::make_unique<ActionServer>(
-            kind, ros_topic_name(robot.cfg, action_name), robot.cfg, participant_watch_.get(),
-            reply_mutex_, reply_cv_, std::move(hooks)));
-        if (core::Status s = robot.actions.back()->create(*participant_, listeners_, robot.inputs);
-            !s.is_ok())
-          return s;
-        {
-          std::lock_guard<std::mutex> lock(reply_mutex_);
-          all_action_servers_.push_back(robot.actions.back().get());
-        }
+        auto server = std::make_unique<ActionServer>(kind, ros_topic_name(robot.cfg, action_name),
+                                                     robot.cfg, participant_watch_.get(),
+                                                     reply_mutex_, reply_cv_, std::move(hooks));
+        const core::Status created = server->create(*participant_, listeners_, robot.inputs);
+        // Kept even when create() failed: the listeners it made may call it until stop().
+        if (created.is_ok()) all_action_servers_.push_back(server.get());
+        robot.actions.push_back(std::move(server));
+        if (!created.is_ok()) return created;
       }
     }
   }
@@ -555,6 +546,17 @@ core::Status PlannerNode::Impl::start() {
     spdlog::info(
         "map.cost_source costmap: slices are Nav2 costmaps, planned on as they are (99 and 100 "
         "blocked, 1..98 costs); occupied_threshold, robot_radius and inflation_radius not applied");
+  // The threads start once every entity exists: the replier walks each robot's action servers and
+  // the intake each robot's inputs, and neither list changes from here until stop(). What arrived
+  // while the readers were made waits in them (the intake listeners only set intake_pending_, and
+  // the slice for the map thread is kept under map_mutex_); the intake starts last, once whatever
+  // it hands on can be planned and answered.
+  replier_ = std::thread([this] { replier_loop(); });
+  map_thread_ = std::thread([this] { map_loop(); });
+  for (int w = 0; w < workers_; ++w)
+    worker_threads_.emplace_back([this, w] { worker_loop(static_cast<size_t>(w)); });
+  intake_ = std::thread([this] { intake_loop(); });
+  started_ = true;
   const Robot& first = *robots_.front();
   if (robots_.size() == 1) {
     spdlog::info("vnsba_node up on domain {}: slices on '{}', requests on '{}', goals on '{}'",
