@@ -9,6 +9,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "vnsba/core/planner_registry.hpp"
 #include "vnsba/render/svg.hpp"
 
 namespace vnsba::bench {
@@ -72,20 +73,8 @@ Expected<std::vector<core::PlannerKind>> parse_planner_list(const std::string& l
 }
 
 std::string paper_name(core::PlannerKind kind) {
-  switch (kind) {
-    case core::PlannerKind::kAStar:
-      return "A*";
-    case core::PlannerKind::kWeightedAStar:
-      return "improved A*";
-    case core::PlannerKind::kBidirectionalAStar:
-      return "BA*";
-    case core::PlannerKind::kAlternatingBidirectionalAStar:
-      return "improved BA*";
-    case core::PlannerKind::kVnsBaStar:
-      return "VNS-BA*";
-    case core::PlannerKind::kJps:
-      return "JPS";
-  }
+  if (const core::PlannerDescriptor* planner = kind.descriptor())
+    return std::string(planner->paper_name);
   return std::string(core::to_string(kind));
 }
 

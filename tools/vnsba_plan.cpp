@@ -76,6 +76,7 @@
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
 #include "vnsba/core/planner_options.hpp"
+#include "vnsba/core/planner_registry.hpp"
 #include "vnsba/maps/map_file.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
@@ -317,8 +318,8 @@ bool write_outputs(const Outputs& out, const std::string& map_path, const core::
 // Whether `options` find the optimum of a Moving AI scenario: an optimal search (A*, JPS) on the
 // graph the files measure (8-neighbourhood, no corner cutting, uniform costs).
 bool exact_on_movingai_graph(const core::PlannerOptions& options) {
-  return (options.planner == core::PlannerKind::kAStar ||
-          options.planner == core::PlannerKind::kJps) &&
+  return options.planner.descriptor() != nullptr &&
+         options.planner.descriptor()->can.optimal_on_baseline &&
          options.neighborhood == core::Neighborhood::kEight &&
          options.corner_policy == core::CornerPolicy::kNever && options.cost_weight == 0.0;
 }
@@ -386,11 +387,10 @@ int main(int argc, char** argv) {
   auto* goal_flag =
       app.add_option("--goal", goal, "goal X Y (metres; cell indices with --cells)")->expected(2);
   auto* planner_flag = app.add_option("--planner", planner_name,
-                                      "auto, vns_bastar, astar, weighted_astar, "
-                                      "bidirectional_astar, alternating_bidirectional_astar, jps "
-                                      "(auto: jps with pruning and smoothing where costs are off, "
-                                      "else the cost-aware choice; default: the config's "
-                                      "planner.name, vns_bastar with --paper)");
+                                      core::accepted_planner_names() +
+                                          " (auto: jps with pruning and smoothing where costs are "
+                                          "off, else the cost-aware choice; default: the config's "
+                                          "planner.name, vns_bastar with --paper)");
   auto* config_flag = app.add_option(
       "--config", config_path,
       "the node's YAML config: its planner and map sections (and, for OctoMaps, its slicer band) "

@@ -1,29 +1,16 @@
 #include "vnsba/core/planner_options.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <ostream>
 #include <sstream>
 #include <string>
 
+#include "vnsba/core/planner_registry.hpp"
+
 namespace vnsba::core {
-
-namespace {
-
-struct PlannerName {
-  PlannerKind kind;
-  std::string_view name;
-};
-constexpr PlannerName kPlannerNames[] = {
-    {PlannerKind::kAStar, "astar"},
-    {PlannerKind::kWeightedAStar, "weighted_astar"},
-    {PlannerKind::kBidirectionalAStar, "bidirectional_astar"},
-    {PlannerKind::kAlternatingBidirectionalAStar, "alternating_bidirectional_astar"},
-    {PlannerKind::kVnsBaStar, "vns_bastar"},
-    {PlannerKind::kJps, "jps"},
-};
-
-}  // namespace
 
 std::string OptionRange::describe() const {
   // Shortest form a user would type: 0.05, 10, 1e6 (not 1e+06).
@@ -53,37 +40,54 @@ std::optional<PathSmoother> path_smoother_from_string(std::string_view name) {
 }
 
 std::string_view to_string(PlannerKind kind) {
-  for (const auto& entry : kPlannerNames)
-    if (entry.kind == kind) return entry.name;
-  return "unknown";
+  return kind.descriptor() != nullptr ? kind.descriptor()->name : "unknown";
+}
+
+std::ostream& operator<<(std::ostream& out, PlannerKind kind) {
+  return out << to_string(kind);
+}
+
+namespace {
+
+// The planner's place in the registration (the default-constructed kind before every planner).
+size_t registration_index(PlannerKind kind) {
+  const auto& all = registered_planners();
+  const auto it = std::find(all.begin(), all.end(), kind.descriptor());
+  return it == all.end() ? 0 : static_cast<size_t>(it - all.begin()) + 1;
+}
+
+}  // namespace
+
+bool operator<(PlannerKind a, PlannerKind b) {
+  return registration_index(a) < registration_index(b);
 }
 
 std::optional<PlannerKind> planner_kind_from_string(std::string_view name) {
-  for (const auto& entry : kPlannerNames)
-    if (entry.name == name) return entry.kind;
+  if (const PlannerDescriptor* planner = find_planner(name)) return PlannerKind(planner);
   return std::nullopt;
 }
 
 const std::vector<PlannerKind>& all_planner_kinds() {
   static const std::vector<PlannerKind> kinds = [] {
     std::vector<PlannerKind> out;
-    for (const auto& entry : kPlannerNames) out.push_back(entry.kind);
+    for (const PlannerDescriptor* planner : registered_planners()) out.emplace_back(planner);
     return out;
   }();
   return kinds;
 }
 
-// Jump Point Search prunes every move that an optimal 8-connected path without corner cutting
-// does not need: its rules hold for that graph only.
+// A planner's capabilities (planner_registry.hpp); the default-constructed kind has none.
 bool supports(PlannerKind kind, Neighborhood neighborhood) {
-  return kind != PlannerKind::kJps || neighborhood == Neighborhood::kEight;
+  const PlannerDescriptor* planner = kind.descriptor();
+  return neighborhood == Neighborhood::kEight || (planner != nullptr && planner->can.long_moves);
 }
 bool supports(PlannerKind kind, CornerPolicy policy) {
-  return kind != PlannerKind::kJps || policy == CornerPolicy::kNever;
+  const PlannerDescriptor* planner = kind.descriptor();
+  return policy == CornerPolicy::kNever || (planner != nullptr && planner->can.corner_cutting);
 }
 
 bool supports_costs(PlannerKind kind) {
-  return kind != PlannerKind::kJps;
+  return kind.descriptor() != nullptr && kind.descriptor()->can.costs;
 }
 
 bool drop_unsupported_costs(PlannerOptions& options) {
@@ -104,10 +108,7 @@ PlannerKind recommended_planner(double cost_weight, Neighborhood neighborhood,
 PlannerOptions default_options(PlannerKind kind) {
   PlannerOptions options;
   options.planner = kind;
-  const bool paper_method = kind == PlannerKind::kVnsBaStar;
-  options.neighborhood = paper_method ? Neighborhood::kEightElevenThirteen : Neighborhood::kEight;
-  options.prune = paper_method;
-  options.smooth = paper_method;
+  if (kind.descriptor() != nullptr) kind.descriptor()->paper_configuration(options);
   return options;
 }
 
@@ -120,25 +121,35 @@ Status validate(const PlannerOptions& o) {
     err() << range.key << " must be " << range.describe() << " (got " << value << "); ";
     return false;
   };
-  const bool omega_ok = check(kOmegaRange, o.omega);
-  const bool eta_ok = check(kEtaRange, o.eta);
-  if (o.planner == PlannerKind::kVnsBaStar && omega_ok && eta_ok && o.omega == 0.0 &&
-      o.eta == 0.0) {
-    err() << "omega and eta must not both be 0 (the heuristic would vanish); ";
+  const PlannerDescriptor* planner = o.planner.descriptor();
+  if (planner == nullptr) {
+    err() << "planner is not a known planner; ";
+  } else {
+    // The ranges of every planner's own options (a request that switches planners keeps them),
+    // then the rules of this planner's.
+    bool own_ok = true;
+    for (const OwnOption* own : all_own_options())
+      own_ok = check(*own->range, o.*own->option) && own_ok;
+    std::vector<OptionProblem> problems;
+    if (own_ok && planner->check_own_options != nullptr) planner->check_own_options(o, problems);
+    for (const OptionProblem& problem : problems) {
+      for (size_t k = 0; k < problem.keys.size(); ++k)
+        err() << (k == 0 ? "" : k + 1 == problem.keys.size() ? " and " : ", ") << problem.keys[k];
+      err() << " " << problem.rule << " for " << planner->name << " (" << problem.why << "); ";
+    }
+    if (!supports(o.planner, o.corner_policy))
+      err() << "corner_policy " << to_string(o.corner_policy) << " is not supported by "
+            << planner->name << " (" << planner->can.without_corner_cutting
+            << "; use never, or another planner); ";
+    if (!supports(o.planner, o.neighborhood))
+      err() << "neighborhood " << to_string(o.neighborhood) << " is not supported by "
+            << planner->name << " (" << planner->can.without_long_moves
+            << "; use 8, or another planner); ";
   }
-  if (!supports(o.planner, o.corner_policy))
-    err() << "corner_policy " << to_string(o.corner_policy) << " is not supported by "
-          << to_string(o.planner)
-          << ", whose jump rules need both cells beside a diagonal move free (use never, or "
-             "another planner); ";
-  if (!supports(o.planner, o.neighborhood))
-    err() << "neighborhood " << to_string(o.neighborhood) << " is not supported by "
-          << to_string(o.planner)
-          << ", which searches the 8-neighbourhood (use 8, or another planner); ";
-  if (check(kCostWeightRange, o.cost_weight) && o.cost_weight > 0.0 && !supports_costs(o.planner))
-    err() << "cost_weight " << o.cost_weight << " is not supported by " << to_string(o.planner)
-          << ", whose jump rules hold only on a grid of uniform costs (use cost_weight 0, or "
-             "another planner); ";
+  if (check(kCostWeightRange, o.cost_weight) && o.cost_weight > 0.0 && planner != nullptr &&
+      !planner->can.costs)
+    err() << "cost_weight " << o.cost_weight << " is not supported by " << planner->name << " ("
+          << planner->can.without_costs << "; use cost_weight 0, or another planner); ";
   auto check_tolerance = [&](const char* key, double value) {
     if (kToleranceRange.contains(value)) return;
     err() << key << " must be " << kToleranceRange.describe() << " (got " << value << "); ";
@@ -159,7 +170,6 @@ Status validate(const PlannerOptions& o) {
   check(kSmootherIterationsRange, o.smoother_iterations);
   const double seconds = std::chrono::duration<double>(o.max_planning_time).count();
   check(kMaxPlanningTimeRange, seconds);
-  if (!planner_kind_from_string(to_string(o.planner))) err() << "planner is not a known planner; ";
   if (!stream) return Status::ok();
   std::string message = stream->str();
   message.resize(message.size() - 2);
@@ -168,8 +178,10 @@ Status validate(const PlannerOptions& o) {
 
 PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
   PlannerOptions o = default_options(kind);
-  if (s.omega) o.omega = *s.omega;
-  if (s.eta) o.eta = *s.eta;
+  // The options planners own (omega and eta: VNS-BA*'s), set whichever planner runs, so that a
+  // request switching planners keeps them.
+  for (const OwnOption* own : all_own_options())
+    if (const std::optional<double>& value = s.*own->setting) o.*own->option = *value;
   if (s.neighborhood) o.neighborhood = *s.neighborhood;
   if (s.corner_policy) o.corner_policy = *s.corner_policy;
   if (s.prune) o.prune = *s.prune;
@@ -192,7 +204,8 @@ PlannerOptions make_options(PlannerKind kind, const PlannerSettings& s) {
 
 std::string accepted_planner_names() {
   std::string names(kAutoPlannerName);
-  for (const auto& entry : kPlannerNames) names += ", " + std::string(entry.name);
+  for (const PlannerDescriptor* planner : registered_planners())
+    names += ", " + std::string(planner->name);
   return names;
 }
 

@@ -24,6 +24,7 @@
 #include <thread>
 #include <utility>
 
+#include "vnsba/core/planner_registry.hpp"
 #include "vnsba/node/default_config_text.hpp"
 #include "vnsba/node/security.hpp"
 #include "vnsba/node/spelling.hpp"
@@ -549,16 +550,24 @@ void read_planner_aliases(Section& planner, PlannerConfig& p) {
       });
 }
 
-// planner.omega, planner.eta: VNS-BA*'s heuristic weights; not both 0 for it.
-void read_planner_weights(Section& planner, PlannerConfig& p) {
+// The keys planners own (planner.omega and planner.eta: VNS-BA*'s heuristic weights), read
+// whichever planner is named (a request may switch to their owner), then the named planner's own
+// rules (for VNS-BA*: not both 0).
+void read_planner_own_options(Section& planner, PlannerConfig& p) {
   core::PlannerSettings& s = p.settings;
-  const bool omega_ok = read_planner_number(planner, core::kOmegaRange, s.omega);
-  const bool eta_ok = read_planner_number(planner, core::kEtaRange, s.eta);
-  const core::PlannerOptions weights = p.options();
-  if (p.kind == core::PlannerKind::kVnsBaStar && omega_ok && eta_ok && weights.omega == 0.0 &&
-      weights.eta == 0.0) {
-    planner.report("planner.omega, planner.eta: found both 0, expected at least one > 0 for " +
-                   std::string(to_string(p.kind)) + " (its heuristic would vanish)");
+  bool all_ok = true;
+  for (const core::OwnOption* own : core::all_own_options())
+    all_ok = read_planner_number(planner, *own->range, s.*own->setting) && all_ok;
+  const core::PlannerDescriptor* named = p.kind.descriptor();
+  if (!all_ok || named == nullptr || named->check_own_options == nullptr) return;
+  std::vector<core::OptionProblem> problems;
+  named->check_own_options(p.options(), problems);
+  for (const core::OptionProblem& problem : problems) {
+    std::string keys;
+    for (std::string_view key : problem.keys)
+      keys += (keys.empty() ? "planner." : ", planner.") + std::string(key);
+    planner.report(keys + ": " + problem.found_expected + " for " + std::string(named->name) +
+                   " (" + problem.why + ")");
   }
 }
 
@@ -572,14 +581,16 @@ void read_planner_moves(Section& planner, PlannerConfig& p) {
                            core::CornerPolicy::kAlways}));
   // Named here by key (core::validate says the same to requests, without the key path).
   const core::PlannerOptions moves = p.options();
+  const core::PlannerDescriptor* named = p.kind.descriptor();
+  if (named == nullptr) return;
   if (!core::supports(p.kind, moves.corner_policy))
     planner.report("planner.corner_policy: found \"" + std::string(to_string(moves.corner_policy)) +
-                   "\", expected never for " + std::string(to_string(p.kind)) +
-                   " (its jump rules need both cells beside a diagonal move free)");
+                   "\", expected never for " + std::string(named->name) + " (" +
+                   std::string(named->can.without_corner_cutting) + ")");
   if (!core::supports(p.kind, moves.neighborhood))
     planner.report("planner.neighborhood: found \"" + std::string(to_string(moves.neighborhood)) +
-                   "\", expected 8 for " + std::string(to_string(p.kind)) +
-                   " (it searches the 8-neighbourhood)");
+                   "\", expected 8 for " + std::string(named->name) + " (" +
+                   std::string(named->can.without_long_moves) + ")");
 }
 
 // planner.prune ... planner.smoother_iterations: pruning, smoothing and the relax smoother.
@@ -636,8 +647,8 @@ void read_planner_costs(Section& planner, PlannerConfig& p) {
       !core::supports_costs(p.kind)) {
     std::ostringstream msg;
     msg << "planner.cost_weight: found \"" << *s.cost_weight << "\", expected 0 for "
-        << to_string(p.kind) << " (its jump rules hold only on a grid of uniform costs; use a "
-        << "planner that supports costs, such as vns_bastar or astar)";
+        << to_string(p.kind) << " (" << p.kind.descriptor()->can.without_costs
+        << "; use a planner that supports costs, such as vns_bastar or astar)";
     planner.report(msg.str());
   }
   for (const auto& [key, out] : {std::pair{"goal_tolerance", &s.goal_tolerance},
@@ -657,7 +668,7 @@ void read_planner(Section& top, NodeConfig& c) {
   Section planner = top.child("planner");
   read_planner_name(planner, c.planner);
   read_planner_aliases(planner, c.planner);
-  read_planner_weights(planner, c.planner);
+  read_planner_own_options(planner, c.planner);
   read_planner_moves(planner, c.planner);
   read_planner_postprocessing(planner, c.planner);
   read_planner_budget(planner, c.planner);

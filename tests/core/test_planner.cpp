@@ -161,7 +161,7 @@ TEST_P(EveryPlanner, InvalidOptionsAreRejectedByName) {
       {[](PlannerOptions& o) { o.eta = -1; }, "eta"},
       {[](PlannerOptions& o) { o.smoothing_distance = 0; }, "smoothing_distance"},
       {[](PlannerOptions& o) { o.sample_step = INFINITY; }, "sample_step"},
-      {[](PlannerOptions& o) { o.planner = static_cast<PlannerKind>(99); }, "planner"},
+      {[](PlannerOptions& o) { o.planner = PlannerKind{}; }, "planner"},
       {[](PlannerOptions& o) { o.smoother = static_cast<core::PathSmoother>(7); }, "smoother"},
       {[](PlannerOptions& o) { o.smoother_smoothness = 0; }, "smoother_smoothness"},
       {[](PlannerOptions& o) { o.smoother_closeness = -0.1; }, "smoother_closeness"},

@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -24,20 +25,58 @@
 
 namespace vnsba::core {
 
-enum class PlannerKind {
-  kAStar,                          // "astar": classic A*, octile heuristic, optimal
-  kWeightedAStar,                  // "weighted_astar": the paper's "improved A*" (Liao et al.)
-  kBidirectionalAStar,             // "bidirectional_astar": the paper's "BA*"
-  kAlternatingBidirectionalAStar,  // "alternating_bidirectional_astar": "improved BA*" (Li 2022)
-  kVnsBaStar,                      // "vns_bastar": the paper's VNS-BA*
-  kJps,  // "jps": Jump Point Search, optimal like A* at a fraction of its time; 8-neighbourhood
-         // and corner_policy never only (its pruning rules assume both side cells free)
-};
+struct PlannerDescriptor;  // planner_registry.hpp
 
+// The planners this code names: each is defined in core/src/planners/<name>.cpp and listed in
+// core/src/planner_registry.cpp. A planner no code names needs no entry here.
+namespace planners {
+extern const PlannerDescriptor astar;                // classic A*, octile heuristic, optimal
+extern const PlannerDescriptor weighted_astar;       // the paper's "improved A*" (Liao et al.)
+extern const PlannerDescriptor bidirectional_astar;  // the paper's "BA*"
+extern const PlannerDescriptor alternating_bidirectional_astar;  // "improved BA*" (Li 2022)
+extern const PlannerDescriptor vns_bastar;                       // the paper's VNS-BA*
+extern const PlannerDescriptor jps;  // Jump Point Search: optimal like A* at a fraction of its
+                                     // time; 8-neighbourhood and corner_policy never only
+}  // namespace planners
+
+// Which planner: a handle on its registered descriptor (planner_registry.hpp), compared by
+// identity. Default-constructed it names no planner, which validate() refuses.
+class PlannerKind {
+ public:
+  constexpr PlannerKind() = default;
+  constexpr explicit PlannerKind(const PlannerDescriptor* descriptor) : descriptor_(descriptor) {}
+  // nullptr for the default-constructed kind.
+  const PlannerDescriptor* descriptor() const { return descriptor_; }
+
+  friend bool operator==(PlannerKind a, PlannerKind b) { return a.descriptor_ == b.descriptor_; }
+  friend bool operator!=(PlannerKind a, PlannerKind b) { return !(a == b); }
+  // In registration order (the paper's table order), so that maps keyed by planner list them so.
+  friend bool operator<(PlannerKind a, PlannerKind b);
+
+  static const PlannerKind kAStar;
+  static const PlannerKind kWeightedAStar;
+  static const PlannerKind kBidirectionalAStar;
+  static const PlannerKind kAlternatingBidirectionalAStar;
+  static const PlannerKind kVnsBaStar;
+  static const PlannerKind kJps;
+
+ private:
+  const PlannerDescriptor* descriptor_ = nullptr;
+};
+inline constexpr PlannerKind PlannerKind::kAStar{&planners::astar};
+inline constexpr PlannerKind PlannerKind::kWeightedAStar{&planners::weighted_astar};
+inline constexpr PlannerKind PlannerKind::kBidirectionalAStar{&planners::bidirectional_astar};
+inline constexpr PlannerKind PlannerKind::kAlternatingBidirectionalAStar{
+    &planners::alternating_bidirectional_astar};
+inline constexpr PlannerKind PlannerKind::kVnsBaStar{&planners::vns_bastar};
+inline constexpr PlannerKind PlannerKind::kJps{&planners::jps};
+
+// The planner's name ("unknown" for the default-constructed kind); test output prints it too.
 std::string_view to_string(PlannerKind kind);
-// Whether a planner searches with these moves: jps only with the 8-neighbourhood and corner
-// policy never (its jump rules are those of that graph); every other planner with all of them.
-// validate() refuses the rest.
+std::ostream& operator<<(std::ostream& out, PlannerKind kind);
+// Whether a planner searches with these moves (its PlannerCapabilities): jps only with the
+// 8-neighbourhood and corner policy never (its jump rules are those of that graph); every other
+// planner with all of them. validate() refuses the rest.
 bool supports(PlannerKind kind, Neighborhood neighborhood);
 bool supports(PlannerKind kind, CornerPolicy policy);
 // Whether a planner plans with cell costs (cost_weight > 0): every planner but jps, whose
@@ -103,6 +142,7 @@ std::optional<PathSmoother> path_smoother_from_string(std::string_view name);
 
 struct PlannerOptions {
   PlannerKind planner = PlannerKind::kVnsBaStar;
+  // VNS-BA*'s own options (planners/vns_bastar.cpp), which the other planners do not read.
   double omega = 0.5;  // weight of dist(n, opposite_current) in p(n); kOmegaRange
   double eta = 0.5;    // weight of dist(n, opposite_start) in p(n); kEtaRange
   Neighborhood neighborhood = Neighborhood::kEightElevenThirteen;

@@ -1,0 +1,63 @@
+// vns_bastar: the paper's VNS-BA*. Two searches in strict alternation on the density-weighted
+// heuristic p(n) with its weights omega and eta (the options only this planner reads), the
+// 8-11-13 neighbourhood guided by the opposite search's current node, then polyline pruning and
+// cubic-spline corner smoothing.
+#include <iterator>
+
+#include "search.hpp"
+#include "vnsba/core/planner_registry.hpp"
+
+namespace vnsba::core::planners {
+
+namespace {  // names unique among core's files (the unity build batches them)
+
+detail::SearchOutcome search_vns_bastar(const detail::SearchRequest& r) {
+  return detail::with_move_cost(r, [](const detail::SearchRequest& r, const auto& move_cost) {
+    const PlannerOptions& o = r.options;
+    const detail::DensityWeightedHeuristic forward{&r.map,  &r.current[1], r.goal,
+                                                   o.omega, o.eta,         o.corner_policy};
+    const detail::DensityWeightedHeuristic backward{&r.map,  &r.current[0], r.start,
+                                                    o.omega, o.eta,         o.corner_policy};
+    return detail::search_bidirectional(r.map, r.states, r.forward, r.backward, r.start, r.goal,
+                                        r.current, forward, backward, move_cost,
+                                        detail::MeetingRule::kGenerateClosedByOther, r.config(),
+                                        r.budget, r.expanded_forward, r.expanded_backward);
+  });
+}
+
+void configure_vns_bastar(PlannerOptions& options) {
+  options.neighborhood = Neighborhood::kEightElevenThirteen;
+  options.prune = true;
+  options.smooth = true;
+}
+
+void check_vns_bastar_options(const PlannerOptions& options, std::vector<OptionProblem>& problems) {
+  if (options.omega == 0.0 && options.eta == 0.0)
+    problems.push_back({{kOmegaRange.key, kEtaRange.key},
+                        "must not both be 0",
+                        "found both 0, expected at least one > 0",
+                        "its heuristic would vanish"});
+}
+
+constexpr OwnOption kVnsBastarOptions[] = {
+    {&kOmegaRange, &PlannerSettings::omega, &PlannerOptions::omega},
+    {&kEtaRange, &PlannerSettings::eta, &PlannerOptions::eta},
+};
+
+}  // namespace
+
+extern const PlannerDescriptor vns_bastar{
+    "vns_bastar",
+    "VNS-BA*",
+    "the paper's VNS-BA*: bidirectional, density-weighted (omega, eta), 8-11-13 moves, pruned and "
+    "smoothed",
+    {/*long_moves=*/true, /*corner_cutting=*/true, /*costs=*/true,
+     /*optimal_on_baseline=*/false, "", "", ""},
+    kVnsBastarOptions,
+    std::size(kVnsBastarOptions),
+    configure_vns_bastar,
+    check_vns_bastar_options,
+    search_vns_bastar,
+};
+
+}  // namespace vnsba::core::planners
