@@ -302,6 +302,21 @@ struct SearchRequest {
   }
 };
 
+// Two searches in alternation on the density-weighted heuristic, each towards the other's current
+// node and pulled towards the other's root by `eta` (the paper's improved BA* with omega 1, eta 0;
+// VNS-BA* with its own weights).
+template <class MoveCost>
+SearchOutcome search_density_weighted_bidirectional(const SearchRequest& r,
+                                                    const MoveCost& move_cost, double omega,
+                                                    double eta, MeetingRule rule) {
+  const CornerPolicy policy = r.options.corner_policy;
+  const DensityWeightedHeuristic forward{&r.map, &r.current[1], r.goal, omega, eta, policy};
+  const DensityWeightedHeuristic backward{&r.map, &r.current[0], r.start, omega, eta, policy};
+  return search_bidirectional(r.map, r.states, r.forward, r.backward, r.start, r.goal, r.current,
+                              forward, backward, move_cost, rule, r.config(), r.budget,
+                              r.expanded_forward, r.expanded_backward);
+}
+
 // Calls `search(request, move_cost)` with the move cost the options ask for: costs weigh only
 // where there are costs to weigh (section 8), else every move costs its length. The two
 // instantiations keep the binary grid's search free of cost lookups.

@@ -10,14 +10,8 @@ namespace {  // names unique among core's files (the unity build batches them)
 
 detail::SearchOutcome search_alternating_bidirectional_astar(const detail::SearchRequest& r) {
   return detail::with_move_cost(r, [](const detail::SearchRequest& r, const auto& move_cost) {
-    const CornerPolicy policy = r.options.corner_policy;
-    const detail::DensityWeightedHeuristic forward{&r.map, &r.current[1], r.goal, 1.0, 0.0, policy};
-    const detail::DensityWeightedHeuristic backward{&r.map, &r.current[0], r.start,
-                                                    1.0,    0.0,           policy};
-    return detail::search_bidirectional(r.map, r.states, r.forward, r.backward, r.start, r.goal,
-                                        r.current, forward, backward, move_cost,
-                                        detail::MeetingRule::kCloseClosedByOther, r.config(),
-                                        r.budget, r.expanded_forward, r.expanded_backward);
+    return detail::search_density_weighted_bidirectional(r, move_cost, /*omega=*/1.0, /*eta=*/0.0,
+                                                         detail::MeetingRule::kCloseClosedByOther);
   });
 }
 

@@ -13,15 +13,8 @@ namespace {  // names unique among core's files (the unity build batches them)
 
 detail::SearchOutcome search_vns_bastar(const detail::SearchRequest& r) {
   return detail::with_move_cost(r, [](const detail::SearchRequest& r, const auto& move_cost) {
-    const PlannerOptions& o = r.options;
-    const detail::DensityWeightedHeuristic forward{&r.map,  &r.current[1], r.goal,
-                                                   o.omega, o.eta,         o.corner_policy};
-    const detail::DensityWeightedHeuristic backward{&r.map,  &r.current[0], r.start,
-                                                    o.omega, o.eta,         o.corner_policy};
-    return detail::search_bidirectional(r.map, r.states, r.forward, r.backward, r.start, r.goal,
-                                        r.current, forward, backward, move_cost,
-                                        detail::MeetingRule::kGenerateClosedByOther, r.config(),
-                                        r.budget, r.expanded_forward, r.expanded_backward);
+    return detail::search_density_weighted_bidirectional(
+        r, move_cost, r.options.omega, r.options.eta, detail::MeetingRule::kGenerateClosedByOther);
   });
 }
 
