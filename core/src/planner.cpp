@@ -337,6 +337,112 @@ double Planner::peak_bytes_per_cell_per_direction() const {
   return static_cast<double>(impl_->peak_direction_bytes) / static_cast<double>(map_->cell_count());
 }
 
+namespace {
+
+// What a search that ended without a path means: no connection (and whether unknown cells close
+// the way), the budget run out, or a state no search ends in.
+Status search_failure(const GridMap& map, const SearchOutcome& outcome, const Endpoints& endpoints,
+                      const PlannerOptions& options, PlanningBudget& budget) {
+  switch (outcome.code) {
+    case StatusCode::kOk:
+      return Status::ok();
+    case StatusCode::kNoValidPath:
+      return Status::error(
+          outcome.code,
+          "no path from " + describe_point(map, "start", endpoints.start_point, endpoints.start) +
+              " to " + describe_point(map, "goal", endpoints.goal_point, endpoints.goal) +
+              ": they are not connected" +
+              (connected_through_unknown(map, endpoints.start, endpoints.goal, budget)
+                   ? "; unknown cells close the way (with allow_unknown true they would connect)"
+                   : ""));
+    case StatusCode::kTimeout:
+    case StatusCode::kCanceled:
+      return Status::error(outcome.code,
+                           budget_message(outcome.code, options, "before a path was found"));
+    default:
+      return Status::error(StatusCode::kInternalError, "search ended in an unexpected state");
+  }
+}
+
+// Sections 4, 5 and 7 on result.raw_path: pruning (with pruning on), the exact ends, the turns the
+// smoothing starts from, and the corner splines (with smooth on) into result.path.
+// `path_cost_weight`: the cost weight the search used (0 on a map without costs).
+Status prune_and_smooth(const GridMap& map, const Endpoints& endpoints,
+                        const PlannerOptions& options, double path_cost_weight,
+                        PlanningBudget& budget, PlanResult& result) {
+  std::vector<Point2> raw_centres = cell_centres(result.raw_path);
+  result.metrics.raw_cost_cells = polyline_length(raw_centres);
+  result.waypoints = options.prune ? prune_path(map, result.raw_path, options.corner_policy,
+                                                &budget, path_cost_weight)
+                                   : std::move(raw_centres);
+  if (budget.expired())
+    return Status::error(budget.state(),
+                         budget_message(budget.state(), options, "while pruning the path"));
+  // The requested start and goal exactly, or the cells' centres where a tolerance moved them
+  // (docs/algorithm.md section 8); turns, length and clearance are those of this path.
+  result.waypoints =
+      join_exact_ends(map, std::move(result.waypoints), endpoints.start_point, endpoints.goal_point,
+                      options.corner_policy, path_cost_weight, options.prune);
+  // Turns of the polyline smoothing starts from (docs/algorithm.md section 7).
+  const TurnStats turns = turn_stats(result.waypoints);
+  result.metrics.turns = turns.turns;
+  result.metrics.turn_angle_deg = turns.total_angle_deg;
+  if (!options.smooth) {
+    result.path = result.waypoints;
+    return Status::ok();
+  }
+  SmoothingOptions smoothing;
+  smoothing.smoothing_distance = options.smoothing_distance;
+  smoothing.sample_step = options.sample_step;
+  smoothing.corner_policy = options.corner_policy;
+  smoothing.cost_weight = path_cost_weight;
+  result.path = smooth_path(map, result.waypoints, smoothing, &budget);
+  if (budget.expired())
+    return Status::error(budget.state(),
+                         budget_message(budget.state(), options, "while smoothing the path"));
+  return Status::ok();
+}
+
+// The relax smoother on result.path (options.smoother relax): the relaxed path replaces it only
+// when its clearance is no lower. Sets `clearance_cells` to the final path's clearance (cells).
+Status relax_stage(const GridMap& map, const PlannerOptions& options, double path_cost_weight,
+                   PlanningBudget& budget, PlanResult& result,
+                   std::optional<double>& clearance_cells) {
+  RelaxOptions relax;
+  relax.smoothness = options.smoother_smoothness;
+  relax.closeness = options.smoother_closeness;
+  relax.cost = options.smoother_cost;
+  relax.cost_weight = path_cost_weight;
+  relax.iterations = options.smoother_iterations;
+  relax.corner_policy = options.corner_policy;
+  // The unrelaxed path's clearance (cells) is the floor; the relaxed path replaces it only when
+  // its own, measured the same way, is no lower (not even by rounding).
+  const double floor = path_clearance_cells(map, result.path);
+  // relax_path measures each segment alone; a margin far below any distance that matters
+  // keeps its rounding from putting the whole path a last bit under the floor.
+  constexpr double kRoundingMarginCells = 1e-9;
+  std::vector<Point2> relaxed =
+      relax_path(map, result.path, relax, floor + kRoundingMarginCells, &budget);
+  if (budget.expired())
+    return Status::error(budget.state(),
+                         budget_message(budget.state(), options, "while relaxing the path"));
+  const double relaxed_clearance = path_clearance_cells(map, relaxed);
+  if (relaxed_clearance < floor) {
+    clearance_cells = floor;
+    return Status::ok();
+  }
+  result.path = std::move(relaxed);
+  clearance_cells = relaxed_clearance;
+  // The relaxed path follows a curve: its turns are the corners of that curve (metrics.hpp).
+  const TurnStats corners =
+      turn_stats(simplify_polyline(result.path, kRelaxedCornerToleranceCells));
+  result.metrics.turns = corners.turns;
+  result.metrics.turn_angle_deg = corners.total_angle_deg;
+  return Status::ok();
+}
+
+}  // namespace
+
 PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
                          const std::atomic<bool>* cancel) {
   const Clock::time_point started = Clock::now();
@@ -347,21 +453,19 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     result.metrics.planning_time_us =
         std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - started).count();
   };
-  auto fail = [&](StatusCode code, std::string message) {
-    result.status = Status::error(code, std::move(message));
+  auto fail = [&](Status status) {
+    result.status = std::move(status);
     stop_clock();
     return result;
   };
-  if (!map_ || map_->cell_count() == 0) return fail(StatusCode::kInvalidMap, "no map to plan on");
+  if (!map_ || map_->cell_count() == 0)
+    return fail(Status::error(StatusCode::kInvalidMap, "no map to plan on"));
   const GridMap& map = *map_;
   // One budget for the tolerance's floods, search, pruning and smoothing.
   PlanningBudget budget(started, options.max_planning_time, cancel);
-  auto budget_failure = [&](StatusCode code, const char* stage) {
-    return fail(code, budget_message(code, options, stage));
-  };
   // The search words serve the tolerance's floods first (no allocation).
   const Expected<Endpoints> endpoints = resolve(map, query, options, &impl_->states, &budget);
-  if (!endpoints) return fail(endpoints.error().code, endpoints.error().message);
+  if (!endpoints) return fail(endpoints.error());
   result.endpoints = *endpoints;
   const PlanQuery resolved{endpoints->start, endpoints->goal};
   SearchOutcome outcome;
@@ -375,85 +479,19 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   }
   result.metrics.expanded = outcome.expanded;
   result.meeting_cell = outcome.meeting;
-  switch (outcome.code) {
-    case StatusCode::kOk:
-      break;
-    case StatusCode::kNoValidPath:
-      return fail(outcome.code,
-                  "no path from " +
-                      describe_point(map, "start", endpoints->start_point, resolved.start) +
-                      " to " + describe_point(map, "goal", endpoints->goal_point, resolved.goal) +
-                      ": they are not connected" +
-                      (connected_through_unknown(map, resolved.start, resolved.goal, budget)
-                           ? "; unknown cells close the way (with allow_unknown true they "
-                             "would connect)"
-                           : ""));
-    case StatusCode::kTimeout:
-    case StatusCode::kCanceled:
-      return budget_failure(outcome.code, "before a path was found");
-    default:
-      return fail(StatusCode::kInternalError, "search ended in an unexpected state");
-  }
-
+  if (Status s = search_failure(map, outcome, *endpoints, options, budget); !s.is_ok())
+    return fail(std::move(s));
   result.raw_path = std::move(outcome.path);
   // Pruning and smoothing weigh costs as the search did (docs/algorithm.md section 8).
   const double path_cost_weight = map.has_costs() ? options.cost_weight : 0.0;
-  std::vector<Point2> raw_centres = cell_centres(result.raw_path);
-  result.metrics.raw_cost_cells = polyline_length(raw_centres);
-  result.waypoints = options.prune ? prune_path(map, result.raw_path, options.corner_policy,
-                                                &budget, path_cost_weight)
-                                   : std::move(raw_centres);
-  if (budget.expired()) return budget_failure(budget.state(), "while pruning the path");
-  // The requested start and goal exactly, or the cells' centres where a tolerance moved them
-  // (docs/algorithm.md section 8); turns, length and clearance are those of this path.
-  result.waypoints = join_exact_ends(map, std::move(result.waypoints), endpoints->start_point,
-                                     endpoints->goal_point, options.corner_policy, path_cost_weight,
-                                     options.prune);
-  // Turns of the polyline smoothing starts from (docs/algorithm.md section 7).
-  const TurnStats turns = turn_stats(result.waypoints);
-  result.metrics.turns = turns.turns;
-  result.metrics.turn_angle_deg = turns.total_angle_deg;
-  if (options.smooth) {
-    SmoothingOptions smoothing;
-    smoothing.smoothing_distance = options.smoothing_distance;
-    smoothing.sample_step = options.sample_step;
-    smoothing.corner_policy = options.corner_policy;
-    smoothing.cost_weight = path_cost_weight;
-    result.path = smooth_path(map, result.waypoints, smoothing, &budget);
-    if (budget.expired()) return budget_failure(budget.state(), "while smoothing the path");
-  } else {
-    result.path = result.waypoints;
-  }
+  if (Status s = prune_and_smooth(map, *endpoints, options, path_cost_weight, budget, result);
+      !s.is_ok())
+    return fail(std::move(s));
   std::optional<double> clearance_cells;  // of result.path, when the smoother measured it
   if (options.smoother == PathSmoother::kRelax) {
-    RelaxOptions relax;
-    relax.smoothness = options.smoother_smoothness;
-    relax.closeness = options.smoother_closeness;
-    relax.cost = options.smoother_cost;
-    relax.cost_weight = path_cost_weight;
-    relax.iterations = options.smoother_iterations;
-    relax.corner_policy = options.corner_policy;
-    // The unrelaxed path's clearance (cells) is the floor; the relaxed path replaces it only when
-    // its own, measured the same way, is no lower (not even by rounding).
-    const double floor = path_clearance_cells(map, result.path);
-    // relax_path measures each segment alone; a margin far below any distance that matters
-    // keeps its rounding from putting the whole path a last bit under the floor.
-    constexpr double kRoundingMarginCells = 1e-9;
-    std::vector<Point2> relaxed =
-        relax_path(map, result.path, relax, floor + kRoundingMarginCells, &budget);
-    if (budget.expired()) return budget_failure(budget.state(), "while relaxing the path");
-    const double relaxed_clearance = path_clearance_cells(map, relaxed);
-    if (relaxed_clearance >= floor) {
-      result.path = std::move(relaxed);
-      clearance_cells = relaxed_clearance;
-      // The relaxed path follows a curve: its turns are the corners of that curve (metrics.hpp).
-      const TurnStats corners =
-          turn_stats(simplify_polyline(result.path, kRelaxedCornerToleranceCells));
-      result.metrics.turns = corners.turns;
-      result.metrics.turn_angle_deg = corners.total_angle_deg;
-    } else {
-      clearance_cells = floor;
-    }
+    if (Status s = relax_stage(map, options, path_cost_weight, budget, result, clearance_cells);
+        !s.is_ok())
+      return fail(std::move(s));
   }
   result.world_path.reserve(result.path.size());
   for (const Point2& p : result.path) result.world_path.push_back(map.grid_to_world(p));

@@ -146,6 +146,15 @@ class PlannerNode::Impl {
   };
   std::vector<std::unique_ptr<Robot>> robots_;
   core::Status add_robot_endpoints(Robot& robot);
+  // start()'s steps, in order.
+  core::Status create_participant();
+  template <class Tag>
+  core::Status add_reader(Tag, const std::string& topic, const dds::DataReaderQos& qos,
+                          std::unique_ptr<TakingListener> listener, Robot* input = nullptr);
+  core::Status add_node_readers();
+  core::Status add_robot_readers(Robot& robot);
+  core::Status add_action_servers(Robot& robot);
+  void log_started() const;
 
   std::mutex reply_mutex_;
   std::condition_variable reply_cv_;
@@ -374,6 +383,38 @@ core::Status PlannerNode::Impl::add_robot_endpoints(Robot& robot) {
 }
 
 core::Status PlannerNode::Impl::start() {
+  if (core::Status s = create_participant(); !s.is_ok()) return s;
+  // Writers first, so that every request read can be answered.
+  for (const auto& robot : robots_)
+    if (core::Status s = add_robot_endpoints(*robot); !s.is_ok()) return s;
+  // Then the readers: the node's own, then each robot's and its action servers.
+  if (core::Status s = add_node_readers(); !s.is_ok()) return s;
+  for (const auto& robot : robots_) {
+    if (core::Status s = add_robot_readers(*robot); !s.is_ok()) return s;
+    if (cfg_.actions.enabled)
+      if (core::Status s = add_action_servers(*robot); !s.is_ok()) return s;
+  }
+  if (cfg_.map_cost_source == MapCostSource::kCostmap)
+    spdlog::info(
+        "map.cost_source costmap: slices are Nav2 costmaps, planned on as they are (99 and 100 "
+        "blocked, 1..98 costs); occupied_threshold, robot_radius and inflation_radius not applied");
+  // The threads start once every entity exists: the replier walks each robot's action servers and
+  // the intake each robot's inputs, and neither list changes from here until stop(). What arrived
+  // while the readers were made waits in them (the intake listeners only set intake_pending_, and
+  // the slice for the map thread is kept under map_mutex_); the intake starts last, once whatever
+  // it hands on can be planned and answered.
+  replier_ = std::thread([this] { replier_loop(); });
+  map_thread_ = std::thread([this] { map_loop(); });
+  for (int w = 0; w < workers_; ++w)
+    worker_threads_.emplace_back([this, w] { worker_loop(static_cast<size_t>(w)); });
+  intake_ = std::thread([this] { intake_loop(); });
+  started_ = true;
+  log_started();
+  return core::Status::ok();
+}
+
+// The robots, the watch on other writers of our status topics, and the participant.
+core::Status PlannerNode::Impl::create_participant() {
   if (cfg_.robots.empty()) {
     robots_.push_back(std::make_unique<Robot>(cfg_, ""));
   } else {
@@ -402,23 +443,24 @@ core::Status PlannerNode::Impl::start() {
                           cfg_.discovery_servers, cfg_.participant_profile);
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
+  return core::Status::ok();
+}
 
-  // Writers first, so that every request read can be answered.
-  for (const auto& robot : robots_)
-    if (core::Status s = add_robot_endpoints(*robot); !s.is_ok()) return s;
+// A reader whose listener lives in listeners_ until stop(). `topic` is the DDS name. `input`, when
+// given, is the robot whose requests the reader carries (Robot::inputs).
+template <class Tag>
+core::Status PlannerNode::Impl::add_reader(Tag, const std::string& topic,
+                                           const dds::DataReaderQos& qos,
+                                           std::unique_ptr<TakingListener> listener, Robot* input) {
+  listeners_.push_back(std::move(listener));
+  auto reader = participant_->reader_on<typename Tag::type>(topic, qos, listeners_.back().get());
+  if (!reader) return reader.error();
+  if (input != nullptr) input->inputs.emplace_back(listeners_.back().get(), *reader);
+  return core::Status::ok();
+}
 
-  // Then the readers; each listener lives in listeners_ until stop(). `topic` is the DDS name.
-  // `input`, when given, is the robot whose requests the reader carries (Robot::inputs).
-  auto add_reader = [&](auto type, const std::string& topic, const dds::DataReaderQos& qos,
-                        std::unique_ptr<TakingListener> listener,
-                        Robot* input = nullptr) -> core::Status {
-    listeners_.push_back(std::move(listener));
-    auto reader =
-        participant_->reader_on<typename decltype(type)::type>(topic, qos, listeners_.back().get());
-    if (!reader) return reader.error();
-    if (input != nullptr) input->inputs.emplace_back(listeners_.back().get(), *reader);
-    return core::Status::ok();
-  };
+// The readers of the node as a whole: the clock, the map, the transforms.
+core::Status PlannerNode::Impl::add_node_readers() {
   auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
   // The clock first, so that the first goal already has the simulation's time.
   if (cfg_.use_sim_time) {
@@ -462,101 +504,97 @@ core::Status PlannerNode::Impl::start() {
         return s;
     }
   }
+  return core::Status::ok();
+}
+
+// A robot's readers: its pose (unless the transforms give it), its goals and its requests.
+core::Status PlannerNode::Impl::add_robot_readers(Robot& robot) {
   using PoseType = geometry_msgs::msg::dds_::PoseStamped_PubSubType;
-  for (const auto& robot_ptr : robots_) {
-    Robot& robot = *robot_ptr;
-    core::Status pose_status = core::Status::ok();
-    if (cfg_.robot_pose_source == RobotPoseSource::kTf) {
-      // Read above, once for every robot.
-    } else if (cfg_.robot_pose_type == RobotPoseType::kPoseWithCovarianceStamped) {
-      pose_status =
-          add_reader(TypeTag<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>(),
-                     robot.topic(cfg_.topics.robot_pose), reader_qos(TopicQos::kLatest),
-                     make_listener<PoseWithCovarianceStampedMsg>(
-                         [&robot](PoseWithCovarianceStampedMsg&& m, const dds::SampleInfo&) {
-                           std::lock_guard<std::mutex> lock(robot.pose_mutex);
-                           robot.robot_pose = to_pose_stamped(m);
-                         }));
-    } else {
-      pose_status = add_reader(
-          TypeTag<PoseType>(), robot.topic(cfg_.topics.robot_pose), reader_qos(TopicQos::kLatest),
-          make_listener<PoseStampedMsg>([&robot](PoseStampedMsg&& m, const dds::SampleInfo&) {
-            std::lock_guard<std::mutex> lock(robot.pose_mutex);
-            robot.robot_pose = std::move(m);
-          }));
-    }
-    if (!pose_status.is_ok()) return pose_status;
-    // Goals and requests: taken only while the robot has room for their answers.
-    auto has_room = [this, &robot] { return may_take_request(robot); };
-    auto wake = [this] { wake_intake(); };
-    if (core::Status s = add_reader(
-            TypeTag<PoseType>(), robot.topic(cfg_.topics.goal_pose), reader_qos(TopicQos::kEvents),
-            make_intake_listener<PoseStampedMsg>(
-                [this, &robot](PoseStampedMsg&& m, const dds::SampleInfo& info) {
-                  on_goal(robot, std::move(m), info);
-                },
-                has_room, wake),
-            &robot);
-        !s.is_ok())
-      return s;
-    if (core::Status s =
-            add_reader(TypeTag<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(),
-                       robot.topic(cfg_.topics.plan_request), reader_qos(TopicQos::kEvents),
-                       make_intake_listener<PlanRequestMsg>(
-                           [this, &robot](PlanRequestMsg&& m, const dds::SampleInfo& info) {
-                             Job job;
-                             job.id = std::move(m.id());
-                             job.identity = identity_of(info, wire::SUBJECT_REQUEST);
-                             job.start = std::move(m.start());
-                             job.goal = std::move(m.goal());
-                             job.planner = std::move(m.planner());
-                             on_request(robot, std::move(job));
-                           },
-                           has_room, wake),
-                       &robot);
-        !s.is_ok())
-      return s;
-    if (cfg_.actions.enabled) {
-      for (const auto& [kind, action_name] :
-           {std::pair{ActionKind::kComputePathToPose, cfg_.topics.compute_path_to_pose},
-            std::pair{ActionKind::kComputePathThroughPoses,
-                      cfg_.topics.compute_path_through_poses}}) {
-        ActionServer::Hooks hooks;
-        hooks.on_goal = [this, &robot](ActionServer& server, ActionGoal&& goal) {
-          on_action_goal(robot, server, std::move(goal));
-        };
-        hooks.on_cancel = [this, &robot](ActionServer& server, const std::vector<GoalUuid>& ids) {
-          on_action_cancel(robot, server, ids);
-        };
-        hooks.may_take = has_room;
-        hooks.wake_intake = wake;
-        hooks.now = [this] { return time_.now(); };
-        auto server = std::make_unique<ActionServer>(kind, ros_topic_name(robot.cfg, action_name),
-                                                     robot.cfg, participant_watch_.get(),
-                                                     reply_mutex_, reply_cv_, std::move(hooks));
-        const core::Status created = server->create(*participant_, listeners_, robot.inputs);
-        // Kept even when create() failed: the listeners it made may call it until stop().
-        if (created.is_ok()) all_action_servers_.push_back(server.get());
-        robot.actions.push_back(std::move(server));
-        if (!created.is_ok()) return created;
-      }
-    }
+  core::Status pose_status = core::Status::ok();
+  if (cfg_.robot_pose_source == RobotPoseSource::kTf) {
+    // Read by add_node_readers, once for every robot.
+  } else if (cfg_.robot_pose_type == RobotPoseType::kPoseWithCovarianceStamped) {
+    pose_status =
+        add_reader(TypeTag<geometry_msgs::msg::dds_::PoseWithCovarianceStamped_PubSubType>(),
+                   robot.topic(cfg_.topics.robot_pose), reader_qos(TopicQos::kLatest),
+                   make_listener<PoseWithCovarianceStampedMsg>(
+                       [&robot](PoseWithCovarianceStampedMsg&& m, const dds::SampleInfo&) {
+                         std::lock_guard<std::mutex> lock(robot.pose_mutex);
+                         robot.robot_pose = to_pose_stamped(m);
+                       }));
+  } else {
+    pose_status = add_reader(
+        TypeTag<PoseType>(), robot.topic(cfg_.topics.robot_pose), reader_qos(TopicQos::kLatest),
+        make_listener<PoseStampedMsg>([&robot](PoseStampedMsg&& m, const dds::SampleInfo&) {
+          std::lock_guard<std::mutex> lock(robot.pose_mutex);
+          robot.robot_pose = std::move(m);
+        }));
   }
-  if (cfg_.map_cost_source == MapCostSource::kCostmap)
-    spdlog::info(
-        "map.cost_source costmap: slices are Nav2 costmaps, planned on as they are (99 and 100 "
-        "blocked, 1..98 costs); occupied_threshold, robot_radius and inflation_radius not applied");
-  // The threads start once every entity exists: the replier walks each robot's action servers and
-  // the intake each robot's inputs, and neither list changes from here until stop(). What arrived
-  // while the readers were made waits in them (the intake listeners only set intake_pending_, and
-  // the slice for the map thread is kept under map_mutex_); the intake starts last, once whatever
-  // it hands on can be planned and answered.
-  replier_ = std::thread([this] { replier_loop(); });
-  map_thread_ = std::thread([this] { map_loop(); });
-  for (int w = 0; w < workers_; ++w)
-    worker_threads_.emplace_back([this, w] { worker_loop(static_cast<size_t>(w)); });
-  intake_ = std::thread([this] { intake_loop(); });
-  started_ = true;
+  if (!pose_status.is_ok()) return pose_status;
+  // Goals and requests: taken only while the robot has room for their answers.
+  auto has_room = [this, &robot] { return may_take_request(robot); };
+  auto wake = [this] { wake_intake(); };
+  if (core::Status s = add_reader(
+          TypeTag<PoseType>(), robot.topic(cfg_.topics.goal_pose), reader_qos(TopicQos::kEvents),
+          make_intake_listener<PoseStampedMsg>(
+              [this, &robot](PoseStampedMsg&& m, const dds::SampleInfo& info) {
+                on_goal(robot, std::move(m), info);
+              },
+              has_room, wake),
+          &robot);
+      !s.is_ok())
+    return s;
+  if (core::Status s =
+          add_reader(TypeTag<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(),
+                     robot.topic(cfg_.topics.plan_request), reader_qos(TopicQos::kEvents),
+                     make_intake_listener<PlanRequestMsg>(
+                         [this, &robot](PlanRequestMsg&& m, const dds::SampleInfo& info) {
+                           Job job;
+                           job.id = std::move(m.id());
+                           job.identity = identity_of(info, wire::SUBJECT_REQUEST);
+                           job.start = std::move(m.start());
+                           job.goal = std::move(m.goal());
+                           job.planner = std::move(m.planner());
+                           on_request(robot, std::move(job));
+                         },
+                         has_room, wake),
+                     &robot);
+      !s.is_ok())
+    return s;
+  return core::Status::ok();
+}
+
+// A robot's two Nav2 action servers.
+core::Status PlannerNode::Impl::add_action_servers(Robot& robot) {
+  auto has_room = [this, &robot] { return may_take_request(robot); };
+  auto wake = [this] { wake_intake(); };
+  for (const auto& [kind, action_name] :
+       {std::pair{ActionKind::kComputePathToPose, cfg_.topics.compute_path_to_pose},
+        std::pair{ActionKind::kComputePathThroughPoses, cfg_.topics.compute_path_through_poses}}) {
+    ActionServer::Hooks hooks;
+    hooks.on_goal = [this, &robot](ActionServer& server, ActionGoal&& goal) {
+      on_action_goal(robot, server, std::move(goal));
+    };
+    hooks.on_cancel = [this, &robot](ActionServer& server, const std::vector<GoalUuid>& ids) {
+      on_action_cancel(robot, server, ids);
+    };
+    hooks.may_take = has_room;
+    hooks.wake_intake = wake;
+    hooks.now = [this] { return time_.now(); };
+    auto server = std::make_unique<ActionServer>(kind, ros_topic_name(robot.cfg, action_name),
+                                                 robot.cfg, participant_watch_.get(), reply_mutex_,
+                                                 reply_cv_, std::move(hooks));
+    const core::Status created = server->create(*participant_, listeners_, robot.inputs);
+    // Kept even when create() failed: the listeners it made may call it until stop().
+    if (created.is_ok()) all_action_servers_.push_back(server.get());
+    robot.actions.push_back(std::move(server));
+    if (!created.is_ok()) return created;
+  }
+  return core::Status::ok();
+}
+
+void PlannerNode::Impl::log_started() const {
+  auto name = [&](const std::string& topic) { return dds_topic_name(cfg_, topic); };
   const Robot& first = *robots_.front();
   if (robots_.size() == 1) {
     spdlog::info("vnsba_node up on domain {}: slices on '{}', requests on '{}', goals on '{}'",
@@ -570,7 +608,6 @@ core::Status PlannerNode::Impl::start() {
         first.topic(cfg_.topics.plan_request), robots_.back()->topic(cfg_.topics.plan_request),
         workers_);
   }
-  return core::Status::ok();
 }
 
 void PlannerNode::Impl::stop() {
