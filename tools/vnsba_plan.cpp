@@ -358,6 +358,23 @@ void print_result_line(const core::PlanResult& result, const std::vector<int64_t
   if (!result.status.is_ok()) std::fprintf(stderr, "%s\n", result.status.message.c_str());
 }
 
+// --list-planners: each registered planner with what it searches with, as its descriptor says.
+void print_planners() {
+  for (const core::PlannerDescriptor* planner : core::registered_planners()) {
+    const core::PlannerCapabilities& can = planner->can;
+    std::printf("%s (%s): %s\n", planner->name.data(), planner->paper_name.data(),
+                planner->summary.data());
+    std::printf("  neighborhood: %s; corner_policy: %s; cost_weight: %s%s\n",
+                can.long_moves ? "8 or 8-11-13" : "8", can.corner_cutting ? "any" : "never",
+                can.costs ? "any" : "0",
+                can.optimal_on_baseline ? "; exact: the shortest grid path" : "");
+    std::string own;
+    for (size_t i = 0; i < planner->own_option_count; ++i)
+      own += (own.empty() ? "" : ", ") + std::string(planner->own_options[i].range->key);
+    if (!own.empty()) std::printf("  its own options: %s\n", own.c_str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -396,6 +413,9 @@ int main(int argc, char** argv) {
       "the node's YAML config: its planner and map sections (and, for OctoMaps, its slicer band) "
       "are the defaults of the options below; a flag given overrides its key (default: "
       "default.yaml, as the node)");
+  bool list_planners = false;
+  app.add_flag("--list-planners", list_planners,
+               "list the planners --planner accepts, what each searches with, and exit");
   bool paper = false;
   app.add_flag("--paper", paper,
                "no config: the paper's setting (a binary grid without robot radius, inflation or "
@@ -536,6 +556,10 @@ int main(int argc, char** argv) {
       app.add_option("--smoother-iterations", smoother_iterations,
                      "relax: iterations at most, an integer in 1..10000 (default 10)");
   if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
+  if (list_planners) {
+    print_planners();
+    return 0;
+  }
 
   // The config's sections are the defaults of every flag below.
   std::optional<node::NodeConfig> config;

@@ -18,6 +18,7 @@
 #include "temp_dir.hpp"
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/core/planner_registry.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
 #include "vnsba/records/run_record.hpp"
@@ -705,6 +706,26 @@ TEST(VnsbaPlan, AutoIsJpsWithoutCostsAndTheCostAwareChoiceWithThem) {
 // default.yaml, as the node does (the oracle: the same file given with --config); --paper plans
 // the paper's setting (the oracle: config/paper.yaml, which spells that setting out), and the two
 // flags together are refused.
+// The planners come from the registry: --list-planners names each with what it searches with,
+// and each plans when --planner names it, whatever planners there are.
+TEST(VnsbaPlan, ListsAndPlansEveryRegisteredPlanner) {
+  const auto [code, listing] = run_plan_as_given({"--list-planners"});
+  ASSERT_EQ(code, 0) << listing;
+  for (const core::PlannerDescriptor* planner : core::registered_planners()) {
+    const std::string name(planner->name);
+    SCOPED_TRACE(name);
+    EXPECT_NE(listing.find(name + " (" + std::string(planner->paper_name) +
+                           "): " + std::string(planner->summary)),
+              std::string::npos)
+        << listing;
+    const auto [plan_code, output] =
+        run_plan({kRooms, "--start", "2.5", "2.5", "--goal", "29.5", "13.5", "--planner", name});
+    EXPECT_EQ(plan_code, 0) << output;
+    EXPECT_NE(output.find(name), std::string::npos) << output;
+  }
+  EXPECT_NE(listing.find("its own options: omega, eta"), std::string::npos) << listing;
+}
+
 TEST(VnsbaPlan, WithoutConfigPlansAsDefaultYamlAndPaperAsThePaper) {
   const std::vector<std::string> query = {kRooms,   "--start", "2.5", "2.5",
                                           "--goal", "29.5",    "13.5"};
