@@ -146,6 +146,12 @@ class PlannerNode::Impl {
   };
   std::vector<std::unique_ptr<Robot>> robots_;
   core::Status add_robot_endpoints(Robot& robot);
+  // replier_loop()'s steps.
+  struct DueReplies;
+  DueReplies take_due_replies(bool stopping);
+  void forget_results_beyond_budget();
+  size_t write_statuses(bool stopping, Clock::time_point drain_deadline);
+  std::optional<ReplyGate<HeldStatus>::Clock::time_point> next_reply_deadline() const;
   // start()'s steps, in order.
   core::Status create_participant();
   template <class Tag>
@@ -1187,110 +1193,145 @@ void PlannerNode::Impl::write_status(Robot& robot, PlanStatusMsg&& msg, const st
   reply_cv_.notify_all();
 }
 
-void PlannerNode::Impl::replier_loop() {
+// What one pass of the replier found due, under reply_mutex_.
+struct PlannerNode::Impl::DueReplies {
+  size_t timed_out = 0;    // statuses released after requests.reply_wait without their reader
+  bool unwritten = false;  // some robot has statuses to write
+  // The action servers' replies and status lists due now.
+  std::vector<std::pair<ActionServer*, ActionServer::Due>> action_dues;
+  // Status writers whose gate asked for a heartbeat (reply_gate.hpp: a fresh requester).
+  std::vector<dds::DataWriter*> status_heartbeats;
+};
+
+PlannerNode::Impl::DueReplies PlannerNode::Impl::take_due_replies(bool stopping) {
   using ReplyClock = ReplyGate<HeldStatus>::Clock;
+  // At shutdown everything still held goes out at once: nothing accepted is lost.
+  const ReplyClock::time_point now = stopping ? ReplyClock::time_point::max() : ReplyClock::now();
+  DueReplies due;
+  for (const auto& robot : robots_) {
+    bool heartbeat = false;
+    for (HeldStatus& held : robot->replies.release(now, &due.timed_out, &heartbeat))
+      robot->unwritten.push_back(std::move(held));
+    if (heartbeat && robot->status_writer != nullptr)
+      due.status_heartbeats.push_back(robot->status_writer);
+    due.unwritten = due.unwritten || !robot->unwritten.empty();
+    for (const auto& action : robot->actions) {
+      ActionServer::Due action_due;
+      action->take_due(ReplyClock::now(), stopping, action_due);
+      if (!action_due.replies.empty() || action_due.status || action_due.check_flows ||
+          !action_due.heartbeats.empty())
+        due.action_dues.emplace_back(action.get(), std::move(action_due));
+    }
+  }
+  return due;
+}
+
+// One budget for the results every action server keeps (actions.kept_results_mb); under
+// reply_mutex_.
+void PlannerNode::Impl::forget_results_beyond_budget() {
+  const size_t forgotten = forget_beyond_budget(
+      all_action_servers_, static_cast<size_t>(cfg_.actions.kept_results_mb) << 20);
+  if (forgotten == 0) return;
+  results_forgotten_for_budget_ += forgotten;
+  if (Clock::now() - budget_warned_ < std::chrono::seconds(60)) return;
+  budget_warned_ = Clock::now();
+  spdlog::warn(
+      "action results forgotten before actions.result_timeout to stay within "
+      "actions.kept_results_mb ({} MiB): {} so far (a late get_result of one answers UNKNOWN)",
+      cfg_.actions.kept_results_mb, results_forgotten_for_budget_);
+}
+
+// Writes every robot's unwritten statuses, without reply_mutex_ (a write may block up to the
+// writer's max_blocking_time). Returns how many a full status history kept back.
+size_t PlannerNode::Impl::write_statuses(bool stopping, Clock::time_point drain_deadline) {
+  size_t waiting = 0;
+  for (const auto& robot : robots_) {
+    std::deque<HeldStatus>& queue = robot->unwritten;
+    if (queue.empty()) continue;
+    dds::DataWriter* writer = robot->status_writer;
+    // A heartbeat first, one that does not count these statuses (writer_qos: manual
+    // liveliness for that). To a volatile reader that has acknowledged nothing yet, Fast DDS
+    // sends a status right behind a heartbeat that counts it, and Cyclone DDS's volatile
+    // reader skips everything up to the last sequence number of the first heartbeat it gets
+    // from a writer. A client that matched this writer after the node matched its reader
+    // (discovery is not symmetric) missed the earlier heartbeats: it would lose its status.
+    // Not enough alone over multicast (reply_gate.hpp): a requester's first status also
+    // waited a settle after a heartbeat of its own (status_heartbeats in take_due_replies).
+    if (writer != nullptr) writer->assert_liveliness();
+    while (!queue.empty()) {
+      HeldStatus& held = queue.front();
+      // A keep-all history full of unacknowledged statuses refuses after max_blocking_time:
+      // the status stays first in line and is tried again; none is ever dropped for a newer
+      // one. Only a shutdown whose drain ran out of time gives the rest up, and says so.
+      const bool written = writer != nullptr && write_sample(writer, &held.msg);
+      if (!written && writer != nullptr && !(stopping && Clock::now() >= drain_deadline)) {
+        waiting += queue.size();
+        break;
+      }
+      if (!written)
+        spdlog::error("could not publish the status of {}{}", held.what,
+                      writer == nullptr ? "" : ": the shutdown's drain ran out of time");
+      if (held.answer) --robot->unanswered;
+      queue.pop_front();
+    }
+    resume_input(*robot);
+  }
+  return waiting;
+}
+
+// The earliest time a held status or an action server's reply falls due; under reply_mutex_.
+auto PlannerNode::Impl::next_reply_deadline() const
+    -> std::optional<ReplyGate<HeldStatus>::Clock::time_point> {
+  std::optional<ReplyGate<HeldStatus>::Clock::time_point> deadline;
+  for (const auto& robot : robots_) {
+    const auto next = robot->replies.next_deadline();
+    if (next && (!deadline || *next < *deadline)) deadline = next;
+    for (const auto& action : robot->actions) {
+      const auto next_action = action->next_deadline();
+      if (next_action && (!deadline || *next_action < *deadline)) deadline = next_action;
+    }
+  }
+  return deadline;
+}
+
+void PlannerNode::Impl::replier_loop() {
   std::unique_lock<std::mutex> lock(reply_mutex_);
   bool warned_full = false;  // one warning per episode of a full status history
   for (;;) {
-    size_t timed_out = 0;
-    // At shutdown everything still held goes out at once: nothing accepted is lost.
     const bool stopping = replier_stopping_;
     const Clock::time_point drain_deadline = drain_deadline_;
-    const ReplyClock::time_point now = stopping ? ReplyClock::time_point::max() : ReplyClock::now();
-    bool unwritten = false;
-    // The action servers' replies and status lists due now.
-    std::vector<std::pair<ActionServer*, ActionServer::Due>> action_dues;
-    // Status writers whose gate asked for a heartbeat (reply_gate.hpp: a fresh requester).
-    std::vector<dds::DataWriter*> status_heartbeats;
-    for (const auto& robot : robots_) {
-      bool heartbeat = false;
-      for (HeldStatus& held : robot->replies.release(now, &timed_out, &heartbeat))
-        robot->unwritten.push_back(std::move(held));
-      if (heartbeat && robot->status_writer != nullptr)
-        status_heartbeats.push_back(robot->status_writer);
-      unwritten = unwritten || !robot->unwritten.empty();
-      for (const auto& action : robot->actions) {
-        ActionServer::Due due;
-        action->take_due(ReplyClock::now(), stopping, due);
-        if (!due.replies.empty() || due.status || due.check_flows || !due.heartbeats.empty())
-          action_dues.emplace_back(action.get(), std::move(due));
-      }
-    }
-    if (!status_heartbeats.empty()) {
+    DueReplies due = take_due_replies(stopping);
+    if (!due.status_heartbeats.empty()) {
       // Heartbeats that count no status held now: a fresh requester's settle starts with them.
       lock.unlock();
-      for (dds::DataWriter* writer : status_heartbeats) writer->assert_liveliness();
+      for (dds::DataWriter* writer : due.status_heartbeats) writer->assert_liveliness();
       lock.lock();
     }
-    // One budget for the results every action server keeps (actions.kept_results_mb).
-    if (const size_t forgotten = forget_beyond_budget(
-            all_action_servers_, static_cast<size_t>(cfg_.actions.kept_results_mb) << 20);
-        forgotten > 0) {
-      results_forgotten_for_budget_ += forgotten;
-      if (Clock::now() - budget_warned_ >= std::chrono::seconds(60)) {
-        budget_warned_ = Clock::now();
-        spdlog::warn(
-            "action results forgotten before actions.result_timeout to stay within "
-            "actions.kept_results_mb ({} MiB): {} so far (a late get_result of one answers "
-            "UNKNOWN)",
-            cfg_.actions.kept_results_mb, results_forgotten_for_budget_);
-      }
-    }
-    if (!action_dues.empty()) {
+    forget_results_beyond_budget();
+    if (!due.action_dues.empty()) {
       lock.unlock();
       const bool give_up = stopping && Clock::now() >= drain_deadline;
       bool all_written = true;
-      for (auto& [action, due] : action_dues)
-        all_written = action->write(due, stopping, give_up) && all_written;
+      for (auto& [action, action_due] : due.action_dues)
+        all_written = action->write(action_due, stopping, give_up) && all_written;
       lock.lock();
       // Statuses released this pass go out below, in the same pass.
-      if (!unwritten) {
+      if (!due.unwritten) {
         // Replies waiting for their readers' acknowledgements (reply_flow.hpp), which arrive
         // without a callback: looked for again shortly.
         if (!all_written) reply_cv_.wait_for(lock, std::chrono::milliseconds(2));
         continue;
       }
     }
-    if (unwritten) {
-      lock.unlock();  // write() may block up to the writer's max_blocking_time
-      replies_timed_out_ += timed_out;
-      if (timed_out > 0)
+    if (due.unwritten) {
+      lock.unlock();
+      replies_timed_out_ += due.timed_out;
+      if (due.timed_out > 0)
         spdlog::warn(
             "{} status(es) written after requests.reply_wait ({} ms) without a matched status "
             "reader of the requesting participant: a volatile reader that matches later misses it",
-            timed_out, cfg_.reply_wait.count());
-      size_t waiting = 0;  // statuses a full history kept back this round
-      for (const auto& robot : robots_) {
-        std::deque<HeldStatus>& queue = robot->unwritten;
-        if (queue.empty()) continue;
-        dds::DataWriter* writer = robot->status_writer;
-        // A heartbeat first, one that does not count these statuses (writer_qos: manual
-        // liveliness for that). To a volatile reader that has acknowledged nothing yet, Fast DDS
-        // sends a status right behind a heartbeat that counts it, and Cyclone DDS's volatile
-        // reader skips everything up to the last sequence number of the first heartbeat it gets
-        // from a writer. A client that matched this writer after the node matched its reader
-        // (discovery is not symmetric) missed the earlier heartbeats: it would lose its status.
-        // Not enough alone over multicast (reply_gate.hpp): a requester's first status also
-        // waited a settle after a heartbeat of its own (status_heartbeats above).
-        if (writer != nullptr) writer->assert_liveliness();
-        while (!queue.empty()) {
-          HeldStatus& held = queue.front();
-          // A keep-all history full of unacknowledged statuses refuses after max_blocking_time:
-          // the status stays first in line and is tried again; none is ever dropped for a newer
-          // one. Only a shutdown whose drain ran out of time gives the rest up, and says so.
-          const bool written = writer != nullptr && write_sample(writer, &held.msg);
-          if (!written && writer != nullptr && !(stopping && Clock::now() >= drain_deadline)) {
-            waiting += queue.size();
-            break;
-          }
-          if (!written)
-            spdlog::error("could not publish the status of {}{}", held.what,
-                          writer == nullptr ? "" : ": the shutdown's drain ran out of time");
-          if (held.answer) --robot->unanswered;
-          queue.pop_front();
-        }
-        resume_input(*robot);
-      }
+            due.timed_out, cfg_.reply_wait.count());
+      const size_t waiting = write_statuses(stopping, drain_deadline);
       lock.lock();
       if (waiting > 0 && !warned_full) {
         spdlog::warn(
@@ -1305,16 +1346,7 @@ void PlannerNode::Impl::replier_loop() {
       continue;
     }
     if (stopping) return;
-    std::optional<ReplyClock::time_point> deadline;
-    for (const auto& robot : robots_) {
-      const auto next = robot->replies.next_deadline();
-      if (next && (!deadline || *next < *deadline)) deadline = next;
-      for (const auto& action : robot->actions) {
-        const auto next_action = action->next_deadline();
-        if (next_action && (!deadline || *next_action < *deadline)) deadline = next_action;
-      }
-    }
-    if (deadline)
+    if (const auto deadline = next_reply_deadline())
       reply_cv_.wait_until(lock, *deadline);
     else
       reply_cv_.wait(lock);
