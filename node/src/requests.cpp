@@ -33,33 +33,37 @@ std::string echoed_id(const std::string& id) {
   return id.size() <= kMaxIdBytes ? id : id.substr(0, kMaxIdBytes);
 }
 
-ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map,
-                                const std::string& map_topic) {
-  ResolvedRequest out;
-  auto fail = [&](uint8_t code, std::string message) {
-    out.status = {code, std::move(message)};
-    return out;
-  };
+namespace {
+
+// The string fields' lengths and the id: the failure, or nullopt. Sets out.invalid_planner when
+// the planner name is at fault (Nav2: INVALID_PLANNER, whatever the reason the name is bad).
+std::optional<WireStatus> check_fields(const Job& job, ResolvedRequest& out) {
   if (job.id.size() > kMaxIdBytes)
-    return fail(wire::INVALID_REQUEST, too_long("id", job.id.size(), kMaxIdBytes));
-  if (job.id.empty()) return fail(wire::INVALID_REQUEST, "id: must not be empty");
+    return WireStatus{wire::INVALID_REQUEST, too_long("id", job.id.size(), kMaxIdBytes)};
+  if (job.id.empty()) return WireStatus{wire::INVALID_REQUEST, "id: must not be empty"};
   if (job.planner.size() > kMaxPlannerNameBytes) {
-    out.invalid_planner = true;  // Nav2: INVALID_PLANNER, whatever the reason the name is bad
-    return fail(wire::INVALID_REQUEST,
-                too_long("planner", job.planner.size(), kMaxPlannerNameBytes));
+    out.invalid_planner = true;
+    return WireStatus{wire::INVALID_REQUEST,
+                      too_long("planner", job.planner.size(), kMaxPlannerNameBytes)};
   }
   const std::pair<const char*, const PoseStampedMsg*> poses[] = {{"start", &job.start},
                                                                  {"goal", &job.goal}};
   for (const auto& [field, pose] : poses) {
     const size_t bytes = pose->header().frame_id().size();
-    if (bytes > kMaxFrameIdBytes) {
-      return fail(wire::INVALID_REQUEST, too_long((std::string(field) + ".header.frame_id").c_str(),
-                                                  bytes, kMaxFrameIdBytes));
-    }
+    if (bytes > kMaxFrameIdBytes)
+      return WireStatus{
+          wire::INVALID_REQUEST,
+          too_long((std::string(field) + ".header.frame_id").c_str(), bytes, kMaxFrameIdBytes)};
   }
-  // No planner named: the configured one (planner.name, auto's choice included). `auto`: auto's
-  // rule on the file's keys. A planner: every configured key, the rest that planner's paper
-  // configuration. An alias (planner.aliases, GridBased by default) names one of these.
+  return std::nullopt;
+}
+
+// The planner and its options (out.options, out.planner_name, out.warning): the failure, or
+// nullopt. No planner named: the configured one (planner.name, auto's choice included). `auto`:
+// auto's rule on the file's keys. A planner: every configured key, the rest that planner's paper
+// configuration. An alias (planner.aliases, GridBased by default) names one of these.
+std::optional<WireStatus> choose_planner(const Job& job, const NodeConfig& config,
+                                         ResolvedRequest& out) {
   std::string planner = job.planner;
   if (const auto target = config.planner.alias_target(planner))
     planner = *target == kDefaultPlannerAlias ? std::string() : *target;
@@ -73,8 +77,8 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const 
     out.invalid_planner = true;
     std::string known = core::accepted_planner_names();
     for (const auto& [name, target] : config.planner.aliases) known += ", " + name;
-    return fail(wire::INVALID_REQUEST,
-                "planner: unknown planner '" + printable(job.planner) + "' (known: " + known + ")");
+    return WireStatus{wire::INVALID_REQUEST, "planner: unknown planner '" + printable(job.planner) +
+                                                 "' (known: " + known + ")"};
   }
   out.planner_name = std::string(core::to_string(out.options.planner));
   // jps plans on uniform costs only (its jump rules need every move of a kind to cost the same).
@@ -93,10 +97,24 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const 
   // not accept it (jps with a corner_policy it cannot search with).
   if (core::Status s = core::validate(out.options); !s.is_ok()) {
     out.invalid_planner = true;
-    return fail(wire::INVALID_REQUEST,
-                "planner: " + out.planner_name +
-                    " cannot plan with the node's planner.* settings: " + s.message);
+    return WireStatus{wire::INVALID_REQUEST,
+                      "planner: " + out.planner_name +
+                          " cannot plan with the node's planner.* settings: " + s.message};
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map,
+                                const std::string& map_topic) {
+  ResolvedRequest out;
+  auto fail = [&](uint8_t code, std::string message) {
+    out.status = {code, std::move(message)};
+    return out;
+  };
+  if (auto failure = check_fields(job, out)) return fail(failure->code, failure->message);
+  if (auto failure = choose_planner(job, config, out)) return fail(failure->code, failure->message);
   if (!job.missing_start.empty()) return fail(wire::INVALID_REQUEST, job.missing_start);
   const PoseCheck start = check_pose(job.start, "start", config.frame_id);
   if (!start.status.ok()) return fail(start.status.code, start.status.message);
