@@ -362,8 +362,10 @@ void print_result_line(const core::PlanResult& result, const std::vector<int64_t
 void print_planners() {
   for (const core::PlannerDescriptor* planner : core::registered_planners()) {
     const core::PlannerCapabilities& can = planner->can;
-    std::printf("%s (%s): %s\n", planner->name.data(), planner->paper_name.data(),
-                planner->summary.data());
+    const std::string heading = std::string(planner->name) + " (" +
+                                std::string(planner->paper_name) +
+                                "): " + std::string(planner->summary);
+    std::printf("%s\n", heading.c_str());
     std::printf("  neighborhood: %s; corner_policy: %s; cost_weight: %s%s\n",
                 can.long_moves ? "8 or 8-11-13" : "8", can.corner_cutting ? "any" : "never",
                 can.costs ? "any" : "0",

@@ -22,8 +22,7 @@ extern const PlannerDescriptor alternating_bidirectional_astar{
     "improved BA*",
     "the paper's improved BA*: two density-weighted searches, each towards the other's current "
     "node",
-    {/*long_moves=*/true, /*corner_cutting=*/true, /*costs=*/true,
-     /*optimal_on_baseline=*/false, "", "", ""},
+    searches_every_graph(/*exact=*/false),
     nullptr,
     0,
     baseline_configuration,

@@ -44,8 +44,7 @@ extern const PlannerDescriptor vns_bastar{
     "VNS-BA*",
     "the paper's VNS-BA*: bidirectional, density-weighted (omega, eta), 8-11-13 moves, pruned and "
     "smoothed",
-    {/*long_moves=*/true, /*corner_cutting=*/true, /*costs=*/true,
-     /*optimal_on_baseline=*/false, "", "", ""},
+    searches_every_graph(/*exact=*/false),
     kVnsBastarOptions,
     std::size(kVnsBastarOptions),
     configure_vns_bastar,

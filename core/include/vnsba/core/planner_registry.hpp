@@ -41,6 +41,12 @@ struct PlannerCapabilities {
   std::string_view without_costs;
 };
 
+// A planner that searches every graph the options can ask for: both neighbourhoods, every corner
+// policy, cell costs. `exact`: it also finds the shortest path on the baseline graph.
+constexpr PlannerCapabilities searches_every_graph(bool exact) {
+  return {true, true, true, exact, "", "", ""};
+}
+
 // A numeric option only some planners read: the range (its key and unit) and the setting it
 // fills. The node's config reads the key under `planner:` and checks the range.
 struct OwnOption {
