@@ -19,6 +19,7 @@
 #include "vnsba/core/planner.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/maps/octomap_slice.hpp"
+#include "vnsba/node/config.hpp"
 #include "vnsba/render/progress.hpp"
 
 namespace vnsba::bench {
@@ -436,7 +437,7 @@ ChoiceStats choice_stats(const std::vector<const ChoiceQueries*>& sets, size_t p
 
 // --- The OctoMap slices -----------------------------------------------------------------------
 
-// A held-in OctoMap sliced at kDemoSliceZMin-kDemoSliceZMax, with its binary and cost-aware maps
+// A held-in OctoMap sliced at default_slice_band(), with its binary and cost-aware maps
 // and a planner on each.
 struct SlicedScene {
   std::string name;  // the file's name
@@ -454,8 +455,8 @@ std::optional<SlicedScene> load_sliced(const std::string& path, const RobotSetti
     return std::nullopt;
   }
   maps::SliceOptions slice;
-  slice.z_min = kDemoSliceZMin;
-  slice.z_max = kDemoSliceZMax;
+  slice.z_min = default_slice_band().z_min;
+  slice.z_max = default_slice_band().z_max;
   auto grid = maps::slice_octree(**tree, slice);
   if (!grid) {
     std::fprintf(stderr, "vnsba_bench costs: %s: %s\n", what, grid.error().message.c_str());
@@ -746,7 +747,7 @@ OctomapResult run_octomaps(const CostsOptions& options,
       "same with smoother relax, its weights at their defaults). Time: median of %d plans per "
       "side, the sides interleaved. Max curvature: the largest heading change over the mean "
       "length of its two segments, per metre.\n\n",
-      scene->name.c_str(), kDemoSliceZMin, kDemoSliceZMax, scene->grid.width, scene->grid.height,
+      scene->name.c_str(), default_slice_band().z_min, default_slice_band().z_max, scene->grid.width, scene->grid.height,
       scene->grid.resolution, options.robot.robot_radius, options.robot.inflation_radius,
       options.robot.cost_scaling_factor, options.robot.cost_weight, options.robot.goal_tolerance,
       options.robot.start_tolerance, options.repetitions);
@@ -844,8 +845,8 @@ OctomapResult run_octomaps(const CostsOptions& options,
     return out;
   }
   text +=
-      "**Held-in OctoMap slices** (sliced at " + format(kDemoSliceZMin, 1) + "-" +
-      format(kDemoSliceZMax, 1) +
+      "**Held-in OctoMap slices** (sliced at " + format(default_slice_band().z_min, 1) + "-" +
+      format(default_slice_band().z_max, 1) +
       " m like the demo scene), every planner on the same seeded random queries, the three sides "
       "as above, time the median of " +
       std::to_string(options.repetitions) +
@@ -1197,7 +1198,38 @@ std::string choice_text(const CostsOptions& options, const std::vector<core::Pla
   return head + table.str() + "\n";
 }
 
+// config/default.yaml as the node reads it (compiled into the config library). It always loads: a
+// default.yaml that did not would fail the build's own config tests first.
+const node::NodeConfig& default_yaml_config() {
+  static const node::NodeConfig config = [] {
+    const node::ConfigResult defaults = node::default_config();
+    if (!defaults.config) {
+      for (const std::string& error : defaults.errors) std::fprintf(stderr, "%s\n", error.c_str());
+      std::abort();
+    }
+    return *defaults.config;
+  }();
+  return config;
+}
+
 }  // namespace
+
+const RobotSettings& default_yaml_robot() {
+  static const RobotSettings robot = [] {
+    const node::NodeConfig& c = default_yaml_config();
+    const core::PlannerOptions planner = c.planner.options();
+    return RobotSettings{c.map.robot_radius,    c.map.inflation_radius,
+                         c.map.cost_scaling_factor, planner.cost_weight,
+                         planner.goal_tolerance, planner.start_tolerance};
+  }();
+  return robot;
+}
+
+const SliceBand& default_slice_band() {
+  static const SliceBand band{default_yaml_config().slicer.z_min,
+                              default_yaml_config().slicer.z_max};
+  return band;
+}
 
 core::GridBuildOptions build_options(const RobotSettings& robot, bool with_radius) {
   core::GridBuildOptions build;

@@ -12,9 +12,9 @@
 // choosing the cost-aware planner auto runs: every cost-aware planner with auto's settings, its
 // time per query over astar's, and its path length and turn angle over astar's.
 //
-// vnsba_bench builds without DDS (bench/make_results.sh builds the core only), so it does
-// not read the YAML files: kDefaultYamlRobot below holds config/default.yaml's values, and a node
-// test checks that the two agree.
+// The robot and the slice band are config/default.yaml's, read from the node's config library
+// (it needs no DDS, so the core-only build that bench/make_results.sh makes has it too): the
+// benchmark runs the defaults the node runs, with no copy of their values.
 #pragma once
 
 #include <string>
@@ -34,11 +34,15 @@ struct RobotSettings {
   double goal_tolerance = 0.0;       // planner.goal_tolerance, metres
   double start_tolerance = 0.0;      // planner.start_tolerance, metres
 };
-inline constexpr RobotSettings kDefaultYamlRobot{0.15, 0.55, 3.0, 2.0, 0.25, 0.2};
+const RobotSettings& default_yaml_robot();
 
-// The demo scene's slice (tools/demo.sh: the config's height band, the tree's leaf size).
-inline constexpr double kDemoSliceZMin = 0.1;  // metres
-inline constexpr double kDemoSliceZMax = 1.5;  // metres
+// The demo scene's slice (tools/demo.sh: the config's height band, the tree's leaf size):
+// default.yaml's slicer.z_min and z_max, metres.
+struct SliceBand {
+  double z_min = 0.0;
+  double z_max = 0.0;
+};
+const SliceBand& default_slice_band();
 
 // The demo's routes that end OK (tools/demo.sh runs office_route with three planners; here every
 // route runs with every planner). Metres, in the scene's frame. A test keeps them tools/demo.sh's.
@@ -59,7 +63,7 @@ inline constexpr double kMovingAiResolution = 0.05;
 struct CostsOptions {
   std::string maps_dir;    // Moving AI maps with scenarios ("" or missing: that part is skipped)
   std::string scene_path;  // the demo scene, an OctoMap (.bt); also the first held-in slice
-  // More held-in OctoMaps (.bt), sliced like the scene (kDemoSliceZMin-kDemoSliceZMax, the tree's
+  // More held-in OctoMaps (.bt), sliced like the scene (default_slice_band(), the tree's
   // leaf size); a file that does not exist is skipped with a message, an empty name is ignored.
   std::vector<std::string> slice_paths;
   int slice_queries = 20;           // seeded random queries per slice (0: none)
@@ -68,7 +72,7 @@ struct CostsOptions {
   std::vector<core::PlannerKind> planners;  // empty: all
   int max_scenarios = 40;                   // per Moving AI map, spread over the file
   int repetitions = 5;  // timed plans per scene or slice query and side (median), interleaved
-  RobotSettings robot = kDefaultYamlRobot;
+  RobotSettings robot = default_yaml_robot();
   // Progress of the Moving AI part on stderr (queries done / total, elapsed, ETA, at most once a
   // second) even when stderr is not a terminal; on a terminal it is always shown.
   bool progress = false;
@@ -84,7 +88,7 @@ core::PlannerSettings planner_settings(const RobotSettings& robot);
 
 // The options `planner.name: auto` plans with for `robot` (config/default.yaml: prune and smooth
 // on, the planner core::recommended_planner picks for robot.cost_weight and the moves) and
-// `smoother`: with kDefaultYamlRobot and kRelax the default configuration (astar), with
+// `smoother`: with default_yaml_robot() and kRelax the default configuration (astar), with
 // RobotSettings{} (cost_weight 0) and kNone the binary default (jps).
 core::PlannerOptions default_config_options(const RobotSettings& robot,
                                             core::PathSmoother smoother);

@@ -218,7 +218,8 @@ void run(const Options& o, const std::string& mode, const std::string& discovery
       fs::temp_directory_path() /
       ("vnsba_fleet_bench_" + std::to_string(getpid()) + "_" + std::to_string(run_index));
   fs::create_directories(dir);
-  node::NodeConfig base;
+  // default.yaml's configuration, which the fleet's nodes load under the YAML written below.
+  node::NodeConfig base = node::default_config().config.value();
   base.domain_id = 1 + static_cast<int>((getpid() + run_index) % 200);
   base.topics.projected_map = "/map";  // absolute: one map for every namespace
   std::unique_ptr<Child> server;

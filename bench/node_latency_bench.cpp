@@ -6,6 +6,7 @@
 //   overhead: end-to-end p50 minus core p50
 //
 // Then the time from publishing a 4,000 x 4,000 slice (16 MB) to the node having it ready.
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <string>
 #include <thread>
@@ -79,15 +81,19 @@ void isolate(node::NodeConfig& cfg, const std::string& prefix) {
   }
 }
 
-// `count` start and goal cells, both free, drawn uniformly from `map` with `seed`.
+// `count` start and goal cells drawn uniformly from `map` with `seed`, each pair one that
+// `planner` plans with `options` (both free and connected: a robot's inflation parts some rooms
+// of the indoor map). At most 100 draws a query, so a map without such pairs ends the loop.
 std::vector<std::pair<core::Cell, core::Cell>> free_queries(const core::GridMap& map, int count,
-                                                            unsigned seed) {
+                                                            unsigned seed, core::Planner& planner,
+                                                            const core::PlannerOptions& options) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> x(0, map.width() - 1), y(0, map.height() - 1);
   std::vector<std::pair<core::Cell, core::Cell>> out;
-  while (static_cast<int>(out.size()) < count) {
+  for (int draw = 0; static_cast<int>(out.size()) < count && draw < 100 * count; ++draw) {
     const core::Cell a{x(rng), y(rng)}, b{x(rng), y(rng)};
-    if (!map.blocked(a) && !map.blocked(b)) out.emplace_back(a, b);
+    if (!map.blocked(a) && !map.blocked(b) && planner.plan({a, b}, options).status.is_ok())
+      out.emplace_back(a, b);
   }
   return out;
 }
@@ -103,8 +109,18 @@ node::PlanRequestMsg request_between(const core::GridMap& map, const core::Cell&
   return request;
 }
 
+// config/default.yaml's configuration, as the node runs without a config file.
+node::NodeConfig default_node_config() {
+  const node::ConfigResult defaults = node::default_config();
+  if (!defaults.config) {
+    for (const std::string& error : defaults.errors) std::fprintf(stderr, "%s\n", error.c_str());
+    std::exit(1);
+  }
+  return *defaults.config;
+}
+
 struct Setup {
-  node::NodeConfig cfg;
+  node::NodeConfig cfg = default_node_config();
   // With security, the slice comes from a participant with the slicer's enclave and requests
   // from one with send_goal's, as on a secured bus (each enclave's permissions allow only that).
   std::unique_ptr<node::Participant> map_client;
@@ -155,10 +171,12 @@ bool connect(Setup& s) {
   return false;
 }
 
-// `planner`: the node's configured planner for this run (planner.name). `security` enabled:
+// `planner`: the node's configured planner for this run (planner.name), or default.yaml's (auto)
+// when not given. `security` enabled:
 // node and clients secured with its keystore's enclaves, whose permissions name the default
 // topics, so the topics keep their names (the domain alone keeps the run apart).
-void run_map(const char* label, int size, int queries, core::PlannerKind planner,
+void run_map(const char* label, int size, int queries,
+             std::optional<core::PlannerKind> planner = std::nullopt,
              const node::SecurityConfig* security = nullptr) {
   Setup s;
   if (security != nullptr) {
@@ -166,10 +184,16 @@ void run_map(const char* label, int size, int queries, core::PlannerKind planner
     s.cfg.security = *security;
   } else {
     isolate(s.cfg, "bench" + std::to_string(getpid()) + "_" + std::to_string(size) + "_" +
-                       std::string(core::to_string(planner)) + "_");
+                       (planner ? std::string(core::to_string(*planner)) : "default") + "_");
   }
   s.cfg.debug = node::DebugPublishing::kNever;
-  s.cfg.planner.kind = planner;
+  if (planner) {
+    s.cfg.planner.kind = *planner;
+    s.cfg.planner.auto_kind = false;
+  }
+  // What the node runs for a request that names no planner, as it applies it (no costs for jps).
+  core::PlannerOptions options = s.cfg.planner.options();
+  core::drop_unsupported_costs(options);
   s.cfg.map.max_cells = std::max<int64_t>(s.cfg.map.max_cells, int64_t{size} * size);
   node::PlannerNode planner_node(s.cfg);
   if (!planner_node.start().is_ok() || !connect(s)) {
@@ -186,14 +210,14 @@ void run_map(const char* label, int size, int queries, core::PlannerKind planner
   // The reference plans on the grid the node received (float32 resolution on the wire).
   const core::OccupancyGrid received =
       node::from_slice_msg(std::move(slice), "map", s.cfg.map.max_cells).grid;
-  auto map =
-      std::make_shared<const core::GridMap>(core::GridMap::build(received, s.cfg.map).value());
+  auto map = std::make_shared<const core::GridMap>(
+      core::GridMap::build(received, node::planning_grid_options(s.cfg)).value());
   core::Planner reference(map);
 
   std::vector<double> e2e_us, core_us;
   int failures = 0;
   int q = 0;
-  for (const auto& [a, b] : free_queries(*map, queries, 7)) {
+  for (const auto& [a, b] : free_queries(*map, queries, 7, reference, options)) {
     node::PlanRequestMsg request = request_between(*map, a, b, "q" + std::to_string(++q));
     const auto sent = Clock::now();
     if (!node::write_sample(s.request, &request)) {  // counted, never silently dropped
@@ -208,14 +232,14 @@ void run_map(const char* label, int size, int queries, core::PlannerKind planner
     }
     e2e_us.push_back(std::chrono::duration<double, std::micro>(*received_at - sent).count());
     const auto t0 = Clock::now();
-    const core::PlanResult r = reference.plan({a, b}, s.cfg.planner.options());
+    const core::PlanResult r = reference.plan({a, b}, options);
     core_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
     if (!r.status.is_ok()) ++failures;
   }
   if (e2e_us.empty()) return;
   const double e2e50 = percentile(e2e_us, 0.5), core50 = percentile(core_us, 0.5);
   std::printf("%-10s %-10s %8zu %10.0f %10.0f %10.0f %10.0f %12.0f %9d\n", label,
-              std::string(core::to_string(planner)).c_str(), e2e_us.size(), e2e50,
+              std::string(core::to_string(options.planner)).c_str(), e2e_us.size(), e2e50,
               percentile(e2e_us, 0.99), core50, percentile(core_us, 0.99), e2e50 - core50,
               failures);
 }
@@ -255,7 +279,10 @@ void run_actions(const char* label, int size, int queries, node::WireMapping map
   std::vector<double> request_us, action_us, difference_us;
   int failures = 0;
   int q = 0;
-  for (const auto& [a, b] : free_queries(*map, queries, 11)) {
+  core::Planner query_planner(map);
+  core::PlannerOptions options = s.cfg.planner.options();
+  core::drop_unsupported_costs(options);
+  for (const auto& [a, b] : free_queries(*map, queries, 11, query_planner, options)) {
     node::PlanRequestMsg request = request_between(*map, a, b, "a" + std::to_string(++q));
     const auto sent = Clock::now();
     bool ok = false;
@@ -309,10 +336,11 @@ void run_large_slice() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The output is the table: the node's per-plan log lines (info) would bury it.
+  spdlog::set_level(spdlog::level::warn);
   std::printf("vnsba_node end-to-end latency over loopback DDS (indoor maps, 5 cm cells)\n");
   std::printf("%-10s %-10s %8s %10s %10s %10s %10s %12s %9s\n", "map", "planner", "queries",
               "e2e_p50_us", "e2e_p99_us", "core_p50_us", "core_p99_us", "overhead_us", "failures");
-  const core::PlannerKind configured = node::NodeConfig().planner.kind;
   // --security KEYSTORE (made by tools/make_keystore.sh): the 100 x 100 map without and with DDS
   // Security, on the same topics and domain, three times alternating; nothing else.
   if (argc == 3 && std::string(argv[1]) == "--security") {
@@ -320,8 +348,8 @@ int main(int argc, char** argv) {
     secured.enable = true;
     secured.keystore = argv[2];
     for (int round = 0; round < 3; ++round) {
-      run_map("100x100", 100, 300, configured, &open);
-      run_map("100x100sec", 100, 300, configured, &secured);
+      run_map("100x100", 100, 300, std::nullopt, &open);
+      run_map("100x100sec", 100, 300, std::nullopt, &secured);
     }
     return 0;
   }
@@ -332,8 +360,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!actions_only) {
-    run_map("100x100", 100, 300, configured);
-    run_map("1000x1000", 1000, 60, configured);
+    run_map("100x100", 100, 300);
+    run_map("1000x1000", 1000, 60);
     // An exact plan across a 200 m office floor: what jps is for.
     run_map("4000x4000", 4000, 40, core::PlannerKind::kJps);
     run_large_slice();

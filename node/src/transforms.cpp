@@ -90,98 +90,109 @@ TransformTree::Lookup TransformTree::lookup(std::string_view target_frame,
   const std::string_view target = without_leading_slash(target_frame);
   const std::string_view source = without_leading_slash(source_frame);
   Lookup result;
-  const std::string what =
-      "no transform from " + frame_quoted(target) + " to " + frame_quoted(source) + ": ";
   if (target == source) {
     result.ok = true;
     return result;
   }
-  // The source's ancestors, each with the source's pose in it, and the edges walked to get there.
-  struct Step {
-    std::string_view frame;
-    Eigen::Isometry3d source_in_frame;
-    const std::pair<const std::string, Edge>* edge;  // from the previous step's frame to this one
-  };
+  const std::string what =
+      "no transform from " + frame_quoted(target) + " to " + frame_quoted(source) + ": ";
   // Every walk stops after kMaxDepth transforms: set() keeps chains within it, but a frame
   // given a new parent carries its own subtree along, which can make a deeper one.
   const std::string too_deep = what + "the chain above " + frame_quoted(source) + " and " +
                                frame_quoted(target) + " holds more than " +
                                std::to_string(kMaxDepth) + " transforms (the limit)";
-  std::vector<Step> up_from_source{{source, Eigen::Isometry3d::Identity(), nullptr}};
+  std::vector<Ancestor> up_from_source;
+  Chain chain;
+  std::optional<std::string> problem = ancestors(source, too_deep, up_from_source);
+  if (!problem) problem = join(target, source, up_from_source, what, too_deep, chain);
+  if (!problem) problem = stamp_problem(chain.edges, target, source, now_s, tolerance_s);
+  if (problem) {
+    result.problem = std::move(*problem);
+    return result;
+  }
+  result.source_in_target = chain.source_in_target;
+  result.ok = true;
+  return result;
+}
+
+// The source and every frame above it, each with the source's pose in it.
+std::optional<std::string> TransformTree::ancestors(std::string_view source,
+                                                    const std::string& too_deep,
+                                                    std::vector<Ancestor>& up_from_source) const {
+  up_from_source = {{source, Eigen::Isometry3d::Identity(), nullptr}};
   for (;;) {
     const auto it = parent_of_.find(up_from_source.back().frame);
-    if (it == parent_of_.end()) break;
-    if (up_from_source.size() > kMaxDepth) {
-      result.problem = too_deep;
-      return result;
-    }
+    if (it == parent_of_.end()) return std::nullopt;
+    if (up_from_source.size() > kMaxDepth) return too_deep;
     up_from_source.push_back({it->second.parent,
                               it->second.child_in_parent * up_from_source.back().source_in_frame,
                               &*it});
   }
-  std::vector<const std::pair<const std::string, Edge>*> used;
+}
+
+// Walks up from the target until it meets a frame above the source: the edges of both walks up
+// to that frame join the two.
+std::optional<std::string> TransformTree::join(std::string_view target, std::string_view source,
+                                               const std::vector<Ancestor>& up_from_source,
+                                               const std::string& what, const std::string& too_deep,
+                                               Chain& chain) const {
   Eigen::Isometry3d target_in_frame = Eigen::Isometry3d::Identity();
   std::string_view frame = target;
   for (;;) {
     const auto common = std::find_if(up_from_source.begin(), up_from_source.end(),
-                                     [&](const Step& step) { return step.frame == frame; });
+                                     [&](const Ancestor& step) { return step.frame == frame; });
     if (common != up_from_source.end()) {
       for (auto step = up_from_source.begin() + 1; step <= common; ++step)
-        used.push_back(step->edge);
-      result.source_in_target = target_in_frame.inverse() * common->source_in_frame;
-      break;
+        chain.edges.push_back(step->edge);
+      chain.source_in_target = target_in_frame.inverse() * common->source_in_frame;
+      return std::nullopt;
     }
     const auto it = parent_of_.find(frame);
     if (it == parent_of_.end()) {
       const std::string_view source_root = up_from_source.back().frame;
-      if (parent_of_.empty())
-        result.problem = what + "no transform has been received";
-      else if (up_from_source.size() == 1)
-        result.problem = what + "no transform with child frame " + frame_quoted(source) +
-                         " has been " + "received";
-      else
-        result.problem = what + "the received transforms join " + frame_quoted(source) + " up to " +
-                         frame_quoted(source_root) + " and " + frame_quoted(target) + " up to " +
-                         frame_quoted(frame) + ", and none joins those two";
-      return result;
+      if (parent_of_.empty()) return what + "no transform has been received";
+      if (up_from_source.size() == 1)
+        return what + "no transform with child frame " + frame_quoted(source) + " has been " +
+               "received";
+      return what + "the received transforms join " + frame_quoted(source) + " up to " +
+             frame_quoted(source_root) + " and " + frame_quoted(target) + " up to " +
+             frame_quoted(frame) + ", and none joins those two";
     }
-    if (used.size() >= kMaxDepth) {
-      result.problem = too_deep;
-      return result;
-    }
-    used.push_back(&*it);
+    if (chain.edges.size() >= kMaxDepth) return too_deep;
+    chain.edges.push_back(&*it);
     target_in_frame = it->second.child_in_parent * target_in_frame;
     frame = it->second.parent;
   }
-  // The newest dynamic transform on the chain must not be ahead of the clock, and the oldest
-  // decides staleness, as it would time out a tf2 lookup.
-  const std::pair<const std::string, Edge>* oldest = nullptr;
-  const std::pair<const std::string, Edge>* newest = nullptr;
-  for (const auto* edge : used) {
+}
+
+// The newest dynamic transform on the chain must not be ahead of the clock, and the oldest
+// decides staleness, as it would time out a tf2 lookup.
+std::optional<std::string> TransformTree::stamp_problem(const std::vector<EdgeRef>& edges,
+                                                        std::string_view target,
+                                                        std::string_view source, double now_s,
+                                                        double tolerance_s) {
+  EdgeRef oldest = nullptr;
+  EdgeRef newest = nullptr;
+  for (const EdgeRef edge : edges) {
     if (edge->second.is_static) continue;
     if (oldest == nullptr || edge->second.stamp_s < oldest->second.stamp_s) oldest = edge;
     if (newest == nullptr || edge->second.stamp_s > newest->second.stamp_s) newest = edge;
   }
+  const std::string transform =
+      "transform from " + frame_quoted(target) + " to " + frame_quoted(source);
   if (newest != nullptr && newest->second.stamp_s - now_s > kMaxAheadS) {
-    result.problem = "transform from " + frame_quoted(target) + " to " + frame_quoted(source) +
-                     " is in the future: " + frame_quoted(newest->second.parent) + " -> " +
-                     frame_quoted(newest->first) + " is stamped " +
-                     seconds(newest->second.stamp_s) + ", " +
-                     seconds(newest->second.stamp_s - now_s) + " after the node's clock (" +
-                     seconds(now_s) + "; at most " + seconds(kMaxAheadS) +
-                     " ahead is taken, as tf2 does not extrapolate into the future)";
-    return result;
+    return transform + " is in the future: " + frame_quoted(newest->second.parent) + " -> " +
+           frame_quoted(newest->first) + " is stamped " + seconds(newest->second.stamp_s) + ", " +
+           seconds(newest->second.stamp_s - now_s) + " after the node's clock (" + seconds(now_s) +
+           "; at most " + seconds(kMaxAheadS) +
+           " ahead is taken, as tf2 does not extrapolate into the future)";
   }
   if (oldest != nullptr && now_s - oldest->second.stamp_s > tolerance_s) {
-    result.problem = "transform from " + frame_quoted(target) + " to " + frame_quoted(source) +
-                     " is stale: " + frame_quoted(oldest->second.parent) + " -> " +
-                     frame_quoted(oldest->first) + " is " +
-                     seconds(now_s - oldest->second.stamp_s) + " old (transform_tolerance " +
-                     seconds(tolerance_s) + ")";
-    return result;
+    return transform + " is stale: " + frame_quoted(oldest->second.parent) + " -> " +
+           frame_quoted(oldest->first) + " is " + seconds(now_s - oldest->second.stamp_s) +
+           " old (transform_tolerance " + seconds(tolerance_s) + ")";
   }
-  result.ok = true;
-  return result;
+  return std::nullopt;
 }
 
 }  // namespace vnsba::node

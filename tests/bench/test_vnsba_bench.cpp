@@ -19,6 +19,7 @@
 #include "node/child_process.hpp"
 #include "temp_dir.hpp"
 #include "vnsba/maps/map_io.hpp"
+#include "vnsba/node/config.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -262,7 +263,7 @@ TEST(VnsbaBench, CostsComparesThreeSidesOnTheSceneTheSlicesAndTheMaps) {
       const auto clearance = split(fields[7], '/');
       ASSERT_EQ(clearance.size(), 3u) << fields[7];
       const double cost_aware = std::stod(clearance[1]), relaxed = std::stod(clearance[2]);
-      EXPECT_GE(cost_aware, vnsba::bench::kDefaultYamlRobot.robot_radius - 0.08 * M_SQRT1_2);
+      EXPECT_GE(cost_aware, vnsba::bench::default_yaml_robot().robot_radius - 0.08 * M_SQRT1_2);
       EXPECT_GE(relaxed, cost_aware - 0.0015);                   // printed to 3 decimals
       EXPECT_EQ(split(fields[5], '/').size(), 3u) << fields[5];  // turn angle
       EXPECT_EQ(split(fields[6], '/').size(), 3u) << fields[6];  // max curvature
@@ -288,13 +289,13 @@ TEST(VnsbaBench, CostsComparesThreeSidesOnTheSceneTheSlicesAndTheMaps) {
 // smoothed; the choice table's planners differ from the default only in the planner.
 TEST(VnsbaBench, CostsDefaultConfigurationIsAutos) {
   using core::PathSmoother;
-  const auto chosen = bench::default_config_options(bench::kDefaultYamlRobot, PathSmoother::kRelax);
+  const auto chosen = bench::default_config_options(bench::default_yaml_robot(), PathSmoother::kRelax);
   EXPECT_EQ(chosen.planner, core::kCostAwareChoice);
   EXPECT_TRUE(core::supports_costs(chosen.planner));
   EXPECT_TRUE(chosen.prune && chosen.smooth);
   EXPECT_EQ(chosen.smoother, PathSmoother::kRelax);
-  EXPECT_EQ(chosen.cost_weight, bench::kDefaultYamlRobot.cost_weight);
-  EXPECT_EQ(chosen.goal_tolerance, bench::kDefaultYamlRobot.goal_tolerance);
+  EXPECT_EQ(chosen.cost_weight, bench::default_yaml_robot().cost_weight);
+  EXPECT_EQ(chosen.goal_tolerance, bench::default_yaml_robot().goal_tolerance);
   const auto binary = bench::default_config_options(bench::RobotSettings{}, PathSmoother::kNone);
   EXPECT_EQ(binary.planner, core::PlannerKind::kJps);
   EXPECT_TRUE(binary.prune && binary.smooth);
@@ -304,7 +305,7 @@ TEST(VnsbaBench, CostsDefaultConfigurationIsAutos) {
   for (const core::PlannerKind kind : core::all_planner_kinds()) {
     if (!core::supports_costs(kind)) continue;
     SCOPED_TRACE(std::string(core::to_string(kind)));
-    auto other = bench::cost_aware_relax_options(kind, bench::kDefaultYamlRobot);
+    auto other = bench::cost_aware_relax_options(kind, bench::default_yaml_robot());
     EXPECT_EQ(other.planner, kind);
     EXPECT_TRUE(other.prune && other.smooth);
     EXPECT_EQ(other.smoother, PathSmoother::kRelax);
@@ -514,6 +515,27 @@ TEST(VnsbaBench, BadInputExitsTwoNamingIt) {
     const auto [code, output] = run_to_exit(kBench, {"movingai", "--no-such-option"});
     EXPECT_EQ(code, 2) << output;
   }
+}
+
+// vnsba_bench costs compares against config/default.yaml's robot and slices the demo scene at
+// its band: what it reads must be the file's as the node loads it from the source tree.
+TEST(CostsBench, UsesDefaultYamlsRobotAndSliceBand) {
+  const node::ConfigResult result =
+      node::load_config(std::string(VNSBA_CONFIG_DIR) + "/default.yaml");
+  ASSERT_TRUE(result.config.has_value());
+  const node::NodeConfig& c = *result.config;
+  const bench::RobotSettings& robot = bench::default_yaml_robot();
+  EXPECT_EQ(robot.robot_radius, c.map.robot_radius);
+  EXPECT_EQ(robot.inflation_radius, c.map.inflation_radius);
+  EXPECT_EQ(robot.cost_scaling_factor, c.map.cost_scaling_factor);
+  const core::PlannerOptions o = c.planner.options();
+  EXPECT_EQ(robot.cost_weight, o.cost_weight);
+  EXPECT_EQ(robot.goal_tolerance, o.goal_tolerance);
+  EXPECT_EQ(robot.start_tolerance, o.start_tolerance);
+  EXPECT_GT(robot.robot_radius, 0.0);  // a robot, not the paper's point
+  EXPECT_EQ(bench::default_slice_band().z_min, c.slicer.z_min);
+  EXPECT_EQ(bench::default_slice_band().z_max, c.slicer.z_max);
+  EXPECT_EQ(c.slicer.resolution, 0.0);  // the bench slices at the tree's leaf size too
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include "geometry_msgs/msg/PoseStampedPubSubTypes.h"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "nav_msgs/msg/PathPubSubTypes.h"
+#include "paper_config.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -44,7 +45,7 @@ inline int test_domain() {
 
 // A config on this process's domain with topics unique to `tag`.
 inline node::NodeConfig test_config(const std::string& tag) {
-  node::NodeConfig cfg;
+  node::NodeConfig cfg = paper_test_config();
   cfg.domain_id = test_domain();
   const std::string p = "t" + std::to_string(getpid()) + "_" + tag + "_";
   auto& t = cfg.topics;

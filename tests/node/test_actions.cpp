@@ -128,7 +128,7 @@ struct ActionRun {
     client.publish_slice(grid);
     return node.wait_for_map(20s) && to_pose->wait_for_server(10s) && through->wait_for_server(10s);
   }
-  node::NodeConfig cfg;
+  node::NodeConfig cfg = paper_test_config();
   node::PlannerNode node;
   BusClient client;
   std::unique_ptr<node::Participant> participant;
@@ -227,7 +227,7 @@ INSTANTIATE_TEST_SUITE_P(NavActions, BothMappings,
 
 // Every failure the node can produce, with Nav2's code (ROS 2 Jazzy nav2_msgs).
 TEST(NavActions, EachFailureGetsNav2sErrorCodeAndAMessageNamingTheProblem) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.planner.settings.max_planning_time = std::chrono::seconds(10);
   ActionRun run("act_codes", WireMapping::kSampleIdentity, base);
   ASSERT_TRUE(run.start(office()));
@@ -360,7 +360,7 @@ std::vector<std::optional<node::ActionResultReply>> burst_of_goals(
 }
 
 TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.preempt = false;
   // The serpentine's path is 3.1 km long: 91,691 poses at 5 cm, past the default's 50,000.
   base.actions.max_result_poses = 200000;
@@ -406,7 +406,7 @@ TEST(NavActions, ACancelStopsARunningGoalAndAGetResultSentEarlyGetsTheEnd) {
 }
 
 TEST(NavActions, ARunOutPlanningBudgetIsNav2sTimeoutOnBothActions) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.planner.settings.max_planning_time = std::chrono::milliseconds(1);
   ActionRun run("act_timeout", WireMapping::kSampleIdentity, base);
   ASSERT_TRUE(run.start(serpentine()));
@@ -429,7 +429,7 @@ TEST(NavActions, ARunOutPlanningBudgetIsNav2sTimeoutOnBothActions) {
 // A shutdown with goals running and waiting: each gets its result (ABORTED, the node shutting
 // down) before the node's writers go.
 TEST(NavActions, AShutdownAnswersEveryAcceptedGoal) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.preempt = false;
   ActionRun run("act_stop", WireMapping::kSampleIdentity, base);
   ASSERT_TRUE(run.start(serpentine()));
@@ -453,7 +453,7 @@ TEST(NavActions, AShutdownAnswersEveryAcceptedGoal) {
 }
 
 TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.preempt = false;
   ActionRun run("act_many", WireMapping::kSampleIdentity, base);
   const core::OccupancyGrid grid = office();
@@ -489,7 +489,7 @@ TEST(NavActions, TwentyConcurrentGoalsFromFiveClientsGetOneResultEach) {
 }
 
 TEST(NavActions, AClientThatVanishesMidGoalLeavesNothingBehindAfterTheResultTimeout) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.actions.result_timeout = std::chrono::milliseconds(500);
   ActionRun run("act_vanish", WireMapping::kSampleIdentity, base);
   ASSERT_TRUE(run.start(serpentine()));
@@ -521,7 +521,7 @@ namespace {
 // 10 clients x 1,000 goals each, all sent at once, results requested as each goal is accepted:
 // every goal gets exactly one result (label stress: about a minute on two cores).
 TEST(StressBursts, TenThousandActionGoalsFromTenClientsEachGetOneResult) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.preempt = false;
   base.queue_capacity = 100000;
   base.planner.kind = core::PlannerKind::kJps;
@@ -634,7 +634,7 @@ core::OccupancyGrid open_room() {
 // is INVALID_PLANNER (201) naming the aliases too, and so is a 100 kB id (which once got 200),
 // whose message does not echo it.
 TEST(NavActions, GridBasedAndConfiguredAliasesNameAPlanner) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.planner.kind = core::PlannerKind::kAStar;
   base.planner.aliases = {{"GridBased", node::kDefaultPlannerAlias}, {"Fast", "jps"}};
   ActionRun run("act_alias", WireMapping::kSampleIdentity, base);
@@ -675,7 +675,7 @@ TEST(NavActions, GridBasedAndConfiguredAliasesNameAPlanner) {
 // likewise for the goals of a ComputePathThroughPoses goal. A SUCCEEDED result carries no
 // error_msg (Nav2's planner server's do not), even when the goal was moved.
 TEST(NavActions, ResultsAndGoalListsOverTheirLimitsAreRefusedNamingTheKey) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.actions.max_result_poses = 60;  // 3 m at 5 cm
   base.actions.max_goal_poses = 3;
   base.planner.settings.goal_tolerance = 0.2;
@@ -723,7 +723,7 @@ TEST(NavActions, ResultsAndGoalListsOverTheirLimitsAreRefusedNamingTheKey) {
 // (a later get_result answers UNKNOWN); the status list holds the goals not finished and the last
 // actions.status_finished_goals that did.
 TEST(NavActions, KeptResultsShareOneByteBudgetAndTheStatusListIsBounded) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.actions.kept_results_mb = 1;
   base.actions.status_finished_goals = 4;
   base.preempt = false;
@@ -797,7 +797,7 @@ class StuckListener : public eprosima::fastdds::dds::DataReaderListener {
 };
 
 TEST(NavActions, AReaderThatNeverTakesItsRepliesStallsNoOtherClient) {
-  node::NodeConfig base;
+  node::NodeConfig base = paper_test_config();
   base.preempt = false;
   base.queue_capacity = 2000;
   base.actions.reply_ack_timeout = std::chrono::milliseconds(300);

@@ -14,7 +14,6 @@
 #include <string>
 #include <vector>
 
-#include "bench/costs.hpp"
 #include "core/options_support.hpp"
 #include "node/yaml_values.hpp"
 #include "vnsba/node/config.hpp"
@@ -50,10 +49,21 @@ std::string ReadText(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-// The bare struct: the paper's binary grid (whose planner settings hold the node's 5 s
-// planning-time budget, see config.hpp). Not what a loaded config starts from (RobotDefaults).
-NodeConfig BareStruct() {
-  NodeConfig config;
+// The paper's setting as this test states it: default.yaml's configuration without the robot
+// (no radius, inflation, costs or tolerance), planning with vns_bastar and no smoother; the
+// node's 5 s planning-time budget holds (see config.hpp). config/paper.yaml must load to it.
+NodeConfig PaperSetting() {
+  const ConfigResult defaults = vnsba::node::default_config();
+  EXPECT_TRUE(defaults.config.has_value()) << (defaults.errors.empty() ? "" : defaults.errors[0]);
+  NodeConfig config = *defaults.config;
+  config.map.robot_radius = 0.0;
+  config.map.inflation_radius = 0.0;
+  config.planner.auto_kind = false;
+  config.planner.kind = PlannerKind::kVnsBaStar;
+  config.planner.settings.smoother = vnsba::core::PathSmoother::kNone;
+  config.planner.settings.cost_weight = 0.0;
+  config.planner.settings.goal_tolerance = 0.0;
+  config.planner.settings.start_tolerance = 0.0;
   EXPECT_EQ(config.planner.options().max_planning_time, std::chrono::seconds(5));
   return config;
 }
@@ -142,10 +152,10 @@ std::string PaperYamlPath() {
   return std::string(VNSBA_CONFIG_DIR) + "/paper.yaml";
 }
 
-// What config/default.yaml adds to the bare struct (the paper's setting) for a real robot: its
-// radius, the cost gradient, cost_weight and the tolerances. Every loaded config starts here.
+// What config/default.yaml adds to the paper's setting for a real robot: its radius, the cost
+// gradient, cost_weight and the tolerances. Every loaded config starts here.
 NodeConfig RobotDefaults() {
-  NodeConfig config = BareStruct();
+  NodeConfig config = PaperSetting();
   config.map.robot_radius = 0.15;
   config.map.inflation_radius = 0.55;
   config.map.cost_scaling_factor = 3.0;
@@ -185,31 +195,16 @@ TEST(Config, DefaultYamlLoadsAndEqualsTheDefaultsWithTheRobotKeys) {
   EXPECT_TRUE(vnsba::core::validate(c.map).is_ok());
 }
 
-// vnsba_bench costs compares against config/default.yaml's robot without reading YAML (it builds
-// without the node library): its copy of those values must be the file's.
-TEST(Config, TheCostsBenchmarkUsesDefaultYamlsRobot) {
-  const ConfigResult result = load_config(DefaultYamlPath());
-  ASSERT_TRUE(result.config.has_value()) << Joined(result.errors);
-  const NodeConfig& c = *result.config;
-  const vnsba::bench::RobotSettings& robot = vnsba::bench::kDefaultYamlRobot;
-  EXPECT_EQ(robot.robot_radius, c.map.robot_radius);
-  EXPECT_EQ(robot.inflation_radius, c.map.inflation_radius);
-  EXPECT_EQ(robot.cost_scaling_factor, c.map.cost_scaling_factor);
-  const PlannerOptions o = c.planner.options();
-  EXPECT_EQ(robot.cost_weight, o.cost_weight);
-  EXPECT_EQ(robot.goal_tolerance, o.goal_tolerance);
-  EXPECT_EQ(robot.start_tolerance, o.start_tolerance);
-  EXPECT_EQ(vnsba::bench::kDemoSliceZMin, c.slicer.z_min);
-  EXPECT_EQ(vnsba::bench::kDemoSliceZMax, c.slicer.z_max);
-  EXPECT_EQ(c.slicer.resolution, 0.0);  // the bench slices at the tree's leaf size too
-}
-
-// config/paper.yaml is the paper's binary setting: the bare struct's values.
-TEST(Config, PaperYamlLoadsAndEqualsTheBareStruct) {
+// config/paper.yaml is the paper's binary setting, and paper_config() is that file compiled in.
+TEST(Config, PaperYamlLoadsAndEqualsThePaperSetting) {
   const ConfigResult result = load_config(PaperYamlPath());
   ASSERT_TRUE(result.errors.empty()) << Joined(result.errors);
   ASSERT_TRUE(result.config.has_value());
-  ExpectSameConfig(*result.config, BareStruct());
+  ExpectSameConfig(*result.config, PaperSetting());
+  const ConfigResult built_in = vnsba::node::paper_config();
+  ASSERT_TRUE(built_in.config.has_value()) << Joined(built_in.errors);
+  EXPECT_EQ(vnsba::node::config_as_yaml(*built_in.config),
+            vnsba::node::config_as_yaml(*result.config));
   const PlannerOptions o = result.config->planner.options();
   EXPECT_EQ(o.cost_weight, 0.0);
   EXPECT_EQ(o.goal_tolerance, 0.0);
@@ -1045,13 +1040,13 @@ TEST(Config, ComputeLengthRatioIsOffUnlessConfigured) {
 }
 
 TEST(Config, DdsTopicName) {
-  NodeConfig ros2;
+  NodeConfig ros2 = PaperSetting();
   ros2.ros2_naming = true;
   EXPECT_EQ(dds_topic_name(ros2, "plan"), "rt/plan");
   EXPECT_EQ(dds_topic_name(ros2, "/plan"), "rt/plan");
   EXPECT_EQ(dds_topic_name(ros2, "ns/plan"), "rt/ns/plan");
   EXPECT_EQ(dds_topic_name(ros2, ros2.topics.octomap), "rt/octomap_binary");
-  NodeConfig plain;
+  NodeConfig plain = PaperSetting();
   plain.ros2_naming = false;
   EXPECT_EQ(dds_topic_name(plain, "plan"), "plan");
   EXPECT_EQ(dds_topic_name(plain, "/plan"), "plan");

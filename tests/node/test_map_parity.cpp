@@ -161,7 +161,7 @@ maps::SliceOptions vnsba_plan_slice(const node::NodeConfig& config) {
 node::NodeConfig default_config() {
   node::ConfigResult loaded = node::load_config(VNSBA_CONFIG_DIR "/default.yaml");
   EXPECT_TRUE(loaded.config.has_value());
-  return loaded.config.value_or(node::NodeConfig());
+  return loaded.config.has_value() ? *loaded.config : node::default_config().config.value();
 }
 
 // --- The loader against the oracle, cell by cell (no DDS). ---

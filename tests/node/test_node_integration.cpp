@@ -1033,7 +1033,7 @@ TEST(NodeIntegration, TinyTimeBudgetOnAHugeMapTimesOut) {
 // Issue 31, item 8: a client that latched its map and asked at once got NO_MAP (its request was
 // handled before its map). A request that comes before the first map now waits for one, at most
 // requests.map_wait, and is planned on it; without a map in that time it gets NO_MAP naming the
-// key. (A bare NodeConfig has map_wait 0: NO_MAP at once, as the other tests here expect.)
+// key. (paper_test_config() has map_wait 0: NO_MAP at once, as the other tests here expect.)
 TEST(NodeIntegration, ARequestBeforeTheFirstMapWaitsForIt) {
   node::NodeConfig cfg = test_config("map_wait");
   cfg.map_wait = 10s;

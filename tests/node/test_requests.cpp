@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "paper_config.hpp"
 #include "vnsba/node/requests.hpp"
 #include "vnsba/node/slice_slot.hpp"
 
@@ -72,7 +73,7 @@ TEST(Printable, EscapesControlCharactersAndCutsLongText) {
 }
 
 TEST(ResolveRequest, StringFieldsAreBoundedAndNamed) {
-  const node::NodeConfig cfg;
+  const node::NodeConfig cfg = paper_test_config();
   const core::GridMap map = small_map();
   Job long_id = job(std::string(node::kMaxIdBytes + 1, 'i'), 0.5, 0.5, 8.5, 0.5);
   auto r = node::resolve_request(long_id, cfg, &map);
@@ -105,7 +106,7 @@ TEST(ResolveRequest, StringFieldsAreBoundedAndNamed) {
 }
 
 TEST(ResolveRequest, EveryCheckNamesItsField) {
-  const node::NodeConfig cfg;
+  const node::NodeConfig cfg = paper_test_config();
   const core::GridMap map = small_map();
   struct Case {
     Job job;
@@ -158,7 +159,7 @@ TEST(ResolveRequest, EveryCheckNamesItsField) {
 // docs/algorithm.md section 8 in requests: a 2 m x 1 m map at 0.1 m, origin (0, 0), one occupied
 // cell (10, 5) whose 4-neighbours robot_radius 0.1 m inflates; a cost gradient to 0.3 m.
 node::NodeConfig tolerant_config() {
-  node::NodeConfig cfg;
+  node::NodeConfig cfg = paper_test_config();
   cfg.map.robot_radius = 0.1;
   cfg.map.inflation_radius = 0.3;
   cfg.planner.settings.cost_weight = 1.0;
@@ -245,7 +246,7 @@ TEST(ResolveRequest, AGoalOutsideTheMapIsMovedOntoItWithinGoalTolerance) {
 // A goal within goal_tolerance of a map of nanometre cells can lie billions of cells away: refused
 // as outside, never cast to a cell index out of int32's range (a review finding; UBSan checks it).
 TEST(ResolveRequest, AGoalTooManyCellsAwayIsOutsideWhateverTheTolerance) {
-  node::NodeConfig cfg;
+  node::NodeConfig cfg = paper_test_config();
   cfg.planner.settings.goal_tolerance = 5.0;
   core::OccupancyGrid g;
   g.width = 20;
@@ -346,7 +347,7 @@ TEST(ResolveRequest, AutoAndNamedPlannersGetTheirOwnOptions) {
 // The goal's orientation: a unit quaternion gives the final yaw; a finite one of another norm
 // is ignored with a warning (never a failure).
 TEST(ResolveRequest, GoalOrientationGivesTheFinalYawOrAWarning) {
-  const node::NodeConfig cfg;
+  const node::NodeConfig cfg = paper_test_config();
   const core::GridMap map = small_map();
   Job facing = job("y", 0.5, 0.5, 8.5, 4.5);
   facing.goal = node::to_pose_msg(8.5, 4.5, 2.0, "map", node::now_msg());

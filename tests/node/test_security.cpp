@@ -225,7 +225,8 @@ TEST(SecureBus, SecuredNodeAndClientsPlan) {
 TEST(SecureBus, UnsecuredParticipantReachesNothing) {
   ChildProcess node_process(kNode, {"--config", secured_config("secure_node_open.yaml")});
   ASSERT_TRUE(node_process.wait_for_output("up on domain", 10s)) << node_process.output();
-  node::NodeConfig cfg;  // the default topic names, this test's domain, no security
+  node::NodeConfig cfg =
+      paper_test_config();  // the default topic names, this test's domain, no security
   cfg.domain_id = security_domain();
   {
     BusClient intruder(cfg);

@@ -120,7 +120,7 @@ class SendGoal : public ::testing::Test {
     if (node_) node_->stop();
   }
 
-  node::NodeConfig config_;
+  node::NodeConfig config_ = paper_test_config();  // start_node() sets the test's
   std::string config_path_;
   std::unique_ptr<node::PlannerNode> node_;
   std::unique_ptr<BusClient> client_;

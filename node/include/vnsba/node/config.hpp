@@ -167,8 +167,8 @@ inline constexpr core::OptionRange kPathSpacingRange{"path_spacing", "metres", 0
 // (default.yaml comments out neighborhood, prune, smooth and path_spacing) stays unset and
 // follows the paper configuration (core::default_options) of whichever planner runs. The options
 // of a request are make_options(the request's planner, or `kind`, settings), so a request that
-// picks another planner keeps every configured key. The bare struct starts with the node's own
-// defaults as settings (max_planning_time = 5 s), which hold for every planner too.
+// picks another planner keeps every configured key. max_planning_time (default.yaml's 5 s) is a
+// setting like the others and holds for every planner too.
 // The longest planner name (a request's planner, a Nav2 planner_id, an alias) and frame id
 // (frame_id, a pose's header.frame_id) the node takes, in bytes.
 inline constexpr size_t kMaxPlannerNameBytes = 64;
@@ -242,9 +242,9 @@ struct NodeConfig {
 
   // How incoming slices become planning grids (occupied_threshold, allow_unknown,
   // robot_radius in metres, the cost gradient inflation_radius in metres and
-  // cost_scaling_factor per metre, max_cells as the size limit of an accepted slice). The bare
-  // struct's are the paper's binary grid (no radius, no gradient); a loaded config has
-  // config/default.yaml's real robot unless the file says otherwise.
+  // cost_scaling_factor per metre, max_cells as the size limit of an accepted slice). A loaded
+  // config has config/default.yaml's real robot unless the file says otherwise; paper.yaml's is
+  // the paper's binary grid (no radius, no gradient).
   core::GridBuildOptions map = default_map_options();
   // map.durability: the slice reader's DDS durability. transient_local (default, as Nav2's static
   // layer with map_subscribe_transient_local) also receives the last map of a latched publisher
@@ -307,6 +307,15 @@ struct NodeConfig {
   // (FASTRTPS_DEFAULT_PROFILES_FILE, DEFAULT_FASTRTPS_PROFILES.xml) every participant of the
   // executable starts from; empty = the default profile. The node's rules go on top (dds.hpp).
   std::string participant_profile;
+
+ private:
+  // No configuration is made from nothing: every NodeConfig starts from config/default.yaml
+  // (default_config(), paper_config(), load_config(), parse_config()), the one source of
+  // defaults, and every tool, bench and test gets its values from there. The initializers above
+  // are only the blank that default.yaml's keys overwrite: it gives every key but the ones it
+  // comments out on purpose, which stay unset (test Config.DefaultYamlGivesEveryValueShown).
+  NodeConfig() = default;
+  friend struct ConfigReader;  // config.cpp: reads the built-in default.yaml onto the blank
 };
 
 // Bounds of `robots` and requests.workers (each robot has about ten DDS endpoints; each worker
@@ -339,13 +348,18 @@ struct ConfigResult {
 // default.yaml's configuration whichever file a tool was pointed at). Unknown keys are errors
 // (with a "did you mean" for near misses). Never throws.
 //
-// NodeConfig{} itself is NOT that configuration: its initializers are the bare struct's (no
-// robot radius, no costs, no tolerance: the paper's binary grid), for code that builds a config
-// field by field. A loaded config, or default_config(), is what users get.
+// There is no other way to make a NodeConfig: code that builds one field by field starts from
+// default_config() or paper_config().
 ConfigResult load_config(const std::string& path);
 
 // config/default.yaml's configuration (what an empty file gives).
 ConfigResult default_config();
+
+// config/paper.yaml's configuration, read over default.yaml as any file is: the paper's binary
+// grid (no robot radius, inflation, costs or tolerance) with vns_bastar and its paper options.
+// Compiled in, as default.yaml is. Tests and benchmarks that measure the paper's setting start
+// from it.
+ConfigResult paper_config();
 
 // Every key of `config` with its value, as a YAML config file that loads back to `config`
 // (`vnsba_node --print-config`). Settings left to each planner's paper configuration (unset

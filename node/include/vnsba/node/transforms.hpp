@@ -12,8 +12,10 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace vnsba::node {
 
@@ -80,6 +82,29 @@ class TransformTree {
     bool is_static = false;
   };
   std::map<std::string, Edge, std::less<>> parent_of_;  // by child frame
+
+  using EdgeRef = const std::pair<const std::string, Edge>*;
+  // A frame above the source, with the source's pose in it and the edge walked to reach it.
+  struct Ancestor {
+    std::string_view frame;
+    Eigen::Isometry3d source_in_frame;
+    EdgeRef edge;  // from the previous ancestor's frame to this one; null for the source
+  };
+  // The transforms that join two frames, and the source's pose in the target.
+  struct Chain {
+    std::vector<EdgeRef> edges;
+    Eigen::Isometry3d source_in_target = Eigen::Isometry3d::Identity();
+  };
+  // lookup()'s steps; each returns the problem (the message of a refused Lookup) or nothing.
+  std::optional<std::string> ancestors(std::string_view source, const std::string& too_deep,
+                                       std::vector<Ancestor>& up_from_source) const;
+  std::optional<std::string> join(std::string_view target, std::string_view source,
+                                  const std::vector<Ancestor>& up_from_source,
+                                  const std::string& what, const std::string& too_deep,
+                                  Chain& chain) const;
+  static std::optional<std::string> stamp_problem(const std::vector<EdgeRef>& edges,
+                                                  std::string_view target, std::string_view source,
+                                                  double now_s, double tolerance_s);
 };
 
 }  // namespace vnsba::node
