@@ -9,7 +9,6 @@
 #include <cmath>
 #include <optional>
 
-#include "vnsba/core/metrics.hpp"
 #include "vnsba/core/motion_validator.hpp"
 
 namespace vnsba::core {
