@@ -161,11 +161,10 @@ bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point
   return true;
 }
 
-double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  if (polyline.empty() || map.cell_count() == 0) return kInfinity;
-  if (!std::isfinite(map.obstacle_distance({0, 0}))) return kInfinity;  // the map has no obstacle
-  // Collinear runs (a grid path's straight moves) are measured as one segment.
+namespace {
+
+// The polyline with each collinear run (a grid path's straight moves) as one segment.
+std::vector<Point2> merge_collinear_runs(const std::vector<Point2>& polyline) {
   std::vector<Point2> vertices;
   vertices.reserve(polyline.size());
   for (const Point2& p : polyline) {
@@ -179,12 +178,17 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
     }
     vertices.push_back(p);
   }
-  // An upper bound first, so that the bands below start narrow: a vertex is no farther from the
-  // nearest obstacle square than from the nearest obstacle centre, which is at most its distance
-  // to its cell's centre plus that centre's distance transform d (stored as a float: the factor
-  // undoes its rounding, relative 2^-24). A few reads, one a vertex, not one a cell of the path.
+  return vertices;
+}
+
+// An upper bound of the clearance (cells), so that the scan's bands start narrow: a vertex is no
+// farther from the nearest obstacle square than from the nearest obstacle centre, which is at most
+// its distance to its cell's centre plus that centre's distance transform d (stored as a float:
+// the factor undoes its rounding, relative 2^-24). A few reads, one a vertex, not one a cell of
+// the path.
+double clearance_upper_bound(const GridMap& map, const std::vector<Point2>& vertices) {
   constexpr double kFloatRounding = 1e-6;
-  double bound = kInfinity;
+  double bound = std::numeric_limits<double>::infinity();
   for (const Point2& v : vertices) {
     if (!std::isfinite(v.x()) || !std::isfinite(v.y())) continue;
     const Cell c{static_cast<int32_t>(std::clamp(std::floor(v.x()), 0.0, map.width() - 1.0)),
@@ -193,134 +197,202 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
     bound = std::min(
         bound, map.obstacle_distance(c) * (1.0 + kFloatRounding) + (v - centre).norm() + 1e-9);
   }
-  // Then each segment against the obstacle squares of its band, line by line from the map's bit
-  // lines (the blocked bits are the obstacles plus inflation and blocked unknown cells not
-  // inflated, which layer() tells apart): rows
-  // for a flat segment, columns for a steep one, so that a straight run of a grid path crosses
-  // three lines, not one a cell. A square nearer than `reach` to the segment has its centre
-  // within that plus sqrt 2 / 2 of it (a square's points lie within sqrt 2 / 2 of its centre):
-  // per line, the cells whose centres lie within that reach of the part of the segment in reach
-  // of the line. The result is the least exact distance measured, never the bound (which only
-  // narrows the bands).
-  constexpr double kHalfDiagonal = kSqrt2 / 2;
-  // Without inflation, and with unknown cells free or obstacles, every blocked bit is one.
-  const GridBuildOptions& built = map.build_options();
-  const bool every_blocked_is_obstacle =
-      built.robot_radius <= 0.0 && (built.allow_unknown || built.inflate_unknown);
-  double best = kInfinity;
-  auto reach = [&] { return std::min(best, bound) + kHalfDiagonal + 1e-9; };  // cells
-  auto measure = [&](const Point2& a, const Point2& b) {
-    const Point2 ab = b - a;
-    const double length_squared = ab.squaredNorm();
-    // (u, v): along the lines and across them; (x, y) for rows, (y, x) for columns.
-    const bool columns = std::abs(ab.y()) > std::abs(ab.x());
-    const int u_axis = columns ? 1 : 0, v_axis = 1 - u_axis;
-    const BlockedBits bit_lines = columns ? map.blocked_columns() : map.blocked_rows();
-    const int32_t line_count = columns ? map.width() : map.height();
-    const double last_u = (columns ? map.height() : map.width()) - 1.0;
-    const double a_u = a[u_axis], a_v = a[v_axis], ab_u = ab[u_axis], ab_v = ab[v_axis];
-    const double per_v = ab_v != 0.0 ? 1.0 / ab_v : 0.0;  // t per cell across the lines
+  return bound;
+}
+
+// A segment as the scan sees it: (u, v) along the bit lines and across them; (x, y) for rows
+// (a flat segment), (y, x) for columns (a steep one).
+struct ClearanceScanFrame {
+  Point2 a, b, ab;
+  double length_squared;
+  bool columns;
+  BlockedBits bit_lines;
+  int32_t line_count;
+  double last_u;  // the last cell index along a line
+  double a_u, a_v, ab_u, ab_v;
+  double per_v;  // t per cell across the lines (0 for a segment along a line)
+};
+
+ClearanceScanFrame clearance_scan_frame(const GridMap& map, const Point2& a, const Point2& b) {
+  ClearanceScanFrame f;
+  f.a = a;
+  f.b = b;
+  f.ab = b - a;
+  f.length_squared = f.ab.squaredNorm();
+  f.columns = std::abs(f.ab.y()) > std::abs(f.ab.x());
+  const int u_axis = f.columns ? 1 : 0, v_axis = 1 - u_axis;
+  f.bit_lines = f.columns ? map.blocked_columns() : map.blocked_rows();
+  f.line_count = f.columns ? map.width() : map.height();
+  f.last_u = (f.columns ? map.height() : map.width()) - 1.0;
+  f.a_u = a[u_axis];
+  f.a_v = a[v_axis];
+  f.ab_u = f.ab[u_axis];
+  f.ab_v = f.ab[v_axis];
+  f.per_v = f.ab_v != 0.0 ? 1.0 / f.ab_v : 0.0;
+  return f;
+}
+
+// The least exact distance from segments to the obstacle squares near them, line by line from the
+// map's bit lines (the blocked bits are the obstacles plus inflation and blocked unknown cells not
+// inflated, which layer() tells apart): rows for a flat segment, columns for a steep one, so that
+// a straight run of a grid path crosses three lines, not one a cell. A square nearer than `reach`
+// to the segment has its centre within that plus sqrt 2 / 2 of it (a square's points lie within
+// sqrt 2 / 2 of its centre): per line, the cells whose centres lie within that reach of the part
+// of the segment in reach of the line. The result is the least distance measured, never the
+// bound (which only narrows the bands).
+class ClearanceScan {
+ public:
+  ClearanceScan(const GridMap& map, double bound)
+      : map_(map),
+        bound_(bound),
+        every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map.build_options())) {}
+
+  double best() const { return best_; }  // cells; +inf until something was measured
+
+  // Lowers best() to the segment's distance to an obstacle square, where that is lower.
+  void measure(const Point2& a, const Point2& b) {
+    const ClearanceScanFrame f = clearance_scan_frame(map_, a, b);
     // Lines whose centres (v + 1/2) lie within reach of the segment's span across them.
-    const double low_v = std::min(a_v, a_v + ab_v) - reach();
-    const double high_v = std::max(a_v, a_v + ab_v) + reach();
+    const double low_v = std::min(f.a_v, f.a_v + f.ab_v) - reach();
+    const double high_v = std::max(f.a_v, f.a_v + f.ab_v) + reach();
     const int32_t v0 =
-        static_cast<int32_t>(std::clamp(std::ceil(low_v - 0.5), 0.0, line_count - 1.0));
+        static_cast<int32_t>(std::clamp(std::ceil(low_v - 0.5), 0.0, f.line_count - 1.0));
     const int32_t v1 =
-        static_cast<int32_t>(std::clamp(std::floor(high_v - 0.5), -1.0, line_count - 1.0));
-    for (int32_t v = v0; v <= v1; ++v) {
-      const double r = reach();
-      const double centre_v = v + 0.5;
-      // The part of the segment within r of this line's centres across the lines, as t.
-      double t0 = 0.0, t1 = 1.0;
-      if (ab_v != 0.0) {
-        t0 = (centre_v - r - a_v) * per_v;
-        t1 = (centre_v + r - a_v) * per_v;
-        if (t0 > t1) std::swap(t0, t1);
-        t0 = std::max(t0, 0.0);
-        t1 = std::min(t1, 1.0);
-        if (t0 > t1) continue;
-      } else if (std::abs(a_v - centre_v) > r) {
-        continue;
-      }
-      const double ua = a_u + t0 * ab_u, ub = a_u + t1 * ab_u;
-      const double first = std::ceil(std::min(ua, ub) - r - 0.5);
-      const double last = std::floor(std::max(ua, ub) + r - 0.5);
-      if (last < 0.0 || first > last_u) continue;
-      const int32_t u0 = static_cast<int32_t>(std::max(first, 0.0));
-      const int32_t u1 = static_cast<int32_t>(std::min(last, last_u));
-      // Most lines of a path's band hold no blocked cell at all: one or two words say so.
-      const uint64_t* line = bit_lines.line(v);
-      uint64_t any = 0;
-      for (int32_t word = u0 >> 6; word <= u1 >> 6 && any == 0; ++word) {
-        const int32_t from = std::max(u0, word << 6) & 63;
-        const int32_t to = std::min(u1, (word << 6) + 63) & 63;
-        any = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
-      }
-      if (any == 0) continue;
-      // Along a line the distance from the segment to square u is convex in u (the distance
-      // between two convex sets as one slides), least at u_near: the square the segment meets
-      // on the line's centre, or, where it stays on one side of it, the square nearest its end
-      // nearest the line (on or straight beside that end). So only the nearest obstacle on each
-      // side of u_near can be the line's nearest.
-      const double t_near = ab_v != 0.0 ? std::clamp((centre_v - a_v) * per_v, 0.0, 1.0) : 0.0;
-      const int32_t u_near = static_cast<int32_t>(std::clamp(
-          std::floor(a_u + t_near * ab_u), static_cast<double>(u0), static_cast<double>(u1)));
-      auto cell_at = [&](int32_t u) { return columns ? Cell{v, u} : Cell{u, v}; };
-      auto is_obstacle_at = [&](int32_t u) {
-        return every_blocked_is_obstacle || map.is_obstacle(map.layer(cell_at(u)));
-      };
-      auto consider = [&](int32_t u) {
-        const Cell c = cell_at(u);
-        const Point2 centre(c.x + 0.5, c.y + 0.5);
-        const double t = length_squared > 0.0
-                             ? std::clamp((centre - a).dot(ab) / length_squared, 0.0, 1.0)
-                             : 0.0;
-        // No square is nearer to the segment than its centre less sqrt 2 / 2.
-        const double within = reach();
-        if ((a + t * ab - centre).squaredNorm() >= within * within) return;
-        best = std::min(best, segment_square_distance(a, b, c.x, c.y));
-      };
-      // The nearest obstacle at or before u_near, within [u0, u_near].
-      for (int32_t word = u_near >> 6; word >= u0 >> 6; --word) {
-        const int32_t from = std::max(u0, word << 6) & 63;
-        const int32_t to = std::min(u_near, (word << 6) + 63) & 63;
-        uint64_t bits = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
-        int32_t found = -1;
-        while (bits != 0) {
-          const int32_t u = (word << 6) + 63 - __builtin_clzll(bits);
-          if (is_obstacle_at(u)) {
-            found = u;
-            break;
-          }
-          bits &= ~(uint64_t{1} << (u & 63));
-        }
-        if (found >= 0) {
-          consider(found);
-          break;
-        }
-      }
-      // The nearest obstacle after u_near, within (u_near, u1].
-      for (int32_t word = (u_near + 1) >> 6; u_near < u1 && word <= u1 >> 6; ++word) {
-        const int32_t from = std::max(u_near + 1, word << 6) & 63;
-        const int32_t to = std::min(u1, (word << 6) + 63) & 63;
-        uint64_t bits = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
-        int32_t found = -1;
-        while (bits != 0) {
-          const int32_t u = (word << 6) + __builtin_ctzll(bits);
-          if (is_obstacle_at(u)) {
-            found = u;
-            break;
-          }
-          bits &= bits - 1;
-        }
-        if (found >= 0) {
-          consider(found);
-          break;
-        }
-      }
+        static_cast<int32_t>(std::clamp(std::floor(high_v - 0.5), -1.0, f.line_count - 1.0));
+    for (int32_t v = v0; v <= v1; ++v) measure_line(f, v);
+  }
+
+ private:
+  static constexpr double kHalfDiagonal = kSqrt2 / 2;
+
+  // Without inflation, and with unknown cells free or obstacles, every blocked bit is one.
+  static bool every_blocked_cell_is_an_obstacle(const GridBuildOptions& built) {
+    return built.robot_radius <= 0.0 && (built.allow_unknown || built.inflate_unknown);
+  }
+
+  double reach() const { return std::min(best_, bound_) + kHalfDiagonal + 1e-9; }  // cells
+
+  Cell cell_at(const ClearanceScanFrame& f, int32_t v, int32_t u) const {
+    return f.columns ? Cell{v, u} : Cell{u, v};
+  }
+  bool is_obstacle_at(const ClearanceScanFrame& f, int32_t v, int32_t u) const {
+    return every_blocked_is_obstacle_ || map_.is_obstacle(map_.layer(cell_at(f, v, u)));
+  }
+
+  void measure_line(const ClearanceScanFrame& f, int32_t v);
+  void consider(const ClearanceScanFrame& f, int32_t v, int32_t u);
+  int32_t last_obstacle_in(const ClearanceScanFrame& f, int32_t v, const uint64_t* line,
+                           int32_t from, int32_t to) const;
+  int32_t first_obstacle_in(const ClearanceScanFrame& f, int32_t v, const uint64_t* line,
+                            int32_t from, int32_t to) const;
+
+  const GridMap& map_;
+  double bound_;  // cells: an upper bound of the result
+  bool every_blocked_is_obstacle_;
+  double best_ = std::numeric_limits<double>::infinity();
+};
+
+// Line v of the band: the cells within reach of the part of the segment in reach of the line.
+void ClearanceScan::measure_line(const ClearanceScanFrame& f, int32_t v) {
+  const double r = reach();
+  const double centre_v = v + 0.5;
+  // The part of the segment within r of this line's centres across the lines, as t.
+  double t0 = 0.0, t1 = 1.0;
+  if (f.ab_v != 0.0) {
+    t0 = (centre_v - r - f.a_v) * f.per_v;
+    t1 = (centre_v + r - f.a_v) * f.per_v;
+    if (t0 > t1) std::swap(t0, t1);
+    t0 = std::max(t0, 0.0);
+    t1 = std::min(t1, 1.0);
+    if (t0 > t1) return;
+  } else if (std::abs(f.a_v - centre_v) > r) {
+    return;
+  }
+  const double ua = f.a_u + t0 * f.ab_u, ub = f.a_u + t1 * f.ab_u;
+  const double first = std::ceil(std::min(ua, ub) - r - 0.5);
+  const double last = std::floor(std::max(ua, ub) + r - 0.5);
+  if (last < 0.0 || first > f.last_u) return;
+  const int32_t u0 = static_cast<int32_t>(std::max(first, 0.0));
+  const int32_t u1 = static_cast<int32_t>(std::min(last, f.last_u));
+  // Most lines of a path's band hold no blocked cell at all: one or two words say so.
+  const uint64_t* line = f.bit_lines.line(v);
+  uint64_t any = 0;
+  for (int32_t word = u0 >> 6; word <= u1 >> 6 && any == 0; ++word) {
+    const int32_t from = std::max(u0, word << 6) & 63;
+    const int32_t to = std::min(u1, (word << 6) + 63) & 63;
+    any = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
+  }
+  if (any == 0) return;
+  // Along a line the distance from the segment to square u is convex in u (the distance
+  // between two convex sets as one slides), least at u_near: the square the segment meets
+  // on the line's centre, or, where it stays on one side of it, the square nearest its end
+  // nearest the line (on or straight beside that end). So only the nearest obstacle on each
+  // side of u_near can be the line's nearest.
+  const double t_near = f.ab_v != 0.0 ? std::clamp((centre_v - f.a_v) * f.per_v, 0.0, 1.0) : 0.0;
+  const int32_t u_near = static_cast<int32_t>(std::clamp(
+      std::floor(f.a_u + t_near * f.ab_u), static_cast<double>(u0), static_cast<double>(u1)));
+  if (const int32_t u = last_obstacle_in(f, v, line, u0, u_near); u >= 0) consider(f, v, u);
+  if (u_near < u1) {
+    if (const int32_t u = first_obstacle_in(f, v, line, u_near + 1, u1); u >= 0) consider(f, v, u);
+  }
+}
+
+// The obstacle square of cell u of line v, measured when its centre lies within reach.
+void ClearanceScan::consider(const ClearanceScanFrame& f, int32_t v, int32_t u) {
+  const Cell c = cell_at(f, v, u);
+  const Point2 centre(c.x + 0.5, c.y + 0.5);
+  const double t = f.length_squared > 0.0
+                       ? std::clamp((centre - f.a).dot(f.ab) / f.length_squared, 0.0, 1.0)
+                       : 0.0;
+  // No square is nearer to the segment than its centre less sqrt 2 / 2.
+  const double within = reach();
+  if ((f.a + t * f.ab - centre).squaredNorm() >= within * within) return;
+  best_ = std::min(best_, segment_square_distance(f.a, f.b, c.x, c.y));
+}
+
+// The highest u in [from, to] of line v that is an obstacle (not only blocked); -1 when none.
+int32_t ClearanceScan::last_obstacle_in(const ClearanceScanFrame& f, int32_t v,
+                                        const uint64_t* line, int32_t from, int32_t to) const {
+  for (int32_t word = to >> 6; word >= from >> 6; --word) {
+    const int32_t low = std::max(from, word << 6) & 63;
+    const int32_t high = std::min(to, (word << 6) + 63) & 63;
+    uint64_t bits = line[word] & (~uint64_t{0} << low) & (~uint64_t{0} >> (63 - high));
+    while (bits != 0) {
+      const int32_t u = (word << 6) + 63 - __builtin_clzll(bits);
+      if (is_obstacle_at(f, v, u)) return u;
+      bits &= ~(uint64_t{1} << (u & 63));
     }
-  };
-  if (vertices.size() == 1 && std::isfinite(bound)) measure(vertices.front(), vertices.front());
+  }
+  return -1;
+}
+
+// The lowest u in [from, to] of line v that is an obstacle; -1 when none.
+int32_t ClearanceScan::first_obstacle_in(const ClearanceScanFrame& f, int32_t v,
+                                         const uint64_t* line, int32_t from, int32_t to) const {
+  for (int32_t word = from >> 6; word <= to >> 6; ++word) {
+    const int32_t low = std::max(from, word << 6) & 63;
+    const int32_t high = std::min(to, (word << 6) + 63) & 63;
+    uint64_t bits = line[word] & (~uint64_t{0} << low) & (~uint64_t{0} >> (63 - high));
+    while (bits != 0) {
+      const int32_t u = (word << 6) + __builtin_ctzll(bits);
+      if (is_obstacle_at(f, v, u)) return u;
+      bits &= bits - 1;
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  if (polyline.empty() || map.cell_count() == 0) return kInfinity;
+  if (!std::isfinite(map.obstacle_distance({0, 0}))) return kInfinity;  // the map has no obstacle
+  const std::vector<Point2> vertices = merge_collinear_runs(polyline);
+  const double bound = clearance_upper_bound(map, vertices);
+  ClearanceScan scan(map, bound);
+  if (vertices.size() == 1 && std::isfinite(bound))
+    scan.measure(vertices.front(), vertices.front());
   // Half a cell is as near as a straight run of a grid path gets to an obstacle square when it
   // has line of sight without cutting a corner: it crosses only unblocked cells, and where it
   // passes a cell corner both cells beside it are unblocked, so every blocked square lies at
@@ -332,13 +404,13 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
     const Point2& a = vertices[i - 1];
     const Point2& b = vertices[i];
     if (!std::isfinite((b - a).norm())) continue;  // not a path a planner makes
-    if (best <= kStraightRunFloor) {
+    if (scan.best() <= kStraightRunFloor) {
       const auto run = straight_run_cells(map, a, b);
       if (run && line_of_sight(map, run->first, run->second, CornerPolicy::kNever)) continue;
     }
-    measure(a, b);
+    scan.measure(a, b);
   }
-  return best;
+  return scan.best();
 }
 
 }  // namespace vnsba::core

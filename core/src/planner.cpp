@@ -132,7 +132,10 @@ bool connected_through_unknown(const GridMap& map, const Cell& from, const Cell&
       for (int dx = -1; dx <= 1; ++dx) {
         const int32_t x = c.x + dx, y = c.y + dy;
         if ((dx == 0 && dy == 0) || !passable(x, y)) continue;
-        if (dx != 0 && dy != 0 && !(passable(c.x + dx, c.y) && passable(c.x, c.y + dy))) continue;
+        if (dx != 0 && dy != 0 &&
+            !detail::corner_passable(!passable(c.x + dx, c.y), !passable(c.x, c.y + dy),
+                                     CornerPolicy::kNever))
+          continue;
         const size_t i = static_cast<size_t>(y) * w + x;
         if (seen[i]) continue;
         seen[i] = true;
@@ -162,6 +165,212 @@ Status check_point(const char* field, const std::optional<Point2>& point, const 
   return Status::error(StatusCode::kInvalidRequest, text);
 }
 
+// Where a plan's endpoints lie (docs/algorithm.md section 8): each requested cell, or, where it is
+// blocked (the start: only by inflation) or outside the map (the goal), the nearest free cell
+// within its tolerance that the other endpoint reaches. The steps report in the order of sections
+// 1-7: start outside, goal outside, start blocked, goal blocked; then the floods that choose
+// reachable cells.
+class EndpointResolver {
+ public:
+  EndpointResolver(const GridMap& map, const PlanQuery& query, const PlannerOptions& options)
+      : map_(map),
+        query_(query),
+        options_(options),
+        start_tolerance_cells_(metres_to_cells(options.start_tolerance, map.resolution())),
+        goal_tolerance_cells_(metres_to_cells(options.goal_tolerance, map.resolution())),
+        requested_start_(query.start_point.value_or(cell_centre(query.start))),
+        requested_goal_(query.goal_point.value_or(cell_centre(query.goal))) {
+    out_.start = query.start;
+    out_.goal = query.goal;
+    out_.start_point = requested_start_;
+    out_.goal_point = requested_goal_;
+  }
+
+  // Both endpoints in the map and free, or a free cell within tolerance of each that is blocked
+  // or outside; an error naming the first that has none.
+  Status find_free_cells() {
+    if (Status s = check_inside(); !s.is_ok()) return s;
+    if (Status s = find_start(); !s.is_ok()) return s;
+    return find_goal();
+  }
+
+  // check_query's endpoints: the nearest free cells taken as they are (reachability unchecked).
+  Endpoints nearest() {
+    if (nearest_start_) use_start(*nearest_start_);
+    if (nearest_goal_) use_goal(*nearest_goal_);
+    return out_;
+  }
+
+  // The endpoints a plan uses: each moved endpoint the first candidate the other one reaches, by
+  // floods over `states` that poll `budget`.
+  Expected<Endpoints> reachable(CellStates& states, PlanningBudget* budget) {
+    if (move_start_) {
+      if (Status s = reach_start(states, budget); !s.is_ok()) return s;
+    }
+    if (move_goal_) {
+      if (Status s = reach_goal(states, budget); !s.is_ok()) return s;
+    }
+    return out_;
+  }
+
+ private:
+  detail::NearestFreeCells start_candidates() const {
+    return detail::NearestFreeCells(map_, requested_start_, start_tolerance_cells_);
+  }
+  detail::NearestFreeCells goal_candidates() const {
+    return detail::NearestFreeCells(map_, requested_goal_, goal_tolerance_cells_);
+  }
+
+  std::string outside(const char* which, const Cell& c) const {
+    return std::string(which) + " " + describe(c) + " is outside the map (" +
+           std::to_string(map_.width()) + " x " + std::to_string(map_.height()) + " cells)";
+  }
+  std::string start_blocked() const {
+    return describe_point(map_, "start", requested_start_, query_.start) + ", " +
+           why_blocked(map_, query_.start);
+  }
+  std::string goal_blocked() const {
+    return goal_inside_ ? describe_point(map_, "goal", requested_goal_, query_.goal) + ", " +
+                              why_blocked(map_, query_.goal)
+                        : outside("goal", query_.goal);
+  }
+  // "3 free cells lie within goal_tolerance 0.300 m (the nearest (1.225, 4.575) m, cell (24, 91))"
+  std::string free_within(int64_t count, const char* key, double tolerance,
+                          const Cell& nearest) const {
+    return std::to_string(count) + (count == 1 ? " free cell lies" : " free cells lie") +
+           " within " + key + " " + metres(tolerance) + " m (the nearest " +
+           describe_centre(map_, nearest) + ")";
+  }
+  Status stopped(StatusCode code, const char* stage) const {
+    return Status::error(code, budget_message(code, options_, stage));
+  }
+
+  void use_start(const Cell& c) {
+    out_.start = c;
+    out_.start_adjusted = true;
+    out_.start_point = cell_centre(c);
+    out_.start_moved_m = (out_.start_point - requested_start_).norm() * map_.resolution();
+  }
+  void use_goal(const Cell& c) {
+    out_.goal = c;
+    out_.goal_adjusted = true;
+    out_.goal_point = cell_centre(c);
+    out_.goal_moved_m = (out_.goal_point - requested_goal_).norm() * map_.resolution();
+  }
+
+  Status check_inside();
+  Status find_start();
+  Status find_goal();
+  Status reach_start(CellStates& states, PlanningBudget* budget);
+  Status reach_goal(CellStates& states, PlanningBudget* budget);
+
+  const GridMap& map_;
+  const PlanQuery& query_;
+  const PlannerOptions& options_;
+  double start_tolerance_cells_;
+  double goal_tolerance_cells_;
+  Point2 requested_start_;  // continuous cell coordinates
+  Point2 requested_goal_;
+  Endpoints out_;
+  bool goal_inside_ = false;
+  bool move_start_ = false;
+  bool move_goal_ = false;
+  std::optional<Cell> nearest_start_;  // the first free candidate, when the endpoint moves
+  std::optional<Cell> nearest_goal_;
+};
+
+// A start outside the map is final. Without goal_tolerance so is a goal outside, and it is
+// reported before a blocked start, in the order of sections 1-7: start outside, goal outside,
+// start blocked, goal blocked.
+Status EndpointResolver::check_inside() {
+  if (!map_.in_bounds(query_.start))
+    return Status::error(StatusCode::kStartOutsideMap, outside("start", query_.start));
+  goal_inside_ = map_.in_bounds(query_.goal);
+  if (!goal_inside_ && !(goal_tolerance_cells_ > 0.0))
+    return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query_.goal));
+  return Status::ok();
+}
+
+// The start: moved only out of inflation (a robot standing in an obstacle has a real problem).
+Status EndpointResolver::find_start() {
+  move_start_ = map_.blocked(query_.start);
+  if (!move_start_) return Status::ok();
+  const bool inflation = map_.layer(query_.start) == CellLayer::kInflated;
+  if (inflation) nearest_start_ = start_candidates().next();
+  if (nearest_start_) return Status::ok();
+  std::string message = start_blocked();
+  if (inflation && options_.start_tolerance > 0.0)
+    message += "; no free cell within start_tolerance " + metres(options_.start_tolerance) + " m";
+  return Status::error(StatusCode::kStartOccupied, message);
+}
+
+// The goal: moved out of any blocked cell, or into the map, within goal_tolerance.
+Status EndpointResolver::find_goal() {
+  move_goal_ = !goal_inside_ || map_.blocked(query_.goal);
+  if (!move_goal_) return Status::ok();
+  nearest_goal_ = goal_candidates().next();
+  if (nearest_goal_) return Status::ok();
+  const std::string within =
+      options_.goal_tolerance > 0.0
+          ? "; no free cell within goal_tolerance " + metres(options_.goal_tolerance) + " m"
+          : "";
+  return Status::error(goal_inside_ ? StatusCode::kGoalOccupied : StatusCode::kGoalOutsideMap,
+                       goal_blocked() + within);
+}
+
+// The start first, towards the goal or, when the goal moves too, towards any free cell within
+// goal_tolerance of it (the goal is then chosen among those the start reaches).
+Status EndpointResolver::reach_start(CellStates& states, PlanningBudget* budget) {
+  std::vector<uint32_t> anchors;
+  if (move_goal_) {
+    for (auto goals = goal_candidates(); const auto c = goals.next();)
+      anchors.push_back(map_.padded_index(*c));
+  } else {
+    anchors.push_back(map_.padded_index(query_.goal));
+  }
+  auto candidates = start_candidates();
+  const detail::ReachOutcome reach =
+      detail::first_reachable(map_, options_.corner_policy, states, budget, anchors, candidates);
+  if (reach.code != StatusCode::kOk)
+    return stopped(reach.code, "while choosing a start within start_tolerance");
+  if (!reach.cell) {
+    const std::string goal_side =
+        move_goal_ ? "any of the " + std::to_string(anchors.size()) +
+                         " free cells within goal_tolerance " + metres(options_.goal_tolerance) +
+                         " m of the " + describe_point(map_, "goal", requested_goal_, query_.goal)
+                   : "the " + describe_point(map_, "goal", requested_goal_, query_.goal);
+    return Status::error(StatusCode::kNoValidPath,
+                         start_blocked() + "; " +
+                             free_within(reach.candidates, "start_tolerance",
+                                         options_.start_tolerance, *nearest_start_) +
+                             ", but none of them connects to " + goal_side);
+  }
+  use_start(*reach.cell);
+  return Status::ok();
+}
+
+// The goal, among its candidates, the first the (used) start reaches.
+Status EndpointResolver::reach_goal(CellStates& states, PlanningBudget* budget) {
+  auto candidates = goal_candidates();
+  const detail::ReachOutcome reach = detail::first_reachable(
+      map_, options_.corner_policy, states, budget, {map_.padded_index(out_.start)}, candidates);
+  if (reach.code != StatusCode::kOk)
+    return stopped(reach.code, "while choosing a goal within goal_tolerance");
+  if (!reach.cell) {
+    const std::string start_used =
+        out_.start_adjusted ? "the start used " + describe_centre(map_, out_.start)
+                            : "the " + describe_point(map_, "start", requested_start_, out_.start);
+    return Status::error(StatusCode::kNoValidPath,
+                         goal_blocked() + "; " +
+                             free_within(reach.candidates, "goal_tolerance",
+                                         options_.goal_tolerance, *nearest_goal_) +
+                             ", but none of them is reachable from " + start_used +
+                             ": they are sealed off from it");
+  }
+  use_goal(*reach.cell);
+  return Status::ok();
+}
+
 // resolve_endpoints, and with `states` null check_query: the reachability of moved endpoints is
 // then not checked (the nearest free cells are taken as they are).
 Expected<Endpoints> resolve(const GridMap& map, const PlanQuery& query,
@@ -170,146 +379,10 @@ Expected<Endpoints> resolve(const GridMap& map, const PlanQuery& query,
   if (Status s = validate(options); !s.is_ok()) return s;
   if (Status s = check_point("start_point", query.start_point, query.start); !s.is_ok()) return s;
   if (Status s = check_point("goal_point", query.goal_point, query.goal); !s.is_ok()) return s;
-  Endpoints out;
-  out.start = query.start;
-  out.goal = query.goal;
-  out.start_point = query.start_point.value_or(cell_centre(query.start));
-  out.goal_point = query.goal_point.value_or(cell_centre(query.goal));
-  auto outside = [&](const char* which, const Cell& c) {
-    return std::string(which) + " " + describe(c) + " is outside the map (" +
-           std::to_string(map.width()) + " x " + std::to_string(map.height()) + " cells)";
-  };
-  const double start_tolerance_cells = metres_to_cells(options.start_tolerance, map.resolution());
-  const double goal_tolerance_cells = metres_to_cells(options.goal_tolerance, map.resolution());
-  const Point2 requested_start = out.start_point, requested_goal = out.goal_point;
-  auto start_candidates = [&] {
-    return detail::NearestFreeCells(map, requested_start, start_tolerance_cells);
-  };
-  auto goal_candidates = [&] {
-    return detail::NearestFreeCells(map, requested_goal, goal_tolerance_cells);
-  };
-
-  // The start: moved only out of inflation (a robot standing in an obstacle has a real problem).
-  if (!map.in_bounds(query.start))
-    return Status::error(StatusCode::kStartOutsideMap, outside("start", query.start));
-  // Without goal_tolerance a goal outside the map is final, and it is reported before a blocked
-  // start, in the order of sections 1-7: start outside, goal outside, start blocked, goal blocked.
-  const bool goal_inside = map.in_bounds(query.goal);
-  if (!goal_inside && !(goal_tolerance_cells > 0.0))
-    return Status::error(StatusCode::kGoalOutsideMap, outside("goal", query.goal));
-  auto start_blocked = [&] {
-    return describe_point(map, "start", requested_start, query.start) + ", " +
-           why_blocked(map, query.start);
-  };
-  const bool move_start = map.blocked(query.start);
-  std::optional<Cell> nearest_start;
-  if (move_start) {
-    const bool inflation = map.layer(query.start) == CellLayer::kInflated;
-    if (inflation) nearest_start = start_candidates().next();
-    if (!nearest_start) {
-      std::string message = start_blocked();
-      if (inflation && options.start_tolerance > 0.0)
-        message +=
-            "; no free cell within start_tolerance " + metres(options.start_tolerance) + " m";
-      return Status::error(StatusCode::kStartOccupied, message);
-    }
-  }
-
-  // The goal: moved out of any blocked cell, or into the map, within goal_tolerance.
-  const bool move_goal = !goal_inside || map.blocked(query.goal);
-  const std::string goal_blocked = !move_goal ? std::string()
-                                   : goal_inside
-                                       ? describe_point(map, "goal", requested_goal, query.goal) +
-                                             ", " + why_blocked(map, query.goal)
-                                       : outside("goal", query.goal);
-  std::optional<Cell> nearest_goal;
-  if (move_goal) {
-    nearest_goal = goal_candidates().next();
-    if (!nearest_goal) {
-      const std::string within =
-          options.goal_tolerance > 0.0
-              ? "; no free cell within goal_tolerance " + metres(options.goal_tolerance) + " m"
-              : "";
-      return Status::error(goal_inside ? StatusCode::kGoalOccupied : StatusCode::kGoalOutsideMap,
-                           goal_blocked + within);
-    }
-  }
-  auto use_start = [&](const Cell& c) {
-    out.start = c;
-    out.start_adjusted = true;
-    out.start_point = cell_centre(c);
-    out.start_moved_m = (out.start_point - requested_start).norm() * map.resolution();
-  };
-  auto use_goal = [&](const Cell& c) {
-    out.goal = c;
-    out.goal_adjusted = true;
-    out.goal_point = cell_centre(c);
-    out.goal_moved_m = (out.goal_point - requested_goal).norm() * map.resolution();
-  };
-  if (states == nullptr) {  // check_query
-    if (nearest_start) use_start(*nearest_start);
-    if (nearest_goal) use_goal(*nearest_goal);
-    return out;
-  }
-  // "3 free cells lie within goal_tolerance 0.300 m (the nearest (1.225, 4.575) m, cell (24, 91))"
-  auto free_within = [&](int64_t count, const char* key, double tolerance, const Cell& nearest) {
-    return std::to_string(count) + (count == 1 ? " free cell lies" : " free cells lie") +
-           " within " + key + " " + metres(tolerance) + " m (the nearest " +
-           describe_centre(map, nearest) + ")";
-  };
-  auto stopped = [&](StatusCode code, const char* stage) {
-    return Status::error(code, budget_message(code, options, stage));
-  };
-
-  if (move_start) {
-    // The start first, towards the goal or, when the goal moves too, towards any free cell within
-    // goal_tolerance of it (the goal is then chosen among those the start reaches).
-    std::vector<uint32_t> anchors;
-    if (move_goal) {
-      for (auto goals = goal_candidates(); const auto c = goals.next();)
-        anchors.push_back(map.padded_index(*c));
-    } else {
-      anchors.push_back(map.padded_index(query.goal));
-    }
-    auto candidates = start_candidates();
-    const detail::ReachOutcome reach =
-        detail::first_reachable(map, options.corner_policy, *states, budget, anchors, candidates);
-    if (reach.code != StatusCode::kOk)
-      return stopped(reach.code, "while choosing a start within start_tolerance");
-    if (!reach.cell) {
-      const std::string goal_side =
-          move_goal ? "any of the " + std::to_string(anchors.size()) +
-                          " free cells within goal_tolerance " + metres(options.goal_tolerance) +
-                          " m of the " + describe_point(map, "goal", requested_goal, query.goal)
-                    : "the " + describe_point(map, "goal", requested_goal, query.goal);
-      return Status::error(StatusCode::kNoValidPath,
-                           start_blocked() + "; " +
-                               free_within(reach.candidates, "start_tolerance",
-                                           options.start_tolerance, *nearest_start) +
-                               ", but none of them connects to " + goal_side);
-    }
-    use_start(*reach.cell);
-  }
-  if (move_goal) {
-    auto candidates = goal_candidates();
-    const detail::ReachOutcome reach = detail::first_reachable(
-        map, options.corner_policy, *states, budget, {map.padded_index(out.start)}, candidates);
-    if (reach.code != StatusCode::kOk)
-      return stopped(reach.code, "while choosing a goal within goal_tolerance");
-    if (!reach.cell) {
-      const std::string start_used =
-          out.start_adjusted ? "the start used " + describe_centre(map, out.start)
-                             : "the " + describe_point(map, "start", requested_start, out.start);
-      return Status::error(StatusCode::kNoValidPath,
-                           goal_blocked + "; " +
-                               free_within(reach.candidates, "goal_tolerance",
-                                           options.goal_tolerance, *nearest_goal) +
-                               ", but none of them is reachable from " + start_used +
-                               ": they are sealed off from it");
-    }
-    use_goal(*reach.cell);
-  }
-  return out;
+  EndpointResolver resolver(map, query, options);
+  if (Status s = resolver.find_free_cells(); !s.is_ok()) return s;
+  if (states == nullptr) return resolver.nearest();
+  return resolver.reachable(*states, budget);
 }
 
 }  // namespace

@@ -1,16 +1,15 @@
 // Polyline pruning (docs/algorithm.md section 4, paper 3.3) and local cubic-spline smoothing at
-// turns (docs/algorithm.md section 5, paper 3.4). Every visibility check goes through
-// line_of_sight().
+// turns (docs/algorithm.md section 5, paper 3.4), the exact ends and the relax smoother. Every
+// check of a segment, and its cost, is MotionValidator's (motion_validator.hpp).
 #include "vnsba/core/postprocess.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <optional>
 
-#include "vnsba/core/metrics.hpp"
+#include "vnsba/core/motion_validator.hpp"
 
 namespace vnsba::core {
 
@@ -22,23 +21,9 @@ namespace {
 constexpr double kCostRoundingTolerance = 1.0 + 1e-12;
 }  // namespace
 
-double segment_cost(const GridMap& map, const Point2& a, const Point2& b, double cost_weight,
-                    CornerPolicy policy) {
-  const double length = (b - a).norm();
-  if (cost_weight == 0.0) {
-    return line_of_sight(map, a, b, policy) ? length : std::numeric_limits<double>::infinity();
-  }
-  const std::optional<double> highest = max_cost_along(map, a, b, policy);
-  if (!highest) return std::numeric_limits<double>::infinity();
-  return length * (1.0 + cost_weight * *highest);
-}
-
 double path_cost(const GridMap& map, const std::vector<Point2>& polyline, double cost_weight,
                  CornerPolicy policy) {
-  double total = 0.0;
-  for (size_t i = 1; i < polyline.size(); ++i)
-    total += segment_cost(map, polyline[i - 1], polyline[i], cost_weight, policy);
-  return total;
+  return MotionValidator(map, policy, cost_weight).path_cost(polyline);
 }
 
 std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path,
@@ -46,26 +31,25 @@ std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path
   std::vector<Point2> out;
   if (path.empty()) return out;
   out.push_back(cell_centre(path.front()));
+  const MotionValidator motion(map, policy, cost_weight);
   // With costs: the grid path's cost up to each cell, to price the stretch a shortcut replaces.
   std::vector<double> cost_to;
   if (cost_weight > 0.0) {
     cost_to.assign(path.size(), 0.0);
     for (size_t k = 1; k < path.size(); ++k)
-      cost_to[k] = cost_to[k - 1] + segment_cost(map, cell_centre(path[k - 1]),
-                                                 cell_centre(path[k]), cost_weight, policy);
+      cost_to[k] =
+          cost_to[k - 1] + motion.segment_cost(cell_centre(path[k - 1]), cell_centre(path[k]));
   }
   auto affordable = [&](size_t from, size_t to) {
-    return cost_to.empty() ||
-           segment_cost(map, cell_centre(path[from]), cell_centre(path[to]), cost_weight, policy) <=
-               (cost_to[to] - cost_to[from]) * kCostRoundingTolerance;
+    return cost_to.empty() || motion.segment_cost(cell_centre(path[from]), cell_centre(path[to])) <=
+                                  (cost_to[to] - cost_to[from]) * kCostRoundingTolerance;
   };
   size_t anchor = 0;  // index into path
   size_t i = 1;
   while (i < path.size()) {
     if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
     // A single step is the path itself, affordable by definition.
-    if (line_of_sight(map, path[anchor], path[i], policy) &&
-        (anchor + 1 == i || affordable(anchor, i))) {
+    if (motion.segment_valid(path[anchor], path[i]) && (anchor + 1 == i || affordable(anchor, i))) {
       ++i;
     } else if (anchor + 1 == i) {
       // Only an invalid input (a step without line of sight, e.g. through a wall or from a
@@ -101,11 +85,10 @@ std::vector<Point2> join_exact_ends(const GridMap& map, std::vector<Point2> wayp
   if (goal_added) waypoints.push_back(goal);
   if (!drop_centres) return waypoints;
   // a -> b in place of a -> via -> b: clear, and no dearer (up to rounding, as in pruning).
+  const MotionValidator motion(map, policy, cost_weight);
   auto shortcut = [&](const Point2& a, const Point2& via, const Point2& b) {
-    return segment_cost(map, a, b, cost_weight, policy) <=
-           (segment_cost(map, a, via, cost_weight, policy) +
-            segment_cost(map, via, b, cost_weight, policy)) *
-               kCostRoundingTolerance;
+    return motion.segment_cost(a, b) <=
+           (motion.segment_cost(a, via) + motion.segment_cost(via, b)) * kCostRoundingTolerance;
   };
   if (start_added && waypoints.size() >= 3 && shortcut(waypoints[0], waypoints[1], waypoints[2]))
     waypoints.erase(waypoints.begin() + 1);
@@ -203,7 +186,7 @@ void sample_piece(const CornerSpline& spline, int piece, double step, std::vecto
 // when the spline cannot be fitted or any of its segments, or the joins prev -> P1 and P4 -> B,
 // lacks line of sight, or (cost_weight > 0) when prev -> P1, the curve and P4 -> B cost more than
 // `cost_before`, the cost of prev -> T -> B (the same for every d: the caller prices it once).
-std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point2& prev,
+std::optional<std::vector<Point2>> smooth_corner(const MotionValidator& motion, const Point2& prev,
                                                  const Point2& a, const Point2& t, const Point2& b,
                                                  double d, const SmoothingOptions& options,
                                                  double cost_before) {
@@ -217,12 +200,11 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
   std::vector<Point2> curve = {points[0]};
   for (int piece = 0; piece < 3; ++piece) sample_piece(*spline, piece, options.sample_step, curve);
 
-  const CornerPolicy policy = options.corner_policy;
-  if (!line_of_sight(map, prev, curve.front(), policy)) return std::nullopt;
+  if (!motion.segment_valid(prev, curve.front())) return std::nullopt;
   for (size_t i = 1; i < curve.size(); ++i) {
-    if (!line_of_sight(map, curve[i - 1], curve[i], policy)) return std::nullopt;
+    if (!motion.segment_valid(curve[i - 1], curve[i])) return std::nullopt;
   }
-  if (!line_of_sight(map, curve.back(), b, policy)) return std::nullopt;
+  if (!motion.segment_valid(curve.back(), b)) return std::nullopt;
   if (options.cost_weight > 0.0) {
     // The path so far ends at prev, and what follows it is prev -> T -> B and the legs after B.
     // With the curve, prev -> P1, the curve and P4 -> B take the place of prev -> T -> B; kept
@@ -230,10 +212,8 @@ std::optional<std::vector<Point2>> smooth_corner(const GridMap& map, const Point
     // corners before and after do. (Pricing P1 -> T -> P4 alone is not enough: a piece of a
     // diagonal leg that passes exactly through cell corners can, by rounding, cross beside a
     // corner that the whole leg passes through, and meet a dearer cell.)
-    const double w = options.cost_weight;
-    const double after = segment_cost(map, prev, curve.front(), w, policy) +
-                         path_cost(map, curve, w, policy) +
-                         segment_cost(map, curve.back(), b, w, policy);
+    const double after = motion.segment_cost(prev, curve.front()) + motion.path_cost(curve) +
+                         motion.segment_cost(curve.back(), b);
     if (!(after <= cost_before * kCostRoundingTolerance)) return std::nullopt;
   }
   return curve;
@@ -247,6 +227,7 @@ std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& w
   if (waypoints.size() < 3 || !std::isfinite(options.sample_step) || options.sample_step <= 0.0) {
     return waypoints;
   }
+  const MotionValidator motion(map, options.corner_policy, options.cost_weight);
   std::vector<Point2> out = {waypoints.front()};
   for (size_t i = 1; i + 1 < waypoints.size(); ++i) {
     // A and B come from the input, not from the already-smoothed output.
@@ -260,14 +241,12 @@ std::vector<Point2> smooth_path(const GridMap& map, const std::vector<Point2>& w
     double d = std::min({options.smoothing_distance, (t - a).norm() / 4, (b - t).norm() / 4});
     std::optional<std::vector<Point2>> curve;
     if (!straight && std::isfinite(d) && d > 0.0) {
-      const double w = options.cost_weight;
-      const double cost_before = w > 0.0
-                                     ? segment_cost(map, out.back(), t, w, options.corner_policy) +
-                                           segment_cost(map, t, b, w, options.corner_policy)
-                                     : 0.0;
+      const double cost_before =
+          options.cost_weight > 0.0 ? motion.segment_cost(out.back(), t) + motion.segment_cost(t, b)
+                                    : 0.0;
       for (int attempt = 0; attempt <= std::max(0, options.max_halvings); ++attempt, d /= 2) {
         if (budget != nullptr && budget->poll() != StatusCode::kOk) return {};
-        curve = smooth_corner(map, out.back(), a, t, b, d, options, cost_before);
+        curve = smooth_corner(motion, out.back(), a, t, b, d, options, cost_before);
         if (curve) break;
       }
     }
@@ -301,46 +280,6 @@ Point2 cost_gradient(const GridMap& map, const Point2& p) {
   return {(1.0 - fy) * (c10 - c00) + fy * (c11 - c01), (1.0 - fx) * (c01 - c00) + fx * (c11 - c10)};
 }
 
-// Whether segments may be part of a relaxed path: line of sight, and a clearance (cells) of at
-// least `floor` (0: no clearance asked). Most of a path lies far from anything blocked, and there
-// metrics.hpp's segment_clearance_bound answers both: it bounds the clearance, and also the
-// distance from the centre of every cell the segment touches (or passes at a corner) to an
-// obstacle's centre, so above the robot's radius in cells none of those cells is inflated. Near
-// obstacles (and within a cell of the map's edge) the exact line_of_sight and
-// segment_clearance_at_least decide, and so they do everywhere on a map with blocked cells that
-// are no obstacles (unknown cells not inflated), which the distance transform does not see.
-class RelaxedSegmentCheck {
- public:
-  RelaxedSegmentCheck(const GridMap& map, double floor, CornerPolicy policy)
-      : map_(map),
-        floor_(floor),
-        policy_(policy),
-        // Inflated cells have their centre within this of an obstacle's (grid_map.cpp snaps the
-        // radius to a whole cell within 1e-9; the margin covers that).
-        inflated_within_(map.build_options().robot_radius / map.resolution() + 1e-6),
-        bound_decides_(!map.has_blocked_non_obstacles()) {}
-
-  bool operator()(const Point2& a, const Point2& b) const {
-    // The map's border counts as blocked, and the distance transform does not see it: the bound
-    // decides only for segments at least a cell inside the map.
-    const double low_x = std::min(a.x(), b.x()), high_x = std::max(a.x(), b.x());
-    const double low_y = std::min(a.y(), b.y()), high_y = std::max(a.y(), b.y());
-    if (bound_decides_ && low_x >= 1.0 && low_y >= 1.0 && high_x <= map_.width() - 1.0 &&
-        high_y <= map_.height() - 1.0) {
-      const double bound = segment_clearance_bound(map_, a, b);
-      if (bound > inflated_within_ && bound >= floor_) return true;
-    }
-    return line_of_sight(map_, a, b, policy_) && segment_clearance_at_least(map_, a, b, floor_);
-  }
-
- private:
-  const GridMap& map_;
-  double floor_;
-  CornerPolicy policy_;
-  double inflated_within_;
-  bool bound_decides_;  // the distance transform's bound may clear a segment on its own
-};
-
 // The path with points added so that no segment is longer than `spacing` (its own points kept).
 std::vector<Point2> densify(const std::vector<Point2>& path, double spacing) {
   std::vector<Point2> out;
@@ -360,10 +299,10 @@ std::vector<Point2> densify(const std::vector<Point2>& path, double spacing) {
 namespace {
 
 // A run of points each within kRelaxCompactCells of the chord from the last kept point to the
-// run's end is replaced by that chord when it passes `segment_ok` (at most kMaxSkipped points a
-// chord, so the checks stay short). Compacting a compacted path changes nothing.
-template <class SegmentCheck>
-std::vector<Point2> compact(const std::vector<Point2>& points, const SegmentCheck& segment_ok) {
+// run's end is replaced by that chord when it keeps the clearance `motion` asks (at most
+// kMaxSkipped points a chord, so the checks stay short). Compacting a compacted path changes
+// nothing.
+std::vector<Point2> compact(const std::vector<Point2>& points, const MotionValidator& motion) {
   constexpr size_t kMaxSkipped = 16;
   if (points.size() < 3) return points;
   const size_t last = points.size() - 1;
@@ -380,7 +319,8 @@ std::vector<Point2> compact(const std::vector<Point2>& points, const SegmentChec
       ++end;
     }
     // points[anchor] -> points[end] skips anchor + 1 .. end - 1; a single step is the path itself.
-    if (end > anchor + 1 && !segment_ok(points[anchor], points[end])) end = anchor + 1;
+    if (end > anchor + 1 && !motion.segment_keeps_clearance(points[anchor], points[end]))
+      end = anchor + 1;
     out.push_back(points[end]);
     anchor = end;
   }
@@ -393,10 +333,11 @@ std::vector<Point2> relax_path(const GridMap& map, const std::vector<Point2>& pa
                                const RelaxOptions& options, double min_clearance_cells,
                                PlanningBudget* budget) {
   if (path.size() < 3) return path;
-  const RelaxedSegmentCheck segment_ok(map, min_clearance_cells, options.corner_policy);
+  // Cost plays no part in the checks: relax follows the cost gradient instead (below).
+  const MotionValidator motion(map, options.corner_policy, 0.0, min_clearance_cells);
   // The input compacted as the result is (a smoothed corner's samples, 0.25 cells apart, thinned
   // to about a cell), then no segment longer than kRelaxSpacingCells.
-  std::vector<Point2> points = densify(compact(path, segment_ok), kRelaxSpacingCells);
+  std::vector<Point2> points = densify(compact(path, motion), kRelaxSpacingCells);
   if (points.size() < 3) return points;
   const std::vector<Point2> planned = points;
   const double cost_gain = map.has_costs() ? options.cost * options.cost_weight : 0.0;
@@ -423,7 +364,8 @@ std::vector<Point2> relax_path(const GridMap& map, const std::vector<Point2>& pa
       if (length > kRelaxMaxStepCells) step *= kRelaxMaxStepCells / length;
       for (int attempt = 0; attempt < 3; ++attempt, step /= 2.0) {
         const Point2 candidate = points[i] + step;
-        if (segment_ok(previous, candidate) && segment_ok(candidate, next)) {
+        if (motion.segment_keeps_clearance(previous, candidate) &&
+            motion.segment_keeps_clearance(candidate, next)) {
           points[i] = candidate;
           moving[i] = 1;
           any_moved = true;
@@ -434,7 +376,7 @@ std::vector<Point2> relax_path(const GridMap& map, const std::vector<Point2>& pa
     moved.swap(moving);
     if (!any_moved) break;
   }
-  return compact(points, segment_ok);
+  return compact(points, motion);
 }
 
 }  // namespace vnsba::core

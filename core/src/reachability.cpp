@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "vnsba/core/motion_validator.hpp"
 #include "vnsba/core/neighborhood.hpp"
 
 namespace vnsba::core::detail {
@@ -90,12 +91,13 @@ ReachOutcome first_reachable(const GridMap& map, CornerPolicy policy, CellStates
   constexpr uint16_t kCandidateSide = CellStates::kSeen[1];
   states.begin_query(map.padded_size());
   const int32_t stride = map.stride();
+  const MotionValidator motion(map, policy);
   // Expands `n`: marks its unmarked neighbours with `own` and queues them; true when one carries
   // `other` (the two floods have met).
   auto expand = [&](uint32_t n, uint16_t own, uint16_t other, std::vector<uint32_t>& queue) {
     const Cell c = map.cell_of(n);
     bool met = false;
-    for_each_move(map, c, c, Neighborhood::kEight, policy, [&](int dx, int dy, double) {
+    motion.for_each_move(c, c, Neighborhood::kEight, [&](int dx, int dy, double) {
       const uint32_t m = n + dy * stride + dx;
       const uint16_t flags = states.flags(m);
       if ((flags & other) != 0) {

@@ -2,14 +2,15 @@
 // point in order of distance, and which of them the other endpoint can reach.
 //
 // Reachability is judged under the planner's moves: 8-connected moves, a diagonal one subject to
-// the options' corner_policy (for_each_move with the 8-neighbourhood, the one rule). The 8-11-13
-// neighbourhood reaches nothing more: its extra moves exist only when all 8 neighbours are free,
-// and each ends in a cell that a straight move from one of those free neighbours also reaches
-// ((2, 0) from (1, 0), (2, 1) and (1, 2) from (1, 1), (2, 2) from whichever of (2, 1) and (1, 2)
-// the corner policy needed free, or from (1, 1) diagonally under `always`). Jump point search
-// plans on the 8-neighbourhood with corner_policy never. The moves are symmetric (a diagonal
-// move and its reverse test the same two side cells), so "connected" is an equivalence: free
-// cells fall into components, and a cell is reachable exactly when it shares the start's.
+// the options' corner_policy (MotionValidator::for_each_move with the 8-neighbourhood, the one
+// rule). The 8-11-13 neighbourhood reaches nothing more: its extra moves exist only when all 8
+// neighbours are free, and each ends in a cell that a straight move from one of those free
+// neighbours also reaches ((2, 0) from (1, 0), (2, 1) and (1, 2) from (1, 1), (2, 2) from
+// whichever of (2, 1) and (1, 2) the corner policy needed free, or from (1, 1) diagonally under
+// `always`). Jump point search plans on the 8-neighbourhood with corner_policy never. The moves
+// are symmetric (a diagonal move and its reverse test the same two side cells), so "connected" is
+// an equivalence: free cells fall into components, and a cell is reachable exactly when it shares
+// the start's.
 #pragma once
 
 #include <cstdint>

@@ -14,6 +14,7 @@
 #include "vnsba/core/budget.hpp"
 #include "vnsba/core/grid_map.hpp"
 #include "vnsba/core/heuristics.hpp"
+#include "vnsba/core/motion_validator.hpp"
 #include "vnsba/core/neighborhood.hpp"
 #include "vnsba/core/planner_options.hpp"
 #include "vnsba/core/status.hpp"
@@ -22,7 +23,7 @@ namespace vnsba::core::detail {
 
 // The move generation, its per-move visitors and relax() run 8 to 13 times per expansion; GCC
 // kept them out of line (a call per move), which made our A* slower than a hand-written loop
-// (bench/astar_reference_bench.cpp). for_each_move carries the same attribute.
+// (bench/astar_reference_bench.cpp). MotionValidator::for_each_move carries the same attribute.
 #define VNSBA_ALWAYS_INLINE __attribute__((always_inline))
 
 // ---------------------------------------------------------------------------------------------
@@ -64,37 +65,15 @@ struct UniformMoveCost {
   }
 };
 
-// Section 8: length * (1 + cost_weight * the highest cell cost along the move's segment), over
-// the cells the supercover traversal of the segment between the two centres enters: both ends
-// and, for the 8-11-13 neighbourhood's longer moves, the one or two cells in between (a straight
-// or diagonal step of 2 passes the middle cell; a knight move (2, 1) passes (1, 0) and (1, 1)).
-// The same cells max_cost_along() walks, so pruning and smoothing price a segment as the search
-// does. Symmetric (a move and its reverse pass the same cells), as the backward searches need.
+// Section 8: MotionValidator::move_cost, length * (1 + cost_weight * the highest cell cost the
+// move's segment passes), the price pruning and smoothing give the same segment. The validator is
+// held by value so that its few fields sit beside the search's other state.
 struct CellMoveCost {
-  const float* costs;  // GridMap::cost_data(), padded
-  int32_t stride;
-  double weight;  // cost_weight
+  MotionValidator motion;  // weighs_costs()
 
   VNSBA_ALWAYS_INLINE double operator()(uint32_t from, uint32_t to, int dx, int dy,
                                         double length) const {
-    float highest = std::max(costs[from], costs[to]);
-    const int ax = dx < 0 ? -dx : dx, ay = dy < 0 ? -dy : dy;
-    if (ax == 2 || ay == 2) {
-      const int sx = detail::sign(dx), sy = detail::sign(dy);
-      const int32_t x_step = sx, y_step = sy * stride;
-      if (ay == 0) {
-        highest = std::max(highest, costs[from + x_step]);
-      } else if (ax == 0) {
-        highest = std::max(highest, costs[from + y_step]);
-      } else if (ax == 2 && ay == 2) {
-        highest = std::max(highest, costs[from + x_step + y_step]);
-      } else if (ax == 2) {  // (2, 1): one step along x, then the diagonal cell
-        highest = std::max({highest, costs[from + x_step], costs[from + x_step + y_step]});
-      } else {  // (1, 2)
-        highest = std::max({highest, costs[from + y_step], costs[from + x_step + y_step]});
-      }
-    }
-    return length * (1.0 + weight * static_cast<double>(highest));
+    return motion.move_cost(from, to, dx, dy, length);
   }
 };
 
@@ -151,6 +130,7 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
   space.begin_query(map.padded_size());
   const uint32_t goal_index = map.padded_index(goal);
   const int32_t stride = map.stride();
+  const MotionValidator motion(map, cfg.policy);
   space.push(map.padded_index(start), 0.0, h(start), SearchSpace::kNoParent);
   while (!space.empty()) {
     if (StatusCode code = budget.poll(); code != StatusCode::kOk) {
@@ -167,14 +147,14 @@ SearchOutcome search_unidirectional(const GridMap& map, CellStates& states, Sear
       return out;
     }
     const double g_n = space.g(n);
-    for_each_move(map, nc, goal, cfg.neighborhood, cfg.policy,
-                  [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
-                    const uint32_t m = n + dy * stride + dx;
-                    const uint16_t flags = states.flags(m);
-                    if ((flags & space.closed_flag()) == 0)
-                      relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy},
-                            move_cost(n, m, dx, dy, cost), h);
-                  });
+    motion.for_each_move(nc, goal, cfg.neighborhood,
+                         [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
+                           const uint32_t m = n + dy * stride + dx;
+                           const uint16_t flags = states.flags(m);
+                           if ((flags & space.closed_flag()) == 0)
+                             relax(space, flags, n, g_n, m, Cell{nc.x + dx, nc.y + dy},
+                                   move_cost(n, m, dx, dy, cost), h);
+                         });
   }
   return out;
 }
@@ -209,6 +189,7 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
                                    std::vector<Cell>* expanded_backward) {
   SearchOutcome out;
   const int32_t stride = map.stride();
+  const MotionValidator motion(map, cfg.policy);
   current[0] = start;
   current[1] = goal;
   states.begin_query(map.padded_size());
@@ -250,22 +231,22 @@ SearchOutcome search_bidirectional(const GridMap& map, CellStates& states, Searc
     const Cell& guide = current[1 - s];
     bool met = false;
     const double g_n = self.g(n);
-    for_each_move(map, nc, guide, cfg.neighborhood, cfg.policy,
-                  [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
-                    const uint32_t m = n + dy * stride + dx;
-                    if (met) return;
-                    const uint16_t flags = states.flags(m);
-                    if ((flags & self.closed_flag()) != 0) return;
-                    const Cell mc{nc.x + dx, nc.y + dy};
-                    if (rule == MeetingRule::kGenerateClosedByOther &&
-                        (flags & self.other_closed_flag()) != 0) {
-                      out.meeting = mc;
-                      join(s == 0, n, m);
-                      met = true;
-                      return;
-                    }
-                    relax(self, flags, n, g_n, m, mc, move_cost(n, m, dx, dy, cost), h);
-                  });
+    motion.for_each_move(nc, guide, cfg.neighborhood,
+                         [&](int dx, int dy, double cost) VNSBA_ALWAYS_INLINE {
+                           const uint32_t m = n + dy * stride + dx;
+                           if (met) return;
+                           const uint16_t flags = states.flags(m);
+                           if ((flags & self.closed_flag()) != 0) return;
+                           const Cell mc{nc.x + dx, nc.y + dy};
+                           if (rule == MeetingRule::kGenerateClosedByOther &&
+                               (flags & self.other_closed_flag()) != 0) {
+                             out.meeting = mc;
+                             join(s == 0, n, m);
+                             met = true;
+                             return;
+                           }
+                           relax(self, flags, n, g_n, m, mc, move_cost(n, m, dx, dy, cost), h);
+                         });
     return met;
   };
 
@@ -322,10 +303,9 @@ SearchOutcome search_density_weighted_bidirectional(const SearchRequest& r,
 // instantiations keep the binary grid's search free of cost lookups.
 template <class Search>
 SearchOutcome with_move_cost(const SearchRequest& request, const Search& search) {
-  const GridMap& map = request.map;
-  if (request.options.cost_weight > 0.0 && map.has_costs())
-    return search(request,
-                  CellMoveCost{map.cost_data(), map.stride(), request.options.cost_weight});
+  const MotionValidator motion(request.map, request.options.corner_policy,
+                               request.options.cost_weight);
+  if (motion.weighs_costs()) return search(request, CellMoveCost{motion});
   return search(request, UniformMoveCost{});
 }
 

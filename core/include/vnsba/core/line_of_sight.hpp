@@ -1,5 +1,6 @@
 // Line of sight: the one implementation (docs/algorithm.md section 1). Used by the heuristic's
-// Euclid/Manhattan switch, by polyline pruning and by the smoothing check.
+// Euclid/Manhattan switch, and through MotionValidator (motion_validator.hpp) by pruning, the
+// exact ends, the smoothing check and the relax smoother.
 #pragma once
 
 #include <cstdint>

@@ -11,13 +11,10 @@
 
 namespace vnsba::core {
 
-// The cost model of docs/algorithm.md section 8 for a segment a -> b (continuous cell coordinates):
-// its length * (1 + cost_weight * the highest cell cost along it, max_cost_along); +inf when it
-// lacks line of sight. With cost_weight 0, the length. The searches price their moves the same
-// way (planner.cpp, CellMoveCost).
-double segment_cost(const GridMap& map, const Point2& a, const Point2& b, double cost_weight,
-                    CornerPolicy policy);
-// The sum of segment_cost over a polyline's segments.
+// The cost model of docs/algorithm.md section 8 for a polyline (continuous cell coordinates): the
+// sum over its segments of MotionValidator::segment_cost (motion_validator.hpp), each its length
+// * (1 + cost_weight * the highest cell cost along it); +inf when one lacks line of sight. With
+// cost_weight 0, the length. The searches price their moves the same way.
 double path_cost(const GridMap& map, const std::vector<Point2>& polyline, double cost_weight,
                  CornerPolicy policy);
 
@@ -38,7 +35,7 @@ std::vector<Point2> prune_path(const GridMap& map, const std::vector<Cell>& path
 // front of the first waypoint and `goal` after the last (a segment inside one free cell: always
 // clear); then, with `drop_centres` (pruning on), removes the first centre when the segment from
 // `start` to the waypoint after it has line of sight and costs no more than the two it replaces
-// (the pruning rule, costs as segment_cost with `cost_weight`), and likewise the last centre before
+// (the pruning rule, costs as path_cost's with `cost_weight`), and likewise the last centre before
 // `goal`. A point equal to its centre adds nothing, so a path between centres is returned as is.
 std::vector<Point2> join_exact_ends(const GridMap& map, std::vector<Point2> waypoints,
                                     const Point2& start, const Point2& goal, CornerPolicy policy,
