@@ -3,7 +3,8 @@
 //
 // A traits type has
 // - its names: kTypeName (its ROS 2 type), kIdName (its name in the node's job ids), kOptionName
-//   (vnsba_send_goal --action), kTopic (the config key of its ROS 2 action name);
+//   (vnsba_send_goal --action), kTopic (the config key of its ROS 2 action name); kSeveralGoals,
+//   whether a goal carries a list of poses;
 // - its DDS types (fastddsgen's, from idl/nav2_msgs/action/): the send_goal, get_result and
 //   feedback messages and their PubSubTypes (cancel_goal and the status list are action_msgs',
 //   the same for every action);
@@ -47,6 +48,21 @@ using GoalStatusArrayType = action_msgs::msg::dds_::GoalStatusArray_PubSubType;
 inline constexpr const char* kPlannerErrorNames[] = {
     "UNKNOWN",        "INVALID_PLANNER", "TF_ERROR", "START_OUTSIDE_MAP", "GOAL_OUTSIDE_MAP",
     "START_OCCUPIED", "GOAL_OCCUPIED",   "TIMEOUT",  "NO_VALID_PATH",     "NO_VIAPOINTS_GIVEN"};
+
+// The goal fields both planner actions share (start, use_start, planner_id), read into the
+// node's goal and written from a client's.
+template <class Goal>
+void read_start_and_planner(Goal&& goal, ActionGoal& out) {
+  out.start = std::move(goal.start());
+  out.use_start = goal.use_start();
+  out.planner_id = std::move(goal.planner_id());
+}
+template <class Goal>
+void write_start_and_planner(const ActionGoalSpec& spec, Goal& goal) {
+  goal.start(spec.start);
+  goal.planner_id(spec.planner_id);
+  goal.use_start(spec.use_start);
+}
 
 // The result both planner actions share (path, planning_time, error_code, error_msg), written
 // from the node's outcome and read into a client's reply.
@@ -102,15 +118,11 @@ struct ComputePathToPose {
   static std::string goal_bytes_problem(const RawSample&, WireMapping) { return ""; }
   static void read_goal(Goal&& goal, ActionGoal& out) {
     out.goals = {goal.goal()};
-    out.start = std::move(goal.start());
-    out.use_start = goal.use_start();
-    out.planner_id = std::move(goal.planner_id());
+    read_start_and_planner(std::move(goal), out);
   }
   static void write_goal(const ActionGoalSpec& spec, Goal& goal) {
     if (!spec.goals.empty()) goal.goal(spec.goals.front());
-    goal.start(spec.start);
-    goal.planner_id(spec.planner_id);
-    goal.use_start(spec.use_start);
+    write_start_and_planner(spec, goal);
   }
   static void write_result(const ActionOutcome& outcome, Result& result) {
     write_path_result(outcome, result);
@@ -151,15 +163,11 @@ struct ComputePathThroughPoses {
   }
   static void read_goal(Goal&& goal, ActionGoal& out) {
     out.goals = goal.goals();
-    out.start = std::move(goal.start());
-    out.use_start = goal.use_start();
-    out.planner_id = std::move(goal.planner_id());
+    read_start_and_planner(std::move(goal), out);
   }
   static void write_goal(const ActionGoalSpec& spec, Goal& goal) {
     goal.goals(spec.goals);
-    goal.start(spec.start);
-    goal.planner_id(spec.planner_id);
-    goal.use_start(spec.use_start);
+    write_start_and_planner(spec, goal);
   }
   static void write_result(const ActionOutcome& outcome, Result& result) {
     write_path_result(outcome, result);
@@ -188,7 +196,8 @@ constexpr size_t index_of(ActionList<First, Rest...>) {
   }
 }
 
-// `f(First{})` for place 0, else the same on the rest; the last for any place past the end.
+// `f(First{})` for place 0, else the same on the rest. An ActionKind is always a place in the
+// list (an enumerator, or a kind nav2_actions() gave): past the end is the last.
 template <class F, class First, class... Rest>
 decltype(auto) visit(size_t place, F& f, ActionList<First, Rest...>) {
   if constexpr (sizeof...(Rest) == 0) {

@@ -198,10 +198,6 @@ bool force_intraprocess_off() {
   return false;
 }
 
-}  // namespace
-
-namespace {
-
 // The profiles files read so far, and the names they were read as (profile_participant_qos
 // holds its lock while it uses them).
 struct ProfilesFilesRead {
