@@ -80,6 +80,7 @@
 
 #include "vnsba/core/geometry.hpp"
 #include "vnsba/core/planner.hpp"
+#include "vnsba/node/action_catalog.hpp"
 #include "vnsba/node/action_client.hpp"
 #include "vnsba/node/command_line.hpp"
 #include "vnsba/node/config.hpp"
@@ -335,20 +336,6 @@ const char* goal_state_name(node::GoalState state) {
   return "UNKNOWN";
 }
 
-// The name nav2_msgs (ROS 2 Jazzy) gives a result's error_code: ComputePathToPose's 0 and
-// 200..208, ComputePathThroughPoses's 0 and 300..309 (the same names, plus NO_VIAPOINTS_GIVEN).
-std::string nav2_error_name(node::ActionKind kind, uint16_t code) {
-  static constexpr const char* kNames[] = {
-      "UNKNOWN",        "INVALID_PLANNER", "TF_ERROR", "START_OUTSIDE_MAP", "GOAL_OUTSIDE_MAP",
-      "START_OCCUPIED", "GOAL_OCCUPIED",   "TIMEOUT",  "NO_VALID_PATH",     "NO_VIAPOINTS_GIVEN"};
-  if (code == 0) return "NONE";
-  const bool to_pose = kind == node::ActionKind::kComputePathToPose;
-  const uint16_t base = to_pose ? 200 : 300;
-  const size_t count = to_pose ? 9 : 10;  // ComputePathToPose has no NO_VIAPOINTS_GIVEN
-  if (code >= base && static_cast<size_t>(code - base) < count) return kNames[code - base];
-  return "NOT_A_NAV2_CODE";
-}
-
 // action_msgs/srv/CancelGoal's return codes.
 const char* cancel_code_name(node::CancelCode code) {
   switch (code) {
@@ -399,143 +386,324 @@ node::ActionGoalSpec action_goal(const GoalRequest& request, const std::string& 
   return spec;
 }
 
-// The goal as an action goal through `kind`'s server. Returns the exit code.
-int run_action(node::Participant& bus, const node::NodeConfig& config, node::ActionKind kind,
-               node::WireMapping mapping, const GoalRequest& request,
-               std::optional<double> cancel_after, int min_servers, Budget& budget) {
-  const bool to_pose = kind == node::ActionKind::kComputePathToPose;
-  const std::string action_name =
-      node::ros_topic_name(config, to_pose ? config.topics.compute_path_to_pose
-                                           : config.topics.compute_path_through_poses);
-  const char* const action_type =
-      to_pose ? "nav2_msgs/action/ComputePathToPose" : "nav2_msgs/action/ComputePathThroughPoses";
-  // The --mapping value that names `mapping`.
-  const char* const mapping_flag =
-      mapping == node::WireMapping::kRequestHeader ? "cyclonedds" : "fastrtps";
-  auto created = node::ActionClient::create(bus, action_name, kind, mapping);
-  if (!created) {
-    spdlog::error("{}", created.error().message);
-    return kDdsFailure;
-  }
+// One goal through an action's server, as a ROS 2 action client sends it: once the server has
+// matched, send_goal, then get_result once the goal is accepted (canceled after --cancel-after,
+// or when the goal is given up on), then the result line. run() returns the exit code.
+class ActionGoalRun {
+ public:
+  ActionGoalRun(const node::NodeConfig& config, const node::Nav2ActionInfo& action,
+                node::WireMapping mapping, Budget& budget)
+      : config_(config),
+        action_(action),
+        mapping_(mapping),
+        budget_(budget),
+        action_name_(node::ros_topic_name(config, config.topics.*action.topic)),
+        mapping_flag_(mapping == node::WireMapping::kRequestHeader ? "cyclonedds" : "fastrtps") {}
+
+  // The whole run on `bus`, which outlives this object.
+  int run(node::Participant& bus, const GoalRequest& request, std::optional<double> cancel_after,
+          int min_servers);
+
+ private:
+  std::optional<int> connect(node::Participant& bus, int min_servers);
+  std::optional<node::ActionResultReply> wait_result(int64_t result_request,
+                                                     std::optional<double> cancel_after,
+                                                     Clock::time_point accepted_at);
+  int give_up(const std::string& what);
+  int report(const node::ActionResultReply& result);
+
+  const node::NodeConfig& config_;
+  const node::Nav2ActionInfo& action_;
+  const node::WireMapping mapping_;
+  Budget& budget_;
+  const std::string action_name_;
+  const char* const mapping_flag_;  // the --mapping value that names mapping_
   // The participant outlives the client, whose destructor deletes its endpoints (and so stops
   // their calls into it) before its listeners go.
-  const std::unique_ptr<node::ActionClient> client = std::move(*created);
+  std::unique_ptr<node::ActionClient> client_;
+  node::GoalUuid id_{};
+  std::string goal_;  // id_ in hex
+};
 
-  bool matched = false;
-  while (!matched && !budget.expired() && !budget.interrupted())
-    matched = client->wait_for_server(budget.slice(kPollStep), min_servers);
-  if (!matched) {
-    if (budget.stopped_by_signal())
-      spdlog::error("interrupted before a {} server matched: nothing was sent", action_type);
-    else
-      spdlog::error(
-          "no {} server on domain {} matched '{}' within {} s (no node, another domain "
-          "or action name, or a node with actions.enabled false)",
-          action_type, config.domain_id, action_name, budget.seconds());
-    return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
-  }
-
-  const node::GoalUuid id = node::ActionClient::random_id();
-  const std::string goal = uuid_hex(id);
-  // A goal given up on is canceled first, so the node does not plan for nobody. `what`: "answer
-  // to" (the goal was sent, no acceptance came) or "result of".
-  auto give_up = [&](const std::string& what) {
-    if (budget.stopped_by_signal()) {
-      spdlog::error("interrupted before the {} goal {} came", what, goal);
-    } else {
-      spdlog::error("no {} goal {} on '{}' within {} s", what, goal, action_name, budget.seconds());
-      if (what == "answer to")
-        spdlog::error(
-            "the server matched but did not answer: one that ties replies to requests "
-            "otherwise than --mapping {} (its actions.reply_mapping; a node on auto "
-            "answers this Fast DDS client in fastrtps's) never answers this client",
-            mapping_flag);
-    }
-    if (client->unmatched_replies() > 0) {
-      spdlog::error(
-          "{} replies came that answer no request of this client (other clients', or "
-          "the server's in another mapping than --mapping {})",
-          client->unmatched_replies(), mapping_flag);
-    }
-    const auto cancel = client->wait_cancel(client->request_cancel(id), kCancelWait);
-    if (cancel)
-      spdlog::error("cancel of goal {}: {}", goal, cancel_code_name(cancel->code));
-    else
-      spdlog::error("cancel of goal {}: no answer within {} s", goal,
-                    std::chrono::duration<double>(kCancelWait).count());
-    return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
-  };
-
-  const int64_t goal_request = client->send_goal(id, action_goal(request, config.frame_id));
+int ActionGoalRun::run(node::Participant& bus, const GoalRequest& request,
+                       std::optional<double> cancel_after, int min_servers) {
+  if (const auto exit_code = connect(bus, min_servers)) return *exit_code;
+  id_ = node::ActionClient::random_id();
+  goal_ = uuid_hex(id_);
+  const int64_t goal_request = client_->send_goal(id_, action_goal(request, config_.frame_id));
   if (goal_request < 0) {
-    spdlog::error("could not write the goal on '{}'", action_name);
+    spdlog::error("could not write the goal on '{}'", action_name_);
     return kDdsFailure;
   }
-  spdlog::debug("sent goal {} to '{}' (domain {}, {} mapping)", goal, action_name, config.domain_id,
-                node::to_string(mapping));
+  spdlog::debug("sent goal {} to '{}' (domain {}, {} mapping)", goal_, action_name_,
+                config_.domain_id, node::to_string(mapping_));
   std::optional<bool> accepted;
-  while (!accepted && !budget.expired() && !budget.interrupted())
-    accepted = client->wait_accepted(goal_request, budget.slice(10 * kPollStep));
+  while (!accepted && !budget_.expired() && !budget_.interrupted())
+    accepted = client_->wait_accepted(goal_request, budget_.slice(10 * kPollStep));
   if (!accepted) return give_up("answer to");
   if (!*accepted) {
-    std::printf("%s REJECTED 0 NONE %s 0 0\n", goal.c_str(), render::format_metres(0.0).c_str());
-    spdlog::warn("the server rejected goal {}", goal);
+    std::printf("%s REJECTED 0 NONE %s 0 0\n", goal_.c_str(), render::format_metres(0.0).c_str());
+    spdlog::warn("the server rejected goal {}", goal_);
     return kRefused;
   }
   const auto accepted_at = Clock::now();
   // As rclcpp_action asks for the result: once the goal is accepted (asked before, it would find
   // no goal).
-  const int64_t result_request = client->request_result(id);
+  const int64_t result_request = client_->request_result(id_);
   if (result_request < 0) {
-    spdlog::error("could not write the get_result request on '{}'", action_name);
+    spdlog::error("could not write the get_result request on '{}'", action_name_);
     return kDdsFailure;
   }
+  const std::optional<node::ActionResultReply> result =
+      wait_result(result_request, cancel_after, accepted_at);
+  if (!result) return give_up("result of");
+  return report(*result);
+}
+
+// The client, and the wait for a server; the exit code when none matched.
+std::optional<int> ActionGoalRun::connect(node::Participant& bus, int min_servers) {
+  auto created = node::ActionClient::create(bus, action_name_, action_.kind, mapping_);
+  if (!created) {
+    spdlog::error("{}", created.error().message);
+    return kDdsFailure;
+  }
+  client_ = std::move(*created);
+  bool matched = false;
+  while (!matched && !budget_.expired() && !budget_.interrupted())
+    matched = client_->wait_for_server(budget_.slice(kPollStep), min_servers);
+  if (matched) return std::nullopt;
+  if (budget_.stopped_by_signal())
+    spdlog::error("interrupted before a {} server matched: nothing was sent", action_.type_name);
+  else
+    spdlog::error(
+        "no {} server on domain {} matched '{}' within {} s (no node, another domain "
+        "or action name, or a node with actions.enabled false)",
+        action_.type_name, config_.domain_id, action_name_, budget_.seconds());
+  return budget_.stopped_by_signal() ? budget_.signal_exit_code() : kNoStatus;
+}
+
+// The result, within the budget; the goal is canceled --cancel-after seconds after
+// `accepted_at` (a cancel left unanswered ends the wait).
+std::optional<node::ActionResultReply> ActionGoalRun::wait_result(
+    int64_t result_request, std::optional<double> cancel_after, Clock::time_point accepted_at) {
   std::optional<Clock::time_point> cancel_at;
   if (cancel_after)
     cancel_at = accepted_at + std::chrono::microseconds(static_cast<int64_t>(*cancel_after * 1e6));
   std::optional<node::ActionResultReply> result;
-  while (!result && !budget.expired() && !budget.interrupted()) {
+  while (!result && !budget_.expired() && !budget_.interrupted()) {
     if (cancel_at && Clock::now() >= *cancel_at) {
       cancel_at.reset();
-      const auto cancel = client->wait_cancel(client->request_cancel(id), budget.left());
+      const auto cancel = client_->wait_cancel(client_->request_cancel(id_), budget_.left());
       if (!cancel) break;
-      std::fprintf(stderr, "cancel of goal %s after %s s: %s\n", goal.c_str(),
+      std::fprintf(stderr, "cancel of goal %s after %s s: %s\n", goal_.c_str(),
                    fmt::format("{:.3f}", *cancel_after).c_str(), cancel_code_name(cancel->code));
     }
-    auto step = budget.slice(10 * kPollStep);
+    auto step = budget_.slice(10 * kPollStep);
     if (cancel_at)
       step = std::min(step, std::max(std::chrono::milliseconds(0),
                                      std::chrono::duration_cast<std::chrono::milliseconds>(
                                          *cancel_at - Clock::now())));
-    result = client->wait_result(result_request, step);
+    result = client_->wait_result(result_request, step);
   }
-  if (!result) return give_up("result of");
+  return result;
+}
 
-  const uint16_t code = result->error_code;
-  std::printf("%s %s %u %s %s %zu %lld\n", goal.c_str(), goal_state_name(result->status),
-              static_cast<unsigned>(code), nav2_error_name(kind, code).c_str(),
-              render::format_metres(path_length(result->path)).c_str(), result->path.poses().size(),
-              std::llround(result->planning_time_s * 1e6));
-  const std::string message = node::printable(result->error_msg, 4096);
-  if (client->servers_seen() > 1)
+// A goal given up on is canceled first, so the node does not plan for nobody. `what`: "answer
+// to" (the goal was sent, no acceptance came) or "result of".
+int ActionGoalRun::give_up(const std::string& what) {
+  if (budget_.stopped_by_signal()) {
+    spdlog::error("interrupted before the {} goal {} came", what, goal_);
+  } else {
+    spdlog::error("no {} goal {} on '{}' within {} s", what, goal_, action_name_,
+                  budget_.seconds());
+    if (what == "answer to")
+      spdlog::error(
+          "the server matched but did not answer: one that ties replies to requests "
+          "otherwise than --mapping {} (its actions.reply_mapping; a node on auto "
+          "answers this Fast DDS client in fastrtps's) never answers this client",
+          mapping_flag_);
+  }
+  if (client_->unmatched_replies() > 0) {
+    spdlog::error(
+        "{} replies came that answer no request of this client (other clients', or "
+        "the server's in another mapping than --mapping {})",
+        client_->unmatched_replies(), mapping_flag_);
+  }
+  const auto cancel = client_->wait_cancel(client_->request_cancel(id_), kCancelWait);
+  if (cancel)
+    spdlog::error("cancel of goal {}: {}", goal_, cancel_code_name(cancel->code));
+  else
+    spdlog::error("cancel of goal {}: no answer within {} s", goal_,
+                  std::chrono::duration<double>(kCancelWait).count());
+  return budget_.stopped_by_signal() ? budget_.signal_exit_code() : kNoStatus;
+}
+
+// The result line, and what else the result says on stderr.
+int ActionGoalRun::report(const node::ActionResultReply& result) {
+  const uint16_t code = result.error_code;
+  std::printf("%s %s %u %s %s %zu %lld\n", goal_.c_str(), goal_state_name(result.status),
+              static_cast<unsigned>(code), action_.errors.name(code).c_str(),
+              render::format_metres(path_length(result.path)).c_str(), result.path.poses().size(),
+              std::llround(result.planning_time_s * 1e6));
+  const std::string message = node::printable(result.error_msg, 4096);
+  if (client_->servers_seen() > 1)
     spdlog::warn(
         "{} servers of '{}' on domain {}: more than one node serves this action, each "
         "plans every goal it hears and the first answer was taken; give each node a namespace "
         "or a domain of its own",
-        client->servers_seen(), action_name, config.domain_id);
-  if (result->status != node::GoalState::kSucceeded) {
+        client_->servers_seen(), action_name_, config_.domain_id);
+  if (result.status != node::GoalState::kSucceeded) {
     if (!message.empty())
       spdlog::warn("{}", message);
-    else if (result->status == node::GoalState::kUnknown)
+    else if (result.status == node::GoalState::kUnknown)
       spdlog::warn(
           "the server does not know goal {} (a result it no longer keeps, or another "
           "server's answer)",
-          goal);
+          goal_);
     else
-      spdlog::warn("goal {} ended {} with no message", goal, goal_state_name(result->status));
+      spdlog::warn("goal {} ended {} with no message", goal_, goal_state_name(result.status));
     return kRefused;
   }
   if (!message.empty()) std::fprintf(stderr, "%s\n", message.c_str());
+  return kStatusOk;
+}
+
+// The endpoints of a plan_request run: the request writer and the status reader, each created
+// with its listener attached, so that no match event is lost (node_ready() tells the node's
+// endpoints from other participants' by these events, and a participant discovered while the
+// status reader was created matches the request writer at once). Hence a publisher and a
+// subscriber of our own: the wrapper's writer() and reader() attach no match listeners. The
+// participant's teardown deletes them with everything else.
+struct PlanRequestEndpoints {
+  std::string request_topic_name;
+  std::string status_topic_name;
+  node::dds::DataReader* status_reader = nullptr;
+  node::dds::DataWriter* request_writer = nullptr;
+};
+
+// Creates them on `bus`; false (the failure logged) when DDS refused one.
+bool create_plan_request_endpoints(node::Participant& bus, const node::NodeConfig& config,
+                                   StatusReaderListener& status_events,
+                                   RequestWriterListener& request_events,
+                                   PlanRequestEndpoints& out) {
+  out.request_topic_name = node::dds_topic_name(config, config.topics.plan_request);
+  out.status_topic_name = node::dds_topic_name(config, config.topics.plan_status);
+  auto request_topic =
+      bus.topic<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(out.request_topic_name);
+  if (!request_topic) {
+    spdlog::error("{}", request_topic.error().message);
+    return false;
+  }
+  auto status_topic =
+      bus.topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(out.status_topic_name);
+  if (!status_topic) {
+    spdlog::error("{}", status_topic.error().message);
+    return false;
+  }
+  node::dds::Subscriber* subscriber =
+      bus.get()->create_subscriber(node::dds::SUBSCRIBER_QOS_DEFAULT);
+  if (subscriber == nullptr) {
+    spdlog::error("DDS: create_subscriber failed");
+    return false;
+  }
+  // Volatile, as a ROS 2 client's default reader: no other client's old answers on start-up.
+  // Ours still arrives: we send only once our reader has matched the node's writer, and the
+  // node holds the answer until its writer has matched our reader (requests.reply_wait).
+  // From the topic's XML profile, if any, under the node's rules (dds.hpp), as bus.reader() does.
+  const node::dds::DataReaderQos status_qos = node::profiled_reader_qos(
+      *subscriber, out.status_topic_name, node::reader_qos(node::TopicQos::kStatus));
+  out.status_reader = subscriber->create_datareader(
+      *status_topic, status_qos, &status_events,
+      node::dds::StatusMask::data_available() << node::dds::StatusMask::subscription_matched());
+  if (out.status_reader == nullptr) {
+    spdlog::error("DDS: create_datareader({}) failed", out.status_topic_name);
+    return false;
+  }
+  node::dds::Publisher* publisher = bus.get()->create_publisher(node::dds::PUBLISHER_QOS_DEFAULT);
+  if (publisher == nullptr) {
+    spdlog::error("DDS: create_publisher failed");
+    return false;
+  }
+  out.request_writer = publisher->create_datawriter(
+      *request_topic,
+      node::profiled_writer_qos(*publisher, out.request_topic_name,
+                                node::writer_qos(node::TopicQos::kEvents, false)),
+      &request_events, node::dds::StatusMask::publication_matched());
+  if (out.request_writer == nullptr) {
+    spdlog::error("DDS: create_datawriter({}) failed", out.request_topic_name);
+    return false;
+  }
+  return true;
+}
+
+// Whether a planner node became ready to hear the request (node_ready) within the budget.
+bool wait_for_planner_node(const PlanRequestEndpoints& endpoints,
+                           const RequestWriterListener& request_events,
+                           const StatusReaderListener& status_events, int min_readers,
+                           Budget& budget) {
+  // Events lag their counts by a moment; should they disagree for longer than this, enough
+  // readers plus a status writer is the best answer left.
+  constexpr auto kEventLag = std::chrono::milliseconds(500);
+  std::optional<Clock::time_point> unsure_since;
+  bool matched = false;
+  for (;;) {
+    const auto now = Clock::now();
+    const std::optional<bool> ready =
+        node_ready(endpoints.request_writer, request_events, endpoints.status_reader, status_events,
+                   min_readers);
+    if (ready) unsure_since.reset();
+    if (!ready && !unsure_since) unsure_since = now;
+    matched = ready ? *ready : now - *unsure_since >= kEventLag;
+    if (matched || budget.expired() || budget.interrupted()) break;
+    std::this_thread::sleep_for(kPollStep);
+  }
+  return matched;
+}
+
+// Writes the request; its sample identity goes to `identity`. False when the writer refused it.
+bool write_plan_request(node::dds::DataWriter* request_writer, const node::NodeConfig& config,
+                        const GoalRequest& goal_request, const std::string& request_id,
+                        node::RequestIdentity& identity) {
+  node::PlanRequestMsg request;
+  request.id(request_id);
+  const node::TimeMsg stamp = node::now_msg();
+  const auto& start = *goal_request.start;
+  const auto& goal = goal_request.goals.front();
+  request.start(node::to_pose_msg(start[0], start[1], 0.0, config.frame_id, stamp));
+  // z = sin(yaw / 2), w = cos(yaw / 2): a rotation of `yaw` about the vertical.
+  request.goal(node::to_pose_msg(goal[0], goal[1], goal_request.yaw, config.frame_id, stamp));
+  request.planner(goal_request.planner);
+  eprosima::fastrtps::rtps::WriteParams write_params;  // gets the request's sample identity
+  if (!node::write_sample(request_writer, &request, write_params)) return false;
+  identity = node::identity_of(write_params, node::wire::SUBJECT_REQUEST);
+  return true;
+}
+
+// The status line, and the status message on stderr; the exit code.
+int report_plan_status(const node::PlanStatusMsg& status) {
+  std::string adjusted;
+  if (status.start_adjusted()) {
+    adjusted += " start_used=" + render::format_metres(status.start_x()) + "," +
+                render::format_metres(status.start_y()) +
+                " start_moved_m=" + render::format_metres(status.start_moved_m());
+  }
+  if (status.goal_adjusted()) {
+    adjusted += " goal_used=" + render::format_metres(status.goal_x()) + "," +
+                render::format_metres(status.goal_y()) +
+                " goal_moved_m=" + render::format_metres(status.goal_moved_m());
+  }
+  std::printf(
+      "%s %s %s %s %d %lld%s\n", node::printable(status.request_id(), node::kMaxIdBytes).c_str(),
+      node::code_name(status.code()).c_str(), render::format_metres(status.length_m()).c_str(),
+      render::format_metres(status.clearance_m()).c_str(), static_cast<int>(status.turns()),
+      static_cast<long long>(status.planning_time_us()), adjusted.c_str());
+  if (status.code() != node::wire::OK) {
+    spdlog::warn("{}", node::printable(status.message(), 4096));
+    return kRefused;
+  }
+  // What an OK plan reports besides its metrics: moved endpoints, ignored goal orientation.
+  if (!status.message().empty())
+    std::fprintf(stderr, "%s\n", node::printable(status.message(), 4096).c_str());
   return kStatusOk;
 }
 
@@ -547,100 +715,28 @@ int run_plan_request(node::Participant& bus, const node::NodeConfig& config,
   StatusReaderListener status_events;
   RequestWriterListener request_events;
   const ShutdownOnExit shutdown{bus};
-  const std::string request_topic_name = node::dds_topic_name(config, config.topics.plan_request);
-  const std::string status_topic_name = node::dds_topic_name(config, config.topics.plan_status);
-  auto request_topic = bus.topic<vnsba_msgs::msg::dds_::PlanRequest_PubSubType>(request_topic_name);
-  if (!request_topic) {
-    spdlog::error("{}", request_topic.error().message);
+  PlanRequestEndpoints endpoints;
+  if (!create_plan_request_endpoints(bus, config, status_events, request_events, endpoints))
     return kDdsFailure;
-  }
-  auto status_topic = bus.topic<vnsba_msgs::msg::dds_::PlanStatus_PubSubType>(status_topic_name);
-  if (!status_topic) {
-    spdlog::error("{}", status_topic.error().message);
-    return kDdsFailure;
-  }
-  // The endpoints are created with their listeners attached, so that no match event is lost
-  // (node_ready() tells the node's endpoints from other participants' by these events, and a
-  // participant discovered while the status reader was created matches the request writer at
-  // once). Hence a publisher and a subscriber of our own: the wrapper's writer() and reader()
-  // attach no match listeners. The participant's teardown deletes them with everything else.
-  node::dds::Subscriber* subscriber =
-      bus.get()->create_subscriber(node::dds::SUBSCRIBER_QOS_DEFAULT);
-  if (subscriber == nullptr) {
-    spdlog::error("DDS: create_subscriber failed");
-    return kDdsFailure;
-  }
-  // Volatile, as a ROS 2 client's default reader: no other client's old answers on start-up.
-  // Ours still arrives: we send only once our reader has matched the node's writer, and the
-  // node holds the answer until its writer has matched our reader (requests.reply_wait).
-  // From the topic's XML profile, if any, under the node's rules (dds.hpp), as bus.reader() does.
-  const node::dds::DataReaderQos status_qos = node::profiled_reader_qos(
-      *subscriber, status_topic_name, node::reader_qos(node::TopicQos::kStatus));
-  node::dds::DataReader* status_reader = subscriber->create_datareader(
-      *status_topic, status_qos, &status_events,
-      node::dds::StatusMask::data_available() << node::dds::StatusMask::subscription_matched());
-  if (status_reader == nullptr) {
-    spdlog::error("DDS: create_datareader({}) failed", status_topic_name);
-    return kDdsFailure;
-  }
-  node::dds::Publisher* publisher = bus.get()->create_publisher(node::dds::PUBLISHER_QOS_DEFAULT);
-  if (publisher == nullptr) {
-    spdlog::error("DDS: create_publisher failed");
-    return kDdsFailure;
-  }
-  node::dds::DataWriter* request_writer = publisher->create_datawriter(
-      *request_topic,
-      node::profiled_writer_qos(*publisher, request_topic_name,
-                                node::writer_qos(node::TopicQos::kEvents, false)),
-      &request_events, node::dds::StatusMask::publication_matched());
-  if (request_writer == nullptr) {
-    spdlog::error("DDS: create_datawriter({}) failed", request_topic_name);
-    return kDdsFailure;
-  }
-
-  // Events lag their counts by a moment; should they disagree for longer than this, enough
-  // readers plus a status writer is the best answer left.
-  constexpr auto kEventLag = std::chrono::milliseconds(500);
-  std::optional<Clock::time_point> unsure_since;
-  bool matched = false;
-  for (;;) {
-    const auto now = Clock::now();
-    const std::optional<bool> ready =
-        node_ready(request_writer, request_events, status_reader, status_events, min_readers);
-    if (ready) unsure_since.reset();
-    if (!ready && !unsure_since) unsure_since = now;
-    matched = ready ? *ready : now - *unsure_since >= kEventLag;
-    if (matched || budget.expired() || budget.interrupted()) break;
-    std::this_thread::sleep_for(kPollStep);
-  }
+  const bool matched =
+      wait_for_planner_node(endpoints, request_events, status_events, min_readers, budget);
   if (!matched && budget.stopped_by_signal()) {
     spdlog::error("interrupted before a planner node matched: nothing was sent");
   } else if (!matched) {
     spdlog::error(
         "no planner node (with {} request reader(s) in all) on domain {} matched '{}' "
         "within {} s",
-        min_readers, config.domain_id, request_topic_name, budget.seconds());
+        min_readers, config.domain_id, endpoints.request_topic_name, budget.seconds());
   }
   if (!matched) return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
-
-  node::PlanRequestMsg request;
-  request.id(request_id);
-  const node::TimeMsg stamp = node::now_msg();
-  const auto& start = *goal_request.start;
-  const auto& goal = goal_request.goals.front();
-  request.start(node::to_pose_msg(start[0], start[1], 0.0, config.frame_id, stamp));
-  // z = sin(yaw / 2), w = cos(yaw / 2): a rotation of `yaw` about the vertical.
-  request.goal(node::to_pose_msg(goal[0], goal[1], goal_request.yaw, config.frame_id, stamp));
-  request.planner(goal_request.planner);
-  eprosima::fastrtps::rtps::WriteParams write_params;  // gets the request's sample identity
-  if (!node::write_sample(request_writer, &request, write_params)) {
-    spdlog::error("could not write the request on '{}'", request_topic_name);
+  node::RequestIdentity identity;
+  if (!write_plan_request(endpoints.request_writer, config, goal_request, request_id, identity)) {
+    spdlog::error("could not write the request on '{}'", endpoints.request_topic_name);
     return kDdsFailure;
   }
-  status_events.expect(node::identity_of(write_params, node::wire::SUBJECT_REQUEST));
-  spdlog::debug("sent '{}' on '{}' (domain {})", node::printable(request_id), request_topic_name,
-                config.domain_id);
-
+  status_events.expect(identity);
+  spdlog::debug("sent '{}' on '{}' (domain {})", node::printable(request_id),
+                endpoints.request_topic_name, config.domain_id);
   std::optional<node::PlanStatusMsg> status;
   while (!status && !budget.expired() && !budget.interrupted())
     status = status_events.wait(budget.slice(10 * kPollStep));
@@ -650,34 +746,210 @@ int run_plan_request(node::Participant& bus, const node::NodeConfig& config,
       spdlog::error("interrupted before the status of '{}' came", node::printable(request_id));
     } else {
       spdlog::error("no status for '{}' on '{}' within {} s", node::printable(request_id),
-                    status_topic_name, budget.seconds());
+                    endpoints.status_topic_name, budget.seconds());
     }
     return budget.stopped_by_signal() ? budget.signal_exit_code() : kNoStatus;
   }
-  std::string adjusted;
-  if (status->start_adjusted()) {
-    adjusted += " start_used=" + render::format_metres(status->start_x()) + "," +
-                render::format_metres(status->start_y()) +
-                " start_moved_m=" + render::format_metres(status->start_moved_m());
+  return report_plan_status(*status);
+}
+
+// The command line's values, as CLI11 parsed them.
+struct CommandLine {
+  std::string config_path = "", planner, request_id;
+  std::optional<int> domain;
+  std::optional<std::string> ros_namespace;
+  std::optional<std::string> participant_profile;
+  std::vector<double> start, goal_values;
+  double yaw = 0.0;
+  double wait_seconds = 10.0;
+  int min_readers = 1;
+  std::optional<std::string> action, mapping_name;
+  std::optional<double> cancel_after;
+  bool id_given = false;  // --id was on the command line
+};
+
+// `names` joined by ", ", the last by " or " ("a", "a or b", "a, b or c").
+std::string either_of(const std::vector<std::string>& names) {
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return out;
+}
+
+// --action's values (the first, the default) and its help: each action's option name and its
+// type's name ("to_pose (ComputePathToPose, the default) or through_poses (...)").
+std::vector<std::string> action_option_names() {
+  std::vector<std::string> names;
+  for (const node::Nav2ActionInfo& action : node::nav2_actions())
+    names.emplace_back(action.option_name);
+  return names;
+}
+std::string action_option_help() {
+  std::vector<std::string> choices;
+  for (const node::Nav2ActionInfo& action : node::nav2_actions()) {
+    const std::string type = action.type_name;
+    choices.push_back(std::string(action.option_name) + " (" + type.substr(type.rfind('/') + 1) +
+                      (choices.empty() ? ", the default" : "") + ")");
   }
-  if (status->goal_adjusted()) {
-    adjusted += " goal_used=" + render::format_metres(status->goal_x()) + "," +
-                render::format_metres(status->goal_y()) +
-                " goal_moved_m=" + render::format_metres(status->goal_moved_m());
+  return "call the node's Nav2 action instead of sending a plan_request: " + either_of(choices);
+}
+// The --action values whose goal carries several poses.
+std::string several_goals_actions() {
+  std::vector<std::string> names;
+  for (const node::Nav2ActionInfo& action : node::nav2_actions())
+    if (action.several_goals) names.emplace_back(action.option_name);
+  return either_of(names);
+}
+
+// The action --action names; the default (the first) when it names none.
+const node::Nav2ActionInfo& chosen_action(const std::optional<std::string>& option) {
+  for (const node::Nav2ActionInfo& action : node::nav2_actions())
+    if (option == action.option_name) return action;
+  return node::nav2_actions().front();
+}
+
+void add_options(CLI::App& app, CommandLine& line) {
+  app.add_option("--config", line.config_path, vnsba::node::kConfigOptionHelp);
+  app.add_option("--domain", line.domain,
+                 "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)")
+      ->check(CLI::Range(0, 232));
+  app.add_option("--namespace", line.ros_namespace, node::kNamespaceOptionHelp);
+  app.add_option("--participant-profile", line.participant_profile,
+                 node::kParticipantProfileOptionHelp);
+  CLI::Option* action_option = app.add_option("--action", line.action, action_option_help())
+                                   ->expected(0, 1)
+                                   ->default_str(node::nav2_actions().front().option_name)
+                                   ->check(CLI::IsMember(action_option_names()));
+  app.add_option("--start", line.start,
+                 "start X Y in metres, in the config's frame_id; required without --action, "
+                 "where leaving it out plans from the robot's pose (use_start false)")
+      ->expected(2);
+  app.add_option("--goal", line.goal_values,
+                 "goal X Y in metres, in the config's frame_id; with --action " +
+                     several_goals_actions() + " one --goal per pose, in order")
+      ->type_size(2)
+      ->expected(1, static_cast<int>(kMaxGoalPoses))
+      ->required();
+  app.add_option("--yaw", line.yaw,
+                 "goal orientation in radians (0 = facing +x, counter-clockwise): the last "
+                 "pose of the path")
+      ->capture_default_str();
+  app.add_option("--planner", line.planner,
+                 "auto, astar, weighted_astar, bidirectional_astar, "
+                 "alternating_bidirectional_astar, vns_bastar or jps (default: the node's "
+                 "configured planner)");
+  app.add_option("--id", line.request_id, "request id (default: send_goal-<pid>-<unix ms>)")
+      ->excludes(action_option);
+  app.add_option("--wait", line.wait_seconds,
+                 "seconds to wait for the node and its answer, in (0, 3600]")
+      ->capture_default_str();
+  app.add_option("--min-readers", line.min_readers,
+                 "send only once this many request readers matched (the node counts as one; "
+                 "with --action: this many servers)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  app.add_option("--mapping", line.mapping_name,
+                 "with --action: how replies are tied to requests, fastrtps (rmw_fastrtps) or "
+                 "cyclonedds (rmw_cyclonedds; the node must answer so: actions.reply_mapping "
+                 "cyclonedds) (default: the config's actions.reply_mapping if it names one, "
+                 "else fastrtps)")
+      ->check(CLI::IsMember({"fastrtps", "cyclonedds"}))
+      ->needs(action_option);
+  app.add_option("--cancel-after", line.cancel_after,
+                 "with --action: cancel the goal this many seconds after it was accepted, in "
+                 "[0, 3600]")
+      ->needs(action_option);
+}
+
+int bad_input(const std::string& message) {
+  spdlog::error("{}", message);
+  return kBadInput;
+}
+
+// `xy` as a point, or false (logged) when a coordinate is not finite.
+bool finite_point(const std::string& option, const double* xy,
+                  std::optional<std::array<double, 2>>& out) {
+  for (size_t i = 0; i < 2; ++i) {
+    if (!std::isfinite(xy[i])) {
+      spdlog::error("{}: {} is {}, must be a finite number of metres", option, i == 0 ? "X" : "Y",
+                    std::to_string(xy[i]));
+      return false;
+    }
   }
-  std::printf(
-      "%s %s %s %s %d %lld%s\n", node::printable(status->request_id(), node::kMaxIdBytes).c_str(),
-      node::code_name(status->code()).c_str(), render::format_metres(status->length_m()).c_str(),
-      render::format_metres(status->clearance_m()).c_str(), static_cast<int>(status->turns()),
-      static_cast<long long>(status->planning_time_us()), adjusted.c_str());
-  if (status->code() != node::wire::OK) {
-    spdlog::warn("{}", node::printable(status->message(), 4096));
-    return kRefused;
+  out = std::array<double, 2>{xy[0], xy[1]};
+  return true;
+}
+
+// --start and --goal into `goal_request`; the exit code when they are bad.
+std::optional<int> read_poses(const CommandLine& line, const node::Nav2ActionInfo& action,
+                              GoalRequest& goal_request) {
+  const bool use_action = line.action.has_value();
+  if (line.start.empty() && !use_action) {
+    return bad_input(
+        "--start is required (with --action it may be left out: the node then plans from the "
+        "robot's pose)");
   }
-  // What an OK plan reports besides its metrics: moved endpoints, ignored goal orientation.
-  if (!status->message().empty())
-    std::fprintf(stderr, "%s\n", node::printable(status->message(), 4096).c_str());
-  return kStatusOk;
+  if (line.goal_values.size() % 2 != 0) {
+    return bad_input("--goal: " + std::to_string(line.goal_values.size()) +
+                     " numbers, expected X Y for each goal");
+  }
+  const size_t goal_count = line.goal_values.size() / 2;
+  if (goal_count > 1 && !(use_action && action.several_goals)) {
+    return bad_input("--goal: " + std::to_string(goal_count) +
+                     " goals, expected one (several only with --action " + several_goals_actions() +
+                     ")");
+  }
+  if (!line.start.empty() && !finite_point("--start", line.start.data(), goal_request.start))
+    return kBadInput;
+  for (size_t k = 0; k < goal_count; ++k) {
+    std::optional<std::array<double, 2>> point;
+    const std::string option = goal_count == 1 ? "--goal" : "--goal #" + std::to_string(k + 1);
+    if (!finite_point(option, line.goal_values.data() + 2 * k, point)) return kBadInput;
+    goal_request.goals.push_back(*point);
+  }
+  return std::nullopt;
+}
+
+// The rest of the command line's checks, after the poses; the exit code when it is bad.
+std::optional<int> check_options(const CommandLine& line, GoalRequest& goal_request,
+                                 std::string& request_id) {
+  if (!std::isfinite(line.yaw))
+    return bad_input("--yaw: " + std::to_string(line.yaw) + ", must be a finite number of radians");
+  goal_request.yaw = line.yaw;
+  if (!line.planner.empty() && line.planner != core::kAutoPlannerName &&
+      !core::planner_kind_from_string(line.planner)) {
+    return bad_input("--planner: unknown planner '" + line.planner + "', expected one of " +
+                     core::accepted_planner_names());
+  }
+  goal_request.planner = line.planner;
+  if (!(line.wait_seconds > 0.0 && line.wait_seconds <= kMaxWaitSeconds)) {
+    return bad_input(fmt::format("--wait: {} seconds, expected a number in (0, {}]",
+                                 line.wait_seconds, kMaxWaitSeconds));
+  }
+  if (line.cancel_after && !(*line.cancel_after >= 0.0 && *line.cancel_after <= kMaxWaitSeconds)) {
+    return bad_input(fmt::format("--cancel-after: {} seconds, expected a number in [0, {}]",
+                                 *line.cancel_after, kMaxWaitSeconds));
+  }
+  if (line.id_given && line.request_id.empty()) return bad_input("--id: must not be empty");
+  if (line.request_id.size() > node::kMaxIdBytes) {
+    return bad_input("--id: " + std::to_string(line.request_id.size()) +
+                     " bytes, longer than the node's limit of " +
+                     std::to_string(node::kMaxIdBytes) + " bytes");
+  }
+  request_id = line.request_id.empty() ? default_request_id() : line.request_id;
+  return std::nullopt;
+}
+
+// How replies are tied to requests: --mapping, else the config's actions.reply_mapping when it
+// forces one. A node on `auto` answers this Fast DDS client in rmw_fastrtps's mapping; one told
+// to use a mapping answers every client in it.
+node::WireMapping reply_mapping(const CommandLine& line, const node::NodeConfig& config) {
+  return line.mapping_name
+             ? (*line.mapping_name == "cyclonedds" ? node::WireMapping::kRequestHeader
+                                                   : node::WireMapping::kSampleIdentity)
+         : config.actions.reply_mapping == node::ReplyMapping::kCycloneDds
+             ? node::WireMapping::kRequestHeader
+             : node::WireMapping::kSampleIdentity;
 }
 
 // The whole run, from the command line to the answer; the participant is torn down when it
@@ -686,140 +958,18 @@ int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
   node::init_logging("vnsba_send_goal");
   CLI::App app{"vnsba_send_goal: send one plan request (or Nav2 action goal) and print the answer"};
   app.footer(kExitCodesHelp);
-  std::string config_path = "", planner, request_id;
-  std::optional<int> domain;
-  std::vector<double> start, goal_values;
-  double yaw = 0.0;
-  double wait_seconds = 10.0;
-  int min_readers = 1;
-  std::optional<std::string> action, mapping_name;
-  std::optional<double> cancel_after;
-  app.add_option("--config", config_path, vnsba::node::kConfigOptionHelp);
-  app.add_option("--domain", domain, "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)")
-      ->check(CLI::Range(0, 232));
-  std::optional<std::string> ros_namespace;
-  app.add_option("--namespace", ros_namespace, node::kNamespaceOptionHelp);
-  std::optional<std::string> participant_profile;
-  app.add_option("--participant-profile", participant_profile, node::kParticipantProfileOptionHelp);
-  CLI::Option* action_option =
-      app.add_option("--action", action,
-                     "call the node's Nav2 action instead of sending a plan_request: to_pose "
-                     "(ComputePathToPose, the default) or through_poses (ComputePathThroughPoses)")
-          ->expected(0, 1)
-          ->default_str("to_pose")
-          ->check(CLI::IsMember({"to_pose", "through_poses"}));
-  app.add_option("--start", start,
-                 "start X Y in metres, in the config's frame_id; required without --action, "
-                 "where leaving it out plans from the robot's pose (use_start false)")
-      ->expected(2);
-  app.add_option("--goal", goal_values,
-                 "goal X Y in metres, in the config's frame_id; with --action through_poses one "
-                 "--goal per pose, in order")
-      ->type_size(2)
-      ->expected(1, static_cast<int>(kMaxGoalPoses))
-      ->required();
-  app.add_option("--yaw", yaw,
-                 "goal orientation in radians (0 = facing +x, counter-clockwise): the last "
-                 "pose of the path")
-      ->capture_default_str();
-  app.add_option("--planner", planner,
-                 "auto, astar, weighted_astar, bidirectional_astar, "
-                 "alternating_bidirectional_astar, vns_bastar or jps (default: the node's "
-                 "configured planner)");
-  app.add_option("--id", request_id, "request id (default: send_goal-<pid>-<unix ms>)")
-      ->excludes(action_option);
-  app.add_option("--wait", wait_seconds,
-                 "seconds to wait for the node and its answer, in (0, 3600]")
-      ->capture_default_str();
-  app.add_option("--min-readers", min_readers,
-                 "send only once this many request readers matched (the node counts as one; "
-                 "with --action: this many servers)")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  app.add_option("--mapping", mapping_name,
-                 "with --action: how replies are tied to requests, fastrtps (rmw_fastrtps) or "
-                 "cyclonedds (rmw_cyclonedds; the node must answer so: actions.reply_mapping "
-                 "cyclonedds) (default: the config's actions.reply_mapping if it names one, "
-                 "else fastrtps)")
-      ->check(CLI::IsMember({"fastrtps", "cyclonedds"}))
-      ->needs(action_option);
-  app.add_option("--cancel-after", cancel_after,
-                 "with --action: cancel the goal this many seconds after it was accepted, in "
-                 "[0, 3600]")
-      ->needs(action_option);
+  CommandLine line;
+  add_options(app, line);
   if (const auto exit_code = node::parse_command_line(app, argc, argv)) return *exit_code;
-
-  auto bad_input = [](const std::string& message) {
-    spdlog::error("{}", message);
-    return kBadInput;
-  };
-  const bool use_action = action.has_value();
-  const node::ActionKind action_kind = action == "through_poses"
-                                           ? node::ActionKind::kComputePathThroughPoses
-                                           : node::ActionKind::kComputePathToPose;
+  line.id_given = app.count("--id") > 0;
+  const node::Nav2ActionInfo& action = chosen_action(line.action);
   GoalRequest goal_request;
-  if (start.empty() && !use_action) {
-    return bad_input(
-        "--start is required (with --action it may be left out: the node then plans from the "
-        "robot's pose)");
-  }
-  if (goal_values.size() % 2 != 0) {
-    return bad_input("--goal: " + std::to_string(goal_values.size()) +
-                     " numbers, expected X Y for each goal");
-  }
-  const size_t goal_count = goal_values.size() / 2;
-  if (goal_count > 1 &&
-      !(use_action && action_kind == node::ActionKind::kComputePathThroughPoses)) {
-    return bad_input("--goal: " + std::to_string(goal_count) +
-                     " goals, expected one (several only with --action through_poses)");
-  }
-  auto finite_point = [&](const std::string& option, const double* xy,
-                          std::optional<std::array<double, 2>>& out) -> bool {
-    for (size_t i = 0; i < 2; ++i) {
-      if (!std::isfinite(xy[i])) {
-        spdlog::error("{}: {} is {}, must be a finite number of metres", option, i == 0 ? "X" : "Y",
-                      std::to_string(xy[i]));
-        return false;
-      }
-    }
-    out = std::array<double, 2>{xy[0], xy[1]};
-    return true;
-  };
-  if (!start.empty() && !finite_point("--start", start.data(), goal_request.start))
-    return kBadInput;
-  for (size_t k = 0; k < goal_count; ++k) {
-    std::optional<std::array<double, 2>> point;
-    const std::string option = goal_count == 1 ? "--goal" : "--goal #" + std::to_string(k + 1);
-    if (!finite_point(option, goal_values.data() + 2 * k, point)) return kBadInput;
-    goal_request.goals.push_back(*point);
-  }
-  if (!std::isfinite(yaw))
-    return bad_input("--yaw: " + std::to_string(yaw) + ", must be a finite number of radians");
-  goal_request.yaw = yaw;
-  if (!planner.empty() && planner != core::kAutoPlannerName &&
-      !core::planner_kind_from_string(planner)) {
-    return bad_input("--planner: unknown planner '" + planner + "', expected one of " +
-                     core::accepted_planner_names());
-  }
-  goal_request.planner = planner;
-  if (!(wait_seconds > 0.0 && wait_seconds <= kMaxWaitSeconds)) {
-    return bad_input(fmt::format("--wait: {} seconds, expected a number in (0, {}]", wait_seconds,
-                                 kMaxWaitSeconds));
-  }
-  if (cancel_after && !(*cancel_after >= 0.0 && *cancel_after <= kMaxWaitSeconds)) {
-    return bad_input(fmt::format("--cancel-after: {} seconds, expected a number in [0, {}]",
-                                 *cancel_after, kMaxWaitSeconds));
-  }
-  if (app.count("--id") > 0 && request_id.empty()) return bad_input("--id: must not be empty");
-  if (request_id.size() > node::kMaxIdBytes) {
-    return bad_input("--id: " + std::to_string(request_id.size()) +
-                     " bytes, longer than the node's limit of " +
-                     std::to_string(node::kMaxIdBytes) + " bytes");
-  }
-  if (request_id.empty()) request_id = default_request_id();
+  std::string request_id;
+  if (const auto exit_code = read_poses(line, action, goal_request)) return *exit_code;
+  if (const auto exit_code = check_options(line, goal_request, request_id)) return *exit_code;
 
   const std::optional<node::NodeConfig> loaded = node::load_config_or_report(
-      config_path, domain.value_or(-1), ros_namespace, participant_profile);
+      line.config_path, line.domain.value_or(-1), line.ros_namespace, line.participant_profile);
   if (!loaded) return kBadInput;
   const node::NodeConfig& config = *loaded;
   // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one
@@ -828,16 +978,9 @@ int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
   spdlog::set_level(configured_level <= spdlog::level::debug
                         ? configured_level
                         : std::max(configured_level, spdlog::level::warn));
-  // A node on `auto` answers this Fast DDS client in rmw_fastrtps's mapping; one told to use a
-  // mapping answers every client in it.
-  const node::WireMapping mapping =
-      mapping_name ? (*mapping_name == "cyclonedds" ? node::WireMapping::kRequestHeader
-                                                    : node::WireMapping::kSampleIdentity)
-      : config.actions.reply_mapping == node::ReplyMapping::kCycloneDds
-          ? node::WireMapping::kRequestHeader
-          : node::WireMapping::kSampleIdentity;
+  const node::WireMapping mapping = reply_mapping(line, config);
 
-  Budget budget(wait_seconds, stop_signals);
+  Budget budget(line.wait_seconds, stop_signals);
   auto participant =
       node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
                                 node::with_default_enclave(config.security, node::kSendGoalEnclave),
@@ -846,11 +989,12 @@ int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;
   }
-  if (use_action) {
-    return run_action(**participant, config, action_kind, mapping, goal_request, cancel_after,
-                      min_readers, budget);
+  if (line.action) {
+    ActionGoalRun run(config, action, mapping, budget);
+    return run.run(**participant, goal_request, line.cancel_after, line.min_readers);
   }
-  return run_plan_request(**participant, config, goal_request, request_id, min_readers, budget);
+  return run_plan_request(**participant, config, goal_request, request_id, line.min_readers,
+                          budget);
 }
 }  // namespace
 

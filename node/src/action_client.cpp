@@ -12,8 +12,9 @@
 #include <set>
 #include <thread>
 
-#include "action_server.hpp"
-#include "action_types.hpp"
+#include "action_raw_type.hpp"
+#include "action_traits.hpp"
+#include "take_listener.hpp"
 
 namespace vnsba::node {
 
@@ -21,9 +22,6 @@ namespace {
 
 using eprosima::fastrtps::rtps::GUID_t;
 using eprosima::fastrtps::rtps::SampleIdentity;
-
-enum Service { kSendGoal = 0, kGetResult = 1, kCancel = 2 };
-constexpr const char* kServiceNames[3] = {"send_goal", "get_result", "cancel_goal"};
 
 int64_t sequence_of(const SampleIdentity& identity) {
   return (static_cast<int64_t>(identity.sequence_number().high) << 32) |
@@ -34,31 +32,41 @@ int64_t sequence_of(const SampleIdentity& identity) {
 
 class ActionClient::Impl {
  public:
-  ActionKind kind;
+  virtual ~Impl() = default;
+
+  // The action's own part (ImplOf): its endpoints, its goal and its result.
+  virtual core::Status create(Participant& participant) = 0;
+  virtual int64_t send_goal(const GoalUuid& id, const ActionGoalSpec& spec) = 0;
+  virtual std::optional<bool> wait_accepted(int64_t request, Duration timeout) = 0;
+  virtual int64_t request_result(const GoalUuid& id) = 0;
+  virtual std::optional<ActionResultReply> wait_result(int64_t request, Duration timeout) = 0;
+
   std::string name;
-  WireMapping mapping;
-  std::array<dds::DataWriter*, 3> request_writers{};
-  std::array<dds::DataReader*, 3> reply_readers{};
+  WireMapping mapping = WireMapping::kSampleIdentity;
+  std::array<dds::DataWriter*, kActionServices> request_writers{};
+  std::array<dds::DataReader*, kActionServices> reply_readers{};
   dds::DataReader* status_reader = nullptr;
   dds::DataReader* feedback_reader = nullptr;
   std::vector<std::unique_ptr<dds::DataReaderListener>> listeners;
   uint64_t client_id = 0;  // rmw_cyclonedds's header: the client's id
   mutable std::mutex mutex;
   mutable std::condition_variable cv;
-  int64_t next_sequence = 0;                            // header mapping, under mutex
-  std::array<std::map<int64_t, RawSample>, 3> replies;  // by request sequence, under mutex
-  std::map<GoalUuid, GoalState> statuses;               // newest status list, under mutex
-  size_t unmatched = 0;                                 // under mutex
-  size_t duplicates = 0;                                // under mutex
+  int64_t next_sequence = 0;  // header mapping, under mutex
+  // By request sequence, under mutex.
+  std::array<std::map<int64_t, RawSample>, kActionServices> replies;
+  std::map<GoalUuid, GoalState> statuses;  // newest status list, under mutex
+  size_t unmatched = 0;                    // under mutex
+  size_t duplicates = 0;                   // under mutex
   std::set<eprosima::fastrtps::rtps::GuidPrefix_t>
-      servers;                                // participants that replied, under mutex
-  std::array<std::set<int64_t>, 3> answered;  // sequences replied to, under mutex
+      servers;  // participants that replied, under mutex
+  std::array<std::set<int64_t>, kActionServices> answered;  // sequences replied to, under mutex
 
   // Takes the replies of one service; keeps those that answer this client's requests.
-  void on_reply(Service service, RawSample&& raw, const dds::SampleInfo& info) {
+  void on_reply(ActionService service, RawSample&& raw, const dds::SampleInfo& info) {
+    const size_t s = static_cast<size_t>(service);
     int64_t sequence = -1;
     if (mapping == WireMapping::kSampleIdentity) {
-      const GUID_t ours = reply_readers[service]->guid();
+      const GUID_t ours = reply_readers[s]->guid();
       if (info.related_sample_identity.writer_guid() == ours)
         sequence = sequence_of(info.related_sample_identity);
     } else if (raw.bytes.size() >= 20) {
@@ -71,16 +79,16 @@ class ActionClient::Impl {
       if (sequence >= 0) servers.insert(info.sample_identity.writer_guid().guidPrefix);
       if (sequence < 0)
         ++unmatched;
-      else if (!answered[service].insert(sequence).second)
+      else if (!answered[s].insert(sequence).second)
         ++duplicates;
       else
-        replies[service][sequence] = std::move(raw);
+        replies[s][sequence] = std::move(raw);
     }
     cv.notify_all();
   }
 
   template <class Msg>
-  int64_t request(Service service, const Msg& msg) {
+  int64_t request(ActionService service, const Msg& msg) {
     RequestHeader header{};
     int64_t sequence = 0;
     if (mapping == WireMapping::kRequestHeader) {
@@ -93,23 +101,25 @@ class ActionClient::Impl {
     }
     RawSample sample = encode_request(msg, mapping, header);
     eprosima::fastrtps::rtps::WriteParams params;
+    const size_t s = static_cast<size_t>(service);
     // As rmw_fastrtps: the request names the client's reply reader (rmw_cyclonedds does not).
     if (mapping == WireMapping::kSampleIdentity)
-      params.related_sample_identity().writer_guid() = reply_readers[service]->guid();
-    if (!write_sample(request_writers[service], &sample, params)) return -1;
+      params.related_sample_identity().writer_guid() = reply_readers[s]->guid();
+    if (!write_sample(request_writers[s], &sample, params)) return -1;
     return mapping == WireMapping::kRequestHeader ? sequence
                                                   : sequence_of(params.sample_identity());
   }
 
   // The reply to `request`, decoded as Msg, or nullopt when none came in time.
   template <class Msg>
-  std::optional<Msg> wait(Service service, int64_t request, Duration timeout) {
+  std::optional<Msg> wait(ActionService service, int64_t request, Duration timeout) {
     if (request < 0) return std::nullopt;
+    const size_t s = static_cast<size_t>(service);
     std::unique_lock<std::mutex> lock(mutex);
-    if (!cv.wait_for(lock, timeout, [&] { return replies[service].count(request) > 0; }))
+    if (!cv.wait_for(lock, timeout, [&] { return replies[s].count(request) > 0; }))
       return std::nullopt;
-    RawSample raw = std::move(replies[service][request]);
-    replies[service].erase(request);
+    RawSample raw = std::move(replies[s][request]);
+    replies[s].erase(request);
     lock.unlock();
     Msg msg;
     RequestHeader header;
@@ -117,109 +127,119 @@ class ActionClient::Impl {
     return msg;
   }
 
-  template <class T>
-  core::Status create(Participant& participant) {
-    auto topic = [&](Service s, bool request) {
-      return std::string(request ? "rq" : "rr") + name + "/_action/" + kServiceNames[s] +
-             (request ? "Request" : "Reply");
-    };
-    // Readers first: a request names its reply reader.
-    auto add_reply_reader = [&](auto type, Service service) -> core::Status {
-      listeners.push_back(
-          make_listener<RawSample>([this, service](RawSample&& raw, const dds::SampleInfo& info) {
-            on_reply(service, std::move(raw), info);
-          }));
-      auto reader = participant.reader_on<RawOf<typename decltype(type)::type>>(
-          topic(service, false), reader_qos(TopicQos::kStatus), listeners.back().get());
-      if (!reader) return reader.error();
-      reply_readers[service] = *reader;
-      return core::Status::ok();
-    };
-    if (auto s = add_reply_reader(Tag<typename T::SendGoalResponseType>(), kSendGoal); !s.is_ok())
-      return s;
-    if (auto s = add_reply_reader(Tag<typename T::GetResultResponseType>(), kGetResult); !s.is_ok())
-      return s;
-    if (auto s = add_reply_reader(Tag<action_msgs::srv::dds_::CancelGoal_Response_PubSubType>(),
-                                  kCancel);
-        !s.is_ok())
-      return s;
-    listeners.push_back(make_listener<GoalStatusArrayMsg>([this](GoalStatusArrayMsg&& msg,
-                                                                 const dds::SampleInfo&) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        statuses.clear();
-        for (const auto& status : msg.status_list())
-          statuses[status.goal_info().goal_id().uuid()] = static_cast<GoalState>(status.status());
-      }
-      cv.notify_all();
-    }));
-    auto status = participant.reader_on<action_msgs::msg::dds_::GoalStatusArray_PubSubType>(
-        "rt" + name + "/_action/status", reader_qos(TopicQos::kLatched), listeners.back().get());
-    if (!status) return status.error();
-    status_reader = *status;
-    auto feedback = participant.reader_on<typename T::FeedbackMessageType>(
-        "rt" + name + "/_action/feedback", reader_qos(TopicQos::kLatest), nullptr);
-    if (!feedback) return feedback.error();
-    feedback_reader = *feedback;
-    auto add_request_writer = [&](auto type, Service service) -> core::Status {
-      auto writer = participant.writer_on<RawOf<typename decltype(type)::type>>(
-          topic(service, true), writer_qos(TopicQos::kEvents, service == kSendGoal));
-      if (!writer) return writer.error();
-      request_writers[service] = *writer;
-      return core::Status::ok();
-    };
-    if (auto s = add_request_writer(Tag<typename T::SendGoalRequestType>(), kSendGoal); !s.is_ok())
-      return s;
-    if (auto s = add_request_writer(Tag<typename T::GetResultRequestType>(), kGetResult);
-        !s.is_ok())
-      return s;
-    return add_request_writer(Tag<action_msgs::srv::dds_::CancelGoal_Request_PubSubType>(),
-                              kCancel);
+  // The service's reply reader, of ReplyType's DDS type.
+  template <class ReplyType>
+  core::Status add_reply_reader(Participant& participant, ActionService service) {
+    listeners.push_back(
+        make_listener<RawSample>([this, service](RawSample&& raw, const dds::SampleInfo& info) {
+          on_reply(service, std::move(raw), info);
+        }));
+    auto reader = participant.reader_on<RawOf<ReplyType>>(
+        service_topic(name, service, false), reader_qos(TopicQos::kStatus), listeners.back().get());
+    if (!reader) return reader.error();
+    reply_readers[static_cast<size_t>(service)] = *reader;
+    return core::Status::ok();
   }
 
-  template <class T>
-  int64_t send_goal(const GoalUuid& id, const ActionGoalSpec& spec) {
-    typename T::SendGoalRequest request;
-    request.goal_id().uuid(id);
-    T::set_goals(request, spec.goals);
-    request.goal().start(spec.start);
-    request.goal().planner_id(spec.planner_id);
-    request.goal().use_start(spec.use_start);
-    return this->request(kSendGoal, request);
+  // The service's request writer, of RequestType's DDS type.
+  template <class RequestType>
+  core::Status add_request_writer(Participant& participant, ActionService service) {
+    auto writer = participant.writer_on<RawOf<RequestType>>(
+        service_topic(name, service, true),
+        writer_qos(TopicQos::kEvents, service == ActionService::kSendGoal));
+    if (!writer) return writer.error();
+    request_writers[static_cast<size_t>(service)] = *writer;
+    return core::Status::ok();
   }
-  template <class T>
-  std::optional<bool> wait_accepted(int64_t request, Duration timeout) {
-    auto reply = wait<typename T::SendGoalResponse>(kSendGoal, request, timeout);
+
+  // The status reader (the newest list kept) and the feedback reader, of FeedbackType.
+  template <class FeedbackType>
+  core::Status add_topic_readers(Participant& participant) {
+    listeners.push_back(make_listener<GoalStatusArrayMsg>(
+        [this](GoalStatusArrayMsg&& msg, const dds::SampleInfo&) { on_status(msg); }));
+    auto status = participant.reader_on<GoalStatusArrayType>(
+        action_topic(name, "status"), reader_qos(TopicQos::kLatched), listeners.back().get());
+    if (!status) return status.error();
+    status_reader = *status;
+    auto feedback = participant.reader_on<FeedbackType>(action_topic(name, "feedback"),
+                                                        reader_qos(TopicQos::kLatest), nullptr);
+    if (!feedback) return feedback.error();
+    feedback_reader = *feedback;
+    return core::Status::ok();
+  }
+
+  void on_status(const GoalStatusArrayMsg& msg) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      statuses.clear();
+      for (const auto& status : msg.status_list())
+        statuses[status.goal_info().goal_id().uuid()] = static_cast<GoalState>(status.status());
+    }
+    cv.notify_all();
+  }
+};
+
+template <class Traits>
+class ActionClient::ImplOf final : public ActionClient::Impl {
+ public:
+  // Readers first: a request names its reply reader.
+  core::Status create(Participant& participant) override {
+    if (auto s = add_reply_readers(participant); !s.is_ok()) return s;
+    if (auto s = add_topic_readers<typename Traits::FeedbackMessageType>(participant); !s.is_ok())
+      return s;
+    if (auto s = add_request_writer<typename Traits::SendGoalRequestType>(participant,
+                                                                          ActionService::kSendGoal);
+        !s.is_ok())
+      return s;
+    if (auto s = add_request_writer<typename Traits::GetResultRequestType>(
+            participant, ActionService::kGetResult);
+        !s.is_ok())
+      return s;
+    return add_request_writer<CancelRequestType>(participant, ActionService::kCancelGoal);
+  }
+
+  int64_t send_goal(const GoalUuid& id, const ActionGoalSpec& spec) override {
+    typename Traits::SendGoalRequest request;
+    request.goal_id().uuid(id);
+    Traits::write_goal(spec, request.goal());
+    return this->request(ActionService::kSendGoal, request);
+  }
+  std::optional<bool> wait_accepted(int64_t request, Duration timeout) override {
+    auto reply =
+        wait<typename Traits::SendGoalResponse>(ActionService::kSendGoal, request, timeout);
     if (!reply) return std::nullopt;
     return reply->accepted();
   }
-  template <class T>
-  int64_t request_result(const GoalUuid& id) {
-    typename T::GetResultRequest request;
+  int64_t request_result(const GoalUuid& id) override {
+    typename Traits::GetResultRequest request;
     request.goal_id().uuid(id);
-    return this->request(kGetResult, request);
+    return this->request(ActionService::kGetResult, request);
   }
-  template <class T>
-  std::optional<ActionResultReply> wait_result(int64_t request, Duration timeout) {
-    auto reply = wait<typename T::GetResultResponse>(kGetResult, request, timeout);
+  std::optional<ActionResultReply> wait_result(int64_t request, Duration timeout) override {
+    auto reply =
+        wait<typename Traits::GetResultResponse>(ActionService::kGetResult, request, timeout);
     if (!reply) return std::nullopt;
     ActionResultReply out;
     out.status = static_cast<GoalState>(reply->status());
-    out.path = std::move(reply->result().path());
-    out.planning_time_s =
-        reply->result().planning_time().sec() + reply->result().planning_time().nanosec() * 1e-9;
-    out.error_code = reply->result().error_code();
-    out.error_msg = std::move(reply->result().error_msg());
+    Traits::read_result(std::move(reply->result()), out);
     return out;
   }
 
-  template <class U>
-  struct Tag {
-    using type = U;
-  };
+ private:
+  core::Status add_reply_readers(Participant& participant) {
+    if (auto s = add_reply_reader<typename Traits::SendGoalResponseType>(participant,
+                                                                         ActionService::kSendGoal);
+        !s.is_ok())
+      return s;
+    if (auto s = add_reply_reader<typename Traits::GetResultResponseType>(
+            participant, ActionService::kGetResult);
+        !s.is_ok())
+      return s;
+    return add_reply_reader<CancelResponseType>(participant, ActionService::kCancelGoal);
+  }
 };
 
-ActionClient::ActionClient() : impl_(std::make_unique<Impl>()) {}
+ActionClient::ActionClient(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 // The client's endpoints go before its listeners: the participant outlives the client, and a
 // reader deleted later would call a listener already freed.
@@ -249,16 +269,16 @@ core::Expected<std::unique_ptr<ActionClient>> ActionClient::create(Participant& 
                                                                    const std::string& ros_name,
                                                                    ActionKind kind,
                                                                    WireMapping mapping) {
-  std::unique_ptr<ActionClient> client(new ActionClient());
+  std::unique_ptr<ActionClient> client(
+      new ActionClient(with_action_traits(kind, [](auto traits) -> std::unique_ptr<Impl> {
+        return std::make_unique<ImplOf<decltype(traits)>>();
+      })));
   Impl& impl = *client->impl_;
-  impl.kind = kind;
   impl.name = ros_name;
   impl.mapping = mapping;
   std::mt19937_64 engine{std::random_device{}()};
   impl.client_id = engine();
-  const core::Status status = kind == ActionKind::kComputePathToPose
-                                  ? impl.create<ToPoseTypes>(participant)
-                                  : impl.create<ThroughPosesTypes>(participant);
+  const core::Status status = impl.create(participant);
   if (!status.is_ok()) return status;
   return client;
 }
@@ -290,34 +310,26 @@ bool ActionClient::wait_for_server(Duration timeout, int servers) {
 }
 
 int64_t ActionClient::send_goal(const GoalUuid& id, const ActionGoalSpec& goal) {
-  return impl_->kind == ActionKind::kComputePathToPose
-             ? impl_->send_goal<ToPoseTypes>(id, goal)
-             : impl_->send_goal<ThroughPosesTypes>(id, goal);
+  return impl_->send_goal(id, goal);
 }
 std::optional<bool> ActionClient::wait_accepted(int64_t request, Duration timeout) {
-  return impl_->kind == ActionKind::kComputePathToPose
-             ? impl_->wait_accepted<ToPoseTypes>(request, timeout)
-             : impl_->wait_accepted<ThroughPosesTypes>(request, timeout);
+  return impl_->wait_accepted(request, timeout);
 }
 int64_t ActionClient::request_result(const GoalUuid& id) {
-  return impl_->kind == ActionKind::kComputePathToPose
-             ? impl_->request_result<ToPoseTypes>(id)
-             : impl_->request_result<ThroughPosesTypes>(id);
+  return impl_->request_result(id);
 }
 std::optional<ActionResultReply> ActionClient::wait_result(int64_t request, Duration timeout) {
-  return impl_->kind == ActionKind::kComputePathToPose
-             ? impl_->wait_result<ToPoseTypes>(request, timeout)
-             : impl_->wait_result<ThroughPosesTypes>(request, timeout);
+  return impl_->wait_result(request, timeout);
 }
 int64_t ActionClient::request_cancel(const GoalUuid& id, const GoalStamp& stamp) {
-  action_msgs::srv::dds_::CancelGoal_Request_ request;
+  CancelRequest request;
   request.goal_info().goal_id().uuid(id);
   request.goal_info().stamp().sec(stamp.sec);
   request.goal_info().stamp().nanosec(stamp.nanosec);
-  return impl_->request(kCancel, request);
+  return impl_->request(ActionService::kCancelGoal, request);
 }
 std::optional<CancelReply> ActionClient::wait_cancel(int64_t request, Duration timeout) {
-  auto reply = impl_->wait<action_msgs::srv::dds_::CancelGoal_Response_>(kCancel, request, timeout);
+  auto reply = impl_->wait<CancelResponse>(ActionService::kCancelGoal, request, timeout);
   if (!reply) return std::nullopt;
   CancelReply out;
   out.code = static_cast<CancelCode>(reply->return_code());
@@ -379,8 +391,8 @@ size_t ActionClient::duplicate_replies() const {
 size_t ActionClient::servers_seen() const {
   size_t matched = 0;
   dds::SubscriptionMatchedStatus status;
-  if (impl_->reply_readers[kSendGoal]->get_subscription_matched_status(status) ==
-      ReturnCode_t::RETCODE_OK)
+  if (impl_->reply_readers[static_cast<size_t>(ActionService::kSendGoal)]
+          ->get_subscription_matched_status(status) == ReturnCode_t::RETCODE_OK)
     matched = static_cast<size_t>(std::max(status.current_count, 0));
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return std::max(matched, impl_->servers.size());

@@ -1,4 +1,4 @@
-// Nav2's planner actions on the bus (issue 32): one ActionServer per action and robot, speaking
+// Nav2's actions on the bus (issue 32): one ActionServer per action and robot, speaking
 // rcl_action's protocol on the DDS topics ROS 2 derives from the action's name:
 //
 //   rq/<name>/_action/send_goalRequest   -> rr/<name>/_action/send_goalReply
@@ -7,6 +7,10 @@
 //   rt/<name>/_action/status (action_msgs/GoalStatusArray, transient local)
 //   rt/<name>/_action/feedback (written never: Nav2's planner feedback is empty, but a ROS 2
 //   client waits for the server's feedback and status writers before it sends a goal)
+//
+// The server's code is the same for every action: what is an action's own (its DDS types, how a
+// goal is read and a result written) comes from its traits type (action_traits.hpp), chosen by
+// the ActionKind it is made with.
 //
 // The server only carries bytes and keeps the goals (action_goals.hpp); a goal it accepts is
 // handed to the node, which plans it like a plan_request (same queue, preemption, budgets) and
@@ -32,8 +36,9 @@
 #include <string>
 #include <vector>
 
-#include "action_msgs/msg/GoalStatusArray.h"
+#include "action_traits.hpp"
 #include "take_listener.hpp"
+#include "vnsba/node/action_catalog.hpp"
 #include "vnsba/node/action_goals.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
@@ -43,32 +48,8 @@
 
 namespace vnsba::node {
 
-using GoalStatusArrayMsg = action_msgs::msg::dds_::GoalStatusArray_;
-
-// A goal the server accepted, as the node plans it.
-struct ActionGoal {
-  GoalUuid id{};
-  std::vector<PoseStampedMsg> goals;  // one for ComputePathToPose; the poses in order otherwise
-  PoseStampedMsg start;
-  bool use_start = false;
-  std::string planner_id;
-  RequestIdentity identity;  // of the send_goal request (its client)
-};
-
-// How a goal ended, as its result says it.
-struct ActionOutcome {
-  GoalState state = GoalState::kAborted;  // SUCCEEDED, ABORTED or CANCELED
-  PathMsg path;
-  double planning_time_s = 0.0;
-  uint16_t error_code = 0;
-  std::string error_msg;
-};
-
-// Nav2's error code for a plan's wire code (ROS 2 Jazzy nav2_msgs: ComputePathToPose 200-208,
-// ComputePathThroughPoses 300-309): `invalid_planner` when the planner could not be chosen.
-uint16_t nav2_error_code(ActionKind kind, uint8_t wire_code, bool invalid_planner);
 // ComputePathThroughPoses's NO_VIAPOINTS_GIVEN (an empty goals list).
-constexpr uint16_t kNoViapointsGiven = 309;
+constexpr uint16_t kNoViapointsGiven = ComputePathThroughPoses::kErrors.code("NO_VIAPOINTS_GIVEN");
 // The longest error_msg a result carries, in bytes (a message that echoes input is cut there).
 constexpr size_t kMaxErrorMessageBytes = 1024;
 // Each reply writer's history (keep last): more replies than a burst leaves unacknowledged at
@@ -95,7 +76,8 @@ class ActionServer {
     std::function<TimeMsg()> now;
   };
 
-  // `ros_name`: the action's full ROS 2 name ("/compute_path_to_pose", "/robot3/..."). The
+  // `kind`: the action served (nav2_actions()). `ros_name`: the action's full ROS 2 name
+  // ("/compute_path_to_pose", "/robot3/..."). The
   // reply gates and goals are guarded by `reply_mutex`, and `reply_cv` wakes the node's replier.
   ActionServer(ActionKind kind, std::string ros_name, const NodeConfig& config,
                const ParticipantWatch* vendors, std::mutex& reply_mutex,
@@ -142,11 +124,11 @@ class ActionServer {
   // Goals known (running and kept), under reply_mutex.
   size_t goals() const;
   // The three services' reply writers (null before create), for the shutdown's drain.
-  std::array<dds::DataWriter*, 3> reply_writers() const;
+  std::array<dds::DataWriter*, kActionServices> reply_writers() const;
 
   struct Reply {
     dds::DataWriter* writer = nullptr;
-    int service = 0;  // send_goal 0, get_result 1, cancel_goal 2
+    int service = 0;  // an ActionService: send_goal 0, get_result 1, cancel_goal 2
     GuidPrefix client{};
     RawSample sample;
     std::optional<eprosima::fastrtps::rtps::SampleIdentity> related;  // rmw_fastrtps
@@ -164,7 +146,12 @@ class ActionServer {
   };
 
  private:
+  // What every action's server does (the goals, the status list, cancel_goal, the replies' way
+  // out), and the part of it that is one action's own (ImplOf<Traits>: its endpoints' types,
+  // send_goal and get_result).
   class Impl;
+  template <class Traits>
+  class ImplOf;
   std::unique_ptr<Impl> impl_;
   ActionKind kind_;
   std::string ros_name_;

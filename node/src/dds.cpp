@@ -164,19 +164,6 @@ dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
   return qos;
 }
 
-dds::DataWriterQos reply_writer_qos(int32_t history_depth, bool large_samples) {
-  dds::DataWriterQos qos = writer_qos(TopicQos::kStatus, large_samples);
-  qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = history_depth;
-  qos.resource_limits().max_samples = history_depth;
-  qos.resource_limits().max_samples_per_instance = history_depth;
-  // Readers acknowledge when a heartbeat asks them to: the replies' flow waits for those
-  // acknowledgements (reply_flow.hpp), so they are asked for often while replies are unacknowledged
-  // (a writer sends none while everything is acknowledged).
-  qos.reliable_writer_qos().times.heartbeatPeriod = {0, 20'000'000};
-  return qos;
-}
-
 dds::DataReaderQos reader_qos(TopicQos profile) {
   dds::DataReaderQos qos = dds::DATAREADER_QOS_DEFAULT;
   apply_common(qos, profile, /*reader=*/true);
@@ -211,23 +198,101 @@ bool force_intraprocess_off() {
   return false;
 }
 
+// The profiles files read so far, and the names they were read as (profile_participant_qos
+// holds its lock while it uses them).
+struct ProfilesFilesRead {
+  // The files read in full so far, by canonical path: Fast DDS knows a file by the name it was
+  // given, and reading one file again under another name (the variable naming
+  // ./DEFAULT_FASTRTPS_PROFILES.xml) would refuse each of its profiles as already defined.
+  std::set<std::string> loaded_files;
+  // The file each name was read as: a relative name (./DEFAULT_FASTRTPS_PROFILES.xml) that
+  // stands for another file now (the working directory changed) is read by its canonical path,
+  // as Fast DDS would take the name for one it has read already.
+  std::map<std::string, std::string> read_as;
+};
+
+// Why Fast DDS could not read `file` as XML profiles: Fast DDS says which element it could not
+// read in its log (flushed now, before the executable stops); XML that does not parse at all
+// gets tinyxml2's line here.
+core::Status unreadable_profiles_error(const std::string& file) {
+  eprosima::fastdds::dds::Log::Flush();
+  tinyxml2::XMLDocument document;
+  const std::string why =
+      document.LoadFile(file.c_str()) != tinyxml2::XML_SUCCESS
+          ? std::string("not well-formed XML: ") + document.ErrorStr()
+          : "well-formed XML, but not Fast DDS profiles Fast DDS could read (its XMLPARSER "
+            "log names the element)";
+  return core::Status::error(core::StatusCode::kInvalidRequest,
+                             file + ": not a valid Fast DDS XML profiles file: " + why);
+}
+
+// Checks `file` and has Fast DDS read it, unless it read it in full before: a missing or
+// malformed one stops the executable naming it (Fast DDS alone would log it and go on with its
+// defaults). One it read in part (XML_NOK: a profile it could not take) is parsed again, and
+// refused every time.
+core::Status load_profiles_file(const std::string& file, ProfilesFilesRead& read) {
+  using eprosima::fastrtps::xmlparser::XMLP_ret;
+  using eprosima::fastrtps::xmlparser::XMLProfileManager;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error))
+    return core::Status::error(core::StatusCode::kInvalidRequest,
+                               std::filesystem::exists(file, error)
+                                   ? file + ": not a regular file"
+                                   : "FASTRTPS_DEFAULT_PROFILES_FILE: " + file + ": no such file");
+  const std::string canonical = std::filesystem::weakly_canonical(file, error).string();
+  if (read.loaded_files.count(canonical) > 0) return core::Status::ok();
+  const auto known = read.read_as.find(file);
+  const std::string name =
+      known != read.read_as.end() && known->second != canonical ? canonical : file;
+  const XMLP_ret loaded = XMLProfileManager::loadXMLFile(name);
+  if (loaded == XMLP_ret::XML_NOK)
+    return core::Status::error(
+        core::StatusCode::kInvalidRequest,
+        file +
+            ": a profile in this Fast DDS XML profiles file was refused (no profile_name, or "
+            "a profile_name already taken; Fast DDS's XMLPARSER log names it)");
+  if (loaded != XMLP_ret::XML_OK) return unreadable_profiles_error(file);
+  read.loaded_files.insert(canonical);
+  read.read_as.emplace(name, canonical);
+  if (!force_intraprocess_off())
+    spdlog::warn(
+        "{}: <library_settings><intraprocess_delivery> ignored: this process keeps it OFF "
+        "(Fast DDS 2.9 can crash deleting a participant's endpoints with it on)",
+        file);
+  return core::Status::ok();
+}
+
+// The participant QoS of the profile named `profile` (empty: the default participant profile)
+// among those Fast DDS has loaded; an error naming `key` and `files` when none has that name.
+core::Expected<dds::DomainParticipantQos> loaded_participant_qos(
+    dds::DomainParticipantFactory& factory, const std::string& profile, const std::string& key,
+    const std::vector<std::string>& files) {
+  factory.load_profiles();  // once per process: Fast DDS's own loading, which finds them loaded
+  // The default participant profile as loaded now (load_profiles took it only the first time).
+  factory.set_default_participant_qos(dds::PARTICIPANT_QOS_DEFAULT);
+  dds::DomainParticipantQos qos = factory.get_default_participant_qos();
+  if (!profile.empty() &&
+      factory.get_participant_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK) {
+    std::string where;
+    for (const std::string& file : files) where += (where.empty() ? "" : ", ") + file;
+    return core::Status::error(
+        core::StatusCode::kInvalidRequest,
+        key + ": found \"" + profile +
+            "\", expected the profile_name of a "
+            "<participant> in the XML profiles (" +
+            (where.empty() ? "none loaded: set FASTRTPS_DEFAULT_PROFILES_FILE" : where) + ")");
+  }
+  return qos;
+}
+
 }  // namespace
 
 core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::string& profile,
                                                                   const std::string& key) {
-  using eprosima::fastrtps::xmlparser::XMLP_ret;
-  using eprosima::fastrtps::xmlparser::XMLProfileManager;
   // Fast DDS's profile tables are process-wide and unguarded: one caller at a time.
   static std::mutex loading;
   const std::lock_guard<std::mutex> lock(loading);
-  // The files read in full so far, by canonical path: Fast DDS knows a file by the name it was
-  // given, and reading one file again under another name (the variable naming
-  // ./DEFAULT_FASTRTPS_PROFILES.xml) would refuse each of its profiles as already defined.
-  static std::set<std::string> loaded_files;
-  // The file each name was read as: a relative name (./DEFAULT_FASTRTPS_PROFILES.xml) that
-  // stands for another file now (the working directory changed) is read by its canonical path,
-  // as Fast DDS would take the name for one it has read already.
-  static std::map<std::string, std::string> read_as;
+  static ProfilesFilesRead read;
   auto* factory = dds::DomainParticipantFactory::get_instance();
   // No intraprocess delivery: participants of one process talk through the transport, as
   // participants of different processes do. Fast DDS 2.9 (Debian 12's) delivers intraprocess
@@ -245,68 +310,10 @@ core::Expected<dds::DomainParticipantQos> profile_participant_qos(const std::str
   struct KeepIntraprocessOff {
     ~KeepIntraprocessOff() { force_intraprocess_off(); }
   } keep_intraprocess_off;
-  // Each file checked here, so that a missing or malformed one stops the executable naming it
-  // (Fast DDS alone would log it and go on with its defaults). A file Fast DDS read in full
-  // before is not parsed again; one it read in part (XML_NOK: a profile it could not take) is,
-  // and is refused every time.
   const std::vector<std::string> files = profiles_files();
-  for (const std::string& file : files) {
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(file, error))
-      return core::Status::error(
-          core::StatusCode::kInvalidRequest,
-          std::filesystem::exists(file, error)
-              ? file + ": not a regular file"
-              : "FASTRTPS_DEFAULT_PROFILES_FILE: " + file + ": no such file");
-    const std::string canonical = std::filesystem::weakly_canonical(file, error).string();
-    if (loaded_files.count(canonical) > 0) continue;
-    const auto known = read_as.find(file);
-    const std::string name =
-        known != read_as.end() && known->second != canonical ? canonical : file;
-    const XMLP_ret loaded = XMLProfileManager::loadXMLFile(name);
-    if (loaded == XMLP_ret::XML_NOK)
-      return core::Status::error(
-          core::StatusCode::kInvalidRequest,
-          file +
-              ": a profile in this Fast DDS XML profiles file was refused (no profile_name, or "
-              "a profile_name already taken; Fast DDS's XMLPARSER log names it)");
-    if (loaded != XMLP_ret::XML_OK) {
-      // Fast DDS says which element it could not read in its log (flushed now, before the
-      // executable stops); XML that does not parse at all gets tinyxml2's line here.
-      eprosima::fastdds::dds::Log::Flush();
-      tinyxml2::XMLDocument document;
-      const std::string why =
-          document.LoadFile(file.c_str()) != tinyxml2::XML_SUCCESS
-              ? std::string("not well-formed XML: ") + document.ErrorStr()
-              : "well-formed XML, but not Fast DDS profiles Fast DDS could read (its XMLPARSER "
-                "log names the element)";
-      return core::Status::error(core::StatusCode::kInvalidRequest,
-                                 file + ": not a valid Fast DDS XML profiles file: " + why);
-    }
-    loaded_files.insert(canonical);
-    read_as.emplace(name, canonical);
-    if (!force_intraprocess_off())
-      spdlog::warn(
-          "{}: <library_settings><intraprocess_delivery> ignored: this process keeps it OFF "
-          "(Fast DDS 2.9 can crash deleting a participant's endpoints with it on)",
-          file);
-  }
-  factory->load_profiles();  // once per process: Fast DDS's own loading, which finds them loaded
-  // The default participant profile as loaded now (load_profiles took it only the first time).
-  factory->set_default_participant_qos(dds::PARTICIPANT_QOS_DEFAULT);
-  dds::DomainParticipantQos qos = factory->get_default_participant_qos();
-  if (!profile.empty() &&
-      factory->get_participant_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK) {
-    std::string where;
-    for (const std::string& file : files) where += (where.empty() ? "" : ", ") + file;
-    return core::Status::error(
-        core::StatusCode::kInvalidRequest,
-        key + ": found \"" + profile +
-            "\", expected the profile_name of a "
-            "<participant> in the XML profiles (" +
-            (where.empty() ? "none loaded: set FASTRTPS_DEFAULT_PROFILES_FILE" : where) + ")");
-  }
-  return qos;
+  for (const std::string& file : files)
+    if (core::Status loaded = load_profiles_file(file, read); !loaded.is_ok()) return loaded;
+  return loaded_participant_qos(*factory, profile, key, files);
 }
 
 std::vector<std::string> topic_profile_names(const std::string& dds_topic) {
@@ -338,6 +345,138 @@ void overlay_topic_rules(const dds::DataReaderQos& rules, dds::DataReaderQos& ou
   overlay_common(rules, out);
 }
 
+namespace {
+
+// The security section's properties replace a profile's of the same name (Fast DDS reads the
+// first of a name); the profile's others stay (a profile may enable security by itself).
+void apply_security_properties(const SecurityPlan& plan, dds::DomainParticipantQos& qos) {
+  for (const auto& [property, value] : plan.properties) {
+    auto& properties = qos.properties().properties();
+    properties.erase(std::remove_if(properties.begin(), properties.end(),
+                                    [&](const auto& p) { return p.name() == property; }),
+                     properties.end());
+    properties.emplace_back(property, value);
+  }
+}
+
+// Transports a profile gives are kept, unless localhost_only asks for loopback; otherwise UDP.
+void apply_transports(bool localhost_only, dds::DomainParticipantQos& qos) {
+  const bool profile_transports =
+      !qos.transport().user_transports.empty() || !qos.transport().use_builtin_transports;
+  if (profile_transports && !localhost_only) return;
+  if (profile_transports)
+    spdlog::warn(
+        "network.localhost_only: the XML profile's transports are replaced by UDP on "
+        "127.0.0.1");
+  qos.transport().user_transports.clear();
+  qos.transport().use_builtin_transports = false;
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  // Room for bursts of map fragments on loopback.
+  udp->sendBufferSize = 4 * 1024 * 1024;
+  udp->receiveBufferSize = 4 * 1024 * 1024;
+  // As rmw_fastrtps does for ROS_LOCALHOST_ONLY: the whitelist limits both the interfaces used
+  // and the locators announced, so loopback-only peers can reach this participant.
+  if (localhost_only) udp->interfaceWhiteList.emplace_back("127.0.0.1");
+  qos.transport().user_transports.push_back(udp);
+}
+
+// The announcement period, and discovery.servers.
+core::Status apply_discovery(const std::vector<std::string>& discovery_servers,
+                             dds::DomainParticipantQos& qos) {
+  const dds::DomainParticipantQos fast_dds_defaults;  // what "left at the default" means below
+  // A participant that starts after another (a send_goal after the node) is matched only once
+  // the older one announces itself again: Fast DDS does not answer a new participant's initial
+  // announcements at once. With the default 3 s period a short-lived client waits up to 3 s;
+  // 0.5 s bounds that wait for a few dozen bytes per participant and second on the wire.
+  auto& announcement_period =
+      qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod;
+  if (announcement_period ==
+      fast_dds_defaults.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod)
+    announcement_period = eprosima::fastrtps::Duration_t(0, 500'000'000);
+  // discovery.servers: a Discovery Server client, the servers parsed by Fast DDS's own reader of
+  // ROS_DISCOVERY_SERVER lists (position = server id), so both spell servers the same way.
+  if (discovery_servers.empty()) return core::Status::ok();
+  std::string list;
+  for (const std::string& server : discovery_servers) list += (list.empty() ? "" : ";") + server;
+  auto& discovery = qos.wire_protocol().builtin.discovery_config;
+  if (!eprosima::fastdds::rtps::load_environment_server_info(list, discovery.m_DiscoveryServers))
+    return core::Status::error(core::StatusCode::kInvalidRequest,
+                               "discovery.servers: Fast DDS cannot read \"" + list + "\"");
+  discovery.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::CLIENT;
+  return core::Status::ok();
+}
+
+// The participant's QoS: the XML profiles first, as rmw_fastrtps does (the named participant
+// profile, else the default one; Fast DDS's defaults without a file), the node's rules on top.
+core::Expected<dds::DomainParticipantQos> participant_qos(
+    const std::string& name, bool localhost_only, const SecurityPlan& security_plan,
+    const std::vector<std::string>& discovery_servers, const std::string& participant_profile) {
+  core::Expected<dds::DomainParticipantQos> profiled = profile_participant_qos(participant_profile);
+  if (!profiled) return profiled.error();
+  dds::DomainParticipantQos qos = std::move(profiled).value();
+  qos.name(name);
+  apply_security_properties(security_plan, qos);
+  apply_transports(localhost_only, qos);
+  if (core::Status discovery = apply_discovery(discovery_servers, qos); !discovery.is_ok())
+    return discovery;
+  if (qos.transport().send_socket_buffer_size == 0)
+    qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
+  if (qos.transport().listen_socket_buffer_size == 0)
+    qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
+  return qos;
+}
+
+// The GUID prefix starts with a 1 bit, then the first 47 bits of the SHA-256 of the
+// certificate's subject. Below ff.f8 (12 one bits of that hash, what tools/make_keystore.sh
+// gives its own enclaves), Cyclone DDS peers whose identity sorts higher wait for this
+// participant to start the handshake, which Fast DDS 2.9 starts with a key agreement Cyclone
+// DDS 0.10 cannot read.
+void warn_if_identity_sorts_low(const dds::DomainParticipant& participant) {
+  const auto& prefix = participant.guid().guidPrefix.value;
+  if (prefix[0] != 0xff || prefix[1] < 0xf8)
+    spdlog::warn(
+        "security: this identity's GUID prefix ({:02x}.{:02x}...) sorts below most: Cyclone DDS "
+        "peers with an identity that sorts above it cannot authenticate with it (a Fast DDS 2.9 "
+        "limit); enclaves of tools/make_keystore.sh sort first (docs/security.md)",
+        prefix[0], prefix[1]);
+}
+
+// The DomainParticipant (null when Fast DDS refused it); a secured one that Fast DDS refused is
+// an error naming the enclave's files at fault and what Fast DDS logged meanwhile.
+core::Expected<dds::DomainParticipant*> create_domain_participant(
+    int domain_id, const dds::DomainParticipantQos& qos, dds::DomainParticipantListener* listener,
+    const SecurityPlan& security_plan) {
+  // One secured creation at a time, so the log captured is this participant's.
+  static std::mutex secured_creation;
+  std::unique_lock<std::mutex> secured_lock(secured_creation, std::defer_lock);
+  if (security_plan.secured) {
+    secured_lock.lock();
+    SecurityLogCapture::instance().start();
+  }
+  dds::DomainParticipant* participant =
+      dds::DomainParticipantFactory::get_instance()->create_participant(
+          domain_id, qos, listener,
+          // Discovery callbacks (always delivered) and, from every reader and writer,
+          // incompatible QoS: their own listeners leave those statuses out of their masks, so
+          // they come here.
+          listener != nullptr ? dds::StatusMask::requested_incompatible_qos()
+                                    << dds::StatusMask::offered_incompatible_qos()
+                              : dds::StatusMask::none());
+  if (!security_plan.secured) return participant;
+  const std::vector<std::string> logged = SecurityLogCapture::instance().stop();
+  if (participant == nullptr) {
+    return core::Status::error(
+        core::StatusCode::kInvalidRequest,
+        security_failure_message(security_plan, diagnose_enclave(security_plan), logged));
+  }
+  spdlog::info("security: enclave '{}' ({}), DDS Security on", security_plan.enclave,
+               security_plan.enclave_directory);
+  warn_if_identity_sorts_low(*participant);
+  return participant;
+}
+
+}  // namespace
+
 core::Expected<std::unique_ptr<Participant>> Participant::create(
     int domain_id, const std::string& name, dds::DomainParticipantListener* listener,
     bool localhost_only, const SecurityConfig& security,
@@ -350,103 +489,15 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
   const core::Expected<SecurityPlan> security_plan = plan_security(security);
   if (!security_plan) return security_plan.error();
   for (const std::string& note : security_plan->notes) spdlog::warn("{}", note);
+  const core::Expected<dds::DomainParticipantQos> qos =
+      participant_qos(name, localhost_only, *security_plan, discovery_servers, participant_profile);
+  if (!qos) return qos.error();
   std::unique_ptr<Participant> self(new Participant());
   self->domain_id_ = domain_id;
-  // The XML profiles first, as rmw_fastrtps does: the named participant profile, else the
-  // default one (Fast DDS's defaults without a file); the rules below go on top.
-  core::Expected<dds::DomainParticipantQos> profiled = profile_participant_qos(participant_profile);
-  if (!profiled) return profiled.error();
-  dds::DomainParticipantQos qos = std::move(profiled).value();
-  const dds::DomainParticipantQos fast_dds_defaults;  // what "left at the default" means below
-  qos.name(name);
-  // The security section's properties replace a profile's of the same name (Fast DDS reads the
-  // first of a name); the profile's others stay (a profile may enable security by itself).
-  for (const auto& [property, value] : security_plan->properties) {
-    auto& properties = qos.properties().properties();
-    properties.erase(std::remove_if(properties.begin(), properties.end(),
-                                    [&](const auto& p) { return p.name() == property; }),
-                     properties.end());
-    properties.emplace_back(property, value);
-  }
-  // Transports a profile gives are kept, unless localhost_only asks for loopback.
-  const bool profile_transports =
-      !qos.transport().user_transports.empty() || !qos.transport().use_builtin_transports;
-  if (!profile_transports || localhost_only) {
-    if (profile_transports)
-      spdlog::warn(
-          "network.localhost_only: the XML profile's transports are replaced by UDP on "
-          "127.0.0.1");
-    qos.transport().user_transports.clear();
-    qos.transport().use_builtin_transports = false;
-    auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
-    // Room for bursts of map fragments on loopback.
-    udp->sendBufferSize = 4 * 1024 * 1024;
-    udp->receiveBufferSize = 4 * 1024 * 1024;
-    // As rmw_fastrtps does for ROS_LOCALHOST_ONLY: the whitelist limits both the interfaces used
-    // and the locators announced, so loopback-only peers can reach this participant.
-    if (localhost_only) udp->interfaceWhiteList.emplace_back("127.0.0.1");
-    qos.transport().user_transports.push_back(udp);
-  }
-  // A participant that starts after another (a send_goal after the node) is matched only once
-  // the older one announces itself again: Fast DDS does not answer a new participant's initial
-  // announcements at once. With the default 3 s period a short-lived client waits up to 3 s;
-  // 0.5 s bounds that wait for a few dozen bytes per participant and second on the wire.
-  auto& announcement_period =
-      qos.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod;
-  if (announcement_period ==
-      fast_dds_defaults.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod)
-    announcement_period = eprosima::fastrtps::Duration_t(0, 500'000'000);
-  // discovery.servers: a Discovery Server client, the servers parsed by Fast DDS's own reader of
-  // ROS_DISCOVERY_SERVER lists (position = server id), so both spell servers the same way.
-  if (!discovery_servers.empty()) {
-    std::string list;
-    for (const std::string& server : discovery_servers) list += (list.empty() ? "" : ";") + server;
-    auto& discovery = qos.wire_protocol().builtin.discovery_config;
-    if (!eprosima::fastdds::rtps::load_environment_server_info(list, discovery.m_DiscoveryServers))
-      return core::Status::error(core::StatusCode::kInvalidRequest,
-                                 "discovery.servers: Fast DDS cannot read \"" + list + "\"");
-    discovery.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::CLIENT;
-  }
-  if (qos.transport().send_socket_buffer_size == 0)
-    qos.transport().send_socket_buffer_size = 4 * 1024 * 1024;
-  if (qos.transport().listen_socket_buffer_size == 0)
-    qos.transport().listen_socket_buffer_size = 4 * 1024 * 1024;
-  // One secured creation at a time, so the log captured is this participant's.
-  static std::mutex secured_creation;
-  std::unique_lock<std::mutex> secured_lock(secured_creation, std::defer_lock);
-  if (security_plan->secured) {
-    secured_lock.lock();
-    SecurityLogCapture::instance().start();
-  }
-  self->participant_ = dds::DomainParticipantFactory::get_instance()->create_participant(
-      domain_id, qos, listener,
-      // Discovery callbacks (always delivered) and, from every reader and writer, incompatible
-      // QoS: their own listeners leave those statuses out of their masks, so they come here.
-      listener != nullptr ? dds::StatusMask::requested_incompatible_qos()
-                                << dds::StatusMask::offered_incompatible_qos()
-                          : dds::StatusMask::none());
-  if (security_plan->secured) {
-    const std::vector<std::string> logged = SecurityLogCapture::instance().stop();
-    if (self->participant_ == nullptr) {
-      return core::Status::error(
-          core::StatusCode::kInvalidRequest,
-          security_failure_message(*security_plan, diagnose_enclave(*security_plan), logged));
-    }
-    spdlog::info("security: enclave '{}' ({}), DDS Security on", security_plan->enclave,
-                 security_plan->enclave_directory);
-    // The GUID prefix starts with a 1 bit, then the first 47 bits of the SHA-256 of the
-    // certificate's subject. Below ff.f8 (12 one bits of that hash, what tools/make_keystore.sh
-    // gives its own enclaves), Cyclone DDS peers whose identity sorts higher wait for this
-    // participant to start the handshake, which Fast DDS 2.9 starts with a key agreement Cyclone
-    // DDS 0.10 cannot read.
-    const auto& prefix = self->participant_->guid().guidPrefix.value;
-    if (prefix[0] != 0xff || prefix[1] < 0xf8)
-      spdlog::warn(
-          "security: this identity's GUID prefix ({:02x}.{:02x}...) sorts below most: Cyclone DDS "
-          "peers with an identity that sorts above it cannot authenticate with it (a Fast DDS 2.9 "
-          "limit); enclaves of tools/make_keystore.sh sort first (docs/security.md)",
-          prefix[0], prefix[1]);
-  }
+  core::Expected<dds::DomainParticipant*> participant =
+      create_domain_participant(domain_id, *qos, listener, *security_plan);
+  if (!participant) return participant.error();
+  self->participant_ = *participant;
   if (self->participant_ == nullptr)
     return dds_error("create_participant(domain " + std::to_string(domain_id) + ")");
   self->publisher_ = self->participant_->create_publisher(dds::PUBLISHER_QOS_DEFAULT);

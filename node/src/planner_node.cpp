@@ -570,13 +570,13 @@ core::Status PlannerNode::Impl::add_robot_readers(Robot& robot) {
   return core::Status::ok();
 }
 
-// A robot's two Nav2 action servers.
+// A robot's Nav2 action servers, one per action (nav2_actions()).
 core::Status PlannerNode::Impl::add_action_servers(Robot& robot) {
   auto has_room = [this, &robot] { return may_take_request(robot); };
   auto wake = [this] { wake_intake(); };
-  for (const auto& [kind, action_name] :
-       {std::pair{ActionKind::kComputePathToPose, cfg_.topics.compute_path_to_pose},
-        std::pair{ActionKind::kComputePathThroughPoses, cfg_.topics.compute_path_through_poses}}) {
+  for (const Nav2ActionInfo& action : nav2_actions()) {
+    const ActionKind kind = action.kind;
+    const std::string& action_name = cfg_.topics.*action.topic;
     ActionServer::Hooks hooks;
     hooks.on_goal = [this, &robot](ActionServer& server, ActionGoal&& goal) {
       on_action_goal(robot, server, std::move(goal));
@@ -822,10 +822,7 @@ void PlannerNode::Impl::on_request(Robot& robot, Job job) {
 // The queue's id of an action goal: the action and the goal's id, whatever the namespace (a
 // long namespace once made it longer than a request id may be, and every goal failed).
 std::string action_job_id(const ActionServer& server, const GoalUuid& id) {
-  return std::string(server.kind() == ActionKind::kComputePathToPose
-                         ? "compute_path_to_pose"
-                         : "compute_path_through_poses") +
-         ":" + uuid_text(id);
+  return std::string(nav2_action(server.kind()).id_name) + ":" + uuid_text(id);
 }
 
 // The fewest poses a path through `goals` from `start` can have at `spacing` metres: the straight

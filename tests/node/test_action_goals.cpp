@@ -1,10 +1,17 @@
 // The action goal state machine and the request/reply mapping, without DDS (action_goals.hpp,
-// service_wire.hpp), against rcl_action's rules as written in its documentation.
+// service_wire.hpp), against rcl_action's rules as written in its documentation; the catalog of
+// the Nav2 actions (action_catalog.hpp) against nav2_msgs' definitions in idl/.
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <regex>
 #include <set>
+#include <sstream>
 
 #include "nav2_msgs/action/ComputePathToPose.h"
+#include "vnsba/node/action_catalog.hpp"
 #include "vnsba/node/action_goals.hpp"
 #include "vnsba/node/service_wire.hpp"
 
@@ -313,6 +320,70 @@ TEST(ServiceWire, ARequestHeaderPrecedesTheMessageAndComesBackWithIt) {
   node::RawSample xcdr2;
   xcdr2.bytes = {0, 7, 0, 0};
   EXPECT_NE(node::decode_request(xcdr2, node::WireMapping::kSampleIdentity, decoded, back), "");
+}
+
+// The result error codes an action's IDL file documents ("error_code: 0 none, 200 unknown, 201
+// invalid planner, ..."), as code -> nav2_msgs constant name ("INVALID_PLANNER").
+std::map<uint16_t, std::string> documented_error_codes(const std::string& type_name) {
+  std::ifstream file(std::string(VNSBA_SOURCE_DIR) + "/idl/" + type_name + ".idl");
+  std::string comment, line;
+  while (std::getline(file, line) && line.rfind("//", 0) == 0) comment += line.substr(2);
+  const size_t from = comment.find("error_code:");
+  const std::string list = comment.substr(from, comment.find('.', from) - from);
+  std::map<uint16_t, std::string> codes;
+  const std::regex entry(R"((\d+) ([A-Za-z ]+?)\s*(,|$))");
+  for (auto it = std::sregex_iterator(list.begin(), list.end(), entry);
+       it != std::sregex_iterator(); ++it) {
+    std::string name;
+    for (char c : (*it)[2].str()) name += c == ' ' ? '_' : static_cast<char>(std::toupper(c));
+    codes[static_cast<uint16_t>(std::stoi((*it)[1].str()))] = name;
+  }
+  return codes;
+}
+
+TEST(ActionCatalog, EachActionNamesTheErrorCodesItsIdlDocuments) {
+  ASSERT_GE(node::nav2_actions().size(), 2u);
+  std::set<std::string> options;
+  for (size_t i = 0; i < node::nav2_actions().size(); ++i) {
+    const node::Nav2ActionInfo& action = node::nav2_actions()[i];
+    SCOPED_TRACE(action.type_name);
+    EXPECT_EQ(static_cast<size_t>(action.kind), i) << "an ActionKind is its place in the list";
+    EXPECT_TRUE(options.insert(action.option_name).second) << "vnsba_send_goal --action names";
+    const std::map<uint16_t, std::string> documented = documented_error_codes(action.type_name);
+    ASSERT_GE(documented.size(), 3u) << "the IDL file documents its codes";
+    ASSERT_EQ(documented.begin()->second, "NONE");
+    EXPECT_EQ(action.errors.base, std::next(documented.begin())->first);
+    EXPECT_EQ(action.errors.count, documented.size() - 1);
+    for (const auto& [code, name] : documented) {
+      EXPECT_EQ(action.errors.name(code), name) << code;
+      if (code != 0) {
+        EXPECT_EQ(action.errors.code(name), code) << name;
+      }
+    }
+    EXPECT_EQ(action.errors.name(documented.rbegin()->first + 1), "NOT_A_NAV2_CODE");
+    EXPECT_EQ(action.errors.code("NO_SUCH_NAME"), action.errors.base) << "UNKNOWN";
+  }
+}
+
+TEST(ActionCatalog, APlanFailureGetsTheCodeOfItsNav2Name) {
+  namespace wire = node::wire;
+  // A plan's failure and the nav2_msgs name the planner server gives it.
+  const std::map<uint8_t, std::string> nav2_names = {
+      {wire::FRAME_MISMATCH, "TF_ERROR"},           {wire::START_OUTSIDE_MAP, "START_OUTSIDE_MAP"},
+      {wire::GOAL_OUTSIDE_MAP, "GOAL_OUTSIDE_MAP"}, {wire::START_OCCUPIED, "START_OCCUPIED"},
+      {wire::GOAL_OCCUPIED, "GOAL_OCCUPIED"},       {wire::TIMEOUT, "TIMEOUT"},
+      {wire::NO_VALID_PATH, "NO_VALID_PATH"},       {wire::NO_MAP, "UNKNOWN"},
+      {wire::INVALID_REQUEST, "UNKNOWN"},           {wire::INTERNAL_ERROR, "UNKNOWN"}};
+  for (const node::Nav2ActionInfo& action : node::nav2_actions()) {
+    SCOPED_TRACE(action.type_name);
+    std::map<std::string, uint16_t> by_name;
+    for (const auto& [code, name] : documented_error_codes(action.type_name)) by_name[name] = code;
+    EXPECT_EQ(node::nav2_error_code(action.kind, wire::OK, false), 0);
+    EXPECT_EQ(node::nav2_error_code(action.kind, wire::NO_VALID_PATH, true),
+              by_name.at("INVALID_PLANNER"));
+    for (const auto& [wire_code, name] : nav2_names)
+      EXPECT_EQ(node::nav2_error_code(action.kind, wire_code, false), by_name.at(name)) << name;
+  }
 }
 
 }  // namespace

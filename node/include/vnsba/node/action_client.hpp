@@ -1,7 +1,9 @@
 // A client of the node's Nav2 actions, as a ROS 2 action client (rclcpp_action on rcl_action)
 // puts them on the wire, in either middleware's mapping (service_wire.hpp): vnsba_send_goal
 // --action, the tests and the benchmark use it. It creates its endpoints on a Participant the
-// caller owns, and is thread-safe.
+// caller owns, and is thread-safe. Its code is the same for every action: what is an action's
+// own (its DDS types, how a goal is written and a result read) comes from its traits type
+// (node/src/action_traits.hpp), chosen by the ActionKind it is created with.
 #pragma once
 
 #include <chrono>
@@ -12,6 +14,7 @@
 #include <vector>
 
 #include "vnsba/core/status.hpp"
+#include "vnsba/node/action_catalog.hpp"
 #include "vnsba/node/action_goals.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -19,36 +22,17 @@
 
 namespace vnsba::node {
 
-// What a goal asks (nav2_msgs ComputePathToPose: one pose in `goals`; ThroughPoses: the list).
-struct ActionGoalSpec {
-  std::vector<PoseStampedMsg> goals;
-  PoseStampedMsg start;
-  std::string planner_id;
-  bool use_start = true;
-};
-
-// A get_result reply.
-struct ActionResultReply {
-  GoalState status = GoalState::kUnknown;
-  PathMsg path;
-  double planning_time_s = 0.0;
-  uint16_t error_code = 0;
-  std::string error_msg;
-};
-
 // A cancel_goal reply.
 struct CancelReply {
   CancelCode code = CancelCode::kNone;
   std::vector<GoalUuid> canceling;
 };
 
-// An action's three services.
-enum class ActionService { kSendGoal = 0, kGetResult = 1, kCancelGoal = 2 };
-
 class ActionClient {
  public:
   using Duration = std::chrono::milliseconds;
-  // `ros_name`: the action's full name, e.g. "/compute_path_to_pose".
+  // `kind`: the action called (nav2_actions()); `ros_name`: its full name, e.g.
+  // "/compute_path_to_pose".
   static core::Expected<std::unique_ptr<ActionClient>> create(Participant& participant,
                                                               const std::string& ros_name,
                                                               ActionKind kind, WireMapping mapping);
@@ -98,8 +82,12 @@ class ActionClient {
   size_t servers_seen() const;
 
  private:
-  ActionClient();
+  // What every action's client does (replies, statuses, cancel_goal), and the part that is one
+  // action's own (ImplOf<Traits>: its endpoints' types, send_goal and get_result).
   class Impl;
+  template <class Traits>
+  class ImplOf;
+  explicit ActionClient(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 

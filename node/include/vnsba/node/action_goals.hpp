@@ -44,9 +44,6 @@ namespace vnsba::node {
 
 using GoalUuid = std::array<uint8_t, 16>;
 
-// Nav2's two planner actions (nav2_msgs/action, ROS 2 Jazzy).
-enum class ActionKind { kComputePathToPose, kComputePathThroughPoses };
-
 // action_msgs/GoalStatus values.
 enum class GoalState : int8_t {
   kUnknown = 0,

@@ -63,10 +63,6 @@ enum class TopicQos {
 constexpr int32_t kStatusHistory = 1024;
 
 dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples);
-// An action service's reply writer (action_server.hpp): kStatus's, but keeping the last
-// `history_depth` replies, as rclcpp_action's servers keep their last 10, so that a reader that
-// does not acknowledge can never block a write (reply_flow.hpp paces the writes).
-dds::DataWriterQos reply_writer_qos(int32_t history_depth, bool large_samples);
 dds::DataReaderQos reader_qos(TopicQos profile);
 // The profile in words, for messages: "reliable, transient local, keep last 1".
 std::string describe(TopicQos profile);
@@ -109,7 +105,8 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   // Remote participants seen writing the topic so far.
   size_t count() const;
   // The vendor id a remote participant announced (eProsima 01.0f, Eclipse Cyclone 01.10), while
-  // it is known: the action servers pick each client's reply mapping by it (service_wire.hpp).
+  // it is known: a service's server picks each client's reply mapping by it (service_wire.hpp,
+  // choose_mapping).
   std::optional<std::array<uint8_t, 2>> vendor_of(
       const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) const;
 
