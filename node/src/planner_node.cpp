@@ -24,9 +24,9 @@
 
 namespace vnsba::node {
 
-// The node's roles, composed: each is made here with the references it needs of the others,
-// its DDS entities are made in start() (writers first, then readers, then the threads) and its
-// threads stop in stop() in the reverse order.
+// The node's roles, composed: each is made here with the references it needs of the others;
+// start() makes their DDS entities (writers, then readers and action servers) and only then
+// starts their threads; stop() ends input first and the replier last.
 class PlannerNode::Impl {
  public:
   explicit Impl(NodeConfig config);
