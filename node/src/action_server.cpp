@@ -294,7 +294,7 @@ void ActionReplies::warn_stalled(size_t service,
 }
 
 // A heartbeat that does not count these replies first, as the node does before statuses
-// (replier_loop): Cyclone DDS's volatile reader skips everything up to the last sequence
+// (Replier::loop): Cyclone DDS's volatile reader skips everything up to the last sequence
 // number of the first heartbeat it accepts from a writer, and a client that discovered the
 // reply writer after the node matched its reader missed the earlier heartbeats. An 885 kB
 // result (14 fragments) was lost so in 7 of 15 runs of the Cyclone client's cancel test.

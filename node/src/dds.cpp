@@ -150,7 +150,7 @@ dds::DataWriterQos writer_qos(TopicQos profile, bool large_samples) {
   qos.reliable_writer_qos().times.heartbeatPeriod = {0, 150'000'000};
   // Manual liveliness (lease infinite: never lost; it matches every requested kind) only so that
   // DataWriter::assert_liveliness() heartbeats the status writer's readers at once: the replier
-  // does that before each status it writes (planner_node.cpp, replier_loop).
+  // does that before each status it writes (replier.cpp, Replier::loop).
   if (profile == TopicQos::kStatus) qos.liveliness().kind = dds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
   // Large samples go out on Fast DDS's sending thread, so the writer returns at once, but only
   // from writers that keep what readers acknowledged (transient local). A volatile writer drops a

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <variant>
 
 #include "vnsba/core/path_poses.hpp"
 #include "vnsba/maps/world_text.hpp"
@@ -35,9 +36,10 @@ std::string echoed_id(const std::string& id) {
 
 namespace {
 
-// The string fields' lengths and the id: the failure, or nullopt. Sets out.invalid_planner when
-// the planner name is at fault (Nav2: INVALID_PLANNER, whatever the reason the name is bad).
-std::optional<WireStatus> check_fields(const Job& job, ResolvedRequest& out) {
+// The id's and the planner name's lengths, and an empty id: the failure, or nullopt. Sets
+// out.invalid_planner when the planner name is at fault (Nav2: INVALID_PLANNER, whatever the
+// reason the name is bad).
+std::optional<WireStatus> check_id_and_planner_name(const Job& job, ResolvedRequest& out) {
   if (job.id.size() > kMaxIdBytes)
     return WireStatus{wire::INVALID_REQUEST, too_long("id", job.id.size(), kMaxIdBytes)};
   if (job.id.empty()) return WireStatus{wire::INVALID_REQUEST, "id: must not be empty"};
@@ -46,6 +48,11 @@ std::optional<WireStatus> check_fields(const Job& job, ResolvedRequest& out) {
     return WireStatus{wire::INVALID_REQUEST,
                       too_long("planner", job.planner.size(), kMaxPlannerNameBytes)};
   }
+  return std::nullopt;
+}
+
+// The lengths of the start's and the goal's frame ids: the failure, or nullopt.
+std::optional<WireStatus> check_frame_id_lengths(const Job& job) {
   const std::pair<const char*, const PoseStampedMsg*> poses[] = {{"start", &job.start},
                                                                  {"goal", &job.goal}};
   for (const auto& [field, pose] : poses) {
@@ -101,68 +108,73 @@ std::optional<WireStatus> choose_planner(const Job& job, const NodeConfig& confi
                       "planner: " + out.planner_name +
                           " cannot plan with the node's planner.* settings: " + s.message};
   }
+  out.planner_warning = out.warning;
   return std::nullopt;
 }
 
-}  // namespace
-
-ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map,
-                                const std::string& map_topic) {
-  ResolvedRequest out;
-  auto fail = [&](uint8_t code, std::string message) {
-    out.status = {code, std::move(message)};
-    return out;
+// The goal's cell on `map` (out of it within goal_tolerance), or the failure.
+std::variant<core::Cell, WireStatus> goal_cell_on(const core::GridMap& map, const PoseCheck& goal,
+                                                  double goal_tolerance) {
+  auto goal_outside = [&] {
+    return WireStatus{wire::GOAL_OUTSIDE_MAP,
+                      maps::goal_outside_message(map, goal.x, goal.y, goal_tolerance)};
   };
-  if (auto failure = check_fields(job, out)) return fail(failure->code, failure->message);
-  if (auto failure = choose_planner(job, config, out)) return fail(failure->code, failure->message);
-  if (!job.missing_start.empty()) return fail(wire::INVALID_REQUEST, job.missing_start);
+  if (const std::optional<core::Cell> inside = map.world_to_cell(goal.x, goal.y)) return *inside;
+  // Outside the map, core may still move the goal onto it within goal_tolerance. A point
+  // farther than that from the map has no free cell within reach (and its cell index could
+  // overflow), so it is refused here.
+  if (!(goal_tolerance > 0.0) || distance_to_map(map, goal.x, goal.y) > goal_tolerance)
+    return goal_outside();
+  // Within goal_tolerance of the map, but its cell index must also fit an int32: at a
+  // resolution below about 1e-7 m, 100 m are more cells than that (the cast would be undefined).
+  constexpr double kMaxCellIndex = 1e9;
+  const core::Point2 goal_point = map.world_to_grid(goal.x, goal.y);
+  if (!(std::abs(goal_point.x()) < kMaxCellIndex && std::abs(goal_point.y()) < kMaxCellIndex)) {
+    return WireStatus{wire::GOAL_OUTSIDE_MAP,
+                      maps::outside_map_message("goal", map, goal.x, goal.y) +
+                          ", more than 1e9 cells of " + maps::short_number(map.resolution()) +
+                          " m away (beyond a cell index)"};
+  }
+  return core::Cell{static_cast<int32_t>(std::floor(goal_point.x())),
+                    static_cast<int32_t>(std::floor(goal_point.y()))};
+}
+
+// The start and goal of `job` checked and located on `map` (out.query, out.goal_yaw, and the
+// orientation's remark appended to out.warning), with the planner's options already in `out`:
+// the failure, or nullopt.
+std::optional<WireStatus> locate_endpoints(const Job& job, const NodeConfig& config,
+                                           const core::GridMap* map, const std::string& map_topic,
+                                           ResolvedRequest& out) {
+  if (!job.missing_start.empty()) return WireStatus{wire::INVALID_REQUEST, job.missing_start};
   const PoseCheck start = check_pose(job.start, "start", config.frame_id);
-  if (!start.status.ok()) return fail(start.status.code, start.status.message);
+  if (!start.status.ok()) return start.status;
   const PoseCheck goal = check_pose(job.goal, "goal", config.frame_id);
-  if (!goal.status.ok()) return fail(goal.status.code, goal.status.message);
+  if (!goal.status.ok()) return goal.status;
   if (map == nullptr) {
-    return fail(
+    return WireStatus{
         wire::NO_MAP,
         "no map has been accepted yet (slices arrive on '" +
             (map_topic.empty() ? dds_topic_name(config, config.topics.projected_map) : map_topic) +
-            "')");
+            "')"};
   }
   const auto start_cell = map->world_to_cell(start.x, start.y);
   if (!start_cell) {
-    return fail(wire::START_OUTSIDE_MAP,
-                maps::outside_map_message("start", *map, start.x, start.y));
+    return WireStatus{wire::START_OUTSIDE_MAP,
+                      maps::outside_map_message("start", *map, start.x, start.y)};
   }
   const double goal_tolerance = out.options.goal_tolerance;
-  auto goal_outside = [&] {
-    return fail(wire::GOAL_OUTSIDE_MAP,
-                maps::goal_outside_message(*map, goal.x, goal.y, goal_tolerance));
-  };
-  const core::Point2 goal_point = map->world_to_grid(goal.x, goal.y);
-  std::optional<core::Cell> goal_cell = map->world_to_cell(goal.x, goal.y);
-  if (!goal_cell) {
-    // Outside the map, core may still move the goal onto it within goal_tolerance. A point
-    // farther than that from the map has no free cell within reach (and its cell index could
-    // overflow), so it is refused here.
-    if (!(goal_tolerance > 0.0) || distance_to_map(*map, goal.x, goal.y) > goal_tolerance)
-      return goal_outside();
-    // Within goal_tolerance of the map, but its cell index must also fit an int32: at a
-    // resolution below about 1e-7 m, 100 m are more cells than that (the cast would be undefined).
-    constexpr double kMaxCellIndex = 1e9;
-    if (!(std::abs(goal_point.x()) < kMaxCellIndex && std::abs(goal_point.y()) < kMaxCellIndex)) {
-      return fail(wire::GOAL_OUTSIDE_MAP, maps::outside_map_message("goal", *map, goal.x, goal.y) +
-                                              ", more than 1e9 cells of " +
-                                              maps::short_number(map->resolution()) +
-                                              " m away (beyond a cell index)");
-    }
-    goal_cell = core::Cell{static_cast<int32_t>(std::floor(goal_point.x())),
-                           static_cast<int32_t>(std::floor(goal_point.y()))};
-  }
+  const std::variant<core::Cell, WireStatus> goal_cell = goal_cell_on(*map, goal, goal_tolerance);
+  if (const WireStatus* refused = std::get_if<WireStatus>(&goal_cell)) return *refused;
   out.query =
-      core::PlanQuery(*start_cell, *goal_cell, map->world_to_grid(start.x, start.y), goal_point);
+      core::PlanQuery(*start_cell, std::get<core::Cell>(goal_cell),
+                      map->world_to_grid(start.x, start.y), map->world_to_grid(goal.x, goal.y));
   if (core::Status s = core::check_query(*map, out.query, out.options); !s.is_ok()) {
     // Core names the cell; the node's message gives the point and the map in metres.
-    if (s.code == core::StatusCode::kGoalOutsideMap) return goal_outside();
-    return fail(to_wire_code(s.code), s.message);
+    if (s.code == core::StatusCode::kGoalOutsideMap) {
+      return WireStatus{wire::GOAL_OUTSIDE_MAP,
+                        maps::goal_outside_message(*map, goal.x, goal.y, goal_tolerance)};
+    }
+    return WireStatus{to_wire_code(s.code), s.message};
   }
   // The final pose takes the goal's orientation when it is a rotation (docs/algorithm.md,
   // section 8).
@@ -174,6 +186,36 @@ ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const 
                    "warning: goal orientation ignored: quaternion norm " +
                    maps::short_number(norm) + " is not 1 (the last pose faces along the path)";
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map,
+                                const std::string& map_topic) {
+  ResolvedRequest out;
+  std::optional<WireStatus> failure = check_id_and_planner_name(job, out);
+  if (!failure) failure = check_frame_id_lengths(job);
+  if (!failure) failure = choose_planner(job, config, out);
+  if (!failure) failure = locate_endpoints(job, config, map, map_topic, out);
+  if (failure) out.status = std::move(*failure);
+  return out;
+}
+
+ResolvedRequest resolve_leg(const Job& job, const ResolvedRequest& accepted,
+                            const NodeConfig& config, const core::GridMap* map,
+                            const std::string& map_topic) {
+  ResolvedRequest out;
+  // In resolve_request's order: the frames' lengths come before the planner is named.
+  std::optional<WireStatus> failure = check_frame_id_lengths(job);
+  if (!failure) {
+    out.planner_name = accepted.planner_name;
+    out.options = accepted.options;
+    out.planner_warning = accepted.planner_warning;
+    out.warning = accepted.planner_warning;
+    failure = locate_endpoints(job, config, map, map_topic, out);
+  }
+  if (failure) out.status = std::move(*failure);
   return out;
 }
 

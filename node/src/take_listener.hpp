@@ -1,5 +1,5 @@
 // The one listener template of the node's readers (a sample taken, handed on, nothing escapes),
-// shared by planner_node.cpp and the action servers.
+// made by every role of the node (node_readers.hpp) and by the action servers.
 #pragma once
 
 #include <spdlog/spdlog.h>

@@ -377,6 +377,68 @@ TEST(ResolveRequest, GoalOrientationGivesTheFinalYawOrAWarning) {
   EXPECT_NE(none.warning.find("quaternion norm 0 is not 1"), std::string::npos) << none.warning;
 }
 
+// A request is checked once (resolve_request, on arrival); the worker plans it as accepted.
+// resolve_leg gives a leg of it (its own endpoints on a newer map, a later leg of
+// ComputePathThroughPoses): the planner as chosen on acceptance, the endpoints located on the
+// map given, and each leg's own failures and orientation remark.
+TEST(ResolveLeg, KeepsTheAcceptedPlannerAndLocatesTheLegOnItsMap) {
+  const node::NodeConfig cfg = tolerant_config();
+  const core::GridMap map = inflated_map(cfg);
+  Job request = job("leg", 0.25, 0.25, 1.85, 0.85);
+  request.planner = "jps";  // on a node with costs: uniform costs and a warning
+  const auto accepted = node::resolve_request(request, cfg, &map);
+  ASSERT_TRUE(accepted.status.ok()) << accepted.status.message;
+  ASSERT_FALSE(accepted.planner_warning.empty());
+  EXPECT_EQ(accepted.warning, accepted.planner_warning);
+
+  // The planner is not chosen again: a changed planner field does not matter any more.
+  Job renamed = request;
+  renamed.planner = "no_such_planner";
+  const auto same = node::resolve_leg(renamed, accepted, cfg, &map);
+  ASSERT_TRUE(same.status.ok()) << same.status.message;
+  EXPECT_EQ(same.planner_name, "jps");
+  EXPECT_EQ(same.options.cost_weight, 0.0);
+  EXPECT_EQ(same.warning, accepted.warning);
+  EXPECT_EQ(same.query.start, accepted.query.start);
+  EXPECT_EQ(same.query.goal, accepted.query.goal);
+
+  // World points on a map whose corner lies 0.5 m further west: cells floor((x + 0.5) / 0.1),
+  // floor(y / 0.1) there, (7, 2) and (13, 8).
+  core::OccupancyGrid shifted;
+  shifted.width = 20;
+  shifted.height = 10;
+  shifted.resolution = 0.1;
+  shifted.origin_x = -0.5;
+  shifted.data.assign(200, 0);
+  const core::GridMap east = std::move(core::GridMap::build(shifted, cfg.map)).value();
+  Job moved = job("leg", 0.25, 0.25, 0.85, 0.85);
+  const auto on_east = node::resolve_leg(moved, accepted, cfg, &east);
+  ASSERT_TRUE(on_east.status.ok()) << on_east.status.message;
+  EXPECT_EQ(on_east.query.start, (core::Cell{7, 2}));
+  EXPECT_EQ(on_east.query.goal, (core::Cell{13, 8}));
+
+  // A later leg's goal is checked as a request's would be, in resolve_request's order: its
+  // frame id's length first (before the planner is named), then the rest; an orientation
+  // remark is the leg's own, after the planner's warning.
+  Job long_frame = request;
+  long_frame.goal.header().frame_id(std::string(node::kMaxFrameIdBytes + 1, 'f'));
+  const auto refused = node::resolve_leg(long_frame, accepted, cfg, &map);
+  EXPECT_EQ(node::code_name(refused.status.code), "INVALID_REQUEST");
+  EXPECT_NE(refused.status.message.find("goal.header.frame_id"), std::string::npos)
+      << refused.status.message;
+  EXPECT_EQ(refused.planner_name, "");
+  Job outside = request;
+  outside.goal = node::to_pose_msg(9.0, 0.5, 0.0, "map", node::now_msg());
+  EXPECT_EQ(node::code_name(node::resolve_leg(outside, accepted, cfg, &map).status.code),
+            "GOAL_OUTSIDE_MAP");
+  Job unfaced = request;
+  unfaced.goal.pose().orientation().w(0.0);
+  const auto remark = node::resolve_leg(unfaced, accepted, cfg, &map);
+  ASSERT_TRUE(remark.status.ok()) << remark.status.message;
+  EXPECT_EQ(remark.warning.rfind(accepted.planner_warning + "; warning: goal orientation", 0), 0u)
+      << remark.warning;
+}
+
 std::vector<std::string> ids(const std::vector<Job>& jobs) {
   std::vector<std::string> out;
   for (const Job& j : jobs) out.push_back(j.id);

@@ -1,10 +1,14 @@
-// vnsba_node's runtime: one participant, a map thread and one planning worker.
+// vnsba_node's runtime: one participant, a map thread, an intake thread, the planning workers
+// and a replier thread. Each role is a class of its own under node/src/ (map_input, robot_poses,
+// request_intake, request_admission, work_queues, planning_workers, answers, replier,
+// debug_publisher, fleet_router); PlannerNode composes them.
 //
 //   slice --listener--> newest-slice slot --map thread--> validate, convert, build (threshold,
 //                                                          inflation, density table, the map's
 //                                                          core::Planner), swap in
-//   plan_request / goal_pose --listener--> bounded queue --worker--> the map's core::Planner -->
-//                                                          plan, plan_status, planner_debug
+//   plan_request / goal_pose / action goal --intake--> checked once, bounded queue --worker-->
+//                                      the map's core::Planner --> plan, planner_debug, and
+//                                      plan_status or the action's result (--replier--> DDS)
 //
 // Listeners never plan and never convert maps. A new map is swapped in atomically, with its
 // planner's search arrays already allocated (so the first plan on it is as fast, and as quick to

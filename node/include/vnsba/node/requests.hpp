@@ -56,22 +56,6 @@ struct ActionJob {
   bool tf_problem = false;       // the robot's pose could not be looked up (TF_ERROR)
 };
 
-struct Job {
-  std::string id;
-  RequestIdentity identity;
-  PoseStampedMsg start;
-  PoseStampedMsg goal;
-  std::string planner;        // empty: the configured planner
-  std::string missing_start;  // set when a goal_pose came before any robot_pose
-  std::shared_ptr<Interruption> interruption = std::make_shared<Interruption>();
-  // Set for a Nav2 action goal, answered on its action; shared by the legs of a
-  // ComputePathThroughPoses goal.
-  std::shared_ptr<ActionJob> action;
-};
-
-// The id as a status echoes it: at most kMaxIdBytes of it.
-std::string echoed_id(const std::string& id);
-
 // A request checked against the configuration and (when there is one) the active map.
 struct ResolvedRequest {
   WireStatus status;             // OK: the request would be planned
@@ -90,7 +74,33 @@ struct ResolvedRequest {
   std::string warning;
   // The request failed because of its planner (unknown, or unusable with the node's settings).
   bool invalid_planner = false;
+  // The planner's own part of `warning` (jps on a node with costs), shared by every leg of a
+  // request; "" when none.
+  std::string planner_warning;
 };
+
+struct Job {
+  std::string id;
+  RequestIdentity identity;
+  PoseStampedMsg start;
+  PoseStampedMsg goal;
+  std::string planner;        // empty: the configured planner
+  std::string missing_start;  // set when a goal_pose came before any robot_pose
+  std::shared_ptr<Interruption> interruption = std::make_shared<Interruption>();
+  // Set for a Nav2 action goal, answered on its action; shared by the legs of a
+  // ComputePathThroughPoses goal.
+  std::shared_ptr<ActionJob> action;
+  // Set when the request is accepted (resolve_request said OK, before it is queued): what was
+  // resolved then, and the map its cells are on. The worker plans it as resolved on that map,
+  // without checking it again; on a newer map it only locates the same endpoints there
+  // (resolve_leg), the planner staying the one chosen on acceptance.
+  std::shared_ptr<const ResolvedRequest> resolved;
+  std::weak_ptr<const core::GridMap> resolved_on;
+};
+
+// The id as a status echoes it: at most kMaxIdBytes of it.
+std::string echoed_id(const std::string& id);
+
 // `map` may be null (no map yet: NO_MAP). Checks, first failure wins: the string fields' lengths,
 // the id, the planner name, the options the planner would run with (core::validate: e.g. jps with
 // corner_policy touch is INVALID_REQUEST naming it; jps on a node with planner.cost_weight > 0
@@ -102,6 +112,15 @@ struct ResolvedRequest {
 // robot of a fleet, under the node's namespace, not the robot's); empty: config's own.
 ResolvedRequest resolve_request(const Job& job, const NodeConfig& config, const core::GridMap* map,
                                 const std::string& map_topic = "");
+
+// One leg of a request resolve_request accepted (`accepted`): `job`'s start and goal, checked and
+// located on `map` as resolve_request does from the frames' lengths on, with the planner, its
+// options and its warning as chosen on acceptance (the id and the planner are not checked
+// again). The request's own endpoints on a newer map than the one it was accepted on, or a
+// further leg of a ComputePathThroughPoses goal.
+ResolvedRequest resolve_leg(const Job& job, const ResolvedRequest& accepted,
+                            const NodeConfig& config, const core::GridMap* map,
+                            const std::string& map_topic = "");
 
 // The waiting requests and the one being planned. Not thread-safe: the node holds its lock.
 class RequestQueue {
