@@ -6,13 +6,14 @@
 //   (vnsba_send_goal --action), kTopic (the config key of its ROS 2 action name); kSeveralGoals,
 //   whether a goal carries a list of poses;
 // - its DDS types (fastddsgen's, from idl/nav2_msgs/action/): the send_goal, get_result and
-//   feedback messages and their PubSubTypes (cancel_goal and the status list are action_msgs',
-//   the same for every action);
+//   feedback messages and their PubSubTypes, named by VNSBA_NAV2_ACTION_DDS_TYPES (cancel_goal
+//   and the status list are action_msgs', the same for every action);
 // - its error codes (kErrors: the code of its UNKNOWN and the names from there on);
 // - the goal and the result: read_goal (a goal's message into the node's ActionGoal),
 //   write_goal (a client's ActionGoalSpec into the message), write_result (the node's
 //   ActionOutcome into the result message), read_result (the message into a client's
-//   ActionResultReply), and goal_bytes_problem (a goal refused before it is decoded, "" for none).
+//   ActionResultReply; both from PlansAPath for an action that plans a path), and
+//   goal_bytes_problem (a goal refused before it is decoded, "" for none).
 //
 // Nav2Actions lists them; an ActionKind is a place in that list, and nav2_actions()
 // (action_catalog.hpp) describes each from its traits.
@@ -91,7 +92,34 @@ void read_path_result(Result&& result, ActionResultReply& out) {
 // 56). The count follows the header (rmw_cyclonedds) and the 16-byte goal id. "" when it fits.
 std::string announced_poses_problem(const RawSample& raw, WireMapping mapping);
 
-struct ComputePathToPose {
+// fastddsgen's types of the action `Name` (idl/nav2_msgs/action/Name.idl) under the names
+// every traits type gives them.
+#define VNSBA_NAV2_ACTION_DDS_TYPES(Name)                                                      \
+  using Goal = nav2_msgs::action::dds_::Name##_Goal_;                                          \
+  using Result = nav2_msgs::action::dds_::Name##_Result_;                                      \
+  using SendGoalRequest = nav2_msgs::action::dds_::Name##_SendGoal_Request_;                   \
+  using SendGoalRequestType = nav2_msgs::action::dds_::Name##_SendGoal_Request_PubSubType;     \
+  using SendGoalResponse = nav2_msgs::action::dds_::Name##_SendGoal_Response_;                 \
+  using SendGoalResponseType = nav2_msgs::action::dds_::Name##_SendGoal_Response_PubSubType;   \
+  using GetResultRequest = nav2_msgs::action::dds_::Name##_GetResult_Request_;                 \
+  using GetResultRequestType = nav2_msgs::action::dds_::Name##_GetResult_Request_PubSubType;   \
+  using GetResultResponse = nav2_msgs::action::dds_::Name##_GetResult_Response_;               \
+  using GetResultResponseType = nav2_msgs::action::dds_::Name##_GetResult_Response_PubSubType; \
+  using FeedbackMessageType = nav2_msgs::action::dds_::Name##_FeedbackMessage_PubSubType
+
+// The result of an action that plans a path (path, planning_time, error_code, error_msg), as
+// both of Nav2's planner actions have it.
+template <class Result>
+struct PlansAPath {
+  static void write_result(const ActionOutcome& outcome, Result& result) {
+    write_path_result(outcome, result);
+  }
+  static void read_result(Result&& result, ActionResultReply& out) {
+    read_path_result(std::move(result), out);
+  }
+};
+
+struct ComputePathToPose : PlansAPath<nav2_msgs::action::dds_::ComputePathToPose_Result_> {
   static constexpr const char* kTypeName = "nav2_msgs/action/ComputePathToPose";
   static constexpr const char* kIdName = "compute_path_to_pose";
   static constexpr const char* kOptionName = "to_pose";
@@ -99,21 +127,7 @@ struct ComputePathToPose {
   static constexpr bool kSeveralGoals = false;
   static constexpr ActionErrorCodes kErrors{200, kPlannerErrorNames, 9};
 
-  using Goal = nav2_msgs::action::dds_::ComputePathToPose_Goal_;
-  using Result = nav2_msgs::action::dds_::ComputePathToPose_Result_;
-  using SendGoalRequest = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Request_;
-  using SendGoalRequestType =
-      nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Request_PubSubType;
-  using SendGoalResponse = nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Response_;
-  using SendGoalResponseType =
-      nav2_msgs::action::dds_::ComputePathToPose_SendGoal_Response_PubSubType;
-  using GetResultRequest = nav2_msgs::action::dds_::ComputePathToPose_GetResult_Request_;
-  using GetResultRequestType =
-      nav2_msgs::action::dds_::ComputePathToPose_GetResult_Request_PubSubType;
-  using GetResultResponse = nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_;
-  using GetResultResponseType =
-      nav2_msgs::action::dds_::ComputePathToPose_GetResult_Response_PubSubType;
-  using FeedbackMessageType = nav2_msgs::action::dds_::ComputePathToPose_FeedbackMessage_PubSubType;
+  VNSBA_NAV2_ACTION_DDS_TYPES(ComputePathToPose);
 
   static std::string goal_bytes_problem(const RawSample&, WireMapping) { return ""; }
   static void read_goal(Goal&& goal, ActionGoal& out) {
@@ -124,15 +138,10 @@ struct ComputePathToPose {
     if (!spec.goals.empty()) goal.goal(spec.goals.front());
     write_start_and_planner(spec, goal);
   }
-  static void write_result(const ActionOutcome& outcome, Result& result) {
-    write_path_result(outcome, result);
-  }
-  static void read_result(Result&& result, ActionResultReply& out) {
-    read_path_result(std::move(result), out);
-  }
 };
 
-struct ComputePathThroughPoses {
+struct ComputePathThroughPoses
+    : PlansAPath<nav2_msgs::action::dds_::ComputePathThroughPoses_Result_> {
   static constexpr const char* kTypeName = "nav2_msgs/action/ComputePathThroughPoses";
   static constexpr const char* kIdName = "compute_path_through_poses";
   static constexpr const char* kOptionName = "through_poses";
@@ -140,22 +149,7 @@ struct ComputePathThroughPoses {
   static constexpr bool kSeveralGoals = true;
   static constexpr ActionErrorCodes kErrors{300, kPlannerErrorNames, 10};
 
-  using Goal = nav2_msgs::action::dds_::ComputePathThroughPoses_Goal_;
-  using Result = nav2_msgs::action::dds_::ComputePathThroughPoses_Result_;
-  using SendGoalRequest = nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Request_;
-  using SendGoalRequestType =
-      nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Request_PubSubType;
-  using SendGoalResponse = nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Response_;
-  using SendGoalResponseType =
-      nav2_msgs::action::dds_::ComputePathThroughPoses_SendGoal_Response_PubSubType;
-  using GetResultRequest = nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Request_;
-  using GetResultRequestType =
-      nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Request_PubSubType;
-  using GetResultResponse = nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Response_;
-  using GetResultResponseType =
-      nav2_msgs::action::dds_::ComputePathThroughPoses_GetResult_Response_PubSubType;
-  using FeedbackMessageType =
-      nav2_msgs::action::dds_::ComputePathThroughPoses_FeedbackMessage_PubSubType;
+  VNSBA_NAV2_ACTION_DDS_TYPES(ComputePathThroughPoses);
 
   // A goal may be megabytes of poses: a count its bytes cannot hold is refused undecoded.
   static std::string goal_bytes_problem(const RawSample& raw, WireMapping mapping) {
@@ -168,12 +162,6 @@ struct ComputePathThroughPoses {
   static void write_goal(const ActionGoalSpec& spec, Goal& goal) {
     goal.goals(spec.goals);
     write_start_and_planner(spec, goal);
-  }
-  static void write_result(const ActionOutcome& outcome, Result& result) {
-    write_path_result(outcome, result);
-  }
-  static void read_result(Result&& result, ActionResultReply& out) {
-    read_path_result(std::move(result), out);
   }
 };
 

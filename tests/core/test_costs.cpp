@@ -247,18 +247,6 @@ Trial random_trial(std::mt19937& rng, const Spec& spec = {}) {
 // ---------------------------------------------------------------------------------------------
 // Move costs by dense sampling, and Dijkstra over the 8-neighbour move graph.
 
-bool corner_ok(bool side_a_free, bool side_b_free, CornerPolicy policy) {
-  switch (policy) {
-    case CornerPolicy::kNever:
-      return side_a_free && side_b_free;
-    case CornerPolicy::kTouch:
-      return side_a_free || side_b_free;
-    case CornerPolicy::kAlways:
-      return true;
-  }
-  return false;
-}
-
 // The highest map.cost() of the cells whose inside the segment a -> b enters, found by sampling
 // it `per_cell` times per cell; points exactly on a lattice corner are skipped (a segment that only
 // touches a corner enters neither cell beside it).
@@ -306,7 +294,7 @@ std::vector<double> dijkstra_from(const GridMap& map, Cell s, CornerPolicy polic
       for (int dx = -1; dx <= 1; ++dx) {
         if ((dx == 0 && dy == 0) || !cell_free(map, x + dx, y + dy)) continue;
         if (dx != 0 && dy != 0 &&
-            !corner_ok(cell_free(map, x + dx, y), cell_free(map, x, y + dy), policy))
+            !corner_allowed(cell_free(map, x + dx, y), cell_free(map, x, y + dy), policy))
           continue;
         const double nd = d + oracle_segment_cost(map, core::cell_centre({x, y}),
                                                   core::cell_centre({x + dx, y + dy}), w);
@@ -340,7 +328,7 @@ std::vector<double> dijkstra_from(const GridMap& map, Cell s, CornerPolicy polic
     if (cheb < 1 || cheb > max_step)
       return ::testing::AssertionFailure() << "step " << i << " " << str(p) << " -> " << str(c);
     if (cheb == 1 && dx != 0 && dy != 0 &&
-        !corner_ok(cell_free(map, p.x + dx, p.y), cell_free(map, p.x, p.y + dy), policy))
+        !corner_allowed(cell_free(map, p.x + dx, p.y), cell_free(map, p.x, p.y + dy), policy))
       return ::testing::AssertionFailure() << "step " << i << " " << str(p) << " -> " << str(c)
                                            << " passes a corner the policy forbids";
     if (!reference_los_centres(map, p, c, policy))

@@ -30,20 +30,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr Neighborhood kBothNeighborhoods[] = {Neighborhood::kEight,
                                                Neighborhood::kEightElevenThirteen};
 
-// docs/algorithm.md section 1, "Corners": never needs both side cells free, touch one, always
-// none.
-bool corner_allowed(bool side_a_free, bool side_b_free, CornerPolicy policy) {
-  switch (policy) {
-    case CornerPolicy::kNever:
-      return side_a_free && side_b_free;
-    case CornerPolicy::kTouch:
-      return side_a_free || side_b_free;
-    case CornerPolicy::kAlways:
-      return true;
-  }
-  return false;
-}
-
 int sign_of(int v) {
   return v > 0 ? 1 : (v < 0 ? -1 : 0);
 }

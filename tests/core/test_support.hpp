@@ -28,6 +28,20 @@ inline bool cell_free(const GridMap& map, int64_t x, int64_t y) {
          !map.blocked(static_cast<int32_t>(x), static_cast<int32_t>(y));
 }
 
+// docs/algorithm.md section 1, "Corners": a diagonal step between two side cells is allowed
+// when both are free (never), one is (touch), or always.
+inline bool corner_allowed(bool side_a_free, bool side_b_free, CornerPolicy policy) {
+  switch (policy) {
+    case CornerPolicy::kNever:
+      return side_a_free && side_b_free;
+    case CornerPolicy::kTouch:
+      return side_a_free || side_b_free;
+    case CornerPolicy::kAlways:
+      return true;
+  }
+  return false;
+}
+
 // Dense sampling check of a segment in continuous cell coordinates: every sample point (every
 // 1/`per_cell` cell) must lie in a free cell, and so must the points a hair to either side of it
 // according to the corner policy (never: both sides; touch: at least one side; always: the point
