@@ -447,6 +447,7 @@ int ActionGoalRun::run(node::Participant& bus, const GoalRequest& request,
     return kRefused;
   }
   const auto accepted_at = Clock::now();
+  spdlog::debug("goal {} accepted; asking for its result", goal_);
   // As rclcpp_action asks for the result: once the goal is accepted (asked before, it would find
   // no goal).
   const int64_t result_request = client_->request_result(id_);

@@ -230,17 +230,13 @@ bool same_frame(std::string_view a, std::string_view b) {
   return without_leading_slash(a) == without_leading_slash(b);
 }
 
-SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_frame,
-                          int64_t max_cells) {
-  SliceCheck out;
-  const std::string& frame = msg.header().frame_id();
-  if (!frame.empty() && !same_frame(frame, expected_frame)) {
-    out.status = error(wire::FRAME_MISMATCH, "slice header.frame_id is '" + printable(frame) +
-                                                 "', the node plans in '" + expected_frame + "'");
-    return out;
-  }
+namespace {
+
+// from_slice_msg's checks of a slice's fields: each adds "<field> ...; " to `bad` per problem.
+
+void add_slice_size_problems(const OccupancyGridMsg& msg, int64_t max_cells,
+                             std::ostringstream& bad) {
   const auto& info = msg.info();
-  std::ostringstream bad;
   if (info.width() == 0 || info.height() == 0)
     bad << "info.width x info.height is " << info.width() << " x " << info.height()
         << ", must be > 0; ";
@@ -252,6 +248,10 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   else if (msg.data().size() != cells)
     bad << "data has " << msg.data().size()
         << " values, expected info.width x info.height = " << cells << "; ";
+}
+
+void add_slice_origin_problems(const OccupancyGridMsg& msg, std::ostringstream& bad) {
+  const auto& info = msg.info();
   const bool resolution_ok = finite(info.resolution()) && info.resolution() > 0.0f;
   if (!resolution_ok)
     bad << "info.resolution is " << info.resolution() << ", must be finite and > 0; ";
@@ -274,10 +274,13 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
           << " m within which cells of " << num(resolution)
           << " m keep a millionth of a cell in double precision; ";
   }
-  // Only axis-aligned grids: the origin may carry no rotation (x = y = z = 0, w != 0; tf2
-  // normalises the quaternion). The all-zero quaternion is no rotation at all: ROS 2's messages
-  // default w to 1, so a publisher that sends 0 left the field unset.
-  const auto& q = info.origin().orientation();
+}
+
+// Only axis-aligned grids: the origin may carry no rotation (x = y = z = 0, w != 0; tf2
+// normalises the quaternion). The all-zero quaternion is no rotation at all: ROS 2's messages
+// default w to 1, so a publisher that sends 0 left the field unset.
+void add_slice_rotation_problems(const OccupancyGridMsg& msg, std::ostringstream& bad) {
+  const auto& q = msg.info().origin().orientation();
   const double q_norm = std::hypot(std::hypot(q.x(), q.y()), std::hypot(q.z(), q.w()));
   std::ostringstream quaternion;
   quaternion << "info.origin.orientation (x, y, z, w) = (" << num(q.x()) << ", " << num(q.y())
@@ -289,28 +292,52 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
         << "without rotation); ";
   else if (std::max({std::abs(q.x()), std::abs(q.y()), std::abs(q.z())}) > 1e-9 * q_norm)
     bad << quaternion.str() << " must be the identity (rotated grids are not supported); ";
+}
+
+// The first value outside -1..100, as the message names it; "" when there is none.
+std::string first_bad_slice_value(const OccupancyGridMsg& msg) {
+  for (size_t i = 0; i < msg.data().size(); ++i) {
+    const int8_t v = msg.data()[i];
+    if (v < -1 || v > 100)
+      return "data[" + std::to_string(i) + "] = " + std::to_string(int{v}) + ", expected -1..100";
+  }
+  return "";
+}
+
+}  // namespace
+
+SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_frame,
+                          int64_t max_cells) {
+  SliceCheck out;
+  const std::string& frame = msg.header().frame_id();
+  if (!frame.empty() && !same_frame(frame, expected_frame)) {
+    out.status = error(wire::FRAME_MISMATCH, "slice header.frame_id is '" + printable(frame) +
+                                                 "', the node plans in '" + expected_frame + "'");
+    return out;
+  }
+  std::ostringstream bad;
+  add_slice_size_problems(msg, max_cells, bad);
+  add_slice_origin_problems(msg, bad);
+  add_slice_rotation_problems(msg, bad);
   std::string message = bad.str();
   if (!message.empty()) {
     message.resize(message.size() - 2);
     out.status = error(wire::INVALID_MAP, "invalid slice: " + message);
     return out;
   }
-  for (size_t i = 0; i < msg.data().size(); ++i) {
-    const int8_t v = msg.data()[i];
-    if (v < -1 || v > 100) {
-      out.status = error(wire::INVALID_MAP, "invalid slice: data[" + std::to_string(i) + "] = " +
-                                                std::to_string(int{v}) + ", expected -1..100");
-      return out;
-    }
+  if (const std::string value = first_bad_slice_value(msg); !value.empty()) {
+    out.status = error(wire::INVALID_MAP, "invalid slice: " + value);
+    return out;
   }
+  const auto& info = msg.info();
   out.grid.width = static_cast<int32_t>(info.width());
   out.grid.height = static_cast<int32_t>(info.height());
   // MapMetaData carries the resolution as a float32: map_server's 0.05 arrives as
   // 0.05000000074505806, which turned robot_radius 0.15 m into 2.99999996 cells instead of 3
   // (metres_to_cells) and planned on another inflation than vnsba_plan reading the same file.
   out.grid.resolution = float32_decimal(info.resolution());
-  out.grid.origin_x = p.x();  // metres
-  out.grid.origin_y = p.y();
+  out.grid.origin_x = info.origin().position().x();  // metres
+  out.grid.origin_y = info.origin().position().y();
   out.grid.data = std::move(msg.data());
   return out;
 }
