@@ -298,7 +298,8 @@ void run(const Options& o, const std::string& mode, const std::string& discovery
   const core::OccupancyGrid grid = bench::indoor_map(o.map_size, 0.05);
   auto slice = node::to_slice_msg(grid, "map", node::now_msg());
   map_writer->write(&slice);
-  auto map = core::GridMap::build(grid, core::GridBuildOptions()).value();
+  // Start and goal cells free on the grid the nodes plan on (the robot's radius inflated).
+  auto map = core::GridMap::build(grid, node::planning_grid_options(base)).value();
   std::mt19937 rng(11);
   std::uniform_int_distribution<int> coord(0, o.map_size - 1);
   auto free_cell = [&] {

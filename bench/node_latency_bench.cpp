@@ -238,7 +238,7 @@ void run_map(const char* label, int size, int queries,
   }
   if (e2e_us.empty()) return;
   const double e2e50 = percentile(e2e_us, 0.5), core50 = percentile(core_us, 0.5);
-  std::printf("%-10s %-10s %8zu %10.0f %10.0f %10.0f %10.0f %12.0f %9d\n", label,
+  std::printf("%-10s %-20s %8zu %10.0f %10.0f %10.0f %10.0f %12.0f %9d\n", label,
               std::string(core::to_string(options.planner)).c_str(), e2e_us.size(), e2e50,
               percentile(e2e_us, 0.99), core50, percentile(core_us, 0.99), e2e50 - core50,
               failures);
@@ -339,7 +339,7 @@ int main(int argc, char** argv) {
   // The output is the table: the node's per-plan log lines (info) would bury it.
   spdlog::set_level(spdlog::level::warn);
   std::printf("vnsba_node end-to-end latency over loopback DDS (indoor maps, 5 cm cells)\n");
-  std::printf("%-10s %-10s %8s %10s %10s %10s %10s %12s %9s\n", "map", "planner", "queries",
+  std::printf("%-10s %-20s %8s %10s %10s %10s %10s %12s %9s\n", "map", "planner", "queries",
               "e2e_p50_us", "e2e_p99_us", "core_p50_us", "core_p99_us", "overhead_us", "failures");
   // --security KEYSTORE (made by tools/make_keystore.sh): the 100 x 100 map without and with DDS
   // Security, on the same topics and domain, three times alternating; nothing else.
