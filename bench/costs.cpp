@@ -747,10 +747,10 @@ OctomapResult run_octomaps(const CostsOptions& options,
       "same with smoother relax, its weights at their defaults). Time: median of %d plans per "
       "side, the sides interleaved. Max curvature: the largest heading change over the mean "
       "length of its two segments, per metre.\n\n",
-      scene->name.c_str(), default_slice_band().z_min, default_slice_band().z_max, scene->grid.width, scene->grid.height,
-      scene->grid.resolution, options.robot.robot_radius, options.robot.inflation_radius,
-      options.robot.cost_scaling_factor, options.robot.cost_weight, options.robot.goal_tolerance,
-      options.robot.start_tolerance, options.repetitions);
+      scene->name.c_str(), default_slice_band().z_min, default_slice_band().z_max,
+      scene->grid.width, scene->grid.height, scene->grid.resolution, options.robot.robot_radius,
+      options.robot.inflation_radius, options.robot.cost_scaling_factor, options.robot.cost_weight,
+      options.robot.goal_tolerance, options.robot.start_tolerance, options.repetitions);
   std::string text = std::string(head) + kSidesNote +
                      "\n\nPer planner, over the three routes:\n\n" + demo_summary.str() +
                      "\nPer route:\n\n" + routes.str() + "\n";
@@ -1218,9 +1218,8 @@ const RobotSettings& default_yaml_robot() {
   static const RobotSettings robot = [] {
     const node::NodeConfig& c = default_yaml_config();
     const core::PlannerOptions planner = c.planner.options();
-    return RobotSettings{c.map.robot_radius,    c.map.inflation_radius,
-                         c.map.cost_scaling_factor, planner.cost_weight,
-                         planner.goal_tolerance, planner.start_tolerance};
+    return RobotSettings{c.map.robot_radius,  c.map.inflation_radius, c.map.cost_scaling_factor,
+                         planner.cost_weight, planner.goal_tolerance, planner.start_tolerance};
   }();
   return robot;
 }

@@ -12,8 +12,8 @@
 #include "map_input.hpp"
 #include "request_intake.hpp"
 #include "robot_poses.hpp"
-#include "work_queues.hpp"
 #include "vnsba/node/action_catalog.hpp"
+#include "work_queues.hpp"
 
 namespace vnsba::node {
 

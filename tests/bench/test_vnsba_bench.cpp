@@ -289,7 +289,8 @@ TEST(VnsbaBench, CostsComparesThreeSidesOnTheSceneTheSlicesAndTheMaps) {
 // smoothed; the choice table's planners differ from the default only in the planner.
 TEST(VnsbaBench, CostsDefaultConfigurationIsAutos) {
   using core::PathSmoother;
-  const auto chosen = bench::default_config_options(bench::default_yaml_robot(), PathSmoother::kRelax);
+  const auto chosen =
+      bench::default_config_options(bench::default_yaml_robot(), PathSmoother::kRelax);
   EXPECT_EQ(chosen.planner, core::kCostAwareChoice);
   EXPECT_TRUE(core::supports_costs(chosen.planner));
   EXPECT_TRUE(chosen.prune && chosen.smooth);
