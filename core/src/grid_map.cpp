@@ -291,6 +291,33 @@ std::string_view to_string(CellLayer layer) {
   return "?";
 }
 
+MapMemoryEstimate GridMap::estimate_memory(int32_t width, int32_t height,
+                                           const GridBuildOptions& options) {
+  const size_t w = static_cast<size_t>(std::max(width, 0));
+  const size_t h = static_cast<size_t>(std::max(height, 0));
+  const size_t cells = w * h;
+  const size_t padded = (w + 2) * (h + 2);
+  MapMemoryEstimate estimate;
+  estimate.map_bytes = padded * sizeof(uint8_t)                         // blocked_
+                       + cells * sizeof(CellLayer)                      // layers_
+                       + cells * sizeof(float)                          // obstacle_distance_
+                       + padded * sizeof(float)                         // costs_ (when any)
+                       + (w + 1) * (h + 1) * sizeof(int32_t)            // summed_area_
+                       + (h * ((w + 63) / 64) + 1) * sizeof(uint64_t)   // row_bits_
+                       + (w * ((h + 63) / 64) + 1) * sizeof(uint64_t);  // column_bits_
+  // The distance transform's vertical distances, and its per-row envelope.
+  estimate.scratch_bytes = cells * sizeof(int32_t) + w * (2 * sizeof(int32_t) + sizeof(int64_t));
+  (void)options;
+  return estimate;
+}
+
+size_t GridMap::bytes() const {
+  return blocked_.capacity() * sizeof(uint8_t) + layers_.capacity() * sizeof(CellLayer) +
+         obstacle_distance_.capacity() * sizeof(float) + costs_.capacity() * sizeof(float) +
+         summed_area_.capacity() * sizeof(int32_t) +
+         (row_bits_.capacity() + column_bits_.capacity()) * sizeof(uint64_t);
+}
+
 double GridMap::density(const Cell& a, const Cell& b) const {
   const int64_t cells = (int64_t{std::abs(a.x - b.x)} + 1) * (int64_t{std::abs(a.y - b.y)} + 1);
   return static_cast<double>(blocked_in_rect(a, b)) / static_cast<double>(cells);

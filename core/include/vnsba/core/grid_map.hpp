@@ -114,8 +114,24 @@ constexpr CellLayer classify_value(int value, int occupied_threshold, bool allow
   return value >= occupied_threshold ? CellLayer::kOccupied : CellLayer::kFree;
 }
 
+// What a map of a given size costs in memory, before it is built (bytes): what a memory budget
+// checks a slice against before converting it. Upper bounds: costs are counted whenever the
+// options or a graded value could give them.
+struct MapMemoryEstimate {
+  size_t map_bytes = 0;      // the built GridMap (GridMap::bytes() is at most this)
+  size_t scratch_bytes = 0;  // held only while GridMap::build runs, on top of map_bytes
+  size_t peak_bytes() const { return map_bytes + scratch_bytes; }
+};
+
 class GridMap {
  public:
+  // The memory a width x height map built with `options` needs (see MapMemoryEstimate). The one
+  // place that knows the layout of a map's arrays; the node's memory budget reads it.
+  static MapMemoryEstimate estimate_memory(int32_t width, int32_t height,
+                                           const GridBuildOptions& options);
+  // Bytes held by this map's arrays (their capacities).
+  size_t bytes() const;
+
   // Validates, thresholds, inflates and builds the summed-area table and the bit grids.
   // O(cells) whatever the robot radius (inflation goes through the exact distance transform),
   // about 10 bytes of scratch per cell. Polls `cancel` (may be null) once per row and stops
