@@ -181,10 +181,9 @@ inline int sign_of(int32_t v) {
 // arrival: straight when |dx| != |dy|, diagonal otherwise.
 class JumpPointSearch {
  public:
-  JumpPointSearch(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& goal,
+  JumpPointSearch(const GridMap& map, SparseSearchSpace& space, const Cell& goal,
                   PlanningBudget& budget)
       : map_(map),
-        states_(states),
         space_(space),
         budget_(budget),
         blocked_(map.blocked_data()),
@@ -203,7 +202,7 @@ class JumpPointSearch {
     cell_ = cell;
     g_ = space_.g(node);
     const uint32_t parent = space_.parent(node);
-    if (parent == SearchSpace::kNoParent) {
+    if (parent == SparseSearchSpace::kNoParent) {
       jump_straight<1, 0>() && jump_straight<-1, 0>() && jump_straight<0, 1>() &&
           jump_straight<0, -1>() && jump_diagonal<1, 1>() && jump_diagonal<-1, 1>() &&
           jump_diagonal<1, -1>() && jump_diagonal<-1, -1>();
@@ -386,22 +385,23 @@ class JumpPointSearch {
     return true;
   }
 
-  // A jump point found by a diagonal walk, with its padded index and its flags read when it was
-  // found: the flags load, a likely cache miss, then overlaps the rest of the walk instead of
-  // stalling add_successor (the cells one expansion finds are all distinct, so the flags do not
-  // change in between). No default member initialisers: the walk's buffer is not zeroed.
+  // A jump point found by a diagonal walk, with its padded index and its record looked up when
+  // it was found: the lookup, a likely cache miss, then overlaps the rest of the walk instead of
+  // stalling add_successor (the cells one expansion finds are all distinct, so none of them gets
+  // a record in between, and records keep their numbers). No default member initialisers: the
+  // walk's buffer is not zeroed.
   struct JumpPoint {
     int32_t x, y;
     uint32_t index;
-    uint16_t flags;
+    uint32_t record;
   };
   JumpPoint found_at(int32_t x, int32_t y) const {
     const uint32_t index = map_.padded_index(x, y);
-    return {x, y, index, states_.flags(index)};
+    return {x, y, index, space_.find(index)};
   }
   void add_successors(const JumpPoint* found, int count) {
     for (int i = 0; i < count; ++i) {
-      add_successor({found[i].x, found[i].y}, found[i].index, found[i].flags);
+      add_successor({found[i].x, found[i].y}, found[i].index, found[i].record);
     }
   }
   // The goal, reached by a jump from the node being expanded. Every jump costs the octile distance
@@ -423,25 +423,26 @@ class JumpPointSearch {
  private:
   void add_successor(const Cell& to) {
     const uint32_t index = map_.padded_index(to);
-    add_successor(to, index, states_.flags(index));
+    add_successor(to, index, space_.find(index));
   }
 
   // Opens `to` with the node being expanded as its parent, or lowers its g; closed cells hold
   // their final g already (octile is consistent on the jump graph, whose edges cost the octile
   // distance between their ends).
-  void add_successor(const Cell& to, uint32_t m, uint16_t flags) {
-    if ((flags & space_.closed_flag()) != 0) return;
-    const double g = g_ + jump_cost(to.x - cell_.x, to.y - cell_.y);
-    if ((flags & space_.seen_flag()) == 0) {
+  // `record` is m's record (SparseSearchSpace::kNoRecord when unseen).
+  void add_successor(const Cell& to, uint32_t m, uint32_t record) {
+    if (record == SparseSearchSpace::kNoRecord) {
+      const double g = g_ + jump_cost(to.x - cell_.x, to.y - cell_.y);
       space_.push(m, g, g + octile(to, goal_), node_);
-    } else if (g < space_.g(m)) {
-      space_.update(m, g, g + octile(to, goal_), node_);
+      return;
     }
+    if (space_.closed(record)) return;
+    const double g = g_ + jump_cost(to.x - cell_.x, to.y - cell_.y);
+    if (g < space_.g_of(record)) space_.update(record, g, g + octile(to, goal_), node_);
   }
 
   const GridMap& map_;
-  CellStates& states_;
-  SearchSpace& space_;
+  SparseSearchSpace& space_;
   PlanningBudget& budget_;
   const uint8_t* blocked_;  // padded, 1 = blocked (GridMap::blocked_data)
   int32_t stride_, width_, height_;
@@ -458,9 +459,9 @@ class JumpPointSearch {
 
 // The cells from the root to `node`: between each jump point and its parent, the diagonal steps
 // first and then the straight ones, as the jumps walked them.
-std::vector<Cell> trace_path(const GridMap& map, const SearchSpace& space, uint32_t node) {
+std::vector<Cell> trace_path(const GridMap& map, const SparseSearchSpace& space, uint32_t node) {
   size_t cells = 1;
-  for (uint32_t n = node; space.parent(n) != SearchSpace::kNoParent; n = space.parent(n)) {
+  for (uint32_t n = node; space.parent(n) != SparseSearchSpace::kNoParent; n = space.parent(n)) {
     const Cell a = map.cell_of(space.parent(n)), b = map.cell_of(n);
     cells += static_cast<size_t>(std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)));
   }
@@ -468,7 +469,7 @@ std::vector<Cell> trace_path(const GridMap& map, const SearchSpace& space, uint3
   path.reserve(cells);
   uint32_t n = node;
   Cell walk = map.cell_of(n);
-  for (uint32_t parent = space.parent(n); parent != SearchSpace::kNoParent;
+  for (uint32_t parent = space.parent(n); parent != SparseSearchSpace::kNoParent;
        n = parent, parent = space.parent(n)) {
     const Cell from = map.cell_of(parent);
     const int32_t dx = walk.x - from.x, dy = walk.y - from.y;
@@ -495,18 +496,17 @@ std::vector<Cell> trace_path(const GridMap& map, const SearchSpace& space, uint3
 
 }  // namespace
 
-JpsOutcome jps_search(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& start,
+JpsOutcome jps_search(const GridMap& map, SparseSearchSpace& space, const Cell& start,
                       const Cell& goal, PlanningBudget& budget, std::vector<Cell>* expanded_cells) {
   JpsOutcome out;
   if (map.blocked(start) || map.blocked(goal)) {
     out.code = StatusCode::kInternalError;
     return out;
   }
-  states.begin_query(map.padded_size());
-  space.begin_query(map.padded_size());
+  space.begin_query();
   const uint32_t goal_index = map.padded_index(goal);
-  JumpPointSearch search(map, states, space, goal, budget);
-  space.push(map.padded_index(start), 0.0, octile(start, goal), SearchSpace::kNoParent);
+  JumpPointSearch search(map, space, goal, budget);
+  space.push(map.padded_index(start), 0.0, octile(start, goal), SparseSearchSpace::kNoParent);
   while (!space.empty()) {
     if (const StatusCode code = budget.poll(); code != StatusCode::kOk) {
       out.code = code;

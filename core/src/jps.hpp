@@ -31,14 +31,15 @@ struct JpsOutcome {
 // path's cost equals A*'s bit for bit.
 //
 // Both cells must be in the map and free (kInternalError otherwise: the caller checks the query);
-// start == goal gives the one-cell path. `states` and `space` are reused across queries (this
-// begins a query on both). The budget is polled once per expansion and once per cell a diagonal
-// walk visits (one expansion can walk the whole map); when it runs out the search stops with its
-// code (kTimeout, kCanceled). `expanded_cells` may be null; when not, the popped
-// jump points are appended to it in order.
+// start == goal gives the one-cell path. `space` is reused across queries (this begins a query on
+// it): a record per jump point touched, so the memory grows with the search, not the map. The
+// budget is polled once per expansion and once per cell a diagonal walk visits (one expansion can
+// walk the whole map); when it runs out the search stops with its code (kTimeout, kCanceled).
+// `expanded_cells` may be null; when not, the popped jump points are appended to it in order.
 //
-// Allocates nothing per query but the result path (and what `expanded_cells` grows by).
-JpsOutcome jps_search(const GridMap& map, CellStates& states, SearchSpace& space, const Cell& start,
+// Allocates per query only the result path, what `expanded_cells` grows by, and `space`'s
+// records where this query touches more cells than any before it.
+JpsOutcome jps_search(const GridMap& map, SparseSearchSpace& space, const Cell& start,
                       const Cell& goal, PlanningBudget& budget, std::vector<Cell>* expanded_cells);
 
 }  // namespace vnsba::core::detail

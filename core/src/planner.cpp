@@ -20,6 +20,7 @@ namespace {
 using detail::CellStates;
 using detail::SearchOutcome;
 using detail::SearchSpace;
+using detail::SparseSearchSpace;
 using Clock = PlanningBudget::Clock;
 
 std::string describe(const Cell& c) {
@@ -31,35 +32,27 @@ std::string describe(const Cell& c) {
 // ---------------------------------------------------------------------------------------------
 // Planner.
 
+// The search state of every planner, none of it allocated before a query uses it
+// (search_space.hpp): a unidirectional search never touches `backward`, jump point search only
+// `sparse`, and the dense arrays commit only the pages a query writes.
 struct Planner::Impl {
   CellStates states;
   SearchSpace forward{&states, 0};
   SearchSpace backward{&states, 1};
-  size_t peak_direction_bytes = 0;
+  SparseSearchSpace sparse;
   Cell current[2];
-
-  void note_peak() {
-    peak_direction_bytes = std::max({peak_direction_bytes, forward.bytes(), backward.bytes()});
-  }
 
   // The registered planner's search (planner_registry.hpp), on free, distinct endpoints.
   SearchOutcome run(const GridMap& map, const PlanQuery& q, const PlannerOptions& o,
                     PlanningBudget& budget, std::vector<Cell>* rec_f, std::vector<Cell>* rec_b) {
-    const detail::SearchRequest request{map,    states, forward, backward, current, q.start,
-                                        q.goal, o,      budget,  rec_f,    rec_b};
+    const detail::SearchRequest request{map,     states, forward, backward, sparse, current,
+                                        q.start, q.goal, o,       budget,   rec_f,  rec_b};
     return o.planner.descriptor()->search(request);
   }
 };
 
 Planner::Planner(std::shared_ptr<const GridMap> map)
-    : map_(std::move(map)), impl_(std::make_unique<Impl>()) {
-  if (map_) {
-    impl_->states.allocate(map_->padded_size());
-    impl_->forward.allocate(map_->padded_size());
-    impl_->backward.allocate(map_->padded_size());
-    impl_->note_peak();
-  }
-}
+    : map_(std::move(map)), impl_(std::make_unique<Impl>()) {}
 Planner::~Planner() = default;
 Planner::Planner(Planner&&) noexcept = default;
 namespace {
@@ -402,12 +395,15 @@ Status check_query(const GridMap& map, const PlanQuery& query, const PlannerOpti
 Planner& Planner::operator=(Planner&&) noexcept = default;
 
 size_t Planner::search_state_bytes() const {
-  return impl_->states.bytes() + impl_->forward.bytes() + impl_->backward.bytes();
+  return impl_->states.bytes() + impl_->forward.bytes() + impl_->backward.bytes() +
+         impl_->sparse.bytes();
 }
 
 double Planner::peak_bytes_per_cell_per_direction() const {
   if (!map_ || map_->cell_count() == 0) return 0.0;
-  return static_cast<double>(impl_->peak_direction_bytes) / static_cast<double>(map_->cell_count());
+  const size_t direction =
+      std::max({impl_->forward.bytes(), impl_->backward.bytes(), impl_->sparse.bytes()});
+  return static_cast<double>(direction) / static_cast<double>(map_->cell_count());
 }
 
 namespace {
@@ -548,7 +544,6 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
   } else {
     outcome = impl_->run(map, resolved, options, budget, &result.expanded_forward,
                          &result.expanded_backward);
-    impl_->note_peak();
   }
   result.metrics.expanded = outcome.expanded;
   result.meeting_cell = outcome.meeting;

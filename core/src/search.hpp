@@ -268,6 +268,8 @@ struct SearchRequest {
   CellStates& states;
   SearchSpace& forward;
   SearchSpace& backward;
+  // Per touched cell, for searches that touch cells far apart (jump point search).
+  SparseSearchSpace& sparse;
   // The forward / backward current nodes (the last expanded) of a bidirectional search, which
   // its heuristics read through pointers; owned by the planner, so that they outlive the search.
   Cell (&current)[2];

@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <random>
 
 #include "core/test_support.hpp"
@@ -296,17 +299,69 @@ TEST(Planner, AStarIsOptimalAndOthersAreNotShorter) {
   }
 }
 
-TEST(Planner, ConstructionAllocatesBothSearchDirections) {
-  // The node makes its Planner when it installs a map, so that no query pays for the arrays.
-  auto map = open_map(50, 50);
-  core::Planner planner(map);
-  const size_t allocated = planner.search_state_bytes();
-  // Two directions of g, heap position and parent (16 bytes) per padded cell at least.
-  EXPECT_GE(allocated, 2u * 16u * map->padded_size());
-  ASSERT_TRUE(
-      planner.plan({{0, 0}, {49, 49}}, default_options(PlannerKind::kVnsBaStar)).status.is_ok());
-  // Only the open lists grew: far less than the per-cell arrays.
-  EXPECT_LT(planner.search_state_bytes(), allocated + allocated / 4);
+// Bytes of this process resident in memory now (the second field of /proc/self/statm, in pages),
+// or -1 where the system does not tell.
+int64_t resident_bytes_now() {
+  std::FILE* statm = std::fopen("/proc/self/statm", "r");
+  if (statm == nullptr) return -1;
+  long long size_pages = 0, resident_pages = 0;
+  const int read = std::fscanf(statm, "%lld %lld", &size_pages, &resident_pages);
+  std::fclose(statm);
+  return read == 2 ? resident_pages * sysconf(_SC_PAGESIZE) : -1;
+}
+
+// Installing a map makes the planners of it (the node makes one per worker): that must not
+// commit per-cell search state, which on a big map would be tens of bytes a cell per planner
+// before any query, and a short query must commit memory for the cells it reaches, not the map.
+// Measured as the process's resident memory, not as the planner reports it.
+TEST(Planner, MemoryGrowsWithTheSearchNotTheMap) {
+  if (resident_bytes_now() < 0) GTEST_SKIP() << "no /proc/self/statm to read resident memory from";
+  constexpr int kSide = 2048;
+  // Open but for a sealed cell near the top-right corner (rows are given top first): the goal of
+  // the last query, which A* cannot reach without closing every other cell.
+  std::vector<std::string> rows(kSide, std::string(kSide, '.'));
+  for (int d = -1; d <= 1; ++d) {
+    rows[2 + d][kSide - 4] = rows[2 + d][kSide - 2] = '#';
+    rows[1][kSide - 3 + d] = rows[3][kSide - 3 + d] = '#';
+  }
+  const core::Cell sealed{kSide - 3, kSide - 3};
+  auto map = shared(rows);
+  ASSERT_TRUE(map->free(sealed));
+  const double cells = static_cast<double>(map->padded_size());
+  // What one planner would commit at install if it allocated per cell: the shared flags (2 bytes)
+  // and one direction's records (16 bytes), the least any dense layout of both could take.
+  const double dense_bytes = cells * (2 + 16);
+  const int64_t before_install = resident_bytes_now();
+  std::vector<std::unique_ptr<core::Planner>> workers;
+  for (int i = 0; i < 4; ++i) workers.push_back(std::make_unique<core::Planner>(map));
+  const int64_t after_install = resident_bytes_now();
+  EXPECT_LT(static_cast<double>(after_install - before_install), 0.01 * dense_bytes)
+      << "four planners committed " << (after_install - before_install) << " bytes at install";
+  for (const auto& planner : workers) EXPECT_EQ(planner->search_state_bytes(), 0u);
+
+  // Short queries of every planner kind across the middle of the map: a few hundred cells each.
+  core::Planner& planner = *workers.front();
+  for (const core::PlannerKind kind : {PlannerKind::kAStar, PlannerKind::kJps,
+                                       PlannerKind::kVnsBaStar, PlannerKind::kBidirectionalAStar}) {
+    core::PlannerOptions options = default_options(kind);
+    options.prune = false;
+    options.smooth = false;
+    const core::PlanResult r =
+        planner.plan({{kSide / 2, kSide / 2}, {kSide / 2 + 40, kSide / 2 + 25}}, options);
+    ASSERT_TRUE(r.status.is_ok()) << core::to_string(kind) << ": " << r.status.message;
+  }
+  const int64_t after_queries = resident_bytes_now();
+  EXPECT_LT(static_cast<double>(after_queries - after_install), 0.05 * dense_bytes)
+      << "short queries committed " << (after_queries - after_install) << " bytes";
+  EXPECT_LT(static_cast<double>(planner.search_state_bytes()), 0.05 * dense_bytes);
+  EXPECT_GT(planner.search_state_bytes(), 0u);
+
+  // A query that reaches every cell commits the dense state of one direction at least: the
+  // memory follows the search.
+  const core::PlanResult flood =
+      planner.plan({{0, 0}, sealed}, default_options(PlannerKind::kAStar));
+  ASSERT_EQ(flood.status.code, StatusCode::kNoValidPath) << flood.status.message;
+  EXPECT_GT(static_cast<double>(planner.search_state_bytes()), 0.5 * dense_bytes);
 }
 
 // A* on a query with no path closes exactly the start's component: its expansion count is the

@@ -11,7 +11,7 @@ namespace {  // names unique among core's files (the unity build batches them)
 
 detail::SearchOutcome search_jps(const detail::SearchRequest& r) {
   detail::JpsOutcome jps =
-      detail::jps_search(r.map, r.states, r.forward, r.start, r.goal, r.budget,
+      detail::jps_search(r.map, r.sparse, r.start, r.goal, r.budget,
                          r.options.record_expansions ? r.expanded_forward : nullptr);
   detail::SearchOutcome out;
   out.code = jps.code;

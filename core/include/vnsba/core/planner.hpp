@@ -1,17 +1,18 @@
 // The planners of docs/algorithm.md: VNS-BA* and its baselines, behind one interface.
 //
 //   auto map = std::make_shared<const GridMap>(GridMap::build(grid).value());
-//   Planner planner(map);                       // allocates the search state for this map
+//   Planner planner(map);                       // allocates nothing yet
 //   PlannerOptions opts = default_options(PlannerKind::kVnsBaStar);
 //   PlanResult r = planner.plan({start, goal}, opts);
 //   if (r.status.is_ok()) use(r.world_path);
 //
-// A Planner reuses its flat search arrays across queries on the same map; it is not
-// thread-safe (one Planner per thread), but any number of Planners may share one GridMap.
-// The constructor allocates the per-cell arrays of both search directions (34 bytes per cell
-// together, about 570 MB for 4096 x 4096 cells), so that no query pays for them: make the
-// Planner when a map is installed, not at its first query (at 4096 x 4096 the allocation takes a
-// few hundred milliseconds, which the first plan and its cancel latency would otherwise include).
+// A Planner reuses its search state across queries on the same map; it is not thread-safe (one
+// Planner per thread), but any number of Planners may share one GridMap. The state grows with
+// what the searches touch, not with the map: nothing is committed before the first query, and a
+// query commits memory only for the cells it reaches (4 KiB pages of per-cell arrays for the
+// searches that step from cell to cell: 2 bytes a cell shared plus 16 bytes a cell per direction
+// searched; a record per touched cell for jump point search), kept for the next query. Making
+// a Planner is cheap whatever the map's size.
 #pragma once
 
 #include <atomic>
@@ -120,9 +121,9 @@ struct PlanResult {
 // Cost: nothing beyond the checks when no endpoint moves. Otherwise a flood alternating between
 // the candidate and the other endpoint (see reachability.hpp): a sealed speck costs its own size,
 // a reachable candidate about the cells between the two; over all candidates each cell is visited
-// at most twice. It needs 2 bytes per map cell: the Planner's own search words (no allocation);
-// this free function allocates them when an endpoint moves. `budget` (may be null) is polled
-// throughout: TIMEOUT / CANCELED when it runs out.
+// at most twice. It needs 2 bytes per map cell it reaches: the Planner's own search words; this
+// free function reserves them when an endpoint moves (committed where the flood goes). `budget`
+// (may be null) is polled throughout: TIMEOUT / CANCELED when it runs out.
 Expected<Endpoints> resolve_endpoints(const GridMap& map, const PlanQuery& query,
                                       const PlannerOptions& options,
                                       PlanningBudget* budget = nullptr);
@@ -151,11 +152,12 @@ class Planner {
   const GridMap& map() const { return *map_; }
   const std::shared_ptr<const GridMap>& shared_map() const { return map_; }
 
-  // Bytes held by the search state (per-cell arrays of both directions plus heaps), measured
-  // from the containers' capacities. The per-cell arrays are allocated by the constructor; the
-  // heaps grow with the open lists.
+  // Bytes of search state committed now (the pages of per-cell arrays the queries so far have
+  // written, the jump point records and the open lists): 0 before the first query. O(pages
+  // reserved), for reports, not per query.
   size_t search_state_bytes() const;
-  // The most bytes of search state ever held by one direction, divided by the map's cell count.
+  // The bytes one direction's search state holds now (the most of any direction; pages are kept
+  // across queries, so this is its high-water mark), divided by the map's cell count.
   double peak_bytes_per_cell_per_direction() const;
 
  private:
