@@ -113,15 +113,16 @@ summarise() {
   key_column=$1
   title=$2
   cut -f"$key_column",3,5 "$work/times.tsv" | medians > "$work/medians.tsv"
+  # A query is its map and scenario line (a class holds several maps, whose lines coincide).
   awk -F'\t' -v column="$key_column" '
-      $3 == "jps" { ours[$column SUBSEP $4] = $6 }
-      $3 == "jps2" { ref[$column SUBSEP $4] = $6; groups[$column] = 1 }
+      $3 == "jps" { ours[$2 SUBSEP $4] = $6 }
+      $3 == "jps2" { ref[$2 SUBSEP $4] = $6; group[$2 SUBSEP $4] = $column; groups[$column] = 1 }
       END {
         for (k in ref) {
-          split(k, p, SUBSEP)
-          if (!(k in ours)) { missing[p[1]]++; continue }
+          g = group[k]
+          if (!(k in ours)) { missing[g]++; continue }
           d = ours[k] - ref[k]; if (d < 0) d = -d
-          if (d > 1e-5 * (ref[k] > 1 ? ref[k] : 1)) differ[p[1]]++
+          if (d > 1e-5 * (ref[k] > 1 ? ref[k] : 1)) differ[g]++
         }
         for (g in groups) print g "\t" differ[g] + 0 "\t" missing[g] + 0
       }' "$work/times.tsv" > "$work/costs.tsv"
