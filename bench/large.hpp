@@ -9,6 +9,16 @@
 //           copies join into one large random field).
 // Queries: the map's scenarios spread over its file, endpoints moved to the centre of their
 // block (scaled), or from a scenario's start in the first copy to its goal in the last (tiled).
+//
+// Three modes:
+//   interleaved (default): every planner in one process, query by query, so that a slow moment
+//           of the machine hits every planner alike; times only (the process holds every map).
+//   memory (--memory): one child process per map, size and planner (the bench binary itself,
+//           started again with a hidden option), each building its map and running the same
+//           queries with its planner only, so that its peak RSS is that planner's alone. The
+//           parent prints times and memory (docs/benchmarks.md says what each column is).
+//   write maps (--write-maps DIR): the grown maps and their queries as Moving AI .map and
+//           .map.scen files, for other programs (a reference JPS) to run the same queries.
 #pragma once
 
 #include <string>
@@ -31,6 +41,14 @@ struct LargeOptions {
   // Progress on stderr (plans done / total, elapsed, ETA, at most once a second) even when stderr
   // is not a terminal; on a terminal it is always shown.
   bool progress = false;
+  // The memory mode (see above).
+  bool memory = false;
+  // Set in a memory mode child only (a hidden option): the one map (a source map's name, as
+  // "16room_000") it runs, with the one size and the one planner it is given; it prints its
+  // figures as one line on stdout for the parent.
+  std::string memory_child_map;
+  // Not empty: write the grown maps and queries to this folder instead of planning.
+  std::string write_maps_dir;
 };
 
 int run_large(const LargeOptions& options);

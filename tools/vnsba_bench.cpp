@@ -11,6 +11,11 @@
 //   vnsba_bench movingai [--maps DIR] [--planners a,b] [--csv] [--max-scenarios N] [--progress]
 //                        [--with-post-processing]
 //                                         every planner on Moving AI scenarios, per map class
+//   vnsba_bench large [--maps DIR] [--planners a,b] [--sizes 2048,4096] [--queries N] [--progress]
+//                     [--memory] [--write-maps DIR]
+//                                         planners on grown Moving AI maps (bench/large.hpp):
+//                                         interleaved in one process, or --memory: a process per
+//                                         map, size and planner with its peak RSS
 //
 // Exit codes: 0 success, 1 a measurement failed, 2 bad input (the message names it).
 #include <CLI/CLI.hpp>
@@ -158,6 +163,14 @@ int main(int argc, char** argv) {
   large->add_option("--queries", large_options.queries, "queries per map and size")
       ->capture_default_str();
   add_progress_flag(large, large_options.progress, "plans");
+  large->add_flag("--memory", large_options.memory,
+                  "one child process per map, size and planner: times and each child's peak RSS "
+                  "(the default mode runs the planners interleaved in one process, times only)");
+  large->add_option("--write-maps", large_options.write_maps_dir,
+                    "write the grown maps and their queries as Moving AI .map and .map.scen files "
+                    "to this folder (<map>-<size>.map), instead of planning");
+  // The memory mode's children: the bench started again for one map (see bench/large.hpp).
+  large->add_option("--memory-child", large_options.memory_child_map)->group("");
 
   vnsba::bench::CostsOptions costs_options;
   costs_options.maps_dir = maps_dir;

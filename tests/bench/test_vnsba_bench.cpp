@@ -13,11 +13,13 @@
 
 #include "bench/common.hpp"
 #include "bench/costs.hpp"
+#include "bench/large.hpp"
 #include "bench/movingai.hpp"
 #include "bench/paper.hpp"
 #include "bench/sweep.hpp"
 #include "node/child_process.hpp"
 #include "temp_dir.hpp"
+#include "vnsba/core/planner_options.hpp"
 #include "vnsba/maps/map_io.hpp"
 #include "vnsba/node/config.hpp"
 
@@ -204,6 +206,152 @@ TEST(VnsbaBench, LargeRowsPerMapAndPlannerAndItsOptions) {
     EXPECT_EQ(bad_code, 2) << message;
     EXPECT_NE(message.find(bad[3]), std::string::npos) << message;
   }
+}
+
+// The cells of one row of a Markdown table whose first cells are `prefix` ("| map | cells |"),
+// trimmed; empty when no row starts so.
+std::vector<std::string> table_row(const std::string& output, const std::string& prefix) {
+  std::istringstream lines(output);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind(prefix, 0) != 0) continue;
+    std::vector<std::string> cells;
+    for (std::string cell : split(line.substr(1), '|')) {
+      cell.erase(0, cell.find_first_not_of(' '));
+      cell.erase(cell.find_last_not_of(' ') + 1);
+      cells.push_back(cell);
+    }
+    if (!cells.empty() && cells.back().empty()) cells.pop_back();
+    return cells;
+  }
+  return {};
+}
+
+// `large --memory` at the maps' own size: a row per map and planner from its own process, every
+// plan found, and the memory figures real: the RSS with the map holds the baseline and the map's
+// arrays (the GridMap column, checked against GridMap::bytes of the same map built here), the
+// peak holds both, and bytes / cell is the peak over the cells.
+TEST(VnsbaBench, LargeMemoryRunsEachPlannerInItsOwnProcess) {
+  const std::string maps = VNSBA_DATA_DIR "/movingai";
+  for (const char* name : {"Boston_0_512", "16room_000", "random512-20-0"})
+    if (!fs::exists(maps + "/" + name + ".map"))
+      GTEST_SKIP() << name << ".map is absent: the Moving AI data beside the project is needed";
+  const auto [code, output] =
+      run_to_exit(kBench, {"large", "--memory", "--maps", maps, "--sizes", "512", "--queries", "2",
+                           "--planners", "astar,jps"});
+  ASSERT_EQ(code, 0) << output;
+  // The map's own size, from an independent build of the same source map (factor 1: the grown
+  // map is the source at 5 cm cells, the same cells).
+  auto source = bench::load_map_with_scenarios(maps + "/16room_000.map");
+  ASSERT_TRUE(source) << source.error().message;
+  core::GridBuildOptions build;
+  auto room_map =
+      core::GridMap::build(bench::grow_grid(source->grid, 1, bench::Growth::kScaled), build);
+  ASSERT_TRUE(room_map) << room_map.error().message;
+  const double room_map_mib = static_cast<double>(room_map->bytes()) / (1 << 20);
+  for (const char* planner : {"astar", "jps"}) {
+    for (const char* map : {"Boston_0_512 (street, scaled)", "16room_000 (room, scaled)",
+                            "random512-20-0 (random, tiled)"}) {
+      // map, cells, planner, queries, failed, p50, p95, expanded, baseline, GridMap, RSS with
+      // map, search, peak, bytes / cell
+      const auto row = table_row(output, std::string("| ") + map + " | 512² | " + planner + " |");
+      ASSERT_EQ(row.size(), 14u) << map << " " << planner << "\n" << output;
+      EXPECT_EQ(row[3], "2");
+      EXPECT_EQ(row[4], "0");
+      const double baseline = std::stod(row[8]), grid_map = std::stod(row[9]),
+                   with_map = std::stod(row[10]), peak = std::stod(row[12]),
+                   bytes_per_cell = std::stod(row[13]);
+      EXPECT_GT(baseline, 0.0) << map << " " << planner;
+      EXPECT_GT(grid_map, 0.0);
+      if (std::string(map).rfind("16room", 0) == 0) {
+        EXPECT_NEAR(grid_map, room_map_mib, 0.05);
+      }
+      // The map's arrays are resident (built: every byte written) above the baseline.
+      EXPECT_GE(with_map + 0.1, baseline + grid_map) << map << " " << planner;
+      EXPECT_GE(peak, with_map) << map << " " << planner;
+      EXPECT_GE(peak + 0.1, baseline + grid_map) << map << " " << planner;
+      EXPECT_NEAR(bytes_per_cell, peak * (1 << 20) / (512.0 * 512.0), 0.5);
+      if (row[11] != "n/a") {
+        EXPECT_GE(std::stod(row[11]), 0.0);
+      }
+    }
+  }
+}
+
+// A child that fails (its map file is not a map) fails cleanly: its message names the file,
+// the other maps' children still report, and the run exits 2 (bad input); the hidden child
+// option refuses anything but one map, one size and one planner.
+TEST(VnsbaBench, LargeMemoryReportsAFailingChild) {
+  const std::string maps = VNSBA_DATA_DIR "/movingai";
+  for (const char* name : {"Boston_0_512", "16room_000", "random512-20-0"})
+    if (!fs::exists(maps + "/" + name + ".map"))
+      GTEST_SKIP() << name << ".map is absent: the Moving AI data beside the project is needed";
+  const std::string dir = fresh_folder("large_memory_bad");
+  for (const char* name : {"Boston_0_512", "16room_000"})
+    for (const char* suffix : {".map", ".map.scen"})
+      fs::copy_file(maps + "/" + name + suffix, dir + "/" + name + suffix);
+  fs::copy_file(maps + "/random512-20-0.map.scen", dir + "/random512-20-0.map.scen");
+  std::ofstream(dir + "/random512-20-0.map") << "type octile\nheight 2\nwidth 2\nmap\n.x\n..\n";
+  const auto [code, output] = run_to_exit(kBench, {"large", "--memory", "--maps", dir, "--sizes",
+                                                   "512", "--queries", "1", "--planners", "jps"});
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_NE(output.find("random512-20-0.map"), std::string::npos) << output;
+  EXPECT_NE(output.find("random512-20-0 at 512 with jps: the child exited 2"), std::string::npos)
+      << output;
+  EXPECT_EQ(table_row(output, "| Boston_0_512 (street, scaled) | 512² | jps |").size(), 14u)
+      << output;
+  EXPECT_EQ(table_row(output, "| 16room_000 (room, scaled) | 512² | jps |").size(), 14u) << output;
+  EXPECT_TRUE(table_row(output, "| random512-20-0 (random, tiled)").empty()) << output;
+  const auto [child_code, message] =
+      run_to_exit(kBench, {"large", "--maps", dir, "--sizes", "512", "1024", "--planners", "jps",
+                           "--memory-child", "16room_000"});
+  EXPECT_EQ(child_code, 2) << message;
+  EXPECT_NE(message.find("one known map, one size and one planner"), std::string::npos) << message;
+  fs::remove_all(dir);
+}
+
+// --write-maps: the grown map read back by the Moving AI loader is the grown grid (blocked
+// exactly where the grid is), and its scenarios are the bench's queries in file rows, with our
+// A*'s cost as their optimum (an independent exact planner).
+TEST(VnsbaBench, LargeWriteMapsWritesTheGrownMapsAndQueries) {
+  const std::string maps = VNSBA_DATA_DIR "/movingai";
+  for (const char* name : {"Boston_0_512", "16room_000", "random512-20-0"})
+    if (!fs::exists(maps + "/" + name + ".map"))
+      GTEST_SKIP() << name << ".map is absent: the Moving AI data beside the project is needed";
+  const std::string dir = fresh_folder("large_write_maps");
+  const auto [code, output] = run_to_exit(
+      kBench, {"large", "--maps", maps, "--sizes", "1024", "--queries", "2", "--write-maps", dir});
+  ASSERT_EQ(code, 0) << output;
+  auto source = maps::load_movingai_map(maps + "/16room_000.map");
+  ASSERT_TRUE(source) << source.error().message;
+  const core::OccupancyGrid grown = bench::grow_grid(*source, 2, bench::Growth::kScaled);
+  auto written = maps::load_movingai_map(dir + "/16room_000-1024.map");
+  ASSERT_TRUE(written) << written.error().message;
+  ASSERT_EQ(written->width, 1024);
+  ASSERT_EQ(written->height, 1024);
+  size_t differing = 0;
+  for (size_t i = 0; i < grown.data.size(); ++i)
+    differing += (grown.data[i] >= 65) != (written->data[i] >= 65);
+  EXPECT_EQ(differing, 0u);
+  auto scenarios = maps::load_movingai_scenarios(dir + "/16room_000-1024.map.scen");
+  ASSERT_TRUE(scenarios) << scenarios.error().message;
+  ASSERT_EQ(scenarios->size(), 2u);
+  auto grid_map = core::GridMap::build(*written);
+  ASSERT_TRUE(grid_map) << grid_map.error().message;
+  core::Planner planner(std::make_shared<const core::GridMap>(std::move(grid_map).value()));
+  for (const maps::MovingAiScenario& s : *scenarios) {
+    // Scaled: every endpoint at the centre of its 2 x 2 block (x and y odd).
+    EXPECT_EQ(s.start.x % 2, 1);
+    EXPECT_EQ(s.goal.y % 2, 1);
+    const core::PlanResult r =
+        planner.plan({s.start, s.goal}, core::make_options(core::PlannerKind::kAStar, {}));
+    ASSERT_TRUE(r.status.is_ok()) << r.status.message;
+    EXPECT_NEAR(r.metrics.raw_cost_cells, s.optimal_length, 1e-6 * s.optimal_length);
+  }
+  for (const char* name : {"Boston_0_512-1024.map", "random512-20-0-1024.map"}) {
+    EXPECT_TRUE(fs::exists(dir + "/" + name)) << name;
+    EXPECT_TRUE(fs::exists(dir + "/" + name + std::string(".scen"))) << name;
+  }
+  fs::remove_all(dir);
 }
 
 // The demo scene (embedded), its slice with two random queries and a Moving AI folder, the three
