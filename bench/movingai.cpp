@@ -324,10 +324,10 @@ int run_movingai(const MovingAiOptions& options) {
           else
             std::snprintf(metrics, sizeof metrics, "%.8f,,,,,%lld,", s.optimal_length,
                           static_cast<long long>(m.expanded));
-          std::printf("%s,%d,%s,%s,%s,%s,%.3f,%.3f\n", loaded->name.c_str(), s.line,
+          std::printf("%s,%d,%s,%s,%s,%s,%.3f,%.3f,%.3f\n", loaded->name.c_str(), s.line,
                       planner_name.c_str(), status.c_str(), metrics,
-                      output_columns(timed.result, recorded).c_str(), timed.time_us,
-                      timed.cpu_time_us);
+                      output_columns(timed.result, recorded).c_str(), m.search_time_us,
+                      timed.time_us, timed.cpu_time_us);
         }
       }
     }

@@ -33,13 +33,15 @@ struct MovingAiOptions {
 // the cell where a bidirectional search met (meeting_cell, "x:y", empty otherwise); hashes of the
 // grid path (raw_path_hash), the pruned waypoints (waypoints_hash) and the final path
 // (path_hash), 64-bit FNV-1a of their cells or coordinates' bits, in hex. The times stay last:
-// time_us (wall, steady clock around Planner::plan) and cpu_time_us (the process's CPU time over
-// the same call: below time_us where the plan was preempted, a sign of a busy machine);
+// search_time_us (core::Metrics::search_time_us: the search alone, no endpoint checks, path
+// metrics or post-processing, as a reference search that builds no path is timed), time_us
+// (wall, steady clock around Planner::plan) and cpu_time_us (the process's CPU time over the same
+// call: below time_us where the plan was preempted, a sign of a busy machine);
 // compare_outputs.sh drops every *time_us column by name.
 constexpr const char* kMovingAiCsvHeader =
     "map,scenario,planner,status,optimal,raw_cost,length,turns,turn_angle_deg,expanded,"
     "clearance_m,expanded_forward,expanded_backward,meeting_cell,raw_path_hash,waypoints_hash,"
-    "path_hash,expansions_hash,time_us,cpu_time_us";
+    "path_hash,expansions_hash,search_time_us,time_us,cpu_time_us";
 
 // The map's class from the folder's MANIFEST.tsv (its source path: dao, bg512, sc1 -> game;
 // mazes -> maze; rooms -> room; random -> random; cities, street -> street) or, without one,

@@ -542,8 +542,11 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
     outcome.code = StatusCode::kOk;
     outcome.path = {resolved.start};
   } else {
+    const Clock::time_point search_started = Clock::now();
     outcome = impl_->run(map, resolved, options, budget, &result.expanded_forward,
                          &result.expanded_backward);
+    result.metrics.search_time_us =
+        std::chrono::duration<double, std::micro>(Clock::now() - search_started).count();
   }
   result.metrics.expanded = outcome.expanded;
   result.meeting_cell = outcome.meeting;

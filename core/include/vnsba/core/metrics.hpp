@@ -19,6 +19,9 @@ struct Metrics {
   double turn_angle_deg = 0.0;   // sum of absolute heading changes at those vertices
   int64_t expanded = 0;          // nodes closed by all searches together
   int64_t planning_time_us = 0;  // search + post-processing, steady clock
+  // The search alone (from the first node opened to the grid path traced), steady clock, to the
+  // fraction of a microsecond: what a reference search that builds no path is compared with.
+  double search_time_us = 0.0;
   // final length / optimal A* cost on the same query; NaN unless compute_length_ratio was set.
   double length_ratio = std::numeric_limits<double>::quiet_NaN();
   // The final path's smallest distance to an obstacle (docs/algorithm.md section 8), metres; +inf
