@@ -6,7 +6,13 @@
 // peak over the node's whole life. Prints a table and the node's "map accepted" line; no
 // pass/fail. Not a test: run it by hand (docs/benchmarks.md).
 //
+// With --kept-results K it then sends K ComputePathToPose goals one after the other along the
+// first row of rooms (each result kept by the node for a late get_result, actions.*) and reports
+// the node's VmRSS growth per kept result beside the result's path size (its poses and encoded
+// bytes), on a map of --size cells (use a small one, e.g. 2000).
+//
 //   vnsba_node_memory_bench [--size 10000] [--resolution 0.05] [--config FILE]
+//                           [--kept-results K]
 //
 // Every process it starts is stopped on every way out: the node is sent SIGTERM (SIGKILL after
 // 30 s) when the bench ends or fails, and the kernel kills it if the bench itself dies
@@ -16,6 +22,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
@@ -31,6 +38,8 @@
 
 #include "bench/indoor_map.hpp"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
+#include "nav_msgs/msg/PathPubSubTypes.h"
+#include "vnsba/node/action_client.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
@@ -47,6 +56,7 @@ struct Options {
   int size = 10000;          // cells a side
   double resolution = 0.05;  // metres per cell
   std::string config;        // empty: find_default_config()
+  int kept_results = 0;      // ComputePathToPose goals to keep after the long query
 };
 
 // The node as a child process, its stdout and stderr in `log`. Stopped by the destructor.
@@ -54,6 +64,7 @@ class NodeProcess {
  public:
   NodeProcess(const std::vector<std::string>& argv, const fs::path& log) {
     const pid_t parent = getpid();
+    std::fflush(nullptr);  // the child must not write the parent's buffered output again
     pid_ = fork();
     if (pid_ == 0) {
       // The node dies with the bench, whatever ends it (SIGKILL included).
@@ -191,6 +202,7 @@ class Client : public node::dds::DataReaderListener {
     if (!cv_.wait_for(lock, timeout, [&] { return answers_.count(id) > 0; })) return std::nullopt;
     return answers_[id];
   }
+  node::Participant& participant() { return *participant_; }
   std::vector<std::string> map_reports() {
     std::lock_guard<std::mutex> lock(mutex_);
     return map_reports_;
@@ -214,6 +226,46 @@ std::string log_line(const fs::path& log, const std::string& text) {
   for (std::string line; std::getline(in, line);)
     if (line.find(text) != std::string::npos) return line;
   return "";
+}
+
+// K goals along the first row of rooms, each kept by the node once it finished; prints the
+// node's VmRSS growth per kept result.
+bool measure_kept_results(const Options& o, const node::NodeConfig& cfg, Client& client,
+                          NodeProcess& node_process, double near, double far) {
+  auto action = node::ActionClient::create(
+      client.participant(), node::ros_topic_name(cfg, cfg.topics.compute_path_to_pose),
+      node::ActionKind::kComputePathToPose, node::WireMapping::kSampleIdentity);
+  if (!action || !(*action)->wait_for_server(std::chrono::seconds(30))) return false;
+  node::ActionGoalSpec goal;
+  goal.start = node::to_pose_msg(near, near, 0, cfg.frame_id, node::now_msg());
+  goal.goals = {node::to_pose_msg(far, near, 0, cfg.frame_id, node::now_msg())};
+  // One goal first, so that what every goal allocates once (DDS endpoints' first samples, the
+  // worker's buffers) is not counted.
+  const auto first =
+      (*action)->plan(node::ActionClient::random_id(), goal, std::chrono::seconds(60));
+  if (!first || first->status != node::GoalState::kSucceeded) return false;
+  const size_t poses = first->path.poses().size();
+  nav_msgs::msg::dds_::Path_PubSubType path_type;
+  node::PathMsg path = first->path;
+  const size_t path_bytes = path_type.getSerializedSizeProvider(&path)();
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const double before = proc_status_mib(node_process.pid(), "VmRSS");
+  int succeeded = 0;
+  for (int k = 0; k < o.kept_results; ++k) {
+    if (!node_process.running()) return false;
+    const auto result =
+        (*action)->plan(node::ActionClient::random_id(), goal, std::chrono::seconds(60));
+    if (result && result->status == node::GoalState::kSucceeded) ++succeeded;
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const double after = proc_status_mib(node_process.pid(), "VmRSS");
+  const double per_result = (after - before) * double(1 << 20) / std::max(succeeded, 1);
+  std::printf(
+      "kept results: %d goals succeeded of %d, %zu poses each (path encoded %zu bytes, %.1f a "
+      "pose); node VmRSS %.1f -> %.1f MiB: %.0f bytes per kept result, %.1f per pose\n",
+      succeeded, o.kept_results, poses, path_bytes, double(path_bytes) / double(poses), before,
+      after, per_result, per_result / double(poses));
+  return succeeded == o.kept_results;
 }
 
 int run(const Options& o) {
@@ -312,6 +364,8 @@ int run(const Options& o) {
       static_cast<long long>(long_answer->expanded), long_answer->poses,
       long_answer->message.empty() ? "" : ": ", long_answer->message.c_str());
   std::printf("node: %s\n", log_line(log, "map accepted").c_str());
+  if (o.kept_results > 0 && !measure_kept_results(o, cfg, client, node_process, near, far))
+    return fail("the kept results could not be measured");
   node_process.stop();
   fs::remove_all(dir);
   return 0;
@@ -330,12 +384,15 @@ int main(int argc, char** argv) {
       o.resolution = std::atof(argv[++i]);
     } else if (arg == "--config" && has_value) {
       o.config = argv[++i];
+    } else if (arg == "--kept-results" && has_value) {
+      o.kept_results = std::atoi(argv[++i]);
     } else {
-      std::fprintf(stderr,
-                   "usage: %s [--size CELLS] [--resolution METRES] [--config FILE]\n"
-                   "Starts vnsba_node, publishes an indoor slice of CELLS x CELLS (10000) and "
-                   "plans one long query; prints the node's resident memory.\n",
-                   argv[0]);
+      std::fprintf(
+          stderr,
+          "usage: %s [--size CELLS] [--resolution METRES] [--config FILE] [--kept-results K]\n"
+          "Starts vnsba_node, publishes an indoor slice of CELLS x CELLS (10000) and "
+          "plans one long query; prints the node's resident memory.\n",
+          argv[0]);
       return 2;
     }
   }
