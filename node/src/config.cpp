@@ -194,12 +194,15 @@ class Section {
     return expected.empty();
   }
 
+  // An integer in lo..hi; `unit` (e.g. "MiB"), when given, is said in the message.
   template <class Int>
-  bool integer(const std::string& key, Int& out, long long lo, long long hi) {
+  bool integer(const std::string& key, Int& out, long long lo, long long hi,
+               const std::string& unit = "") {
     return get(key, out, [&](const YAML::Node& node, value_of<Int>& value) {
       long long v = 0;
       if (!parse_integer(node, v) || v < lo || v > hi)
-        return "an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
+        return (unit.empty() ? "an integer in " : "an integer number of " + unit + " in ") +
+               std::to_string(lo) + ".." + std::to_string(hi);
       value = static_cast<value_of<Int>>(v);
       return std::string();
     });
@@ -471,6 +474,7 @@ void read_map(Section& top, NodeConfig& c) {
   map.number("cost_scaling_factor", c.map.cost_scaling_factor, "a finite number per metre >= 0",
              [](double v) { return v >= 0.0; });
   map.integer("max_cells", c.map.max_cells, 1, core::kMaxCellsLimit);
+  map.integer("memory_budget_mb", c.map_memory_budget_mb, 1, kMaxMapMemoryBudgetMb, "MiB");
   map.choice("durability", c.map_durability,
              {{"transient_local", MapDurability::kTransientLocal},
               {"volatile", MapDurability::kVolatile}});

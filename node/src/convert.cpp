@@ -342,6 +342,34 @@ SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_fr
   return out;
 }
 
+SliceMemory slice_memory(int32_t width, int32_t height, const core::GridBuildOptions& options) {
+  SliceMemory memory;
+  memory.map = core::GridMap::estimate_memory(width, height, options);
+  memory.slice_bytes = static_cast<size_t>(std::max(width, 0)) *
+                       static_cast<size_t>(std::max(height, 0)) * sizeof(int8_t);
+  return memory;
+}
+
+int64_t mib_rounded_up(size_t bytes) {
+  constexpr size_t kMib = size_t{1} << 20;
+  return static_cast<int64_t>((bytes + kMib - 1) / kMib);
+}
+
+WireStatus check_memory_budget(int32_t width, int32_t height, const core::GridBuildOptions& options,
+                               int memory_budget_mb) {
+  const SliceMemory memory = slice_memory(width, height, options);
+  const size_t budget_bytes = static_cast<size_t>(std::max(memory_budget_mb, 0)) << 20;
+  if (memory.peak_bytes() <= budget_bytes) return {};
+  std::ostringstream message;
+  message << "slice of " << width << " x " << height << " cells needs "
+          << mib_rounded_up(memory.peak_bytes()) << " MiB to convert (planning grid "
+          << mib_rounded_up(memory.map.map_bytes) << " MiB, build scratch "
+          << mib_rounded_up(memory.map.scratch_bytes) << " MiB, slice values "
+          << mib_rounded_up(memory.slice_bytes)
+          << " MiB), over map.memory_budget_mb = " << memory_budget_mb << " (MiB)";
+  return error(wire::INVALID_MAP, message.str());
+}
+
 namespace {
 
 // The geometry of an axis-aligned grid as nav_msgs/MapMetaData.

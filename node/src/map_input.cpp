@@ -2,12 +2,22 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <utility>
 
 #include "answers.hpp"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 
 namespace vnsba::node {
+
+namespace {
+
+// Bytes as MiB (2^20 bytes), the unit of every memory figure the node logs.
+double mib(size_t bytes) {
+  return static_cast<double>(bytes) / double(size_t{1} << 20);
+}
+
+}  // namespace
 
 MapInput::MapInput(const NodeConfig& config, int workers, Answers& answers, Resubmit resubmit)
     : cfg_(config), workers_(workers), answers_(answers), resubmit_(std::move(resubmit)) {}
@@ -174,11 +184,18 @@ WireStatus MapInput::convert(SliceSlot::Taken taken) {
   const auto t0 = Clock::now();
   const std::atomic<bool>* superseded = taken.superseded.get();
   const TimeMsg stamp = taken.slice.header().stamp();
-  // Every check that bounds the conversion's cost (size against map.max_cells, robot_radius
-  // against the map) comes before any allocation; the conversion is then linear in the cells.
+  // Every check that bounds the conversion's cost (size against map.max_cells and
+  // map.memory_budget_mb, robot_radius against the map) comes before any allocation; the
+  // conversion is then linear in the cells. The slice's values are moved, never copied: from the
+  // DDS sample into the slot, into check.grid, which the build reads.
   SliceCheck check = from_slice_msg(std::move(taken.slice), cfg_.frame_id, cfg_.map.max_cells);
   if (!check.status.ok()) return check.status;
-  auto built = core::GridMap::build(check.grid, planning_grid_options(cfg_), superseded);
+  const core::GridBuildOptions options = planning_grid_options(cfg_);
+  if (WireStatus over_budget = check_memory_budget(check.grid.width, check.grid.height, options,
+                                                   cfg_.map_memory_budget_mb);
+      !over_budget.ok())
+    return over_budget;
+  auto built = core::GridMap::build(check.grid, options, superseded);
   if (!built) {
     return {to_wire_code(built.error().code),
             built.error().code == core::StatusCode::kCanceled
@@ -191,25 +208,29 @@ WireStatus MapInput::convert(SliceSlot::Taken taken) {
   active->stamp = stamp;
   if (superseded->load())
     return {wire::CANCELED, "superseded by a newer slice while being converted"};
-  size_t search_state_bytes = 0;
-  if (std::optional<WireStatus> failure = build_planners(*active, search_state_bytes))
+  size_t search_state_bytes_per_worker = 0;
+  if (std::optional<WireStatus> failure = build_planners(*active, search_state_bytes_per_worker))
     return *failure;
   const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  // The figures docs/node.md ("Memory") names: the map (GridMap::bytes) and the search state a
+  // worker holds now (its planner's search_state_bytes, the largest of the workers).
   spdlog::info(
-      "map accepted: {} x {} cells at {} m, {} blocked, {:.1f} MB of search state ({} "
-      "worker(s)), ready in {:.1f} ms",
+      "map accepted: {} x {} cells at {} m, {} blocked, map memory {:.1f} MiB, search state "
+      "{:.1f} MiB per worker ({} worker(s)), ready in {:.1f} ms",
       active->grid->width(), active->grid->height(), active->grid->resolution(),
-      active->grid->blocked_count(), search_state_bytes / 1e6, workers_, ms);
+      active->grid->blocked_count(), mib(active->grid->bytes()), mib(search_state_bytes_per_worker),
+      workers_, ms);
   install(std::move(active));
   return {};
 }
 
 std::optional<WireStatus> MapInput::build_planners(ActiveMap& active,
-                                                   size_t& search_state_bytes) const {
+                                                   size_t& search_state_bytes_per_worker) const {
   try {
     for (int w = 0; w < workers_; ++w) {  // see ActiveMap
       active.planners.push_back(std::make_unique<core::Planner>(active.grid));
-      search_state_bytes += active.planners.back()->search_state_bytes();
+      search_state_bytes_per_worker =
+          std::max(search_state_bytes_per_worker, active.planners.back()->search_state_bytes());
     }
   } catch (const std::exception& e) {
     return WireStatus{

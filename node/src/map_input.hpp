@@ -123,8 +123,10 @@ class MapInput {
   std::optional<SliceSlot::Taken> next_slice();
   // Converts one slice; returns what to report (OK when it went live).
   WireStatus convert(SliceSlot::Taken taken);
-  // Builds the workers' planners of a new map; the failure, or nullopt.
-  std::optional<WireStatus> build_planners(ActiveMap& active, size_t& search_state_bytes) const;
+  // Builds the workers' planners of a new map; the failure, or nullopt. Sets
+  // `search_state_bytes_per_worker` to the most search state one of them holds (bytes).
+  std::optional<WireStatus> build_planners(ActiveMap& active,
+                                           size_t& search_state_bytes_per_worker) const;
   // Swaps in a new map and hands on the requests that waited for it.
   void install(std::shared_ptr<ActiveMap> active);
   // Answers NO_MAP the requests whose map_wait has passed (all with `all`: CANCELED when

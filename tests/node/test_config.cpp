@@ -121,6 +121,7 @@ void ExpectSameConfig(const NodeConfig& a, const NodeConfig& b) {
   EXPECT_EQ(a.map.inflation_radius, b.map.inflation_radius);
   EXPECT_EQ(a.map.cost_scaling_factor, b.map.cost_scaling_factor);
   EXPECT_EQ(a.map.max_cells, b.map.max_cells);
+  EXPECT_EQ(a.map_memory_budget_mb, b.map_memory_budget_mb);
   EXPECT_EQ(a.planner.path_spacing, b.planner.path_spacing);
   EXPECT_EQ(a.planner.kind, b.planner.kind);
   EXPECT_EQ(a.planner.auto_kind, b.planner.auto_kind);
@@ -241,6 +242,7 @@ TEST(Config, DefaultYamlMentionsEveryKey) {
                           "inflation_radius:",
                           "cost_scaling_factor:",
                           "max_cells:",
+                          "memory_budget_mb:",
                           "durability:",
                           "planner:",
                           "name:",
@@ -578,6 +580,28 @@ TEST(Config, BoundaryValuesAreAccepted) {
   EXPECT_EQ(r.config->domain_id, 232);
   EXPECT_EQ(r.config->map.max_cells, int64_t{1} << 28);
   EXPECT_EQ(r.config->planner.options().max_planning_time, std::chrono::hours(1));
+}
+
+// Issue 47: map.memory_budget_mb is read in MiB, and a bad value is refused naming the key and
+// its unit; the range ends are accepted.
+TEST(Config, MemoryBudgetIsReadInMibAndRefusedNamingKeyAndUnit) {
+  for (const char* bad : {"0", "1048577", "-5", "2.5", "lots"}) {
+    const ConfigResult r = parse_config(std::string("map: {memory_budget_mb: ") + bad + "}\n");
+    ASSERT_FALSE(r.config.has_value()) << bad;
+    EXPECT_TRUE(
+        HasError(r, "map.memory_budget_mb",
+                 {"\"" + std::string(bad) + "\"", "an integer number of MiB in 1..1048576"}))
+        << Joined(r.errors);
+  }
+  for (const int good : {1, 3000, vnsba::node::kMaxMapMemoryBudgetMb}) {
+    const ConfigResult r = parse_config("map: {memory_budget_mb: " + std::to_string(good) + "}\n");
+    ASSERT_TRUE(r.config.has_value()) << Joined(r.errors);
+    EXPECT_EQ(r.config->map_memory_budget_mb, good);
+    // It prints back as it was read (vnsba_node --print-config).
+    EXPECT_NE(
+        vnsba::node::config_as_yaml(*r.config).find("memory_budget_mb: " + std::to_string(good)),
+        std::string::npos);
+  }
 }
 
 // Issue 13: planner.sample_step 1e-6, inside the old (0, 10], asked for billions of spline

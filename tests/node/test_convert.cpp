@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vnsba/core/planner.hpp"
+#include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 
 namespace vnsba::test {
@@ -298,6 +299,75 @@ TEST(SliceMsg, AFloat32ResolutionIsTheDecimalItWasWrittenFrom) {
   EXPECT_EQ(node::float32_decimal(0.05f), 0.05);
   EXPECT_EQ(node::float32_decimal(1e-7f), 1e-7);
   EXPECT_EQ(node::float32_decimal(3.0f), 3.0);
+}
+
+// Issue 47: a slice's values cross from the message into the grid the build reads without a
+// copy (the buffer itself moves), so a big slice is held once while it is converted.
+TEST(SliceMsg, TheValuesMoveIntoTheGridWithoutACopy) {
+  core::OccupancyGrid grid;
+  grid.width = 300;
+  grid.height = 200;
+  grid.data.assign(size_t{300} * 200, 0);
+  node::OccupancyGridMsg msg = node::to_slice_msg(grid, "map", node::now_msg());
+  const int8_t* values = msg.data().data();
+  node::OccupancyGridMsg taken = std::move(msg);  // as the listener and the slot hand it on
+  ASSERT_EQ(taken.data().data(), values);
+  const node::SliceCheck received = node::from_slice_msg(std::move(taken), "map", 1 << 20);
+  ASSERT_TRUE(received.status.ok()) << received.status.message;
+  EXPECT_EQ(received.grid.data.data(), values);
+}
+
+// Issue 47: what converting a slice holds is the map core estimates plus the slice's values, one
+// byte a cell; the estimate bounds what a real build holds (GridMap::bytes).
+TEST(SliceMemory, CountsTheGridTheScratchAndTheValuesAndBoundsARealBuild) {
+  const node::NodeConfig config = node::default_config().config.value();
+  const core::GridBuildOptions options = node::planning_grid_options(config);
+  core::OccupancyGrid grid;
+  grid.width = 333;
+  grid.height = 121;
+  grid.resolution = 0.05;
+  grid.data.assign(size_t{333} * 121, 0);
+  for (int x = 0; x < 300; ++x) grid.data[size_t{60} * 333 + x] = 100;  // a wall: costs, inflation
+  const node::SliceMemory memory = node::slice_memory(333, 121, options);
+  EXPECT_EQ(memory.slice_bytes, grid.data.size());
+  EXPECT_EQ(memory.peak_bytes(), memory.map.map_bytes + memory.map.scratch_bytes + 333 * 121);
+  const auto built = core::GridMap::build(grid, options);
+  ASSERT_TRUE(built.has_value()) << built.error().message;
+  EXPECT_GT(built->bytes(), 0u);
+  EXPECT_LE(built->bytes(), memory.map.map_bytes);
+}
+
+// Issue 47: a slice whose conversion needs more than map.memory_budget_mb is refused naming its
+// size, the MiB it needed and the key; a budget of exactly the figure printed accepts it.
+TEST(SliceMemory, ASliceOverTheBudgetIsRefusedNamingItsSizeTheFigureAndTheKey) {
+  const node::NodeConfig config = node::default_config().config.value();
+  const core::GridBuildOptions options = node::planning_grid_options(config);
+  const int32_t width = 3000, height = 2500;
+  const size_t peak = node::slice_memory(width, height, options).peak_bytes();
+  const int64_t needed_mib = node::mib_rounded_up(peak);
+  // The figure is the bytes in MiB (2^20 bytes), rounded up.
+  EXPECT_GE(needed_mib * (int64_t{1} << 20), static_cast<int64_t>(peak));
+  EXPECT_LT((needed_mib - 1) * (int64_t{1} << 20), static_cast<int64_t>(peak));
+  ASSERT_GT(needed_mib, 1);
+  const int under = static_cast<int>(needed_mib - 1);
+  const node::WireStatus refused = node::check_memory_budget(width, height, options, under);
+  EXPECT_EQ(refused.code, wire::INVALID_MAP);
+  for (const std::string& part :
+       {std::string("3000 x 2500 cells"), "needs " + std::to_string(needed_mib) + " MiB",
+        "map.memory_budget_mb = " + std::to_string(under)})
+    EXPECT_NE(refused.message.find(part), std::string::npos) << part << " in " << refused.message;
+  EXPECT_TRUE(node::check_memory_budget(width, height, options, static_cast<int>(needed_mib)).ok());
+}
+
+// Issue 47: with default.yaml, a 10,000 x 10,000 slice (500 m x 500 m at 5 cm) is within the
+// memory budget and map.max_cells. Only figures: nothing of that size is allocated.
+TEST(SliceMemory, DefaultYamlTakesTenThousandByTenThousand) {
+  const node::NodeConfig config = node::default_config().config.value();
+  const core::GridBuildOptions options = node::planning_grid_options(config);
+  EXPECT_GE(config.map.max_cells, int64_t{10000} * 10000);
+  const node::WireStatus status =
+      node::check_memory_budget(10000, 10000, options, config.map_memory_budget_mb);
+  EXPECT_TRUE(status.ok()) << status.message;
 }
 
 }  // namespace

@@ -1308,6 +1308,40 @@ TEST(NodeAttacks, AHeavySliceDoesNotStallTheNextMap) {
   EXPECT_EQ(code_name(status->code()), "OK") << status->message();
 }
 
+// Issue 47: a slice over map.memory_budget_mb is refused before it is converted, by name and with
+// the MiB it needed (what the decision, check_memory_budget, says), instead of taking the node to
+// the OOM killer; the node keeps planning on its previous map.
+TEST(NodeAttacks, ASliceOverTheMemoryBudgetIsRefusedAndThePreviousMapServes) {
+  node::NodeConfig cfg = test_config("budget");
+  cfg.map_memory_budget_mb = 8;
+  Running run(cfg);
+  const core::OccupancyGrid room = grid_from_rows(kRoom);
+  ASSERT_TRUE(start_on(run, room));
+  core::OccupancyGrid big;
+  big.width = big.height = 1200;  // 1.44 M cells: tens of MiB to convert
+  big.resolution = 0.05;
+  big.data.assign(size_t{1200} * 1200, 0);
+  const node::WireStatus expected = node::check_memory_budget(
+      big.width, big.height, node::planning_grid_options(cfg), cfg.map_memory_budget_mb);
+  ASSERT_FALSE(expected.ok()) << "the slice must be over the budget for this test";
+  run.client.publish_slice(big);
+  const auto report = run.client.wait_map_report();
+  ASSERT_TRUE(report);
+  EXPECT_EQ(code_name(report->code()), "INVALID_MAP");
+  EXPECT_EQ(report->message(), expected.message);
+  EXPECT_NE(report->message().find("map.memory_budget_mb = 8"), std::string::npos)
+      << report->message();
+  // Still the room: a query there plans, and one only the big map holds is outside the map.
+  const auto [sx, sy] = centre(room, 1, 1);
+  const auto [gx, gy] = centre(room, 18, 8);
+  const auto ok = answer_to(run.client, run.client.publish_request("room", sx, sy, gx, gy));
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(code_name(ok->code()), "OK") << ok->message();
+  const auto outside = answer_to(run.client, run.client.publish_request("big", sx, sy, 50.0, 50.0));
+  ASSERT_TRUE(outside);
+  EXPECT_EQ(code_name(outside->code()), "GOAL_OUTSIDE_MAP") << outside->message();
+}
+
 // Finding 3: 0xffffffff x 0xffffffff overflowed int64 (the sanitizer build died; release said
 // a negative product). Now: INVALID_MAP, "too large".
 TEST(NodeAttacks, ASliceSizeThatOverflowsIsTooLarge) {

@@ -148,9 +148,11 @@ struct SlicerConfig {
   bool remove_speckles = false;  // drop occupied cells with no occupied 8-neighbour
 };
 
-// Defaults that differ from core's: a node guards its memory with a slice size limit and bounds
-// every search in time.
-constexpr int64_t kDefaultMaxCells = int64_t{1} << 24;  // 4096 x 4096 cells
+// Defaults that differ from core's: a node guards its memory (map.memory_budget_mb, and
+// map.max_cells as the upper limit of any build) and bounds every search in time.
+constexpr int64_t kDefaultMaxCells = core::kMaxCellsLimit;  // 16384 x 16384 cells
+// The largest map.memory_budget_mb (MiB): 1 TiB.
+inline constexpr int kMaxMapMemoryBudgetMb = 1 << 20;
 constexpr std::chrono::seconds kDefaultMaxPlanningTime{5};
 
 inline core::GridBuildOptions default_map_options() {
@@ -253,6 +255,11 @@ struct NodeConfig {
   MapDurability map_durability = MapDurability::kTransientLocal;
   // map.cost_source: own (default) or costmap (Nav2's global costmap on topics.projected_map).
   MapCostSource map_cost_source = MapCostSource::kOwn;
+  // map.memory_budget_mb, MiB in [1, kMaxMapMemoryBudgetMb]: the most a slice may take while it
+  // is converted (slice_memory: the GridMap it becomes with the build's scratch, and the
+  // slice's values). A larger one is refused (INVALID_MAP naming its size, the MiB it needed and
+  // this key) before anything is allocated; the node keeps planning on its previous map.
+  int map_memory_budget_mb = 2048;
 
   // The planner and what the file configured of its options (max_planning_time is read in
   // seconds, 0 = unlimited; compute_length_ratio costs a second, optimal A* search per plan;

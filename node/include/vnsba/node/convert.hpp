@@ -108,6 +108,28 @@ struct SliceCheck {
 SliceCheck from_slice_msg(OccupancyGridMsg&& msg, const std::string& expected_frame,
                           int64_t max_cells);
 
+// What the node holds to convert a slice of width x height cells built with `options` (bytes):
+// the planning grid and the build's scratch (core::GridMap::estimate_memory, the one source of a
+// map's figures) and the slice's values the build reads, one byte a cell (the message's data,
+// moved into the core::OccupancyGrid, never copied). The sample DDS received is freed when it is
+// taken, before the conversion starts.
+struct SliceMemory {
+  core::MapMemoryEstimate map;
+  size_t slice_bytes = 0;  // the slice's values
+  size_t peak_bytes() const { return map.peak_bytes() + slice_bytes; }
+};
+SliceMemory slice_memory(int32_t width, int32_t height, const core::GridBuildOptions& options);
+
+// A MiB figure as the node prints it (sizes in bytes; 1 MiB = 2^20 bytes): rounded up, so that a
+// budget of the figure printed holds what it counts.
+int64_t mib_rounded_up(size_t bytes);
+
+// OK when converting a width x height slice with `options` fits `memory_budget_mb` (MiB,
+// map.memory_budget_mb); else INVALID_MAP naming the slice's size, the MiB it needs (and what of
+// it is the grid, the build's scratch and the values) and the key with its value.
+WireStatus check_memory_budget(int32_t width, int32_t height, const core::GridBuildOptions& options,
+                               int memory_budget_mb);
+
 // The inverse (for the slicer and tests): a core grid as a slice in `frame` stamped `stamp`.
 OccupancyGridMsg to_slice_msg(const core::OccupancyGrid& grid, const std::string& frame,
                               const TimeMsg& stamp);
