@@ -35,6 +35,14 @@ struct Metrics {
 // are measured, about once per cell of the path's length.
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
 
+// The distance (cells) from the centre of `c` to the nearest obstacle centre (GridMap::is_obstacle,
+// inflation not counted): 0 on an obstacle, exact (the square root of an integer) whenever it is at
+// most `within` cells; +inf when the map has no obstacle, when `c` is outside it, or (possibly)
+// when the distance exceeds `within`. A local search on the bit grids, squares of doubling
+// half-width around c: O(d^2 / 64) words for a distance d, with or without the distance field.
+double nearest_obstacle_distance(const GridMap& map, const Cell& c,
+                                 double within = std::numeric_limits<double>::infinity());
+
 // A lower bound, in cells, of the segment a -> b's distance to every obstacle square, from the
 // distance transform alone (no scan): every point of the segment lies within |ab| / 2 of a or b,
 // each |p - centre| from its cell's centre, whose centre is obstacle_distance from the nearest
