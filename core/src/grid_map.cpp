@@ -24,43 +24,55 @@ bool is_blocked_char(char c) {
 // inflation (free cells whose centre lies within `radius_cells` of an obstacle's: squared
 // distance dx*dx + dy*dy <= r*r in cells, r from metres_to_cells: snapped to a whole number of
 // cells when within 1e-9 of one) and the cost gradient beyond it. Linear in the cells whatever
-// the radii (the exact transform, 4 bytes of scratch per cell). Returns false when `cancel` was
-// raised.
+// the radii (the exact transform, distance_transform_bytes_per_cell of scratch a cell: 2 bytes
+// below radii of 65534 cells). Returns false when `cancel` was raised.
 struct ObstacleDistances {
-  std::vector<CellLayer>& layers;  // width x height; kFree cells may become kInflated
-  std::vector<float>& distance;    // width x height, filled (cells)
-  std::vector<float>* costs;       // padded; null when there is no gradient
+  std::vector<uint8_t>& cells;              // padded CellLayer; kFree may become kInflated
+  std::vector<uint16_t>& squared_distance;  // padded, filled (cells^2, saturated)
+  std::vector<float>* costs;                // padded; null when there is no gradient
   int32_t width, height;
   double radius_cells;       // robot_radius in cells
   double gradient_cells;     // inflation_radius in cells (0: no gradient)
   double scaling_per_cell;   // cost_scaling_factor * resolution
   bool unknown_is_obstacle;  // blocked unknown cells count as obstacles (inflate_unknown)
 
+  // The transform's cap (cells): exact within both radii and up to the field's saturation
+  // (sqrt(65535) < 256), and never beyond width + height (every distance in the map is below).
+  int32_t cap() const {
+    const double needed = std::max({std::ceil(radius_cells), std::ceil(gradient_cells), 256.0});
+    return static_cast<int32_t>(std::min(needed, static_cast<double>(width) + height));
+  }
+
   bool run(const std::atomic<bool>* cancel) {
     // cells^2; for a whole radius both sides of the comparison below are exact integers.
     const double r2 = radius_cells * radius_cells;
-    // Exact distances everywhere: every distance inside the map is below width + height.
-    const int32_t cap = width + height;
+    const int32_t cap = this->cap();
     const int64_t far = far_squared_distance(cap);
-    const size_t w = static_cast<size_t>(width);
     const int32_t stride = width + 2;
     return squared_distance_rows(
         width, height, cap,
         [&](int32_t x, int32_t y) {
-          const CellLayer layer = layers[static_cast<size_t>(y) * w + x];
+          const auto layer = static_cast<CellLayer>(
+              cells[static_cast<size_t>(y + 1) * stride + static_cast<size_t>(x + 1)]);
           return GridMap::is_obstacle_layer(layer, unknown_is_obstacle);
         },
         [&](int32_t y, const int64_t* squared) {
-          CellLayer* layer_row = &layers[static_cast<size_t>(y) * w];
-          float* distance_row = &distance[static_cast<size_t>(y) * w];
-          float* cost_row = costs ? &(*costs)[static_cast<size_t>(y + 1) * stride + 1] : nullptr;
+          const size_t row_start = static_cast<size_t>(y + 1) * stride + 1;
+          uint8_t* layer_row = &cells[row_start];
+          uint16_t* distance_row = &squared_distance[row_start];
+          float* cost_row = costs ? &(*costs)[row_start] : nullptr;
           for (int32_t x = 0; x < width; ++x) {
+            // Squared distances up to cap^2 are exact, and cover the field's range (cap >= 256)
+            // unless cap is width + height: then a far one means no obstacle at all.
+            distance_row[x] = squared[x] >= far
+                                  ? GridMap::kSaturatedSquaredDistance
+                                  : static_cast<uint16_t>(std::min<int64_t>(
+                                        squared[x], GridMap::kSaturatedSquaredDistance));
+            if (layer_row[x] != static_cast<uint8_t>(CellLayer::kFree)) continue;
             const double d = squared[x] >= far ? std::numeric_limits<double>::infinity()
                                                : std::sqrt(static_cast<double>(squared[x]));
-            distance_row[x] = static_cast<float>(d);
-            if (layer_row[x] != CellLayer::kFree) continue;
             if (static_cast<double>(squared[x]) <= r2) {
-              layer_row[x] = CellLayer::kInflated;
+              layer_row[x] = static_cast<uint8_t>(CellLayer::kInflated);
             } else if (cost_row != nullptr && d <= gradient_cells) {
               const double gradient =
                   kMaxGradientCost * std::exp(-scaling_per_cell * (d - radius_cells));
@@ -169,19 +181,23 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
   map.origin_x_ = grid.origin_x;
   map.origin_y_ = grid.origin_y;
   map.options_ = options;
-  const size_t cells = static_cast<size_t>(grid.width) * static_cast<size_t>(grid.height);
   const size_t padded = static_cast<size_t>(grid.width + 2) * (grid.height + 2);
   // Graded values (0 < v < occupied_threshold) are costs v / 100 (docs/algorithm.md section 8).
   const bool gradient = options.inflation_radius > 0.0;
+  // The field, and the transform that makes it, only where a radius is configured.
+  const bool distance_field = options.robot_radius > 0.0 || gradient;
   bool graded = false;
-  map.layers_.resize(cells);
+  // The border is blocked (kOccupied): neighbour lookups at distance 1 need no bounds check.
+  map.cells_.assign(padded, static_cast<uint8_t>(CellLayer::kOccupied));
   for (int32_t y = 0; y < grid.height; ++y) {
+    uint8_t* row = &map.cells_[map.padded_index(0, y)];
     for (int32_t x = 0; x < grid.width; ++x) {
       const int8_t v = grid.at(x, y);
       const CellLayer layer = classify_value(v, options.occupied_threshold, options.allow_unknown);
       if (layer == CellLayer::kFree && v > 0) graded = true;
       if (layer == CellLayer::kUnknown) map.blocked_unknown_ = true;
-      map.layers_[static_cast<size_t>(y) * grid.width + x] = layer;
+      if (is_obstacle_layer(layer, options.inflate_unknown)) map.has_obstacles_ = true;
+      row[x] = static_cast<uint8_t>(layer);
     }
   }
   if (graded || gradient) {
@@ -194,27 +210,29 @@ Expected<GridMap> GridMap::build(const OccupancyGrid& grid, const GridBuildOptio
     }
   }
   if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return canceled();
-  map.obstacle_distance_.resize(cells);
-  ObstacleDistances distances{map.layers_,
-                              map.obstacle_distance_,
-                              gradient ? &map.costs_ : nullptr,
-                              map.width_,
-                              map.height_,
-                              metres_to_cells(options.robot_radius, grid.resolution),
-                              metres_to_cells(options.inflation_radius, grid.resolution),
-                              options.cost_scaling_factor * grid.resolution,
-                              options.inflate_unknown};
-  if (!distances.run(cancel)) return canceled();
-  map.blocked_.assign(padded, 1);
+  if (distance_field) {
+    map.obstacle_squared_distance_.assign(padded, kSaturatedSquaredDistance);
+    ObstacleDistances distances{map.cells_,
+                                map.obstacle_squared_distance_,
+                                gradient ? &map.costs_ : nullptr,
+                                map.width_,
+                                map.height_,
+                                metres_to_cells(options.robot_radius, grid.resolution),
+                                metres_to_cells(options.inflation_radius, grid.resolution),
+                                options.cost_scaling_factor * grid.resolution,
+                                options.inflate_unknown};
+    if (!distances.run(cancel)) return canceled();
+  }
   for (int32_t y = 0; y < grid.height; ++y) {
+    const uint8_t* row = &map.cells_[map.padded_index(0, y)];
+    float* cost_row = map.has_costs() ? &map.costs_[map.padded_index(0, y)] : nullptr;
     for (int32_t x = 0; x < grid.width; ++x) {
-      const bool blocked = map.layers_[static_cast<size_t>(y) * grid.width + x] != CellLayer::kFree;
-      map.blocked_[map.padded_index(x, y)] = blocked ? 1 : 0;
-      if (blocked && map.has_costs()) map.costs_[map.padded_index(x, y)] = 1.0f;
+      if (row[x] == 0) continue;
+      ++map.blocked_total_;
+      if (cost_row != nullptr) cost_row[x] = 1.0f;
     }
   }
   if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return canceled();
-  map.build_summed_area_table();
   map.build_bit_grids();
   return map;
 }
@@ -243,18 +261,24 @@ Expected<GridMap> GridMap::from_rows(const std::vector<std::string>& rows_top_fi
   return build(grid);
 }
 
-void GridMap::build_summed_area_table() {
-  const int32_t w1 = width_ + 1;
-  summed_area_.assign(static_cast<size_t>(w1) * (height_ + 1), 0);
-  for (int32_t y = 0; y < height_; ++y) {
-    int32_t row_sum = 0;
-    for (int32_t x = 0; x < width_; ++x) {
-      row_sum += blocked_[padded_index(x, y)];
-      summed_area_[static_cast<size_t>(y + 1) * w1 + (x + 1)] =
-          summed_area_[static_cast<size_t>(y) * w1 + (x + 1)] + row_sum;
+const int32_t* GridMap::build_summed_area() const {
+  SummedArea& holder = *summed_area_;
+  std::call_once(holder.once, [&] {
+    const int32_t w1 = width_ + 1;
+    std::vector<int32_t>& counts = holder.counts;
+    counts.assign(static_cast<size_t>(w1) * (height_ + 1), 0);
+    for (int32_t y = 0; y < height_; ++y) {
+      const uint8_t* row = &cells_[padded_index(0, y)];
+      int32_t row_sum = 0;
+      for (int32_t x = 0; x < width_; ++x) {
+        row_sum += row[x] != 0 ? 1 : 0;
+        counts[static_cast<size_t>(y + 1) * w1 + (x + 1)] =
+            counts[static_cast<size_t>(y) * w1 + (x + 1)] + row_sum;
+      }
     }
-  }
-  blocked_total_ = summed_area_.back();
+    holder.table.store(counts.data(), std::memory_order_release);
+  });
+  return holder.table.load(std::memory_order_acquire);
 }
 
 void GridMap::build_bit_grids() {
@@ -264,7 +288,7 @@ void GridMap::build_bit_grids() {
   row_bits_.assign(static_cast<size_t>(height_) * row_words_ + 1, 0);
   column_bits_.assign(static_cast<size_t>(width_) * column_words_ + 1, 0);
   for (int32_t y = 0; y < height_; ++y) {
-    const uint8_t* row = &blocked_[padded_index(0, y)];
+    const uint8_t* row = &cells_[padded_index(0, y)];
     uint64_t* row_words = &row_bits_[static_cast<size_t>(y) * row_words_];
     // Row y is bit y % 64 of word y / 64 of every column; column x starts x * column_words_ on.
     const uint64_t bit_of_y = uint64_t{1} << (y & 63);
@@ -297,25 +321,32 @@ MapMemoryEstimate GridMap::estimate_memory(int32_t width, int32_t height,
   const size_t h = static_cast<size_t>(std::max(height, 0));
   const size_t cells = w * h;
   const size_t padded = (w + 2) * (h + 2);
+  const bool distance_field = options.robot_radius > 0.0 || options.inflation_radius > 0.0;
   MapMemoryEstimate estimate;
-  estimate.map_bytes = padded * sizeof(uint8_t)                         // blocked_
-                       + cells * sizeof(CellLayer)                      // layers_
-                       + cells * sizeof(float)                          // obstacle_distance_
-                       + padded * sizeof(float)                         // costs_ (when any)
-                       + (w + 1) * (h + 1) * sizeof(int32_t)            // summed_area_
-                       + (h * ((w + 63) / 64) + 1) * sizeof(uint64_t)   // row_bits_
-                       + (w * ((h + 63) / 64) + 1) * sizeof(uint64_t);  // column_bits_
-  // The distance transform's vertical distances, and its per-row envelope.
-  estimate.scratch_bytes = cells * sizeof(int32_t) + w * (2 * sizeof(int32_t) + sizeof(int64_t));
-  (void)options;
+  estimate.map_bytes = padded * sizeof(uint8_t)                        // cells_
+                       + (h * ((w + 63) / 64) + 1) * sizeof(uint64_t)  // row_bits_
+                       + (w * ((h + 63) / 64) + 1) * sizeof(uint64_t)  // column_bits_
+                       + padded * sizeof(float)                        // costs_ (when any)
+                       + (w + 1) * (h + 1) * sizeof(int32_t);          // summed area (once used)
+  if (distance_field) {
+    estimate.map_bytes += padded * sizeof(uint16_t);  // obstacle_squared_distance_
+    // The transform's vertical distances, and its per-row envelope (s, t and the squared row).
+    // Its cap never exceeds width + height (ObstacleDistances::cap), whatever the resolution.
+    const int32_t widest_cap = static_cast<int32_t>(std::min<size_t>(w + h, INT32_MAX - 1));
+    estimate.scratch_bytes = cells * distance_transform_bytes_per_cell(widest_cap) +
+                             w * (2 * sizeof(int32_t) + sizeof(int64_t));
+  }
   return estimate;
 }
 
 size_t GridMap::bytes() const {
-  return blocked_.capacity() * sizeof(uint8_t) + layers_.capacity() * sizeof(CellLayer) +
-         obstacle_distance_.capacity() * sizeof(float) + costs_.capacity() * sizeof(float) +
-         summed_area_.capacity() * sizeof(int32_t) +
-         (row_bits_.capacity() + column_bits_.capacity()) * sizeof(uint64_t);
+  size_t total = cells_.capacity() * sizeof(uint8_t) +
+                 obstacle_squared_distance_.capacity() * sizeof(uint16_t) +
+                 costs_.capacity() * sizeof(float) +
+                 (row_bits_.capacity() + column_bits_.capacity()) * sizeof(uint64_t);
+  if (summed_area_ && summed_area_->table.load(std::memory_order_acquire) != nullptr)
+    total += summed_area_->counts.capacity() * sizeof(int32_t);
+  return total;
 }
 
 double GridMap::density(const Cell& a, const Cell& b) const {

@@ -131,8 +131,9 @@ double segment_clearance_bound(const GridMap& map, const Point2& a, const Point2
   const auto bound_at = [&](const Point2& p) {
     if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() < map.width() && p.y() < map.height())) return -1.0;
     const Cell cell{static_cast<int32_t>(p.x()), static_cast<int32_t>(p.y())};
-    // The transform is stored in single precision: a relative 1e-6 below it is a bound still.
-    const double centre_distance = map.obstacle_distance(cell) * (1.0 - 1e-6);
+    // A lower bound from the field (0 without one: then no bound); the factor undoes sqrt's
+    // rounding (half an ulp).
+    const double centre_distance = map.obstacle_distance_at_least(cell) * (1.0 - 1e-12);
     return centre_distance - (p - cell_centre(cell)).norm() - kHalfSqrt2;
   };
   const double bound = std::min(bound_at(a), bound_at(b)) - (b - a).norm() / 2;
@@ -163,6 +164,85 @@ bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point
 
 namespace {
 
+// Without inflation, and with unknown cells free or obstacles, every blocked bit is an obstacle.
+bool every_blocked_cell_is_an_obstacle(const GridBuildOptions& built) {
+  return built.robot_radius <= 0.0 && (built.allow_unknown || built.inflate_unknown);
+}
+
+// The highest u in [from, to] of a bit line whose bit is set and is_obstacle(u) holds; -1 when
+// none. A word at a time: the set bits are the blocked cells, is_obstacle tells them apart.
+template <class IsObstacle>
+int32_t last_obstacle_in(const uint64_t* line, int32_t from, int32_t to, IsObstacle&& is_obstacle) {
+  for (int32_t word = to >> 6; word >= from >> 6; --word) {
+    const int32_t low = std::max(from, word << 6) & 63;
+    const int32_t high = std::min(to, (word << 6) + 63) & 63;
+    uint64_t bits = line[word] & (~uint64_t{0} << low) & (~uint64_t{0} >> (63 - high));
+    while (bits != 0) {
+      const int32_t u = (word << 6) + 63 - __builtin_clzll(bits);
+      if (is_obstacle(u)) return u;
+      bits &= ~(uint64_t{1} << (u & 63));
+    }
+  }
+  return -1;
+}
+
+// The lowest u in [from, to] of a bit line that is set and an obstacle; -1 when none.
+template <class IsObstacle>
+int32_t first_obstacle_in(const uint64_t* line, int32_t from, int32_t to,
+                          IsObstacle&& is_obstacle) {
+  for (int32_t word = from >> 6; word <= to >> 6; ++word) {
+    const int32_t low = std::max(from, word << 6) & 63;
+    const int32_t high = std::min(to, (word << 6) + 63) & 63;
+    uint64_t bits = line[word] & (~uint64_t{0} << low) & (~uint64_t{0} >> (63 - high));
+    while (bits != 0) {
+      const int32_t u = (word << 6) + __builtin_ctzll(bits);
+      if (is_obstacle(u)) return u;
+      bits &= bits - 1;
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
+double nearest_obstacle_distance(const GridMap& map, const Cell& c, double within) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  if (!map.has_obstacles() || !map.in_bounds(c)) return kInfinity;
+  const bool every_blocked_is_obstacle = every_blocked_cell_is_an_obstacle(map.build_options());
+  const BlockedBits rows = map.blocked_rows();
+  const int64_t w = map.width(), h = map.height();
+  int64_t best = std::numeric_limits<int64_t>::max();  // cells^2
+  // Squares of half-width 1, 2, 4, ... around c: once the nearest obstacle found lies within the
+  // half-width, no cell outside the square (all farther than it) can be nearer. Per row only the
+  // nearest obstacle on each side of c.x can be the row's nearest.
+  for (int64_t half = 1;; half *= 2) {
+    const int32_t x0 = static_cast<int32_t>(std::max<int64_t>(0, c.x - half));
+    const int32_t x1 = static_cast<int32_t>(std::min<int64_t>(w - 1, c.x + half));
+    const int32_t y0 = static_cast<int32_t>(std::max<int64_t>(0, c.y - half));
+    const int32_t y1 = static_cast<int32_t>(std::min<int64_t>(h - 1, c.y + half));
+    for (int32_t y = y0; y <= y1; ++y) {
+      const int64_t dy = y - c.y;
+      if (dy * dy >= best) continue;
+      const auto is_obstacle = [&](int32_t x) {
+        return every_blocked_is_obstacle || map.is_obstacle(map.layer({x, y}));
+      };
+      const uint64_t* line = rows.line(y);
+      if (const int32_t x = last_obstacle_in(line, x0, c.x, is_obstacle); x >= 0)
+        best = std::min(best, int64_t{c.x - x} * (c.x - x) + dy * dy);
+      if (c.x < x1) {
+        if (const int32_t x = first_obstacle_in(line, c.x + 1, x1, is_obstacle); x >= 0)
+          best = std::min(best, int64_t{x - c.x} * (x - c.x) + dy * dy);
+      }
+    }
+    const bool whole_map = x0 == 0 && y0 == 0 && x1 == w - 1 && y1 == h - 1;
+    if (best <= half * half || (whole_map && best != std::numeric_limits<int64_t>::max()))
+      return std::sqrt(static_cast<double>(best));
+    if (whole_map || static_cast<double>(half) >= within) return kInfinity;
+  }
+}
+
+namespace {
+
 // The polyline with each collinear run (a grid path's straight moves) as one segment.
 std::vector<Point2> merge_collinear_runs(const std::vector<Point2>& polyline) {
   std::vector<Point2> vertices;
@@ -183,19 +263,31 @@ std::vector<Point2> merge_collinear_runs(const std::vector<Point2>& polyline) {
 
 // An upper bound of the clearance (cells), so that the scan's bands start narrow: a vertex is no
 // farther from the nearest obstacle square than from the nearest obstacle centre, which is at most
-// its distance to its cell's centre plus that centre's distance transform d (stored as a float:
-// the factor undoes its rounding, relative 2^-24). A few reads, one a vertex, not one a cell of
-// the path.
+// its distance to its cell's centre plus that centre's distance to the nearest obstacle centre d
+// (the factor undoes sqrt's rounding). d from the distance field where it holds it (a read a
+// vertex); otherwise (no field, or every vertex beyond its saturation) from
+// nearest_obstacle_distance around each vertex, searching no farther than the bound so far (a
+// path along walls: a few words a vertex).
 double clearance_upper_bound(const GridMap& map, const std::vector<Point2>& vertices) {
-  constexpr double kFloatRounding = 1e-6;
+  constexpr double kSqrtRounding = 1e-12;
   double bound = std::numeric_limits<double>::infinity();
-  for (const Point2& v : vertices) {
-    if (!std::isfinite(v.x()) || !std::isfinite(v.y())) continue;
-    const Cell c{static_cast<int32_t>(std::clamp(std::floor(v.x()), 0.0, map.width() - 1.0)),
-                 static_cast<int32_t>(std::clamp(std::floor(v.y()), 0.0, map.height() - 1.0))};
-    const Point2 centre(c.x + 0.5, c.y + 0.5);
-    bound = std::min(
-        bound, map.obstacle_distance(c) * (1.0 + kFloatRounding) + (v - centre).norm() + 1e-9);
+  const auto cell_of_vertex = [&](const Point2& v) {
+    return Cell{static_cast<int32_t>(std::clamp(std::floor(v.x()), 0.0, map.width() - 1.0)),
+                static_cast<int32_t>(std::clamp(std::floor(v.y()), 0.0, map.height() - 1.0))};
+  };
+  const auto offset = [](const Point2& v, const Cell& c) {
+    return (v - Point2(c.x + 0.5, c.y + 0.5)).norm();
+  };
+  for (const bool search : {false, true}) {
+    for (const Point2& v : vertices) {
+      if (!std::isfinite(v.x()) || !std::isfinite(v.y())) continue;
+      const Cell c = cell_of_vertex(v);
+      const double from_centre = offset(v, c);
+      const double d = search ? nearest_obstacle_distance(map, c, bound - from_centre)
+                              : map.obstacle_distance_at_most(c);
+      bound = std::min(bound, d * (1.0 + kSqrtRounding) + from_centre + 1e-9);
+    }
+    if (std::isfinite(bound)) break;
   }
   return bound;
 }
@@ -265,11 +357,6 @@ class ClearanceScan {
  private:
   static constexpr double kHalfDiagonal = kSqrt2 / 2;
 
-  // Without inflation, and with unknown cells free or obstacles, every blocked bit is one.
-  static bool every_blocked_cell_is_an_obstacle(const GridBuildOptions& built) {
-    return built.robot_radius <= 0.0 && (built.allow_unknown || built.inflate_unknown);
-  }
-
   double reach() const { return std::min(best_, bound_) + kHalfDiagonal + 1e-9; }  // cells
 
   Cell cell_at(const ClearanceScanFrame& f, int32_t v, int32_t u) const {
@@ -281,10 +368,6 @@ class ClearanceScan {
 
   void measure_line(const ClearanceScanFrame& f, int32_t v);
   void consider(const ClearanceScanFrame& f, int32_t v, int32_t u);
-  int32_t last_obstacle_in(const ClearanceScanFrame& f, int32_t v, const uint64_t* line,
-                           int32_t from, int32_t to) const;
-  int32_t first_obstacle_in(const ClearanceScanFrame& f, int32_t v, const uint64_t* line,
-                            int32_t from, int32_t to) const;
 
   const GridMap& map_;
   double bound_;  // cells: an upper bound of the result
@@ -331,9 +414,11 @@ void ClearanceScan::measure_line(const ClearanceScanFrame& f, int32_t v) {
   const double t_near = f.ab_v != 0.0 ? std::clamp((centre_v - f.a_v) * f.per_v, 0.0, 1.0) : 0.0;
   const int32_t u_near = static_cast<int32_t>(std::clamp(
       std::floor(f.a_u + t_near * f.ab_u), static_cast<double>(u0), static_cast<double>(u1)));
-  if (const int32_t u = last_obstacle_in(f, v, line, u0, u_near); u >= 0) consider(f, v, u);
+  const auto is_obstacle = [&](int32_t u) { return is_obstacle_at(f, v, u); };
+  if (const int32_t u = last_obstacle_in(line, u0, u_near, is_obstacle); u >= 0) consider(f, v, u);
   if (u_near < u1) {
-    if (const int32_t u = first_obstacle_in(f, v, line, u_near + 1, u1); u >= 0) consider(f, v, u);
+    if (const int32_t u = first_obstacle_in(line, u_near + 1, u1, is_obstacle); u >= 0)
+      consider(f, v, u);
   }
 }
 
@@ -350,44 +435,12 @@ void ClearanceScan::consider(const ClearanceScanFrame& f, int32_t v, int32_t u) 
   best_ = std::min(best_, segment_square_distance(f.a, f.b, c.x, c.y));
 }
 
-// The highest u in [from, to] of line v that is an obstacle (not only blocked); -1 when none.
-int32_t ClearanceScan::last_obstacle_in(const ClearanceScanFrame& f, int32_t v,
-                                        const uint64_t* line, int32_t from, int32_t to) const {
-  for (int32_t word = to >> 6; word >= from >> 6; --word) {
-    const int32_t low = std::max(from, word << 6) & 63;
-    const int32_t high = std::min(to, (word << 6) + 63) & 63;
-    uint64_t bits = line[word] & (~uint64_t{0} << low) & (~uint64_t{0} >> (63 - high));
-    while (bits != 0) {
-      const int32_t u = (word << 6) + 63 - __builtin_clzll(bits);
-      if (is_obstacle_at(f, v, u)) return u;
-      bits &= ~(uint64_t{1} << (u & 63));
-    }
-  }
-  return -1;
-}
-
-// The lowest u in [from, to] of line v that is an obstacle; -1 when none.
-int32_t ClearanceScan::first_obstacle_in(const ClearanceScanFrame& f, int32_t v,
-                                         const uint64_t* line, int32_t from, int32_t to) const {
-  for (int32_t word = from >> 6; word <= to >> 6; ++word) {
-    const int32_t low = std::max(from, word << 6) & 63;
-    const int32_t high = std::min(to, (word << 6) + 63) & 63;
-    uint64_t bits = line[word] & (~uint64_t{0} << low) & (~uint64_t{0} >> (63 - high));
-    while (bits != 0) {
-      const int32_t u = (word << 6) + __builtin_ctzll(bits);
-      if (is_obstacle_at(f, v, u)) return u;
-      bits &= bits - 1;
-    }
-  }
-  return -1;
-}
-
 }  // namespace
 
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   if (polyline.empty() || map.cell_count() == 0) return kInfinity;
-  if (!std::isfinite(map.obstacle_distance({0, 0}))) return kInfinity;  // the map has no obstacle
+  if (!map.has_obstacles()) return kInfinity;
   const std::vector<Point2> vertices = merge_collinear_runs(polyline);
   const double bound = clearance_upper_bound(map, vertices);
   ClearanceScan scan(map, bound);

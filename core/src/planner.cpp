@@ -89,7 +89,9 @@ std::string why_blocked(const GridMap& map, const Cell& c) {
       return "is in an unknown cell (map value -1, and allow_unknown is false)";
     case CellLayer::kInflated:
       return "is blocked by inflation: its centre is " +
-             metres(map.obstacle_distance(c) * map.resolution()) +
+             // Exact from a local search (within the radius, a few words); rounded to float as
+             // the distance field of earlier versions stored it, so the message reads the same.
+             metres(static_cast<float>(nearest_obstacle_distance(map, c)) * map.resolution()) +
              " m from the nearest obstacle, within robot_radius " + metres(o.robot_radius) + " m";
     case CellLayer::kFree:
       break;

@@ -369,11 +369,21 @@ TEST(CostsLayers, EveryCellMatchesBruteForce) {
             << t.squared[t.index(x, y)] << ")";
         ASSERT_EQ(map->blocked(c), expected != CellLayer::kFree) << "cell " << str(c);
         const int64_t d2 = t.squared[t.index(x, y)];
+        // The field: exact squared distances up to its saturation, bounds beyond it.
         if (d2 < 0) {
-          ASSERT_EQ(map->obstacle_distance(c), kInf) << "cell " << str(c);
+          ASSERT_EQ(core::nearest_obstacle_distance(*map, c), kInf) << "cell " << str(c);
+          if (map->has_obstacle_distances()) {
+            ASSERT_EQ(map->obstacle_distance_at_most(c), kInf) << "cell " << str(c);
+          }
         } else {
           const double d = std::sqrt(static_cast<double>(d2));
-          ASSERT_NEAR(map->obstacle_distance(c), d, 1e-6 * std::max(1.0, d)) << "cell " << str(c);
+          ASSERT_EQ(core::nearest_obstacle_distance(*map, c), d) << "cell " << str(c);
+          ASSERT_LE(map->obstacle_distance_at_least(c), d) << "cell " << str(c);
+          ASSERT_GE(map->obstacle_distance_at_most(c), d) << "cell " << str(c);
+          if (map->has_obstacle_distances() && d2 < GridMap::kSaturatedSquaredDistance) {
+            ASSERT_EQ(map->obstacle_distance_at_most(c), d) << "cell " << str(c);
+            ASSERT_EQ(map->obstacle_distance_at_least(c), d) << "cell " << str(c);
+          }
         }
         inflated += expected == CellLayer::kInflated;
         unknown += expected == CellLayer::kUnknown;

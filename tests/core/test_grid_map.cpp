@@ -4,9 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <thread>
+#include <vector>
 
 #include "core/test_support.hpp"
 #include "vnsba/core/grid_map.hpp"
+#include "vnsba/core/metrics.hpp"
 
 namespace vnsba::test {
 namespace {
@@ -164,7 +167,13 @@ TEST(GridMap, UnknownCellsAreBlockedButInflatedOnlyWhenAsked) {
             }
           const bool own_blocked = g.at(x, y) != 0;  // occupied, or unknown (allow_unknown false)
           ASSERT_EQ(map->blocked(x, y), own_blocked || nearest <= r + 1e-9) << x << "," << y;
-          EXPECT_NEAR(map->obstacle_distance({x, y}), nearest, 1e-4) << x << "," << y;
+          // Exact within the field's saturation (every distance of this small map).
+          if (std::isfinite(nearest)) {
+            EXPECT_DOUBLE_EQ(map->obstacle_distance_at_least({x, y}), nearest) << x << "," << y;
+            EXPECT_DOUBLE_EQ(map->obstacle_distance_at_most({x, y}), nearest) << x << "," << y;
+          } else {
+            EXPECT_EQ(map->obstacle_distance_at_most({x, y}), nearest) << x << "," << y;
+          }
         }
       }
     }
@@ -351,6 +360,284 @@ TEST(GridMap, WorldCellConversionRoundTrips) {
   EXPECT_FALSE(map->world_to_cell(-1.0 + 2.5, 2.1));  // x = width exactly is outside
   EXPECT_FALSE(map->world_to_cell(std::nan(""), 2.1));
   EXPECT_FALSE(map->world_to_cell(0, INFINITY));
+}
+
+// --- Memory layout (issue 47): what a map holds, against what it was built with. ---
+
+// A random occupancy grid: occupied (100), unknown (-1), graded (1..64) and free values.
+OccupancyGrid random_grid(std::mt19937& rng, int w, int h, double occupied, double unknown = 0.0,
+                          double graded = 0.0) {
+  OccupancyGrid g = grid_of(w, h);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::uniform_int_distribution<int> grade(1, 64);
+  for (int8_t& v : g.data) {
+    const double draw = u(rng);
+    v = draw < occupied                      ? int8_t{100}
+        : draw < occupied + unknown          ? core::kOccupancyUnknown
+        : draw < occupied + unknown + graded ? static_cast<int8_t>(grade(rng))
+                                             : int8_t{0};
+  }
+  return g;
+}
+
+TEST(GridMap, WithoutRadiusHoldsNeitherDistancesNorSummedAreaUntilAsked) {
+  std::mt19937 rng(47);
+  const OccupancyGrid g = random_grid(rng, 1024, 1024, 0.2);
+  auto map = GridMap::build(g);
+  ASSERT_TRUE(map);
+  EXPECT_FALSE(map->has_obstacle_distances());
+  EXPECT_FALSE(map->has_costs());
+  const double cells = 1024.0 * 1024.0;
+  // A byte a cell (padded) and two bits: no distance field, no costs, no summed-area table.
+  EXPECT_LT(static_cast<double>(map->bytes()), 1.6 * cells);
+  // The table comes with the first count (4 bytes a cell), and the count is right.
+  int64_t blocked = 0;
+  for (int y = 0; y < 1024; ++y)
+    for (int x = 0; x < 1024; ++x) blocked += map->blocked(x, y);
+  EXPECT_EQ(map->blocked_count(), blocked);
+  EXPECT_EQ(map->blocked_in_rect({0, 0}, {1023, 1023}), blocked);
+  EXPECT_GE(static_cast<double>(map->bytes()), 5.0 * cells);
+  // A radius brings the field (2 bytes a cell), still no table.
+  GridBuildOptions options;
+  options.robot_radius = 2.0;
+  auto inflated = GridMap::build(g, options);
+  ASSERT_TRUE(inflated);
+  EXPECT_TRUE(inflated->has_obstacle_distances());
+  EXPECT_LT(static_cast<double>(inflated->bytes()), 3.6 * cells);
+}
+
+TEST(GridMap, BytesNeverExceedTheEstimate) {
+  std::mt19937 rng(5);
+  struct Case {
+    int w, h;
+    double robot_radius, inflation_radius;
+    double graded;
+    bool allow_unknown;
+  };
+  const Case cases[] = {{1, 1, 0.0, 0.0, 0.0, false},     {65, 3, 0.0, 0.0, 0.0, false},
+                        {200, 130, 0.0, 0.0, 0.0, true},  {200, 130, 0.0, 0.0, 0.2, false},
+                        {130, 200, 0.3, 0.0, 0.0, false}, {130, 200, 0.3, 1.1, 0.1, true},
+                        {300, 64, 0.0, 0.8, 0.0, false},  {64, 300, 25.0, 30.0, 0.0, false}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) + " r " +
+                 std::to_string(c.robot_radius) + " inflation " +
+                 std::to_string(c.inflation_radius));
+    OccupancyGrid g = random_grid(rng, c.w, c.h, 0.05, 0.02, c.graded);
+    g.resolution = 0.1;
+    GridBuildOptions options;
+    options.robot_radius = c.robot_radius;
+    options.inflation_radius = c.inflation_radius;
+    options.allow_unknown = c.allow_unknown;
+    const core::MapMemoryEstimate estimate = GridMap::estimate_memory(c.w, c.h, options);
+    auto map = GridMap::build(g, options);
+    ASSERT_TRUE(map);
+    EXPECT_EQ(map->has_obstacle_distances(), c.robot_radius > 0.0 || c.inflation_radius > 0.0);
+    EXPECT_LE(map->bytes(), estimate.map_bytes);
+    map->blocked_in_rect({0, 0}, {c.w - 1, c.h - 1});  // builds the summed-area table
+    EXPECT_LE(map->bytes(), estimate.map_bytes);
+    if (!map->has_obstacle_distances()) {
+      EXPECT_EQ(estimate.scratch_bytes, 0u);
+    }
+  }
+}
+
+// The brute-force distance (cells) from cell c's centre to the nearest obstacle centre.
+double brute_obstacle_distance(const OccupancyGrid& g, bool inflate_unknown, const Cell& c) {
+  int64_t best = -1;
+  for (int32_t y = 0; y < g.height; ++y)
+    for (int32_t x = 0; x < g.width; ++x) {
+      const int8_t v = g.at(x, y);
+      if (!(v == 100 || (inflate_unknown && v == core::kOccupancyUnknown))) continue;
+      const int64_t d2 = int64_t{x - c.x} * (x - c.x) + int64_t{y - c.y} * (y - c.y);
+      if (best < 0 || d2 < best) best = d2;
+    }
+  return best < 0 ? std::numeric_limits<double>::infinity() : std::sqrt(double(best));
+}
+
+// The field bounds the exact distance from both sides (exact within its saturation, beyond 255
+// cells), and nearest_obstacle_distance is exact everywhere, with or without the field.
+TEST(GridMap, DistanceFieldBoundsTheExactDistance) {
+  std::mt19937 rng(9);
+  for (int trial = 0; trial < 6; ++trial) {
+    // Long thin maps with obstacles only near one end: distances well past the saturation.
+    const int w = trial < 3 ? 700 : 45, h = trial < 3 ? 9 : 37;
+    OccupancyGrid g = grid_of(w, h);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int32_t y = 0; y < h; ++y)
+      for (int32_t x = 0; x < w; ++x) {
+        const bool far_end = trial < 3 && x >= 20;  // free: hundreds of cells from anything
+        const double p = trial < 3 ? 0.2 : 0.15;
+        const double draw = u(rng);
+        int8_t value = 0;
+        if (!far_end)
+          value = draw < p ? int8_t{100} : draw < p + 0.05 ? core::kOccupancyUnknown : int8_t{0};
+        g.data[static_cast<size_t>(y) * w + x] = value;
+      }
+    for (const double robot_radius : {0.0, 1.5}) {
+      for (const bool inflate_unknown : {false, true}) {
+        GridBuildOptions options;
+        options.robot_radius = robot_radius;
+        options.inflation_radius = trial % 2 == 0 ? robot_radius + 2.0 : 0.0;
+        options.inflate_unknown = inflate_unknown;
+        auto map = GridMap::build(g, options);
+        ASSERT_TRUE(map);
+        int saturated = 0;
+        for (int32_t y = 0; y < h; ++y)
+          for (int32_t x = 0; x < w; ++x) {
+            const Cell c{x, y};
+            const double exact = brute_obstacle_distance(g, inflate_unknown, c);
+            ASSERT_EQ(core::nearest_obstacle_distance(*map, c), exact) << x << "," << y;
+            ASSERT_LE(map->obstacle_distance_at_least(c), exact) << x << "," << y;
+            ASSERT_GE(map->obstacle_distance_at_most(c), exact) << x << "," << y;
+            if (map->has_obstacle_distances() && exact * exact < 65535.0) {
+              ASSERT_EQ(map->obstacle_distance_at_least(c), exact) << x << "," << y;
+              ASSERT_EQ(map->obstacle_distance_at_most(c), exact) << x << "," << y;
+            }
+            saturated += !std::isfinite(map->obstacle_distance_at_most(c));
+          }
+        if (trial < 3 && map->has_obstacle_distances()) {
+          EXPECT_GT(saturated, 0);
+        }
+      }
+    }
+  }
+}
+
+// --- An independent oracle of path_clearance_cells: the least distance from each segment to
+// each obstacle square, by the distance between two disjoint convex polygons (a vertex of one to
+// an edge of the other) or 0 where they meet. ---
+
+double point_segment_distance(const Point2& p, const Point2& a, const Point2& b) {
+  const Point2 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+double cross(const Point2& a, const Point2& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+bool segments_meet(const Point2& p, const Point2& q, const Point2& r, const Point2& s) {
+  const double d1 = cross(q - p, r - p), d2 = cross(q - p, s - p);
+  const double d3 = cross(s - r, p - r), d4 = cross(s - r, q - r);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    return true;
+  return point_segment_distance(r, p, q) == 0.0 || point_segment_distance(s, p, q) == 0.0 ||
+         point_segment_distance(p, r, s) == 0.0 || point_segment_distance(q, r, s) == 0.0;
+}
+
+double segment_square_oracle(const Point2& a, const Point2& b, int32_t x, int32_t y) {
+  const Point2 corners[4] = {{x, y}, {x + 1.0, y}, {x + 1.0, y + 1.0}, {x, y + 1.0}};
+  const auto inside = [&](const Point2& p) {
+    return p.x() >= x && p.x() <= x + 1.0 && p.y() >= y && p.y() <= y + 1.0;
+  };
+  if (inside(a) || inside(b)) return 0.0;
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 4; ++i) {
+    const Point2& p = corners[i];
+    const Point2& q = corners[(i + 1) % 4];
+    if (segments_meet(a, b, p, q)) return 0.0;
+    best = std::min({best, point_segment_distance(p, a, b), point_segment_distance(a, p, q),
+                     point_segment_distance(b, p, q)});
+  }
+  return best;
+}
+
+double clearance_oracle(const GridMap& map, const std::vector<Point2>& polyline) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int32_t y = 0; y < map.height(); ++y)
+    for (int32_t x = 0; x < map.width(); ++x) {
+      if (!map.is_obstacle(map.layer({x, y}))) continue;
+      if (polyline.size() == 1)
+        best = std::min(best, segment_square_oracle(polyline[0], polyline[0], x, y));
+      for (size_t i = 1; i < polyline.size(); ++i)
+        best = std::min(best, segment_square_oracle(polyline[i - 1], polyline[i], x, y));
+    }
+  return best;
+}
+
+TEST(GridMap, PathClearanceEqualsTheOracleWithAndWithoutTheField) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int without_field = 0, with_field = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const bool long_map = trial % 6 == 0;  // far from obstacles: beyond the field's saturation
+    const int w = long_map ? 600 : 10 + static_cast<int>(rng() % 50);
+    const int h = long_map ? 12 : 10 + static_cast<int>(rng() % 50);
+    OccupancyGrid g = grid_of(w, h);
+    const double density = long_map ? 0.0 : 0.02 + 0.25 * unit(rng);
+    for (int32_t y = 0; y < h; ++y)
+      for (int32_t x = 0; x < w; ++x) {
+        const double draw = unit(rng);
+        const bool wall = long_map && x < 3 && draw < 0.5;
+        g.data[static_cast<size_t>(y) * w + x] = wall || draw < density  ? int8_t{100}
+                                                 : draw < density + 0.03 ? core::kOccupancyUnknown
+                                                                         : int8_t{0};
+      }
+    GridBuildOptions options;
+    options.allow_unknown = trial % 3 == 0;
+    options.inflate_unknown = trial % 4 == 0;
+    if (trial % 2 == 1) {
+      options.robot_radius = (trial % 4 == 1) ? 0.0 : 1.0 + unit(rng);
+      options.inflation_radius = options.robot_radius + 1.0;
+    }
+    auto map = GridMap::build(g, options);
+    ASSERT_TRUE(map);
+    (map->has_obstacle_distances() ? with_field : without_field)++;
+    for (int path = 0; path < 20; ++path) {
+      // Vertices at cell centres (grid paths, straight runs included) or anywhere.
+      std::vector<Point2> polyline;
+      const int vertices = 1 + static_cast<int>(rng() % 6);
+      for (int i = 0; i < vertices; ++i) {
+        const double x = unit(rng) * w, y = unit(rng) * h;
+        polyline.push_back(path % 2 == 0 ? Point2(std::floor(x) + 0.5, std::floor(y) + 0.5)
+                                         : Point2(x, y));
+      }
+      const double expected = clearance_oracle(*map, polyline);
+      const double got = core::path_clearance_cells(*map, polyline);
+      if (std::isinf(expected)) {
+        ASSERT_EQ(got, expected) << "trial " << trial << " path " << path;
+      } else {
+        ASSERT_NEAR(got, expected, 1e-9) << "trial " << trial << " path " << path;
+      }
+    }
+  }
+  EXPECT_GT(with_field, 0);
+  EXPECT_GT(without_field, 0);
+}
+
+// The summed-area table built on first use equals brute force, also when several threads make
+// that first use at once (one builds it, the others wait for it).
+TEST(GridMap, LazySummedAreaFromSeveralThreadsEqualsBruteForce) {
+  std::mt19937 rng(3);
+  for (int round = 0; round < 5; ++round) {
+    const int w = 150 + round * 37, h = 120 + round * 11;
+    auto map = GridMap::from_rows(random_rows(rng, w, h, 0.3));
+    ASSERT_TRUE(map);
+    const GridMap& shared = *map;
+    std::atomic<bool> go{false};
+    std::atomic<int> wrong{0};
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 6; ++t) {
+      threads.emplace_back([&, seed = static_cast<unsigned>(round * 10 + t)] {
+        std::mt19937 local(seed);
+        std::uniform_int_distribution<int> rx(0, w - 1), ry(0, h - 1);
+        while (!go.load()) std::this_thread::yield();
+        for (int trial = 0; trial < 300; ++trial) {
+          const Cell a{rx(local), ry(local)}, b{rx(local), ry(local)};
+          int64_t count = 0;
+          for (int y = std::min(a.y, b.y); y <= std::max(a.y, b.y); ++y)
+            for (int x = std::min(a.x, b.x); x <= std::max(a.x, b.x); ++x)
+              count += shared.blocked(x, y);
+          if (shared.blocked_in_rect(a, b) != count) ++wrong;
+        }
+      });
+    }
+    go = true;
+    for (std::thread& t : threads) t.join();
+    EXPECT_EQ(wrong.load(), 0);
+  }
 }
 
 }  // namespace

@@ -8,8 +8,9 @@
 //
 // `cap` bounds the distances that matter: vertical distances above `cap` are stored as cap + 1,
 // so every squared distance <= cap^2 is exact and every larger one is reported as some value
-// > cap^2. That keeps the per-cell store at 4 bytes for any map, and lets a caller that only
-// asks "within r?" (r <= cap) pay nothing for distances it never needs.
+// > cap^2. That keeps the per-cell store (the only scratch a cell: the vertical distances) at
+// 2 bytes when cap < 65535 (any radius a robot has in practice) and 4 beyond, and lets a caller
+// that only asks "within r?" (r <= cap) pay nothing for distances it never needs.
 #pragma once
 
 #include <algorithm>
@@ -24,31 +25,40 @@ inline int64_t far_squared_distance(int32_t cap) {
   return (int64_t{cap} + 1) * (int64_t{cap} + 1);
 }
 
-// Calls on_row(y, const int64_t* squared) for y = 0..height-1 in order, with `squared` holding
-// the width squared distances (cells^2) of row y. is_source(x, y) says whether cell (x, y) is a
-// source. With no source at all every value is far. Returns false (and stops early) when
-// `cancel` is raised; it is polled once per row.
-template <class IsSource, class OnRow>
-bool squared_distance_rows(int32_t width, int32_t height, int32_t cap, IsSource&& is_source,
-                           OnRow&& on_row, const std::atomic<bool>* cancel = nullptr) {
+// Bytes of scratch a cell squared_distance_rows holds (the vertical distances) for `cap`.
+inline size_t distance_transform_bytes_per_cell(int32_t cap) {
+  return cap + 1 <= 65535 ? sizeof(uint16_t) : sizeof(int32_t);
+}
+
+namespace detail {
+
+// squared_distance_rows with the vertical distances stored as `Vertical` (which holds cap + 1).
+template <class Vertical, class IsSource, class OnRow>
+bool squared_distance_rows_as(int32_t width, int32_t height, int32_t cap, IsSource&& is_source,
+                              OnRow&& on_row, const std::atomic<bool>* cancel) {
   auto canceled = [&] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
   const size_t w = static_cast<size_t>(width);
   const int32_t far = cap + 1;  // a vertical distance above cap
   // Phase 1: g(x, y) = vertical distance to the nearest source in column x, at most cap + 1.
   // Row by row (not column by column) so that both passes stream through memory.
-  std::vector<int32_t> g(w * static_cast<size_t>(height));
+  std::vector<Vertical> g(w * static_cast<size_t>(height));
   for (int32_t y = 0; y < height; ++y) {
     if (canceled()) return false;
-    int32_t* row = &g[static_cast<size_t>(y) * w];
-    const int32_t* below = y > 0 ? row - w : nullptr;
-    for (int32_t x = 0; x < width; ++x)
-      row[x] = is_source(x, y) ? 0 : (below ? std::min(below[x] + 1, far) : far);
+    Vertical* row = &g[static_cast<size_t>(y) * w];
+    const Vertical* below = y > 0 ? row - w : nullptr;
+    for (int32_t x = 0; x < width; ++x) {
+      row[x] = static_cast<Vertical>(
+          is_source(x, y) ? 0 : (below ? std::min(int32_t{below[x]} + 1, far) : far));
+    }
   }
   for (int32_t y = height - 2; y >= 0; --y) {
     if (canceled()) return false;
-    int32_t* row = &g[static_cast<size_t>(y) * w];
-    const int32_t* above = row + w;
-    for (int32_t x = 0; x < width; ++x) row[x] = std::min(row[x], std::min(above[x] + 1, far));
+    Vertical* row = &g[static_cast<size_t>(y) * w];
+    const Vertical* above = row + w;
+    for (int32_t x = 0; x < width; ++x) {
+      row[x] =
+          static_cast<Vertical>(std::min(int32_t{row[x]}, std::min(int32_t{above[x]} + 1, far)));
+    }
   }
 
   // Phase 2, per row: the lower envelope of f_i(x) = (x - i)^2 + g(i)^2 over the columns i.
@@ -58,7 +68,7 @@ bool squared_distance_rows(int32_t width, int32_t height, int32_t cap, IsSource&
   std::vector<int64_t> squared(w);
   for (int32_t y = 0; y < height; ++y) {
     if (canceled()) return false;
-    const int32_t* gy = &g[static_cast<size_t>(y) * w];
+    const Vertical* gy = &g[static_cast<size_t>(y) * w];
     auto f = [&](int64_t x, int32_t i) { return (x - i) * (x - i) + int64_t{gy[i]} * gy[i]; };
     // First x at which the parabola of column u is at or below that of column i (i < u),
     // floor((u^2 - i^2 + g(u)^2 - g(i)^2) / (2 (u - i))), rounded towards minus infinity.
@@ -103,6 +113,23 @@ bool squared_distance_rows(int32_t width, int32_t height, int32_t cap, IsSource&
     on_row(y, static_cast<const int64_t*>(squared.data()));
   }
   return true;
+}
+
+}  // namespace detail
+
+// Calls on_row(y, const int64_t* squared) for y = 0..height-1 in order, with `squared` holding
+// the width squared distances (cells^2) of row y. is_source(x, y) says whether cell (x, y) is a
+// source. With no source at all every value is far. Returns false (and stops early) when
+// `cancel` is raised; it is polled once per row. Scratch: distance_transform_bytes_per_cell(cap)
+// a cell, plus 16 bytes a column.
+template <class IsSource, class OnRow>
+bool squared_distance_rows(int32_t width, int32_t height, int32_t cap, IsSource&& is_source,
+                           OnRow&& on_row, const std::atomic<bool>* cancel = nullptr) {
+  if (distance_transform_bytes_per_cell(cap) == sizeof(uint16_t)) {
+    return detail::squared_distance_rows_as<uint16_t>(width, height, cap, is_source, on_row,
+                                                      cancel);
+  }
+  return detail::squared_distance_rows_as<int32_t>(width, height, cap, is_source, on_row, cancel);
 }
 
 }  // namespace vnsba::core

@@ -1,4 +1,6 @@
-// The planning grid: occupancy values in, blocked/free cells plus a summed-area table out.
+// The planning grid: occupancy values in, one byte a cell (its CellLayer, nonzero = blocked) and
+// two bit grids out; the obstacle distance field only where a radius is configured, the costs
+// only where a value or the gradient gives some, the summed-area table only once a planner asks.
 //
 // docs/algorithm.md section 1. A GridMap is built once per incoming map and is immutable
 // afterwards, so any number of planners may share it (std::shared_ptr<const GridMap>) while a newer
@@ -9,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -129,12 +133,13 @@ class GridMap {
   // place that knows the layout of a map's arrays; the node's memory budget reads it.
   static MapMemoryEstimate estimate_memory(int32_t width, int32_t height,
                                            const GridBuildOptions& options);
-  // Bytes held by this map's arrays (their capacities).
+  // Bytes held by this map's arrays (their capacities), the summed-area table once built.
   size_t bytes() const;
 
-  // Validates, thresholds, inflates and builds the summed-area table and the bit grids.
-  // O(cells) whatever the robot radius (inflation goes through the exact distance transform),
-  // about 10 bytes of scratch per cell. Polls `cancel` (may be null) once per row and stops
+  // Validates, thresholds, inflates and builds the bit grids (the summed-area table waits for
+  // its first use). O(cells) whatever the robot radius (inflation goes through the exact distance
+  // transform, 2 bytes of scratch per cell, 4 for radii beyond 65534 cells; none without a
+  // robot_radius or inflation_radius). Polls `cancel` (may be null) once per row and stops
   // with kCanceled when it is raised (a newer map supersedes this one).
   static Expected<GridMap> build(const OccupancyGrid& grid, const GridBuildOptions& options = {},
                                  const std::atomic<bool>* cancel = nullptr);
@@ -157,15 +162,13 @@ class GridMap {
   bool in_bounds(const Cell& c) const { return in_bounds(c.x, c.y); }
   // Out-of-map cells count as blocked.
   bool blocked(int32_t x, int32_t y) const {
-    return !in_bounds(x, y) || blocked_[padded_index(x, y)];
+    return !in_bounds(x, y) || cells_[padded_index(x, y)] != 0;
   }
   bool blocked(const Cell& c) const { return blocked(c.x, c.y); }
   bool free(const Cell& c) const { return !blocked(c); }
 
   // The layer that blocks a cell (kFree when it is free). The cell must be in the map.
-  CellLayer layer(const Cell& c) const {
-    return layers_[static_cast<size_t>(c.y) * static_cast<size_t>(width_) + c.x];
-  }
+  CellLayer layer(const Cell& c) const { return static_cast<CellLayer>(cells_[padded_index(c)]); }
   // Whether cells of `layer` are obstacles: what inflation and the cost gradient grow from and
   // what clearance measures to. Occupied cells, and blocked unknown ones with inflate_unknown.
   bool is_obstacle(CellLayer layer) const {
@@ -179,11 +182,31 @@ class GridMap {
   bool has_blocked_non_obstacles() const { return blocked_unknown_ && !options_.inflate_unknown; }
   // Whether some unknown cell is blocked (allow_unknown false and the slice has unknown cells).
   bool has_blocked_unknown() const { return blocked_unknown_; }
-  // Distance in cells from the centre of `c` to the nearest obstacle centre (is_obstacle,
-  // inflation not counted): 0 on an obstacle, +infinity when the map has none. Exact (the
-  // Euclidean distance transform). The cell must be in the map.
-  double obstacle_distance(const Cell& c) const {
-    return obstacle_distance_[static_cast<size_t>(c.y) * static_cast<size_t>(width_) + c.x];
+  // Whether some cell is an obstacle (is_obstacle): without, clearance is +infinity everywhere.
+  bool has_obstacles() const { return has_obstacles_; }
+
+  // --- The obstacle distance field (only with robot_radius > 0 or inflation_radius > 0). ---
+  // Per cell the squared distance d^2 (cells^2, an integer) from its centre to the nearest
+  // obstacle centre (is_obstacle, inflation not counted), exact up to kSaturatedSquaredDistance
+  // and stored as that value beyond: 2 bytes a cell, exact within 255 cells of an obstacle. Its
+  // readers take it as bounds (obstacle_distance_at_least / _at_most); metrics.hpp's
+  // nearest_obstacle_distance is exact anywhere, with or without the field.
+  static constexpr uint16_t kSaturatedSquaredDistance = 65535;  // cells^2: "at least this"
+  bool has_obstacle_distances() const { return !obstacle_squared_distance_.empty(); }
+  // A lower bound of the distance (cells) from the centre of `c` to the nearest obstacle centre:
+  // exact where the field holds it (sqrt's rounding aside, half an ulp), about 255.998 beyond,
+  // 0 without the field. The cell must be in the map.
+  double obstacle_distance_at_least(const Cell& c) const {
+    if (!has_obstacle_distances()) return 0.0;
+    return std::sqrt(static_cast<double>(obstacle_squared_distance_[padded_index(c)]));
+  }
+  // An upper bound of the same distance: exact where the field holds it, +infinity beyond it
+  // (or without the field, or on a map without obstacles).
+  double obstacle_distance_at_most(const Cell& c) const {
+    if (!has_obstacle_distances()) return std::numeric_limits<double>::infinity();
+    const uint16_t squared = obstacle_squared_distance_[padded_index(c)];
+    return squared == kSaturatedSquaredDistance ? std::numeric_limits<double>::infinity()
+                                                : std::sqrt(static_cast<double>(squared));
   }
   // The build options this map was made with (robot_radius etc., for messages in metres).
   const GridBuildOptions& build_options() const { return options_; }
@@ -199,15 +222,19 @@ class GridMap {
   const float* cost_data() const { return has_costs() ? costs_.data() : nullptr; }
 
   // Number of blocked cells in the inclusive rectangle spanned by a and b (any corner order),
-  // O(1) from the summed-area table. Both cells must be in the map.
+  // O(1) from the summed-area table, which the first call builds (4 bytes a cell, O(cells) once;
+  // thread-safe: any number of planners may make that first call at once). Both cells must be in
+  // the map.
   int64_t blocked_in_rect(const Cell& a, const Cell& b) const {
-    const size_t x0 = static_cast<size_t>(a.x < b.x ? a.x : b.x);
-    const size_t x1 = static_cast<size_t>(a.x < b.x ? b.x : a.x) + 1;
-    const size_t y0 = static_cast<size_t>(a.y < b.y ? a.y : b.y);
-    const size_t y1 = static_cast<size_t>(a.y < b.y ? b.y : a.y) + 1;
-    const size_t w1 = static_cast<size_t>(width_) + 1;
-    const int32_t* sat = summed_area_.data();
-    return int64_t{sat[y1 * w1 + x1]} - sat[y0 * w1 + x1] - sat[y1 * w1 + x0] + sat[y0 * w1 + x0];
+    const int32_t* table = summed_area_->table.load(std::memory_order_acquire);
+    return count_in_rect(table != nullptr ? table : build_summed_area(), a, b);
+  }
+  // The same count when the table is built already, nullopt otherwise (never builds it): for
+  // line of sight, which walks the bit grids when no planner asked for the table.
+  std::optional<int64_t> blocked_in_rect_if_counted(const Cell& a, const Cell& b) const {
+    const int32_t* table = summed_area_->table.load(std::memory_order_acquire);
+    if (table == nullptr) return std::nullopt;
+    return count_in_rect(table, a, b);
   }
   // blocked_in_rect / cells in the rectangle, in [0, 1].
   double density(const Cell& a, const Cell& b) const;
@@ -227,7 +254,7 @@ class GridMap {
   // lookups at distance 1 never need a bounds check (and distance 2 from any cell whose 8
   // neighbours are inside the map stays inside the padding).
   int32_t stride() const { return width_ + 2; }
-  size_t padded_size() const { return blocked_.size(); }
+  size_t padded_size() const { return cells_.size(); }
   uint32_t padded_index(int32_t x, int32_t y) const {
     return static_cast<uint32_t>((y + 1) * (width_ + 2) + (x + 1));
   }
@@ -236,7 +263,9 @@ class GridMap {
     return {static_cast<int32_t>(padded % stride()) - 1,
             static_cast<int32_t>(padded / stride()) - 1};
   }
-  const uint8_t* blocked_data() const { return blocked_.data(); }
+  // The cells' CellLayer values on the padded layout (the border holds kOccupied): nonzero =
+  // blocked.
+  const uint8_t* blocked_data() const { return cells_.data(); }
 
   // --- Bit grids for line of sight (line_of_sight.cpp's one walk, for every segment). ---
   // The same blocked flags as blocked(), without the padding: rows for segments that are
@@ -247,8 +276,38 @@ class GridMap {
   BlockedBits blocked_columns() const { return {column_bits_.data(), column_words_}; }
 
  private:
+  // The summed-area table, built on first use: (width+1) x (height+1) blocked counts. On the
+  // heap so that a GridMap stays movable (std::once_flag is not); a copy starts without it.
+  struct SummedArea {
+    std::once_flag once;
+    std::vector<int32_t> counts;
+    std::atomic<const int32_t*> table{nullptr};  // counts.data() once built
+  };
+  struct LazySummedArea {
+    std::unique_ptr<SummedArea> holder = std::make_unique<SummedArea>();
+    LazySummedArea() = default;
+    LazySummedArea(const LazySummedArea&) {}
+    LazySummedArea& operator=(const LazySummedArea&) {
+      holder = std::make_unique<SummedArea>();
+      return *this;
+    }
+    LazySummedArea(LazySummedArea&&) noexcept = default;
+    LazySummedArea& operator=(LazySummedArea&&) noexcept = default;
+    SummedArea* operator->() const { return holder.get(); }
+    SummedArea& operator*() const { return *holder; }
+    explicit operator bool() const { return holder != nullptr; }
+  };
+
   GridMap() = default;
-  void build_summed_area_table();
+  const int32_t* build_summed_area() const;  // builds it once, returns the table
+  int64_t count_in_rect(const int32_t* sat, const Cell& a, const Cell& b) const {
+    const size_t x0 = static_cast<size_t>(a.x < b.x ? a.x : b.x);
+    const size_t x1 = static_cast<size_t>(a.x < b.x ? b.x : a.x) + 1;
+    const size_t y0 = static_cast<size_t>(a.y < b.y ? a.y : b.y);
+    const size_t y1 = static_cast<size_t>(a.y < b.y ? b.y : a.y) + 1;
+    const size_t w1 = static_cast<size_t>(width_) + 1;
+    return int64_t{sat[y1 * w1 + x1]} - sat[y0 * w1 + x1] - sat[y1 * w1 + x0] + sat[y0 * w1 + x0];
+  }
   void build_bit_grids();
 
   int32_t width_ = 0;
@@ -257,13 +316,15 @@ class GridMap {
   double origin_x_ = 0.0;
   double origin_y_ = 0.0;
   GridBuildOptions options_;
-  std::vector<uint8_t> blocked_;          // padded, 1 = blocked
-  std::vector<CellLayer> layers_;         // width x height, row-major (no padding)
-  std::vector<float> obstacle_distance_;  // width x height, cells (see obstacle_distance())
-  std::vector<float> costs_;              // padded, empty without costs (see cost_data())
-  std::vector<int32_t> summed_area_;      // (width+1) x (height+1) blocked counts
+  std::vector<uint8_t> cells_;  // padded CellLayer values, the border kOccupied (nonzero = blocked)
+  // Padded, cells^2, empty without robot_radius and inflation_radius (see
+  // kSaturatedSquaredDistance).
+  std::vector<uint16_t> obstacle_squared_distance_;
+  std::vector<float> costs_;  // padded, empty without costs (see cost_data())
+  LazySummedArea summed_area_;
   int64_t blocked_total_ = 0;
   bool blocked_unknown_ = false;       // see has_blocked_unknown()
+  bool has_obstacles_ = false;         // see has_obstacles()
   std::vector<uint64_t> row_bits_;     // height rows of row_words_ words each, a spare word
   std::vector<uint64_t> column_bits_;  // width columns of column_words_ words each, a spare word
   size_t row_words_ = 0;               // ceil(width / 64)

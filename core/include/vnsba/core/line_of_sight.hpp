@@ -65,10 +65,10 @@ std::optional<double> max_cost_along(const GridMap& map, const Point2& a, const 
 
 // Between two cell centres, exactly (integer arithmetic): the same answer as the supercover
 // traversal above, computed over the bit grids (detail::centre_segment_clear). Uses the
-// summed-area table as an exact shortcut: when the bounding rectangle of the two cells is all
-// free the answer is true without a walk, and for an axis-aligned pair the rectangle *is* the
-// traversal. `blocked_between` must be map.blocked_in_rect(a, b) (callers that have it
-// already pass it in). Both cells must be in the map.
+// summed-area table (when built) as an exact shortcut: when the bounding rectangle of the two cells
+// is all free the answer is true without a walk, and for an axis-aligned pair the rectangle *is*
+// the traversal. `blocked_between` must be map.blocked_in_rect(a, b) (callers that have it already
+// pass it in). Both cells must be in the map.
 inline bool line_of_sight_in_map(const GridMap& map, const Cell& a, const Cell& b,
                                  int64_t blocked_between, CornerPolicy policy) {
   if (blocked_between == 0) return true;
@@ -76,9 +76,13 @@ inline bool line_of_sight_in_map(const GridMap& map, const Cell& a, const Cell& 
   return detail::centre_segment_clear(map, a, b, policy);
 }
 
+// Never builds the summed-area table: its shortcut only where a planner has built it already,
+// the walk over the bit grids otherwise (the same answer).
 inline bool line_of_sight(const GridMap& map, const Cell& a, const Cell& b, CornerPolicy policy) {
   if (!map.in_bounds(a) || !map.in_bounds(b)) return false;
-  return line_of_sight_in_map(map, a, b, map.blocked_in_rect(a, b), policy);
+  if (const std::optional<int64_t> blocked = map.blocked_in_rect_if_counted(a, b))
+    return line_of_sight_in_map(map, a, b, *blocked, policy);
+  return detail::centre_segment_clear(map, a, b, policy);
 }
 
 }  // namespace vnsba::core

@@ -38,13 +38,21 @@ struct Metrics {
 // are measured, about once per cell of the path's length.
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
 
+// The distance (cells) from the centre of `c` to the nearest obstacle centre (GridMap::is_obstacle,
+// inflation not counted): 0 on an obstacle, exact (the square root of an integer) whenever it is at
+// most `within` cells; +inf when the map has no obstacle, when `c` is outside it, or (possibly)
+// when the distance exceeds `within`. A local search on the bit grids, squares of doubling
+// half-width around c: O(d^2 / 64) words for a distance d, with or without the distance field.
+double nearest_obstacle_distance(const GridMap& map, const Cell& c,
+                                 double within = std::numeric_limits<double>::infinity());
+
 // A lower bound, in cells, of the segment a -> b's distance to every obstacle square, from the
-// distance transform alone (no scan): every point of the segment lies within |ab| / 2 of a or b,
-// each |p - centre| from its cell's centre, whose centre is obstacle_distance from the nearest
-// obstacle's centre, and that obstacle's square reaches sqrt(1/2) closer. The same number bounds
-// the distance from the centre of any cell the segment touches (or passes at a corner) to an
-// obstacle's centre, since that centre lies within sqrt(1/2) of the segment. -1 when an end lies
-// outside the map. O(1).
+// distance field alone (no scan; -1, no bound, on a map without the field): every point of the
+// segment lies within |ab| / 2 of a or b, each |p - centre| from its cell's centre, whose centre
+// is at least GridMap::obstacle_distance_at_least from the nearest obstacle's centre, and that
+// obstacle's square reaches sqrt(1/2) closer. The same number bounds the distance from the centre
+// of any cell the segment touches (or passes at a corner) to an obstacle's centre, since that
+// centre lies within sqrt(1/2) of the segment. -1 when an end lies outside the map. O(1).
 double segment_clearance_bound(const GridMap& map, const Point2& a, const Point2& b);
 
 // Whether the segment a -> b (continuous cell coordinates) keeps at least `cells` from every
