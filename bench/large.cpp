@@ -192,8 +192,9 @@ int run_memory_child(const LargeOptions& options) {
   const int64_t build_peak_kib = proc_status_kib("VmHWM");
   const int64_t map_rss_kib = proc_status_kib("VmRSS");
   const bool peak_was_reset = reset_peak_rss();
-  core::Planner planner(map);  // allocates the search state once, as the node does
+  core::Planner planner(map);
   const core::PlannerOptions planner_options = core::make_options(options.planners.front(), {});
+  planner.prepare(planner_options);  // as the node does when a map goes live
   Sample sample;
   std::string found;  // '1' or '0' per query, for the parent to compare the planners
   for (const core::PlanQuery& q : queries) {
@@ -450,7 +451,9 @@ int run_interleaved(const LargeOptions& options) {
       const int factor = size / kSourceSize;
       const std::shared_ptr<const core::GridMap> map = build_grown_map(*loaded, spec, size);
       if (!map) return kExitBadInput;
-      core::Planner planner(map);  // allocates the search state once, as the node does
+      core::Planner planner(map);
+      // As the node does when a map goes live: what a planner reads beyond the cells.
+      for (const core::PlannerKind kind : planners) planner.prepare(core::make_options(kind, {}));
       const std::vector<core::PlanQuery> queries =
           grown_queries(*loaded, spec, size, options.queries);
       std::fprintf(stderr, "%s %s x%d (%d x %d): %zu queries\n", spec.name,

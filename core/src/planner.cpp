@@ -54,6 +54,12 @@ struct Planner::Impl {
 Planner::Planner(std::shared_ptr<const GridMap> map)
     : map_(std::move(map)), impl_(std::make_unique<Impl>()) {}
 Planner::~Planner() = default;
+
+void Planner::prepare(const PlannerOptions& options) const {
+  const PlannerDescriptor* planner = options.planner.descriptor();
+  if (map_ && map_->cell_count() > 0 && planner != nullptr && planner->reads_obstacle_density)
+    map_->build_density_table();
+}
 Planner::Planner(Planner&&) noexcept = default;
 namespace {
 

@@ -211,6 +211,10 @@ WireStatus MapInput::convert(SliceSlot::Taken taken) {
   size_t search_state_bytes_per_worker = 0;
   if (std::optional<WireStatus> failure = build_planners(*active, search_state_bytes_per_worker))
     return *failure;
+  // What the configured planner reads of the map beyond its cells (VNS-BA*'s obstacle density),
+  // built before the map goes live so that no query pays for it; a request naming another
+  // planner that reads it builds it at its first query.
+  if (!active->planners.empty()) active->planners.front()->prepare(cfg_.planner.options());
   const auto ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   // The figures docs/node.md ("Memory") names: the map (GridMap::bytes) and the search state a
   // worker holds now (its planner's search_state_bytes, the largest of the workers).

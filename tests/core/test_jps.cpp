@@ -24,20 +24,18 @@ namespace {
 
 using core::PlanningBudget;
 using core::StatusCode;
-using core::detail::CellStates;
 using core::detail::JpsOutcome;
-using core::detail::SearchSpace;
+using core::detail::SparseSearchSpace;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Search state reused across queries and maps, as a planner reuses it.
 struct JpsRunner {
-  CellStates states;
-  SearchSpace space{&states, 0};
+  SparseSearchSpace space;
 
   JpsOutcome run(const GridMap& map, Cell start, Cell goal, std::vector<Cell>* expanded = nullptr) {
     PlanningBudget budget(PlanningBudget::Clock::now(), std::chrono::microseconds(0), nullptr);
-    return core::detail::jps_search(map, states, space, start, goal, budget, expanded);
+    return core::detail::jps_search(map, space, start, goal, budget, expanded);
   }
 };
 
@@ -411,14 +409,12 @@ TEST(Jps, CostsExactlyWhatAStarCosts) {
 
 TEST(Jps, PollsTheBudgetOncePerExpansion) {
   const GridMap map = make_map(std::vector<std::string>(40, std::string(40, '.')));
-  CellStates states;
-  SearchSpace space(&states, 0);
+  SparseSearchSpace space;
   // A cancel flag raised before the search: the first poll reads it.
   std::atomic<bool> cancel{true};
   PlanningBudget canceled(PlanningBudget::Clock::now(), std::chrono::microseconds(0), &cancel);
   std::vector<Cell> expanded;
-  JpsOutcome out =
-      core::detail::jps_search(map, states, space, {0, 0}, {39, 20}, canceled, &expanded);
+  JpsOutcome out = core::detail::jps_search(map, space, {0, 0}, {39, 20}, canceled, &expanded);
   EXPECT_EQ(out.code, StatusCode::kCanceled);
   EXPECT_TRUE(out.path.empty());
   EXPECT_EQ(out.expanded, 0);
@@ -426,13 +422,13 @@ TEST(Jps, PollsTheBudgetOncePerExpansion) {
   // A budget that ran out before the search began.
   PlanningBudget late(PlanningBudget::Clock::now() - std::chrono::seconds(1),
                       std::chrono::microseconds(1), nullptr);
-  out = core::detail::jps_search(map, states, space, {0, 0}, {39, 20}, late, nullptr);
+  out = core::detail::jps_search(map, space, {0, 0}, {39, 20}, late, nullptr);
   EXPECT_EQ(out.code, StatusCode::kTimeout);
   EXPECT_TRUE(out.path.empty());
   // The same state then plans normally.
   cancel = false;
   PlanningBudget fine(PlanningBudget::Clock::now(), std::chrono::microseconds(0), &cancel);
-  out = core::detail::jps_search(map, states, space, {0, 0}, {39, 20}, fine, &expanded);
+  out = core::detail::jps_search(map, space, {0, 0}, {39, 20}, fine, &expanded);
   ASSERT_EQ(out.code, StatusCode::kOk);
   EXPECT_GT(out.expanded, 0);
   EXPECT_EQ(static_cast<int64_t>(expanded.size()), out.expanded);
@@ -455,16 +451,15 @@ TEST(Jps, ABudgetRunningOutDuringALongWalkStopsIt) {
     block(i, kSide - 3);
   }
   const GridMap map = make_map(rows);
-  CellStates states;
-  SearchSpace space(&states, 0);
+  SparseSearchSpace space;
   PlanningBudget unlimited(PlanningBudget::Clock::now(), std::chrono::microseconds(0), nullptr);
-  const JpsOutcome all = core::detail::jps_search(map, states, space, {0, 0},
-                                                  {kSide - 1, kSide - 1}, unlimited, nullptr);
+  const JpsOutcome all =
+      core::detail::jps_search(map, space, {0, 0}, {kSide - 1, kSide - 1}, unlimited, nullptr);
   ASSERT_EQ(all.code, StatusCode::kNoValidPath);
   ASSERT_GT(all.expanded, 256);  // the test means something only if the search is that long
   PlanningBudget tight(PlanningBudget::Clock::now(), std::chrono::microseconds(1), nullptr);
   const JpsOutcome stopped =
-      core::detail::jps_search(map, states, space, {0, 0}, {kSide - 1, kSide - 1}, tight, nullptr);
+      core::detail::jps_search(map, space, {0, 0}, {kSide - 1, kSide - 1}, tight, nullptr);
   EXPECT_EQ(stopped.code, StatusCode::kTimeout);
   EXPECT_LE(stopped.expanded, 2);
 }

@@ -331,6 +331,9 @@ TEST(Planner, MemoryGrowsWithTheSearchNotTheMap) {
   // What one planner would commit at install if it allocated per cell: the shared flags (2 bytes)
   // and one direction's records (16 bytes), the least any dense layout of both could take.
   const double dense_bytes = cells * (2 + 16);
+  // The map's own obstacle-density table (which VNS-BA*'s first query would build) is map
+  // memory, built as the node builds it for its planner, before the measurement.
+  map->build_density_table();
   const int64_t before_install = resident_bytes_now();
   std::vector<std::unique_ptr<core::Planner>> workers;
   for (int i = 0; i < 4; ++i) workers.push_back(std::make_unique<core::Planner>(map));
@@ -362,6 +365,26 @@ TEST(Planner, MemoryGrowsWithTheSearchNotTheMap) {
       planner.plan({{0, 0}, sealed}, default_options(PlannerKind::kAStar));
   ASSERT_EQ(flood.status.code, StatusCode::kNoValidPath) << flood.status.message;
   EXPECT_GT(static_cast<double>(planner.search_state_bytes()), 0.5 * dense_bytes);
+}
+
+// prepare() builds the obstacle-density table only for a planner that reads it (its 4 bytes a
+// cell appear in the map's memory then, not before), and plans stay the same either way.
+TEST(Planner, PrepareBuildsOnlyWhatItsPlannerReads) {
+  auto map = detour_map(64);
+  const size_t bare = map->bytes();
+  core::Planner planner(map);
+  planner.prepare(default_options(PlannerKind::kJps));
+  planner.prepare(default_options(PlannerKind::kAStar));
+  EXPECT_EQ(map->bytes(), bare) << "a planner that reads no density built the table";
+  const PlanResult before =
+      core::Planner(map).plan({{0, 0}, {63, 0}}, default_options(PlannerKind::kVnsBaStar));
+  planner.prepare(default_options(PlannerKind::kVnsBaStar));
+  EXPECT_GE(map->bytes(), bare + 65u * 65u * sizeof(int32_t));
+  const PlanResult after =
+      planner.plan({{0, 0}, {63, 0}}, default_options(PlannerKind::kVnsBaStar));
+  ASSERT_TRUE(after.status.is_ok()) << after.status.message;
+  EXPECT_EQ(after.raw_path, before.raw_path);
+  EXPECT_EQ(after.metrics.expanded, before.metrics.expanded);
 }
 
 // A* on a query with no path closes exactly the start's component: its expansion count is the

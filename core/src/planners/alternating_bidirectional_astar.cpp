@@ -28,6 +28,7 @@ extern const PlannerDescriptor alternating_bidirectional_astar{
     baseline_configuration,
     nullptr,
     search_alternating_bidirectional_astar,
+    /*reads_obstacle_density=*/true,
 };
 
 }  // namespace vnsba::core::planners

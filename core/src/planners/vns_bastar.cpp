@@ -50,6 +50,7 @@ extern const PlannerDescriptor vns_bastar{
     configure_vns_bastar,
     check_vns_bastar_options,
     search_vns_bastar,
+    /*reads_obstacle_density=*/true,
 };
 
 }  // namespace vnsba::core::planners

@@ -236,6 +236,8 @@ class GridMap {
     if (table == nullptr) return std::nullopt;
     return count_in_rect(table, a, b);
   }
+  // Builds the summed-area table now, if no call has yet (Planner::prepare: before a query).
+  void build_density_table() const { build_summed_area(); }
   // blocked_in_rect / cells in the rectangle, in [0, 1].
   double density(const Cell& a, const Cell& b) const;
   int64_t blocked_count() const { return blocked_total_; }

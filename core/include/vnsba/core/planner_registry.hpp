@@ -83,6 +83,9 @@ struct PlannerDescriptor {
   // The search between two free cells of the map; Planner::plan does the rest (endpoints,
   // pruning, smoothing).
   detail::SearchOutcome (*search)(const detail::SearchRequest& request);
+  // Whether the search reads the map's obstacle density (GridMap::blocked_in_rect, whose table
+  // the first reader builds): Planner::prepare builds it before the first query.
+  bool reads_obstacle_density = false;
 };
 
 // The paper's configuration of its baselines (A*, improved A*, BA*, improved BA*) and of jps:
