@@ -503,56 +503,14 @@ TEST(GridMap, DistanceFieldBoundsTheExactDistance) {
   }
 }
 
-// --- An independent oracle of path_clearance_cells: the least distance from each segment to
-// each obstacle square, by the distance between two disjoint convex polygons (a vertex of one to
-// an edge of the other) or 0 where they meet. ---
-
-double point_segment_distance(const Point2& p, const Point2& a, const Point2& b) {
-  const Point2 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
-
-double cross(const Point2& a, const Point2& b) {
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-bool segments_meet(const Point2& p, const Point2& q, const Point2& r, const Point2& s) {
-  const double d1 = cross(q - p, r - p), d2 = cross(q - p, s - p);
-  const double d3 = cross(s - r, p - r), d4 = cross(s - r, q - r);
-  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
-    return true;
-  return point_segment_distance(r, p, q) == 0.0 || point_segment_distance(s, p, q) == 0.0 ||
-         point_segment_distance(p, r, s) == 0.0 || point_segment_distance(q, r, s) == 0.0;
-}
-
-double segment_square_oracle(const Point2& a, const Point2& b, int32_t x, int32_t y) {
-  const Point2 corners[4] = {{x, y}, {x + 1.0, y}, {x + 1.0, y + 1.0}, {x, y + 1.0}};
-  const auto inside = [&](const Point2& p) {
-    return p.x() >= x && p.x() <= x + 1.0 && p.y() >= y && p.y() <= y + 1.0;
-  };
-  if (inside(a) || inside(b)) return 0.0;
-  double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 4; ++i) {
-    const Point2& p = corners[i];
-    const Point2& q = corners[(i + 1) % 4];
-    if (segments_meet(a, b, p, q)) return 0.0;
-    best = std::min({best, point_segment_distance(p, a, b), point_segment_distance(a, p, q),
-                     point_segment_distance(b, p, q)});
-  }
-  return best;
-}
-
+// An independent oracle of path_clearance_cells: the least exact distance from the polyline
+// to every obstacle square (test_support.hpp).
 double clearance_oracle(const GridMap& map, const std::vector<Point2>& polyline) {
   double best = std::numeric_limits<double>::infinity();
   for (int32_t y = 0; y < map.height(); ++y)
     for (int32_t x = 0; x < map.width(); ++x) {
       if (!map.is_obstacle(map.layer({x, y}))) continue;
-      if (polyline.size() == 1)
-        best = std::min(best, segment_square_oracle(polyline[0], polyline[0], x, y));
-      for (size_t i = 1; i < polyline.size(); ++i)
-        best = std::min(best, segment_square_oracle(polyline[i - 1], polyline[i], x, y));
+      best = std::min(best, polyline_square_distance(polyline, {x, y}));
     }
   return best;
 }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -286,6 +287,45 @@ inline ::testing::AssertionResult valid_grid_path(const GridMap& map, const std:
   }
   *length = static_cast<double>(straight) + static_cast<double>(diagonal) * std::sqrt(2.0);
   return ::testing::AssertionSuccess();
+}
+
+// Exact distance between the segments [p, q] and [r, s] (cells): 0 where they cross, otherwise
+// the least distance of an end of one to the other (written apart from the metric's own
+// geometry, which measures against squares through clipping and corners).
+inline double point_segment_distance(const Point2& p, const Point2& a, const Point2& b) {
+  const Point2 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+inline double cross(const Point2& u, const Point2& v) {
+  return u.x() * v.y() - u.y() * v.x();
+}
+inline double segment_segment_distance(const Point2& p, const Point2& q, const Point2& r,
+                                       const Point2& s) {
+  const double d1 = cross(q - p, r - p), d2 = cross(q - p, s - p);
+  const double d3 = cross(s - r, p - r), d4 = cross(s - r, q - r);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    return 0.0;
+  return std::min({point_segment_distance(p, r, s), point_segment_distance(q, r, s),
+                   point_segment_distance(r, p, q), point_segment_distance(s, p, q)});
+}
+// Exact distance from a polyline to the square of cell c (an oracle of path clearance): 0 where a
+// vertex lies in it, else the least distance of a segment to its four sides.
+inline double polyline_square_distance(const std::vector<Point2>& polyline, const Cell& c) {
+  const Point2 corners[4] = {{c.x + 0.0, c.y + 0.0},
+                             {c.x + 1.0, c.y + 0.0},
+                             {c.x + 1.0, c.y + 1.0},
+                             {c.x + 0.0, c.y + 1.0}};
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < polyline.size(); ++i) {
+    const Point2& a = polyline[i];
+    if (a.x() >= c.x && a.x() <= c.x + 1.0 && a.y() >= c.y && a.y() <= c.y + 1.0) return 0.0;
+    const Point2& b = polyline[std::min(i + 1, polyline.size() - 1)];
+    for (int k = 0; k < 4; ++k)
+      best = std::min(best, segment_segment_distance(a, b, corners[k], corners[(k + 1) % 4]));
+  }
+  return best;
 }
 
 }  // namespace vnsba::test

@@ -1131,6 +1131,7 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   same_double("map", "inflation_radius", c.map.inflation_radius, d.map.inflation_radius);
   same_double("map", "cost_scaling_factor", c.map.cost_scaling_factor, d.map.cost_scaling_factor);
   same_int("map", "max_cells", c.map.max_cells, d.map.max_cells);
+  same_int("map", "memory_budget_mb", c.map_memory_budget_mb, d.map_memory_budget_mb);
   const auto& s = c.planner.settings;
   const auto& ds = d.planner.settings;
   // planner.name: auto is kept as auto (kind is then its choice).
@@ -1299,6 +1300,7 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       c.domain_id >= 0 && c.domain_id <= 232 && c.map.occupied_threshold >= 1 &&
       c.map.occupied_threshold <= 100 && std::isfinite(c.map.robot_radius) &&
       c.map.robot_radius >= 0 && c.map.max_cells >= 1 && c.map.max_cells <= (int64_t{1} << 28) &&
+      c.map_memory_budget_mb >= 1 && c.map_memory_budget_mb <= node::kMaxMapMemoryBudgetMb &&
       c.queue_capacity >= 1 && c.queue_capacity <= 100000 && c.workers >= 0 &&
       c.workers <= node::kMaxWorkers && !c.frame_id.empty() && !c.base_frame.empty() &&
       node::without_leading_slash(c.base_frame) != node::without_leading_slash(c.frame_id) &&
