@@ -189,12 +189,14 @@ int run_memory_child(const LargeOptions& options) {
     if (!map) return kExitBadInput;
     queries = grown_queries(*source, *spec, size, options.queries);
   }
+  // The planner and what it reads of the map beyond the cells (prepare: VNS-BA*'s obstacle
+  // density table), as the node makes them when a map goes live: map memory, not search.
+  core::Planner planner(map);
+  const core::PlannerOptions planner_options = core::make_options(options.planners.front(), {});
+  planner.prepare(planner_options);
   const int64_t build_peak_kib = proc_status_kib("VmHWM");
   const int64_t map_rss_kib = proc_status_kib("VmRSS");
   const bool peak_was_reset = reset_peak_rss();
-  core::Planner planner(map);
-  const core::PlannerOptions planner_options = core::make_options(options.planners.front(), {});
-  planner.prepare(planner_options);  // as the node does when a map goes live
   Sample sample;
   std::string found;  // '1' or '0' per query, for the parent to compare the planners
   for (const core::PlanQuery& q : queries) {
