@@ -196,12 +196,13 @@ class JumpPointSearch {
         columns_(map.blocked_columns().words),
         goal_(goal) {}
 
-  // Expands `node` (at `cell`): adds its successors, or stops at the goal (goal_reached()).
-  void expand(uint32_t node, const Cell& cell) {
+  // Expands `node` (at `cell`, its record `record`): adds its successors, or stops at the goal
+  // (goal_reached()).
+  void expand(uint32_t record, uint32_t node, const Cell& cell) {
     node_ = node;
     cell_ = cell;
-    g_ = space_.g(node);
-    const uint32_t parent = space_.parent(node);
+    g_ = space_.g_of(record);
+    const uint32_t parent = space_.parent_of(record);
     if (parent == SparseSearchSpace::kNoParent) {
       jump_straight<1, 0>() && jump_straight<-1, 0>() && jump_straight<0, 1>() &&
           jump_straight<0, -1>() && jump_diagonal<1, 1>() && jump_diagonal<-1, 1>() &&
@@ -512,7 +513,8 @@ JpsOutcome jps_search(const GridMap& map, SparseSearchSpace& space, const Cell& 
       out.code = code;
       return out;
     }
-    const uint32_t n = space.pop();
+    const uint32_t record = space.pop();
+    const uint32_t n = space.cell_of(record);
     ++out.expanded;
     const Cell cell = map.cell_of(n);
     if (expanded_cells != nullptr) expanded_cells->push_back(cell);
@@ -521,7 +523,7 @@ JpsOutcome jps_search(const GridMap& map, SparseSearchSpace& space, const Cell& 
       out.path = trace_path(map, space, n);
       return out;
     }
-    search.expand(n, cell);
+    search.expand(record, n, cell);
     if (search.goal_reached()) {
       ++out.expanded;
       if (expanded_cells != nullptr) expanded_cells->push_back(goal);
