@@ -39,6 +39,7 @@
 #include "bench/indoor_map.hpp"
 #include "nav_msgs/msg/OccupancyGridPubSubTypes.h"
 #include "nav_msgs/msg/PathPubSubTypes.h"
+#include "node/src/take_listener.hpp"
 #include "vnsba/node/action_client.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
@@ -123,9 +124,12 @@ double proc_status_mib(pid_t pid, const std::string& field) {
 }
 
 // Requests to the node and their statuses.
-class Client : public node::dds::DataReaderListener {
+class Client {
  public:
-  explicit Client(const node::NodeConfig& cfg) : cfg_(cfg) {
+  explicit Client(const node::NodeConfig& cfg)
+      : cfg_(cfg),
+        status_listener_(node::make_listener<node::PlanStatusMsg>(
+            [this](node::PlanStatusMsg&& msg, const node::dds::SampleInfo&) { on_status(msg); })) {
     auto participant = node::Participant::create(cfg.domain_id, "node_memory_bench", nullptr, false,
                                                  {}, cfg.discovery_servers);
     if (!participant) {
@@ -142,14 +146,14 @@ class Client : public node::dds::DataReaderListener {
     if (!request_topic || !status_topic || !map_topic) return;
     auto request =
         participant_->writer(*request_topic, node::writer_qos(node::TopicQos::kEvents, false));
-    auto status =
-        participant_->reader(*status_topic, node::reader_qos(node::TopicQos::kStatus), this);
+    auto status = participant_->reader(*status_topic, node::reader_qos(node::TopicQos::kStatus),
+                                       status_listener_.get());
     auto map = participant_->writer(*map_topic, node::writer_qos(node::TopicQos::kLatched, true));
     if (request) request_ = *request;
     if (status) status_ = *status;
     if (map) map_ = *map;
   }
-  ~Client() override {
+  ~Client() {
     if (participant_) participant_->shutdown();
   }
   bool matched() const {
@@ -178,24 +182,20 @@ class Client : public node::dds::DataReaderListener {
     std::string planner;
     int64_t expanded = 0;
   };
-  void on_data_available(node::dds::DataReader* reader) override {
-    node::PlanStatusMsg msg;
-    node::dds::SampleInfo info;
-    while (reader->take_next_sample(&msg, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (msg.subject() == node::wire::SUBJECT_MAP) {
-        map_reports_.push_back(msg.message());
-      } else {
-        answers_[msg.request_id()] = {msg.code(),
-                                      msg.message(),
-                                      msg.path().poses().size(),
-                                      static_cast<double>(msg.planning_time_us()) / 1000.0,
-                                      msg.planner(),
-                                      msg.expanded()};
-      }
-      cv_.notify_all();
+  // A status taken by the node's one listener template (take_listener.hpp).
+  void on_status(const node::PlanStatusMsg& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (msg.subject() == node::wire::SUBJECT_MAP) {
+      map_reports_.push_back(msg.message());
+    } else {
+      answers_[msg.request_id()] = {msg.code(),
+                                    msg.message(),
+                                    msg.path().poses().size(),
+                                    static_cast<double>(msg.planning_time_us()) / 1000.0,
+                                    msg.planner(),
+                                    msg.expanded()};
     }
+    cv_.notify_all();
   }
   std::optional<Answer> wait(const std::string& id, std::chrono::milliseconds timeout) {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -210,6 +210,8 @@ class Client : public node::dds::DataReaderListener {
 
  private:
   node::NodeConfig cfg_;
+  // Before the participant, which the destructor shuts down while the listener still lives.
+  std::unique_ptr<node::TakingListener> status_listener_;
   std::unique_ptr<node::Participant> participant_;
   node::dds::DataWriter* request_ = nullptr;
   node::dds::DataWriter* map_ = nullptr;
