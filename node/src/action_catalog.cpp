@@ -1,6 +1,7 @@
 #include "vnsba/node/action_catalog.hpp"
 
 #include "action_traits.hpp"
+#include "vnsba/node/service_wire.hpp"
 
 namespace vnsba::node {
 
@@ -51,8 +52,7 @@ const char* service_name(ActionService service) {
 }
 
 std::string service_topic(const std::string& ros_name, ActionService service, bool request) {
-  return std::string(request ? "rq" : "rr") + ros_name + "/_action/" + service_name(service) +
-         (request ? "Request" : "Reply");
+  return service_topic(ros_name + "/_action/" + service_name(service), request);
 }
 
 std::string action_topic(const std::string& ros_name, const char* topic) {
