@@ -28,7 +28,8 @@ const char* nav2_failure_name(uint8_t wire_code) {
     case wire::NO_VALID_PATH:
       return "NO_VALID_PATH";
     default:
-      return "UNKNOWN";  // NO_MAP, INVALID_MAP, INVALID_REQUEST, CANCELED, INTERNAL_ERROR
+      return "UNKNOWN";  // NO_MAP, INVALID_MAP, INVALID_REQUEST, CANCELED, INTERNAL_ERROR,
+                         // NODE_INACTIVE (a goal is rejected then, never planned)
   }
 }
 

@@ -309,9 +309,10 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
     goal.identity = identity_of(info, wire::SUBJECT_REQUEST);
     const TimeMsg stamp = hooks_.now();
     bool accepted = false;
+    const bool inactive = hooks_.accepting && !hooks_.accepting();
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      accepted = goals_.accept(goal.id, GoalStamp{stamp.sec(), stamp.nanosec()});
+      accepted = !inactive && goals_.accept(goal.id, GoalStamp{stamp.sec(), stamp.nanosec()});
       typename Traits::SendGoalResponse response;
       response.accepted(accepted);
       response.stamp(stamp);
@@ -321,8 +322,9 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
     }
     cv_.notify_all();
     if (!accepted) {
-      spdlog::warn("{}: goal {} rejected: a goal with this id is running or its result is kept",
-                   self_.ros_name_, uuid_text(goal.id));
+      spdlog::warn("{}: goal {} rejected: {}", self_.ros_name_, uuid_text(goal.id),
+                   inactive ? "the node is inactive (lifecycle: activate it with change_state)"
+                            : "a goal with this id is running or its result is kept");
       return;
     }
     hooks_.on_goal(self_, std::move(goal));

@@ -72,6 +72,9 @@ class ActionServer {
     std::function<void()> wake_intake;
     // The node's clock, for the acceptance stamps.
     std::function<TimeMsg()> now;
+    // Whether the node takes goals now (lifecycle: active); a goal sent while it does not is
+    // rejected (accepted false), as Nav2's SimpleActionServer rejects goals while inactive.
+    std::function<bool()> accepting;
   };
 
   // `kind`: the action served (nav2_actions()). `ros_name`: the action's full ROS 2 name
