@@ -76,6 +76,10 @@ class ManagedNode::Impl {
   std::unique_ptr<PlannerNode> planner_;  // the transition thread's (and stop's, once it ended)
   mutable std::mutex planner_mutex_;      // guards planner_ for planner()
 
+  size_t event_readers() const {
+    return events_ == nullptr ? 0 : static_cast<size_t>(matched_readers(events_));
+  }
+
  private:
   // The endpoints: a participant of the node's name, the four services, transition_event.
   core::Status create_endpoints();
@@ -435,6 +439,10 @@ LifecycleState ManagedNode::state() const {
 PlannerNode* ManagedNode::planner() {
   std::lock_guard<std::mutex> lock(impl_->planner_mutex_);
   return impl_->planner_.get();
+}
+
+size_t ManagedNode::event_readers() const {
+  return impl_->event_readers();
 }
 
 const std::string& ManagedNode::full_name() const {

@@ -59,6 +59,10 @@ class ManagedNode {
   LifecycleState state() const;
   // The work while configured (null when unconfigured or finalized), for tests and stats.
   PlannerNode* planner();
+  // Readers matched by the transition_event writer now: the topic is volatile, so an event
+  // published before a reader is matched never reaches it (a client that needs every event
+  // waits for this, as for PlannerNode::Stats::status_readers).
+  size_t event_readers() const;
   // The node's full ROS 2 name ("/vnsba_node"), its services' prefix.
   const std::string& full_name() const;
 
