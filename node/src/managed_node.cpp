@@ -75,6 +75,7 @@ class ManagedNode::Impl {
   LifecycleMachine machine_;
   std::unique_ptr<PlannerNode> planner_;  // the transition thread's (and stop's, once it ended)
   mutable std::mutex planner_mutex_;      // guards planner_ for planner()
+  std::optional<PlannerNode::Stats> final_stats_;  // set by stop()
 
   size_t event_readers() const {
     return events_ == nullptr ? 0 : static_cast<size_t>(matched_readers(events_));
@@ -407,6 +408,13 @@ void ManagedNode::Impl::stop() {
   }
   cv_.notify_all();
   if (transitioner_.joinable()) transitioner_.join();  // a running transition ends first
+  {
+    std::lock_guard<std::mutex> lock(planner_mutex_);
+    if (planner_ != nullptr) {
+      planner_->stop();
+      final_stats_ = planner_->stats();
+    }
+  }
   release_work("stop");
   if (participant_) participant_->delete_readers();  // no more requests
   if (replier_.joinable()) replier_.join();          // writes what is held
@@ -430,6 +438,10 @@ core::Status ManagedNode::start() {
 
 void ManagedNode::stop() {
   impl_->stop();
+}
+
+std::optional<PlannerNode::Stats> ManagedNode::final_stats() const {
+  return impl_->final_stats_;
 }
 
 LifecycleState ManagedNode::state() const {
