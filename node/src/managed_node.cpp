@@ -75,6 +75,16 @@ class ManagedNode::Impl {
   LifecycleMachine machine_;
   std::unique_ptr<PlannerNode> planner_;  // the transition thread's (and stop's, once it ended)
   mutable std::mutex planner_mutex_;      // guards planner_ for planner()
+
+  // What the work does at each step: info for a managed node (its manager's steps), debug for a
+  // self-activating one, whose start and stop stay as short in the log as before it had a
+  // lifecycle (each transition is logged at info either way, on_step).
+  template <class... Args>
+  void narrate(spdlog::format_string_t<Args...> format, Args&&... args) const {
+    spdlog::log(
+        cfg_.lifecycle == LifecycleMode::kManaged ? spdlog::level::info : spdlog::level::debug,
+        format, std::forward<Args>(args)...);
+  }
   std::optional<PlannerNode::Stats> final_stats_;  // set by stop()
 
   size_t event_readers() const {
@@ -200,8 +210,8 @@ core::Status ManagedNode::Impl::start() {
     // the lifecycle topics, say).
     spdlog::warn("{}: lifecycle services not served: {}", full_name_, created.message);
   }
-  spdlog::info("{}: lifecycle {}: {}", full_name_, managed ? "managed" : "self_activating",
-               managed ? "unconfigured, waiting for change_state" : "configuring and activating");
+  narrate("{}: lifecycle {}: {}", full_name_, managed ? "managed" : "self_activating",
+          managed ? "unconfigured, waiting for change_state" : "configuring and activating");
   if (managed) return core::Status::ok();
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -269,7 +279,7 @@ CallbackResult ManagedNode::Impl::on_transition(LifecycleState state) {
     case LifecycleState::kActivating:
       if (planner_ == nullptr) return CallbackResult::kError;
       planner_->set_accepting(true);
-      spdlog::info("{}: active: planning plan_request, goal_pose and action goals", full_name_);
+      narrate("{}: active: planning plan_request, goal_pose and action goals", full_name_);
       return CallbackResult::kSuccess;
     case LifecycleState::kDeactivating:
       if (planner_ == nullptr) return CallbackResult::kError;
@@ -333,8 +343,7 @@ CallbackResult ManagedNode::Impl::configure() {
     std::lock_guard<std::mutex> lock(planner_mutex_);
     planner_ = std::move(planner);
   }
-  spdlog::info("{}: configured: readers and writers created, not planning until activated",
-               full_name_);
+  narrate("{}: configured: readers and writers created, not planning until activated", full_name_);
   return CallbackResult::kSuccess;
 }
 
@@ -349,7 +358,7 @@ void ManagedNode::Impl::release_work(const char* why) {
   if (planner == nullptr) return;
   planner->stop();
   planner.reset();
-  spdlog::info("{}: {}: map, planners, readers and writers released", full_name_, why);
+  narrate("{}: {}: map, planners, readers and writers released", full_name_, why);
 }
 
 void ManagedNode::Impl::on_step(const LifecycleEdge& edge) {
