@@ -121,6 +121,7 @@ class ManagedNode::Impl {
   std::thread replier_;
   std::thread transitioner_;
   bool first_configure_ = true;
+  std::optional<core::Status> work_error_;  // why the work could not start (configure)
 };
 
 core::Status ManagedNode::Impl::create_endpoints() {
@@ -223,6 +224,11 @@ core::Status ManagedNode::Impl::start() {
     const ChangeOutcome outcome = machine_.change(
         step, [this](LifecycleState state, LifecycleState) { return on_transition(state); });
     if (!outcome.succeeded()) {
+      // What the work said, as vnsba_node said it before it had a lifecycle.
+      if (work_error_) {
+        status = *work_error_;
+        break;
+      }
       status =
           core::Status::error(core::StatusCode::kInternalError,
                               std::string("lifecycle ") +
@@ -337,6 +343,7 @@ CallbackResult ManagedNode::Impl::configure() {
   planner->set_accepting(false);
   if (core::Status status = planner->start(); !status.is_ok()) {
     spdlog::error("{}: configure failed: {}; still unconfigured", full_name_, status.message);
+    work_error_ = std::move(status);
     return CallbackResult::kFailure;
   }
   {
