@@ -179,45 +179,44 @@ class ActionClient::Impl {
   }
 };
 
-template <class Traits>
+template <class Traits, class Wire>
 class ActionClient::ImplOf final : public ActionClient::Impl {
  public:
   // Readers first: a request names its reply reader.
   core::Status create(Participant& participant) override {
     if (auto s = add_reply_readers(participant); !s.is_ok()) return s;
-    if (auto s = add_topic_readers<typename Traits::FeedbackMessageType>(participant); !s.is_ok())
+    if (auto s = add_topic_readers<typename Wire::FeedbackMessageType>(participant); !s.is_ok())
       return s;
-    if (auto s = add_request_writer<typename Traits::SendGoalRequestType>(participant,
-                                                                          ActionService::kSendGoal);
+    if (auto s = add_request_writer<typename Wire::SendGoalRequestType>(participant,
+                                                                        ActionService::kSendGoal);
         !s.is_ok())
       return s;
-    if (auto s = add_request_writer<typename Traits::GetResultRequestType>(
-            participant, ActionService::kGetResult);
+    if (auto s = add_request_writer<typename Wire::GetResultRequestType>(participant,
+                                                                         ActionService::kGetResult);
         !s.is_ok())
       return s;
     return add_request_writer<CancelRequestType>(participant, ActionService::kCancelGoal);
   }
 
   int64_t send_goal(const GoalUuid& id, const ActionGoalSpec& spec) override {
-    typename Traits::SendGoalRequest request;
+    typename Wire::SendGoalRequest request;
     request.goal_id().uuid(id);
     Traits::write_goal(spec, request.goal());
     return this->request(ActionService::kSendGoal, request);
   }
   std::optional<bool> wait_accepted(int64_t request, Duration timeout) override {
-    auto reply =
-        wait<typename Traits::SendGoalResponse>(ActionService::kSendGoal, request, timeout);
+    auto reply = wait<typename Wire::SendGoalResponse>(ActionService::kSendGoal, request, timeout);
     if (!reply) return std::nullopt;
     return reply->accepted();
   }
   int64_t request_result(const GoalUuid& id) override {
-    typename Traits::GetResultRequest request;
+    typename Wire::GetResultRequest request;
     request.goal_id().uuid(id);
     return this->request(ActionService::kGetResult, request);
   }
   std::optional<ActionResultReply> wait_result(int64_t request, Duration timeout) override {
     auto reply =
-        wait<typename Traits::GetResultResponse>(ActionService::kGetResult, request, timeout);
+        wait<typename Wire::GetResultResponse>(ActionService::kGetResult, request, timeout);
     if (!reply) return std::nullopt;
     ActionResultReply out;
     out.status = static_cast<GoalState>(reply->status());
@@ -227,12 +226,12 @@ class ActionClient::ImplOf final : public ActionClient::Impl {
 
  private:
   core::Status add_reply_readers(Participant& participant) {
-    if (auto s = add_reply_reader<typename Traits::SendGoalResponseType>(participant,
-                                                                         ActionService::kSendGoal);
+    if (auto s = add_reply_reader<typename Wire::SendGoalResponseType>(participant,
+                                                                       ActionService::kSendGoal);
         !s.is_ok())
       return s;
-    if (auto s = add_reply_reader<typename Traits::GetResultResponseType>(
-            participant, ActionService::kGetResult);
+    if (auto s = add_reply_reader<typename Wire::GetResultResponseType>(participant,
+                                                                        ActionService::kGetResult);
         !s.is_ok())
       return s;
     return add_reply_reader<CancelResponseType>(participant, ActionService::kCancelGoal);
@@ -268,10 +267,14 @@ GoalUuid ActionClient::random_id() {
 core::Expected<std::unique_ptr<ActionClient>> ActionClient::create(Participant& participant,
                                                                    const std::string& ros_name,
                                                                    ActionKind kind,
-                                                                   WireMapping mapping) {
+                                                                   WireMapping mapping,
+                                                                   RosDistro distro) {
   std::unique_ptr<ActionClient> client(
-      new ActionClient(with_action_traits(kind, [](auto traits) -> std::unique_ptr<Impl> {
-        return std::make_unique<ImplOf<decltype(traits)>>();
+      new ActionClient(with_action_traits(kind, [&](auto traits) -> std::unique_ptr<Impl> {
+        using Traits = decltype(traits);
+        return with_action_wire<Traits>(distro, [](auto wire) -> std::unique_ptr<Impl> {
+          return std::make_unique<ImplOf<Traits, decltype(wire)>>();
+        });
       })));
   Impl& impl = *client->impl_;
   impl.name = ros_name;
