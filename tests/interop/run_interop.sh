@@ -6,6 +6,9 @@
 #   MODE: transient_local | volatile | localhost | debug_layers | fresh_clients, CLIENT
 #         vnsba_cyclone_client; action | action_cancel | action_fresh, CLIENT
 #         vnsba_cyclone_action_client;
+#         lifecycle | lifecycle_self, CLIENT vnsba_cyclone_lifecycle_client: the node managed
+#         (lifecycle: managed, --name cyclone_lifecycle) walked through its lifecycle, or
+#         self-activating and reporting active;
 #         secure | secure_open | secure_other_ca, CLIENT vnsba_cyclone_client: the node secured
 #         with a keystore of tools/make_keystore.sh, the client secured with an enclave of the
 #         same keystore (it plans: every check of a default run), without security or with an
@@ -30,13 +33,15 @@ case "$mode" in
   action) domain=216 durability=transient_local localhost=false ;;
   action_cancel) domain=217 durability=transient_local localhost=false ;;
   action_fresh) domain=222 durability=transient_local localhost=false ;;
+  lifecycle) domain=223 durability=transient_local localhost=false ;;
+  lifecycle_self) domain=224 durability=transient_local localhost=false ;;
   secure) domain=219 durability=transient_local localhost=false ;;
   secure_open) domain=220 durability=transient_local localhost=false ;;
   secure_other_ca) domain=221 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
-      "fresh_clients, action, action_cancel, action_fresh, secure, secure_open or" \
-      "secure_other_ca" >&2
+      "fresh_clients, action, action_cancel, action_fresh, lifecycle, lifecycle_self, secure," \
+      "secure_open or secure_other_ca" >&2
     exit 2
     ;;
 esac
@@ -49,6 +54,8 @@ case "$mode" in
   # must get its send_goal and get_result replies. Arguments after the mode add to these (the
   # last --fresh wins): --fresh N, --fresh-parallel P.
   action_fresh) client_args=(--domain "$domain" --fresh 40 --fresh-resident) ;;
+  lifecycle) client_args=(--domain "$domain" --node-name cyclone_lifecycle) ;;
+  lifecycle_self) client_args=(--domain "$domain" --node-name cyclone_lifecycle --self-activating) ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi
@@ -104,6 +111,18 @@ requests:
   map_wait: 30
 YAML
 fi
+node_args=()
+if [[ "$mode" == lifecycle* ]]; then
+  # The node under another name (--name), managed or self-activating; requests wait for the map.
+  node_args=(--name cyclone_lifecycle)
+  lifecycle=managed
+  [[ "$mode" == lifecycle_self ]] && lifecycle=self_activating
+  cat >>"$work/node.yaml" <<YAML
+lifecycle: $lifecycle
+requests:
+  map_wait: 20
+YAML
+fi
 if [[ "$localhost" == true ]]; then
   # Cyclone on the loopback interface only; loopback has no multicast, so discovery is unicast
   # to the node's well-known ports on 127.0.0.1 (Peer), as for a ROS 2 system on rmw_cyclonedds
@@ -146,7 +165,7 @@ YAML
   fi
 fi
 
-"$node_bin" --config "$work/node.yaml" >"$work/node.log" 2>&1 &
+"$node_bin" --config "$work/node.yaml" "${node_args[@]}" >"$work/node.log" 2>&1 &
 node_pid=$!
 status=0
 "$client_bin" "${client_args[@]}" --namespace "$ns" "$@" > >(tee "$work/client.out") || status=$?
