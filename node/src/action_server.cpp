@@ -76,11 +76,11 @@ class ActionReplies {
 
 }  // namespace
 
-std::string announced_poses_problem(const RawSample& raw, WireMapping mapping,
-                                    bool after_a_header) {
+std::string announced_poses_problem(const RawSample& raw, WireMapping mapping, bool after_a_header,
+                                    size_t leading_bytes) {
   // Offsets in bytes from the sample's start: the 4-byte encapsulation, the request header,
-  // the goal id; CDR aligns from the end of the encapsulation.
-  size_t at = 4 + (mapping == WireMapping::kRequestHeader ? 16 : 0) + 16;
+  // the leading bytes (a goal id); CDR aligns from the end of the encapsulation.
+  size_t at = 4 + (mapping == WireMapping::kRequestHeader ? 16 : 0) + leading_bytes;
   if (after_a_header) {  // stamp (8), then frame_id (length 4, characters), aligned to 4
     at += 8;
     if (raw.bytes.size() < at + 4) return "";  // too short: decoding says so

@@ -111,11 +111,13 @@ void read_path_result(Result&& result, ActionResultReply& out) {
 // A goal whose leading list of poses announces more of them than its bytes can hold: refused
 // before decoding, which would allocate every announced pose first (a count of 2^31 in a 40-byte
 // sample). A PoseStamped takes at least 68 bytes on the wire (stamp 8, frame_id length 4, pose
-// 56). The count follows the header (rmw_cyclonedds) and the 16-byte goal id, and with
-// `after_a_header` (Kilted's nav_msgs/Goals) a std_msgs/Header (stamp 8, frame_id). "" when it
-// fits.
+// 56). The count follows the header (rmw_cyclonedds), `leading_bytes` (a goal's 16-byte id), and
+// with `after_a_header` (Kilted's nav_msgs/Goals, is_path_valid's nav_msgs/Path) a
+// std_msgs/Header (stamp 8, frame_id). "" when it fits.
+inline constexpr size_t kGoalIdBytes = 16;
 std::string announced_poses_problem(const RawSample& raw, WireMapping mapping,
-                                    bool after_a_header = false);
+                                    bool after_a_header = false,
+                                    size_t leading_bytes = kGoalIdBytes);
 
 // fastddsgen's types of the action `Name` in the IDL module `Module` (nav2_msgs for Jazzy's,
 // idl/nav2_msgs/action/Name.idl) under the names every action's Wire gives them, each
