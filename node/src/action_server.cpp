@@ -77,7 +77,7 @@ class ActionReplies {
 }  // namespace
 
 std::string announced_poses_problem(const RawSample& raw, WireMapping mapping, bool after_a_header,
-                                    size_t leading_bytes) {
+                                    size_t leading_bytes, const char* list) {
   // Offsets in bytes from the sample's start: the 4-byte encapsulation, the request header,
   // the leading bytes (a goal id); CDR aligns from the end of the encapsulation.
   size_t at = 4 + (mapping == WireMapping::kRequestHeader ? 16 : 0) + leading_bytes;
@@ -97,7 +97,7 @@ std::string announced_poses_problem(const RawSample& raw, WireMapping mapping, b
   if (raw.bytes[1] == 0) count = __builtin_bswap32(count);  // big-endian CDR
   const size_t room = (raw.bytes.size() - at - 4) / 68;
   if (count <= room) return "";
-  return "goals: announces " + std::to_string(count) + " poses in " +
+  return std::string(list) + ": announces " + std::to_string(count) + " poses in " +
          std::to_string(raw.bytes.size()) + " bytes (at most " + std::to_string(room) + " fit)";
 }
 

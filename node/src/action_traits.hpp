@@ -115,9 +115,11 @@ void read_path_result(Result&& result, ActionResultReply& out) {
 // with `after_a_header` (Kilted's nav_msgs/Goals, is_path_valid's nav_msgs/Path) a
 // std_msgs/Header (stamp 8, frame_id). "" when it fits.
 inline constexpr size_t kGoalIdBytes = 16;
+// `list` names the list in the message.
 std::string announced_poses_problem(const RawSample& raw, WireMapping mapping,
                                     bool after_a_header = false,
-                                    size_t leading_bytes = kGoalIdBytes);
+                                    size_t leading_bytes = kGoalIdBytes,
+                                    const char* list = "goals");
 
 // fastddsgen's types of the action `Name` in the IDL module `Module` (nav2_msgs for Jazzy's,
 // idl/nav2_msgs/action/Name.idl) under the names every action's Wire gives them, each

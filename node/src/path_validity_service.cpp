@@ -39,7 +39,8 @@ std::unique_ptr<ServiceServer<typename Wire::RequestType, typename Wire::Respons
         self.reply(from, response, "an is_path_valid reply");
       });
   server->refuse_before_decoding([](const RawSample& raw, WireMapping mapping) {
-    return announced_poses_problem(raw, mapping, /*after_a_header=*/true, kBytesBeforePathHeader);
+    return announced_poses_problem(raw, mapping, /*after_a_header=*/true, kBytesBeforePathHeader,
+                                   "path.poses");
   });
   return server;
 }
