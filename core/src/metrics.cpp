@@ -17,6 +17,9 @@ TurnStats turn_stats(const std::vector<Point2>& polyline) {
   Point2 in = polyline[1] - polyline[0];  // the leg into vertex i
   for (size_t i = 1; i + 1 < polyline.size(); ++i) {
     const Point2 out = polyline[i + 1] - polyline[i];
+    // Straight on along equal legs (most vertices of a grid path): heading_change_between gives
+    // 0 (or NaN where the legs' products overflow), no turn either way.
+    if (out.x() == in.x() && out.y() == in.y()) continue;
     const double change = std::abs(heading_change_between(in, out));
     in = out;
     if (change > kTurnEpsilonRad) {
@@ -580,24 +583,25 @@ std::optional<double> grid_path_clearance_beside_obstacle(const GridMap& map,
   ClearanceBesideObstacle beside(map);
   Cell run_from = cells.front();
   int32_t run_dx = 0, run_dy = 0;  // the run's step, (0, 0) before the first
+  int64_t run_step = 0;            // the run's step on the padded layout
   for (size_t i = 1; i < cells.size(); ++i) {
     const int32_t dx = cells[i].x - cells[i - 1].x, dy = cells[i].y - cells[i - 1].y;
-    if (dx < -1 || dx > 1 || dy < -1 || dy > 1 || (dx == 0 && dy == 0)) return std::nullopt;
-    const int64_t next = at + dy * stride + dx;
-    if (blocked[next] != 0) return std::nullopt;
-    if (dx != 0 && dy != 0 &&
-        !detail::corner_passable(blocked[at + dx] != 0, blocked[at + dy * stride] != 0,
-                                 CornerPolicy::kNever))
-      return std::nullopt;
-    at = next;
-    if (dx != run_dx || dy != run_dy) {
+    if (dx != run_dx || dy != run_dy) {  // a new run (checked once, not a step at a time)
+      if (dx < -1 || dx > 1 || dy < -1 || dy > 1 || (dx == 0 && dy == 0)) return std::nullopt;
       if (i > 1) {
         beside.add_run_with_line_of_sight(run_from, cells[i - 1]);
         run_from = cells[i - 1];
       }
       run_dx = dx;
       run_dy = dy;
+      run_step = dy * stride + dx;
     }
+    if (dx != 0 && dy != 0 &&
+        !detail::corner_passable(blocked[at + dx] != 0, blocked[at + dy * stride] != 0,
+                                 CornerPolicy::kNever))
+      return std::nullopt;
+    at += run_step;
+    if (blocked[at] != 0) return std::nullopt;
   }
   beside.add_run_with_line_of_sight(run_from, cells.back());
   return beside.clearance();
