@@ -366,8 +366,4 @@ std::optional<Cell> GridMap::world_to_cell(double wx, double wy) const {
   return Cell{static_cast<int32_t>(fx), static_cast<int32_t>(fy)};
 }
 
-Eigen::Vector2d GridMap::grid_to_world(const Point2& p) const {
-  return core::grid_to_world(p, origin_x_, origin_y_, resolution_);
-}
-
 }  // namespace vnsba::core

@@ -466,8 +466,9 @@ std::vector<Cell> trace_path(const GridMap& map, const SparseSearchSpace& space,
     const Cell a = map.cell_of(space.parent(n)), b = map.cell_of(n);
     cells += static_cast<size_t>(std::max(std::abs(b.x - a.x), std::abs(b.y - a.y)));
   }
-  std::vector<Cell> path;
-  path.reserve(cells);
+  // Filled from its end (the goal) back to the root, in place: no growth checks, no reversal.
+  std::vector<Cell> path(cells);
+  size_t at = cells;
   uint32_t n = node;
   Cell walk = map.cell_of(n);
   for (uint32_t parent = space.parent(n); parent != SparseSearchSpace::kNoParent;
@@ -480,18 +481,17 @@ std::vector<Cell> trace_path(const GridMap& map, const SparseSearchSpace& space,
     // Backwards from the jump point: first the straight leg, then the diagonal one.
     const int straight_x = ax > ay ? sx : 0, straight_y = ay > ax ? sy : 0;
     for (int32_t i = diagonal; i < std::max(ax, ay); ++i) {
-      path.push_back(walk);
+      path[--at] = walk;
       walk.x -= straight_x;
       walk.y -= straight_y;
     }
     for (int32_t i = 0; i < diagonal; ++i) {
-      path.push_back(walk);
+      path[--at] = walk;
       walk.x -= sx;
       walk.y -= sy;
     }
   }
-  path.push_back(walk);
-  std::reverse(path.begin(), path.end());
+  path[--at] = walk;
   return path;
 }
 

@@ -13,8 +13,15 @@ namespace vnsba::core {
 
 TurnStats turn_stats(const std::vector<Point2>& polyline) {
   TurnStats stats;
+  if (polyline.size() < 3) return stats;
+  Point2 in = polyline[1] - polyline[0];  // the leg into vertex i
   for (size_t i = 1; i + 1 < polyline.size(); ++i) {
-    const double change = std::abs(heading_change(polyline[i - 1], polyline[i], polyline[i + 1]));
+    const Point2 out = polyline[i + 1] - polyline[i];
+    // Straight on along equal legs (most vertices of a grid path): heading_change_between gives
+    // 0 (or NaN where the legs' products overflow), no turn either way.
+    if (out.x() == in.x() && out.y() == in.y()) continue;
+    const double change = std::abs(heading_change_between(in, out));
+    in = out;
     if (change > kTurnEpsilonRad) {
       ++stats.turns;
       stats.total_angle_deg += change * 180.0 / M_PI;
@@ -261,33 +268,21 @@ std::vector<Point2> merge_collinear_runs(const std::vector<Point2>& polyline) {
   return vertices;
 }
 
-// An upper bound of the clearance (cells), so that the scan's bands start narrow: a vertex is no
-// farther from the nearest obstacle square than from the nearest obstacle centre, which is at most
-// its distance to its cell's centre plus that centre's distance to the nearest obstacle centre d
-// (the factor undoes sqrt's rounding). d from the distance field where it holds it (a read a
-// vertex); otherwise (no field, or every vertex beyond its saturation) from
-// nearest_obstacle_distance around each vertex, searching no farther than the bound so far (a
-// path along walls: a few words a vertex).
+// An upper bound of the clearance (cells) from the distance field, so that the scan's bands start
+// narrow: a vertex is no farther from the nearest obstacle square than from the nearest obstacle
+// centre, which is at most its distance to its cell's centre plus that centre's distance to the
+// nearest obstacle centre d (the factor undoes sqrt's rounding), a read a vertex. +inf without
+// the field or with every vertex beyond its saturation.
 double clearance_upper_bound(const GridMap& map, const std::vector<Point2>& vertices) {
   constexpr double kSqrtRounding = 1e-12;
   double bound = std::numeric_limits<double>::infinity();
-  const auto cell_of_vertex = [&](const Point2& v) {
-    return Cell{static_cast<int32_t>(std::clamp(std::floor(v.x()), 0.0, map.width() - 1.0)),
-                static_cast<int32_t>(std::clamp(std::floor(v.y()), 0.0, map.height() - 1.0))};
-  };
-  const auto offset = [](const Point2& v, const Cell& c) {
-    return (v - Point2(c.x + 0.5, c.y + 0.5)).norm();
-  };
-  for (const bool search : {false, true}) {
-    for (const Point2& v : vertices) {
-      if (!std::isfinite(v.x()) || !std::isfinite(v.y())) continue;
-      const Cell c = cell_of_vertex(v);
-      const double from_centre = offset(v, c);
-      const double d = search ? nearest_obstacle_distance(map, c, bound - from_centre)
-                              : map.obstacle_distance_at_most(c);
-      bound = std::min(bound, d * (1.0 + kSqrtRounding) + from_centre + 1e-9);
-    }
-    if (std::isfinite(bound)) break;
+  for (const Point2& v : vertices) {
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y())) continue;
+    const Cell c{static_cast<int32_t>(std::clamp(std::floor(v.x()), 0.0, map.width() - 1.0)),
+                 static_cast<int32_t>(std::clamp(std::floor(v.y()), 0.0, map.height() - 1.0))};
+    const double from_centre = (v - Point2(c.x + 0.5, c.y + 0.5)).norm();
+    bound = std::min(bound,
+                     map.obstacle_distance_at_most(c) * (1.0 + kSqrtRounding) + from_centre + 1e-9);
   }
   return bound;
 }
@@ -435,24 +430,116 @@ void ClearanceScan::consider(const ClearanceScanFrame& f, int32_t v, int32_t u) 
   best_ = std::min(best_, segment_square_distance(f.a, f.b, c.x, c.y));
 }
 
-}  // namespace
+// Half a cell is as near as a straight run of a grid path gets to an obstacle square when it
+// has line of sight without cutting a corner: it crosses only unblocked cells, and where it
+// passes a cell corner both cells beside it are unblocked, so every blocked square lies at
+// least half a cell across or beyond it.
+constexpr double kStraightRunFloor = 0.5;  // cells
 
-double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  if (polyline.empty() || map.cell_count() == 0) return kInfinity;
-  if (!map.has_obstacles()) return kInfinity;
-  const std::vector<Point2> vertices = merge_collinear_runs(polyline);
-  const double bound = clearance_upper_bound(map, vertices);
+// The reach of the first scan without a bound from the distance field (cells): most grid paths
+// pass within a cell or two of an obstacle, and a reach that finds none costs a few words a line.
+constexpr double kFirstScanReachCells = 1.5;
+
+// The clearance (cells) of a grid path that passes an obstacle side on, without a scan: when
+// every segment of the path (collinear runs merged) is a straight run from cell centre to cell
+// centre with line of sight that cuts no corner, none is nearer than kStraightRunFloor to an
+// obstacle square, so a square measured at that distance or less from one of them is the least
+// distance of all. Such a square is looked for where a run of cell centres comes half a cell
+// from a square: beside an axis run (the bit lines on either side of its cells) and beside or
+// beyond either end of any run. Most grid paths (a JPS path turns at the obstacles that force
+// its jump points) pass one within a few words of bits. The runs are fed one by one; no answer
+// (the scan measures then) when one is not such a run or no such square lies beside them.
+class ClearanceBesideObstacle {
+ public:
+  explicit ClearanceBesideObstacle(const GridMap& map)
+      : map_(map),
+        every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map.build_options())) {}
+
+  // The run of cell centres from `from` to `to` (in the map, along an axis or a diagonal, or one
+  // cell); false, and no answer, when it has no line of sight without cutting a corner.
+  bool add_run(const Cell& from, const Cell& to) {
+    if (!line_of_sight(map_, from, to, CornerPolicy::kNever)) return false;
+    add_run_with_line_of_sight(from, to);
+    return true;
+  }
+  // The same for a run known to have that line of sight.
+  void add_run_with_line_of_sight(const Cell& from, const Cell& to) {
+    if (touching_ > kStraightRunFloor) look_beside(from, to);
+  }
+
+  // The clearance of the runs fed, when they are all such runs and one passes an obstacle side on.
+  std::optional<double> clearance() const {
+    if (touching_ <= kStraightRunFloor) return touching_;
+    return std::nullopt;
+  }
+
+ private:
+  bool is_obstacle_cell(int32_t x, int32_t y) const {
+    return map_.in_bounds(x, y) && map_.blocked(x, y) &&
+           (every_blocked_is_obstacle_ || map_.is_obstacle(map_.layer({x, y})));
+  }
+
+  void look_beside(const Cell& from, const Cell& to) {
+    const Point2 a = cell_centre(from), b = cell_centre(to);
+    const auto measure = [&](int32_t x, int32_t y) {
+      touching_ = std::min(touching_, segment_square_distance(a, b, x, y));
+    };
+    // Beside or beyond the ends: the four side neighbours of each end cell.
+    for (const Cell& end : {from, to}) {
+      for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
+        if (is_obstacle_cell(end.x + dx, end.y + dy)) measure(end.x + dx, end.y + dy);
+      if (touching_ <= kStraightRunFloor) return;
+    }
+    if (from.x != to.x && from.y != to.y) return;  // a diagonal run's inner cells cut no corner
+    // Beside an axis run: its cells' span on the bit lines either side of it (rows for a flat
+    // run, columns for a steep one), a word or two each.
+    const bool columns = from.x == to.x;
+    const BlockedBits lines = columns ? map_.blocked_columns() : map_.blocked_rows();
+    const int32_t v = columns ? from.x : from.y;
+    const int32_t line_count = columns ? map_.width() : map_.height();
+    const int32_t u0 = columns ? std::min(from.y, to.y) : std::min(from.x, to.x);
+    const int32_t u1 = columns ? std::max(from.y, to.y) : std::max(from.x, to.x);
+    for (const int32_t side : {v - 1, v + 1}) {
+      if (side < 0 || side >= line_count) continue;
+      const auto is_obstacle = [&](int32_t u) {
+        return every_blocked_is_obstacle_ ||
+               map_.is_obstacle(map_.layer(columns ? Cell{side, u} : Cell{u, side}));
+      };
+      if (const int32_t u = first_obstacle_in(lines.line(side), u0, u1, is_obstacle); u >= 0) {
+        columns ? measure(side, u) : measure(u, side);
+        if (touching_ <= kStraightRunFloor) return;
+      }
+    }
+  }
+
+  const GridMap& map_;
+  bool every_blocked_is_obstacle_;
+  double touching_ = std::numeric_limits<double>::infinity();  // cells: the least measured
+};
+
+// ClearanceBesideObstacle on the segments of `vertices` (collinear runs merged).
+std::optional<double> clearance_beside_obstacle(const GridMap& map,
+                                                const std::vector<Point2>& vertices) {
+  if (vertices.size() < 2) return std::nullopt;
+  ClearanceBesideObstacle beside(map);
+  for (size_t i = 1; i < vertices.size(); ++i) {
+    const auto run = straight_run_cells(map, vertices[i - 1], vertices[i]);
+    if (!run || !beside.add_run(run->first, run->second)) return std::nullopt;
+  }
+  return beside.clearance();
+}
+
+// The least distance (cells) from the segments of `vertices` to the obstacle squares, exact when
+// it is at most `bound`; above it (a distance measured within the bands, or +inf) otherwise: the
+// scan measures only the squares within reach of min(bound, the least distance so far).
+double scan_clearance(const GridMap& map, const std::vector<Point2>& vertices, double bound) {
   ClearanceScan scan(map, bound);
-  if (vertices.size() == 1 && std::isfinite(bound))
-    scan.measure(vertices.front(), vertices.front());
-  // Half a cell is as near as a straight run of a grid path gets to an obstacle square when it
-  // has line of sight without cutting a corner: it crosses only unblocked cells, and where it
-  // passes a cell corner both cells beside it are unblocked, so every blocked square lies at
-  // least half a cell across or beyond it. Once a distance that small has been measured, such
-  // runs cannot lower it and are not measured (a grid path touches a wall early and has hundreds
-  // of runs); the result is the same.
-  constexpr double kStraightRunFloor = 0.5;  // cells
+  const Point2& first = vertices.front();
+  if (vertices.size() == 1 && std::isfinite(first.x()) && std::isfinite(first.y()))
+    scan.measure(first, first);
+  // Once a distance of kStraightRunFloor or less has been measured, straight runs with line of
+  // sight cannot lower it and are not measured (a grid path touches a wall early and has
+  // hundreds of runs); the result is the same.
   for (size_t i = 1; i < vertices.size(); ++i) {
     const Point2& a = vertices[i - 1];
     const Point2& b = vertices[i];
@@ -464,6 +551,93 @@ double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyl
     scan.measure(a, b);
   }
   return scan.best();
+}
+
+// The farthest any point of the map's rectangle lies from a finite vertex (cells): a scan of that
+// reach measures every obstacle square. -1 without a finite vertex.
+double farthest_map_point(const GridMap& map, const std::vector<Point2>& vertices) {
+  double farthest = -1.0;
+  for (const Point2& v : vertices) {
+    if (!std::isfinite(v.x()) || !std::isfinite(v.y())) continue;
+    farthest =
+        std::max(farthest, std::hypot(std::max(std::abs(v.x()), std::abs(v.x() - map.width())),
+                                      std::max(std::abs(v.y()), std::abs(v.y() - map.height()))));
+  }
+  return farthest;
+}
+
+// clearance_beside_obstacle of the cells' centres, on a path of moves that cut no corner (each
+// step to one of the 8 neighbours, free and in the map, a diagonal one with both cells beside its
+// corner free: CornerPolicy::kNever's moves, whose runs have that line of sight, checked here a
+// byte a cell instead of a walk a run); nullopt for any other path. Its runs are
+// merge_collinear_runs': a unit step continues the run when it is the run's step.
+std::optional<double> grid_path_clearance_beside_obstacle(const GridMap& map,
+                                                          const std::vector<Cell>& cells) {
+  if (cells.size() < 2 || !map.in_bounds(cells.front())) return std::nullopt;
+  // The cells' blocked bytes on the padded layout: a walk of unit steps onto free cells from a
+  // cell in the map stays in the map (the layout's border is blocked), so no bounds checks.
+  const uint8_t* blocked = map.blocked_data();
+  const int64_t stride = map.stride();
+  int64_t at = map.padded_index(cells.front());
+  if (blocked[at] != 0) return std::nullopt;
+  ClearanceBesideObstacle beside(map);
+  Cell run_from = cells.front();
+  int32_t run_dx = 0, run_dy = 0;  // the run's step, (0, 0) before the first
+  int64_t run_step = 0;            // the run's step on the padded layout
+  for (size_t i = 1; i < cells.size(); ++i) {
+    const int32_t dx = cells[i].x - cells[i - 1].x, dy = cells[i].y - cells[i - 1].y;
+    if (dx != run_dx || dy != run_dy) {  // a new run (checked once, not a step at a time)
+      if (dx < -1 || dx > 1 || dy < -1 || dy > 1 || (dx == 0 && dy == 0)) return std::nullopt;
+      if (i > 1) {
+        beside.add_run_with_line_of_sight(run_from, cells[i - 1]);
+        run_from = cells[i - 1];
+      }
+      run_dx = dx;
+      run_dy = dy;
+      run_step = dy * stride + dx;
+    }
+    if (dx != 0 && dy != 0 &&
+        !detail::corner_passable(blocked[at + dx] != 0, blocked[at + dy * stride] != 0,
+                                 CornerPolicy::kNever))
+      return std::nullopt;
+    at += run_step;
+    if (blocked[at] != 0) return std::nullopt;
+  }
+  beside.add_run_with_line_of_sight(run_from, cells.back());
+  return beside.clearance();
+}
+
+// path_clearance_cells on `vertices` (collinear runs merged), by scans of the bit lines.
+double scanned_clearance(const GridMap& map, const std::vector<Point2>& vertices) {
+  if (const double bound = clearance_upper_bound(map, vertices); std::isfinite(bound))
+    return scan_clearance(map, vertices, bound);
+  // Without a bound from the field: scans of growing reach, each narrow while it measures nothing
+  // (a few words a line), until one measures a distance; that distance bounds the last scan.
+  const double farthest = farthest_map_point(map, vertices);
+  if (farthest < 0.0) return std::numeric_limits<double>::infinity();
+  for (double bound = kFirstScanReachCells;; bound *= 4) {
+    const double measured = scan_clearance(map, vertices, bound);
+    if (measured <= bound || bound > farthest) return measured;
+    if (std::isfinite(measured)) return scan_clearance(map, vertices, measured);
+  }
+}
+
+}  // namespace
+
+double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline) {
+  if (polyline.empty() || map.cell_count() == 0 || !map.has_obstacles())
+    return std::numeric_limits<double>::infinity();
+  const std::vector<Point2> vertices = merge_collinear_runs(polyline);
+  if (const std::optional<double> beside = clearance_beside_obstacle(map, vertices)) return *beside;
+  return scanned_clearance(map, vertices);
+}
+
+double grid_path_clearance_cells(const GridMap& map, const std::vector<Cell>& cells) {
+  if (cells.empty() || map.cell_count() == 0 || !map.has_obstacles())
+    return std::numeric_limits<double>::infinity();
+  if (const std::optional<double> beside = grid_path_clearance_beside_obstacle(map, cells))
+    return *beside;
+  return scanned_clearance(map, merge_collinear_runs(cell_centres(cells)));
 }
 
 }  // namespace vnsba::core

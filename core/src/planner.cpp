@@ -419,8 +419,11 @@ namespace {
 // Whether `path` is exactly the centres of `cells`, point by point.
 bool is_cell_centres(const std::vector<Point2>& path, const std::vector<Cell>& cells) {
   if (path.size() != cells.size()) return false;
-  for (size_t i = 0; i < path.size(); ++i)
-    if (path[i] != cell_centre(cells[i])) return false;
+  for (size_t i = 0; i < path.size(); ++i) {
+    const Point2 centre = cell_centre(cells[i]);
+    // Coordinate by coordinate: Eigen's != on whole points costs several times as much.
+    if (path[i].x() != centre.x() || path[i].y() != centre.y()) return false;
+  }
   return true;
 }
 
@@ -580,21 +583,24 @@ PlanResult Planner::plan(const PlanQuery& query, const PlannerOptions& options,
         !s.is_ok())
       return fail(std::move(s));
   }
-  result.world_path.reserve(result.path.size());
-  for (const Point2& p : result.path) result.world_path.push_back(map.grid_to_world(p));
+  result.world_path.resize(result.path.size());  // Eigen leaves the points uninitialised
+  for (size_t i = 0; i < result.path.size(); ++i)
+    result.world_path[i] = map.grid_to_world(result.path[i]);
   // A final path that is the grid path's cell centres (no pruning, smoothing or moved ends: jps
   // and astar as the paper runs them) has the length raw_cost_cells measured already, the same
   // points summed in the same order; comparing them costs a fraction of summing them again.
-  result.metrics.length_cells = is_cell_centres(result.path, result.raw_path)
-                                    ? result.metrics.raw_cost_cells
-                                    : polyline_length(result.path);
+  const bool path_is_grid_path = is_cell_centres(result.path, result.raw_path);
+  result.metrics.length_cells =
+      path_is_grid_path ? result.metrics.raw_cost_cells : polyline_length(result.path);
   result.metrics.length_m = result.metrics.length_cells * map.resolution();
   result.status = Status::ok();
   stop_clock();
   // After the clock, like the reference search below: a measurement of the result.
-  result.metrics.clearance_m =
-      (clearance_cells ? *clearance_cells : path_clearance_cells(map, result.path)) *
-      map.resolution();
+  if (!clearance_cells) {
+    clearance_cells = path_is_grid_path ? grid_path_clearance_cells(map, result.raw_path)
+                                        : path_clearance_cells(map, result.path);
+  }
+  result.metrics.clearance_m = *clearance_cells * map.resolution();
 
   // After the clock has stopped: the reference search is not part of the planning time. It has
   // no time budget but honours the cancel flag (a canceled reference leaves the ratio NaN).

@@ -565,6 +565,75 @@ TEST(GridMap, PathClearanceEqualsTheOracleWithAndWithoutTheField) {
   EXPECT_GT(without_field, 0);
 }
 
+// grid_path_clearance_cells on walks of unit steps (runs along walls, open space, corners cut
+// and not, repeated cells) equals the oracle on the cells' centres, and path_clearance_cells on
+// them to the bit: the plan reports one or the other for the same path.
+TEST(GridMap, GridPathClearanceEqualsTheOracleAndPathClearance) {
+  std::mt19937 rng(47);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int beside = 0, away = 0, cut = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const int w = 8 + static_cast<int>(rng() % 40), h = 8 + static_cast<int>(rng() % 40);
+    OccupancyGrid g = grid_of(w, h);
+    const double density = 0.01 + 0.3 * unit(rng);
+    for (int32_t y = 0; y < h; ++y)
+      for (int32_t x = 0; x < w; ++x) {
+        const double draw = unit(rng);
+        g.data[static_cast<size_t>(y) * w + x] = draw < density          ? int8_t{100}
+                                                 : draw < density + 0.03 ? core::kOccupancyUnknown
+                                                                         : int8_t{0};
+      }
+    GridBuildOptions options;
+    options.allow_unknown = trial % 3 == 0;
+    options.inflate_unknown = trial % 4 == 0;
+    if (trial % 5 == 1) {
+      options.robot_radius = 1.0;
+      options.inflation_radius = 2.0;
+    }
+    auto map = GridMap::build(g, options);
+    ASSERT_TRUE(map);
+    for (int walk = 0; walk < 20; ++walk) {
+      // A walk in runs: a direction held for a few steps while the next cell is free (a diagonal
+      // step also past blocked corners, so that some walks cut one), or a repeated cell.
+      Cell at{static_cast<int32_t>(rng() % w), static_cast<int32_t>(rng() % h)};
+      if (map->blocked(at)) continue;
+      std::vector<Cell> cells = {at};
+      for (int run = 0; run < 1 + static_cast<int>(rng() % 5); ++run) {
+        const int dx = static_cast<int>(rng() % 3) - 1, dy = static_cast<int>(rng() % 3) - 1;
+        for (int step = 0; step < 1 + static_cast<int>(rng() % 12); ++step) {
+          const Cell next{at.x + dx, at.y + dy};
+          if (map->blocked(next)) break;
+          cells.push_back(next);
+          at = next;
+        }
+      }
+      std::vector<Point2> centres;
+      for (const Cell& c : cells) centres.push_back(core::cell_centre(c));
+      const double expected = clearance_oracle(*map, centres);
+      const double got = core::grid_path_clearance_cells(*map, cells);
+      EXPECT_EQ(got, core::path_clearance_cells(*map, centres)) << "trial " << trial;
+      if (std::isinf(expected)) {
+        ASSERT_EQ(got, expected) << "trial " << trial << " walk " << walk;
+      } else {
+        ASSERT_NEAR(got, expected, 1e-9) << "trial " << trial << " walk " << walk;
+      }
+      bool cuts = false;
+      for (size_t i = 1; i < cells.size(); ++i) {
+        const int dx = cells[i].x - cells[i - 1].x, dy = cells[i].y - cells[i - 1].y;
+        cuts = cuts || (dx != 0 && dy != 0 &&
+                        (map->blocked(cells[i - 1].x + dx, cells[i - 1].y) ||
+                         map->blocked(cells[i - 1].x, cells[i - 1].y + dy)));
+      }
+      cut += cuts;
+      (!cuts && got == 0.5 ? beside : away)++;
+    }
+  }
+  // Each kind of walk occurs: passing an obstacle side on, not, and cutting a corner.
+  EXPECT_GT(beside, 50);
+  EXPECT_GT(away, 50);
+  EXPECT_GT(cut, 10);
+}
+
 // The summed-area table built on first use equals brute force, also when several threads make
 // that first use at once (one builds it, the others wait for it).
 TEST(GridMap, LazySummedAreaFromSeveralThreadsEqualsBruteForce) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -30,8 +31,24 @@ inline Point2 cell_centre(const Cell& c) {
 // 0 when a == b.
 double heading(const Point2& a, const Point2& b);
 
+// Signed heading change in radians, in (-pi, pi], from the leg `in` to the leg `out` (vectors).
+// Zero-length legs give 0. Inline: turn_stats calls it at every vertex of a grid path, most of
+// them straight on, each leg the out of one vertex and the in of the next.
+inline double heading_change_between(const Point2& in, const Point2& out) {
+  // atan2(cross, dot) is the signed angle between the legs, exact for collinear legs (cross 0).
+  const double cross = in.x() * out.y() - in.y() * out.x();
+  const double dot = in.x() * out.x() + in.y() * out.y();
+  // Straight on (most vertices of a grid path): atan2(0, dot > 0) is exactly 0; skip the call.
+  // A positive dot needs two legs of some length, so this comes before the zero-length test.
+  if (cross == 0.0 && dot > 0.0) return 0.0;
+  if (in.squaredNorm() == 0.0 || out.squaredNorm() == 0.0) return 0.0;
+  return std::atan2(cross, dot);
+}
+
 // Signed heading change in radians, in (-pi, pi], when going a -> b -> c. Zero-length legs give 0.
-double heading_change(const Point2& a, const Point2& b, const Point2& c);
+inline double heading_change(const Point2& a, const Point2& b, const Point2& c) {
+  return heading_change_between(b - a, c - b);
+}
 
 // Distance from p to the segment [a, b] (a point when a == b), same units as the points.
 double distance_to_segment(const Point2& p, const Point2& a, const Point2& b);

@@ -247,8 +247,11 @@ class GridMap {
   std::optional<Cell> world_to_cell(double wx, double wy) const;
   // World point (metres) -> continuous cell coordinates (no bounds check).
   Point2 world_to_grid(double wx, double wy) const;
-  // Continuous cell coordinates -> world point (metres).
-  Eigen::Vector2d grid_to_world(const Point2& p) const;
+  // Continuous cell coordinates -> world point (metres). Inline: every point of every plan's
+  // world path passes here.
+  Eigen::Vector2d grid_to_world(const Point2& p) const {
+    return core::grid_to_world(p, origin_x_, origin_y_, resolution_);
+  }
   Eigen::Vector2d cell_centre_world(const Cell& c) const { return grid_to_world(cell_centre(c)); }
 
   // --- Padded layout for the search hot loops. ---

@@ -34,9 +34,15 @@ struct Metrics {
 // inflate_unknown; inflation is not an obstacle). +inf when the map has no obstacle or the polyline
 // is empty. Exact: the distance from each segment itself, the limit of the sampling that
 // docs/algorithm.md section 8 allows (points at most 0.1 cell apart, which can only overstate it,
-// by up to 0.05 cell). The distance transform bounds which obstacles can be nearest, and only those
-// are measured, about once per cell of the path's length.
+// by up to 0.05 cell). A grid path that passes an obstacle side on is answered by that obstacle
+// (no straight run with line of sight comes nearer); otherwise the distance transform, or scans
+// of growing reach, bound which obstacles can be nearest, and only those are measured, about once
+// per cell of the path's length.
 double path_clearance_cells(const GridMap& map, const std::vector<Point2>& polyline);
+
+// path_clearance_cells of the cells' centres, the same number, without making the polyline where
+// the path passes an obstacle side on (Planner::plan's final path when it is the grid path).
+double grid_path_clearance_cells(const GridMap& map, const std::vector<Cell>& cells);
 
 // The distance (cells) from the centre of `c` to the nearest obstacle centre (GridMap::is_obstacle,
 // inflation not counted): 0 on an obstacle, exact (the square root of an integer) whenever it is at
