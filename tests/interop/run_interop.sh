@@ -6,6 +6,9 @@
 #   MODE: transient_local | volatile | localhost | debug_layers | fresh_clients, CLIENT
 #         vnsba_cyclone_client; action | action_cancel | action_fresh, CLIENT
 #         vnsba_cyclone_action_client;
+#         bond, CLIENT vnsba_cyclone_bond_client: the node bonds from start to stop (bond.mode
+#         always), the client plays nav2_lifecycle_manager's side of the bond and freezes the node
+#         (SIGSTOP, then SIGCONT) to see its watchdog fire;
 #         secure | secure_open | secure_other_ca, CLIENT vnsba_cyclone_client: the node secured
 #         with a keystore of tools/make_keystore.sh, the client secured with an enclave of the
 #         same keystore (it plans: every check of a default run), without security or with an
@@ -30,12 +33,13 @@ case "$mode" in
   action) domain=216 durability=transient_local localhost=false ;;
   action_cancel) domain=217 durability=transient_local localhost=false ;;
   action_fresh) domain=222 durability=transient_local localhost=false ;;
+  bond) domain=225 durability=transient_local localhost=false ;;
   secure) domain=219 durability=transient_local localhost=false ;;
   secure_open) domain=220 durability=transient_local localhost=false ;;
   secure_other_ca) domain=221 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
-      "fresh_clients, action, action_cancel, action_fresh, secure, secure_open or" \
+      "fresh_clients, action, action_cancel, action_fresh, bond, secure, secure_open or" \
       "secure_other_ca" >&2
     exit 2
     ;;
@@ -49,6 +53,8 @@ case "$mode" in
   # must get its send_goal and get_result replies. Arguments after the mode add to these (the
   # last --fresh wins): --fresh N, --fresh-parallel P.
   action_fresh) client_args=(--domain "$domain" --fresh 40 --fresh-resident) ;;
+  # The manager's bond_timeout 2 s (Nav2's default is 4): the watchdog is measured in 2 s.
+  bond) client_args=(--domain "$domain" --id vnsba_node --bond-timeout 2 --period 0.1) ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi
@@ -104,6 +110,13 @@ requests:
   map_wait: 30
 YAML
 fi
+if [[ "$mode" == bond ]]; then
+  cat >>"$work/node.yaml" <<YAML
+bond:
+  mode: always
+  heartbeat_period: 0.1
+YAML
+fi
 if [[ "$localhost" == true ]]; then
   # Cyclone on the loopback interface only; loopback has no multicast, so discovery is unicast
   # to the node's well-known ports on 127.0.0.1 (Peer), as for a ROS 2 system on rmw_cyclonedds
@@ -148,6 +161,8 @@ fi
 
 "$node_bin" --config "$work/node.yaml" >"$work/node.log" 2>&1 &
 node_pid=$!
+# The bond client freezes the node to see the manager's watchdog fire.
+if [[ "$mode" == bond ]]; then client_args+=(--node-pid "$node_pid"); fi
 status=0
 "$client_bin" "${client_args[@]}" --namespace "$ns" "$@" > >(tee "$work/client.out") || status=$?
 if [[ "$mode" == secure && $status -eq 0 ]] && grep -q "^request ends: " "$work/client.out"; then
