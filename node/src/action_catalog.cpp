@@ -1,6 +1,7 @@
 #include "vnsba/node/action_catalog.hpp"
 
 #include "action_traits.hpp"
+#include "vnsba/node/service_wire.hpp"
 
 namespace vnsba::node {
 
@@ -27,7 +28,8 @@ const char* nav2_failure_name(uint8_t wire_code) {
     case wire::NO_VALID_PATH:
       return "NO_VALID_PATH";
     default:
-      return "UNKNOWN";  // NO_MAP, INVALID_MAP, INVALID_REQUEST, CANCELED, INTERNAL_ERROR
+      return "UNKNOWN";  // NO_MAP, INVALID_MAP, INVALID_REQUEST, CANCELED, INTERNAL_ERROR,
+                         // NODE_INACTIVE (a goal is rejected then, never planned)
   }
 }
 
@@ -51,8 +53,7 @@ const char* service_name(ActionService service) {
 }
 
 std::string service_topic(const std::string& ros_name, ActionService service, bool request) {
-  return std::string(request ? "rq" : "rr") + ros_name + "/_action/" + service_name(service) +
-         (request ? "Request" : "Reply");
+  return service_topic(ros_name + "/_action/" + service_name(service), request);
 }
 
 std::string action_topic(const std::string& ros_name, const char* topic) {

@@ -1,7 +1,5 @@
 #include "vnsba/node/action_client.hpp"
 
-#include <fastdds/rtps/common/WriteParams.h>
-
 #include <condition_variable>
 #include <cstring>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -12,23 +10,11 @@
 #include <set>
 #include <thread>
 
-#include "action_raw_type.hpp"
 #include "action_traits.hpp"
 #include "take_listener.hpp"
+#include "vnsba/node/service_client.hpp"
 
 namespace vnsba::node {
-
-namespace {
-
-using eprosima::fastrtps::rtps::GUID_t;
-using eprosima::fastrtps::rtps::SampleIdentity;
-
-int64_t sequence_of(const SampleIdentity& identity) {
-  return (static_cast<int64_t>(identity.sequence_number().high) << 32) |
-         identity.sequence_number().low;
-}
-
-}  // namespace
 
 class ActionClient::Impl {
  public:
@@ -43,112 +29,35 @@ class ActionClient::Impl {
 
   std::string name;
   WireMapping mapping = WireMapping::kSampleIdentity;
-  std::array<dds::DataWriter*, kActionServices> request_writers{};
-  std::array<dds::DataReader*, kActionServices> reply_readers{};
+  // The three services, by ActionService (service_client.hpp: requests, replies, the mapping).
+  std::array<std::unique_ptr<ServiceClient>, kActionServices> services;
   dds::DataReader* status_reader = nullptr;
   dds::DataReader* feedback_reader = nullptr;
   std::vector<std::unique_ptr<dds::DataReaderListener>> listeners;
-  uint64_t client_id = 0;  // rmw_cyclonedds's header: the client's id
   mutable std::mutex mutex;
   mutable std::condition_variable cv;
-  int64_t next_sequence = 0;  // header mapping, under mutex
-  // By request sequence, under mutex.
-  std::array<std::map<int64_t, RawSample>, kActionServices> replies;
   std::map<GoalUuid, GoalState> statuses;  // newest status list, under mutex
-  size_t unmatched = 0;                    // under mutex
-  size_t duplicates = 0;                   // under mutex
-  std::set<eprosima::fastrtps::rtps::GuidPrefix_t>
-      servers;  // participants that replied, under mutex
-  std::array<std::set<int64_t>, kActionServices> answered;  // sequences replied to, under mutex
 
-  // Takes the replies of one service; keeps those that answer this client's requests.
-  void on_reply(ActionService service, RawSample&& raw, const dds::SampleInfo& info) {
-    const size_t s = static_cast<size_t>(service);
-    int64_t sequence = -1;
-    if (mapping == WireMapping::kSampleIdentity) {
-      const GUID_t ours = reply_readers[s]->guid();
-      if (info.related_sample_identity.writer_guid() == ours)
-        sequence = sequence_of(info.related_sample_identity);
-    } else if (raw.bytes.size() >= 20) {
-      uint64_t id = 0;
-      std::memcpy(&id, raw.bytes.data() + 4, sizeof id);  // little-endian, as encoded
-      if (id == client_id) std::memcpy(&sequence, raw.bytes.data() + 12, sizeof sequence);
-    }
-    {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (sequence >= 0) servers.insert(info.sample_identity.writer_guid().guidPrefix);
-      if (sequence < 0)
-        ++unmatched;
-      else if (!answered[s].insert(sequence).second)
-        ++duplicates;
-      else
-        replies[s][sequence] = std::move(raw);
-    }
-    cv.notify_all();
-  }
+  ServiceClient& service(ActionService which) { return *services[static_cast<size_t>(which)]; }
 
   template <class Msg>
-  int64_t request(ActionService service, const Msg& msg) {
-    RequestHeader header{};
-    int64_t sequence = 0;
-    if (mapping == WireMapping::kRequestHeader) {
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        sequence = ++next_sequence;
-      }
-      std::memcpy(header.data(), &client_id, 8);
-      std::memcpy(header.data() + 8, &sequence, 8);
-    }
-    RawSample sample = encode_request(msg, mapping, header);
-    eprosima::fastrtps::rtps::WriteParams params;
-    const size_t s = static_cast<size_t>(service);
-    // As rmw_fastrtps: the request names the client's reply reader (rmw_cyclonedds does not).
-    if (mapping == WireMapping::kSampleIdentity)
-      params.related_sample_identity().writer_guid() = reply_readers[s]->guid();
-    if (!write_sample(request_writers[s], &sample, params)) return -1;
-    return mapping == WireMapping::kRequestHeader ? sequence
-                                                  : sequence_of(params.sample_identity());
+  int64_t request(ActionService which, const Msg& msg) {
+    return service(which).request(msg);
   }
-
   // The reply to `request`, decoded as Msg, or nullopt when none came in time.
   template <class Msg>
-  std::optional<Msg> wait(ActionService service, int64_t request, Duration timeout) {
-    if (request < 0) return std::nullopt;
-    const size_t s = static_cast<size_t>(service);
-    std::unique_lock<std::mutex> lock(mutex);
-    if (!cv.wait_for(lock, timeout, [&] { return replies[s].count(request) > 0; }))
-      return std::nullopt;
-    RawSample raw = std::move(replies[s][request]);
-    replies[s].erase(request);
-    lock.unlock();
-    Msg msg;
-    RequestHeader header;
-    if (!decode_reply(raw, mapping, msg, header).empty()) return std::nullopt;
-    return msg;
+  std::optional<Msg> wait(ActionService which, int64_t request, Duration timeout) {
+    return service(which).wait<Msg>(request, timeout);
   }
 
-  // The service's reply reader, of ReplyType's DDS type.
-  template <class ReplyType>
-  core::Status add_reply_reader(Participant& participant, ActionService service) {
-    listeners.push_back(
-        make_listener<RawSample>([this, service](RawSample&& raw, const dds::SampleInfo& info) {
-          on_reply(service, std::move(raw), info);
-        }));
-    auto reader = participant.reader_on<RawOf<ReplyType>>(
-        service_topic(name, service, false), reader_qos(TopicQos::kStatus), listeners.back().get());
-    if (!reader) return reader.error();
-    reply_readers[static_cast<size_t>(service)] = *reader;
-    return core::Status::ok();
-  }
-
-  // The service's request writer, of RequestType's DDS type.
-  template <class RequestType>
-  core::Status add_request_writer(Participant& participant, ActionService service) {
-    auto writer = participant.writer_on<RawOf<RequestType>>(
-        service_topic(name, service, true),
-        writer_qos(TopicQos::kEvents, service == ActionService::kSendGoal));
-    if (!writer) return writer.error();
-    request_writers[static_cast<size_t>(service)] = *writer;
+  // The service's client, of RequestType's and ReplyType's DDS types.
+  template <class RequestType, class ReplyType>
+  core::Status add_service(Participant& participant, ActionService which) {
+    auto client = ServiceClient::create<RequestType, ReplyType>(
+        participant, name + "/_action/" + service_name(which), mapping,
+        which == ActionService::kSendGoal);
+    if (!client) return client.error();
+    services[static_cast<size_t>(which)] = std::move(client).value();
     return core::Status::ok();
   }
 
@@ -182,20 +91,22 @@ class ActionClient::Impl {
 template <class Traits>
 class ActionClient::ImplOf final : public ActionClient::Impl {
  public:
-  // Readers first: a request names its reply reader.
   core::Status create(Participant& participant) override {
-    if (auto s = add_reply_readers(participant); !s.is_ok()) return s;
-    if (auto s = add_topic_readers<typename Traits::FeedbackMessageType>(participant); !s.is_ok())
-      return s;
-    if (auto s = add_request_writer<typename Traits::SendGoalRequestType>(participant,
-                                                                          ActionService::kSendGoal);
+    if (auto s = add_service<typename Traits::SendGoalRequestType,
+                             typename Traits::SendGoalResponseType>(participant,
+                                                                    ActionService::kSendGoal);
         !s.is_ok())
       return s;
-    if (auto s = add_request_writer<typename Traits::GetResultRequestType>(
-            participant, ActionService::kGetResult);
+    if (auto s = add_service<typename Traits::GetResultRequestType,
+                             typename Traits::GetResultResponseType>(participant,
+                                                                     ActionService::kGetResult);
         !s.is_ok())
       return s;
-    return add_request_writer<CancelRequestType>(participant, ActionService::kCancelGoal);
+    if (auto s = add_service<CancelRequestType, CancelResponseType>(participant,
+                                                                    ActionService::kCancelGoal);
+        !s.is_ok())
+      return s;
+    return add_topic_readers<typename Traits::FeedbackMessageType>(participant);
   }
 
   int64_t send_goal(const GoalUuid& id, const ActionGoalSpec& spec) override {
@@ -224,19 +135,6 @@ class ActionClient::ImplOf final : public ActionClient::Impl {
     Traits::read_result(std::move(reply->result()), out);
     return out;
   }
-
- private:
-  core::Status add_reply_readers(Participant& participant) {
-    if (auto s = add_reply_reader<typename Traits::SendGoalResponseType>(participant,
-                                                                         ActionService::kSendGoal);
-        !s.is_ok())
-      return s;
-    if (auto s = add_reply_reader<typename Traits::GetResultResponseType>(
-            participant, ActionService::kGetResult);
-        !s.is_ok())
-      return s;
-    return add_reply_reader<CancelResponseType>(participant, ActionService::kCancelGoal);
-  }
 };
 
 ActionClient::ActionClient(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -244,15 +142,10 @@ ActionClient::ActionClient(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) 
 // The client's endpoints go before its listeners: the participant outlives the client, and a
 // reader deleted later would call a listener already freed.
 ActionClient::~ActionClient() {
-  for (dds::DataReader* reader : impl_->reply_readers)
-    if (reader != nullptr)
-      const_cast<dds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
+  for (auto& service : impl_->services) service.reset();
   for (dds::DataReader* reader : {impl_->status_reader, impl_->feedback_reader})
     if (reader != nullptr)
       const_cast<dds::Subscriber*>(reader->get_subscriber())->delete_datareader(reader);
-  for (dds::DataWriter* writer : impl_->request_writers)
-    if (writer != nullptr)
-      const_cast<dds::Publisher*>(writer->get_publisher())->delete_datawriter(writer);
 }
 
 GoalUuid ActionClient::random_id() {
@@ -276,8 +169,6 @@ core::Expected<std::unique_ptr<ActionClient>> ActionClient::create(Participant& 
   Impl& impl = *client->impl_;
   impl.name = ros_name;
   impl.mapping = mapping;
-  std::mt19937_64 engine{std::random_device{}()};
-  impl.client_id = engine();
   const core::Status status = impl.create(participant);
   if (!status.is_ok()) return status;
   return client;
@@ -286,14 +177,8 @@ core::Expected<std::unique_ptr<ActionClient>> ActionClient::create(Participant& 
 bool ActionClient::wait_for_server(Duration timeout, int servers) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   auto ready = [&] {
-    for (dds::DataWriter* writer : impl_->request_writers)
-      if (matched_readers(writer) < servers) return false;
-    for (dds::DataReader* reader : impl_->reply_readers) {
-      dds::SubscriptionMatchedStatus matched;
-      if (reader->get_subscription_matched_status(matched) != ReturnCode_t::RETCODE_OK ||
-          matched.current_count < servers)
-        return false;
-    }
+    for (const auto& service : impl_->services)
+      if (!service->server_ready(servers)) return false;
     for (dds::DataReader* reader : {impl_->status_reader, impl_->feedback_reader}) {
       dds::SubscriptionMatchedStatus matched;
       if (reader->get_subscription_matched_status(matched) != ReturnCode_t::RETCODE_OK ||
@@ -374,28 +259,28 @@ bool ActionClient::wait_status(const GoalUuid& id, GoalState state, Duration tim
 }
 
 size_t ActionClient::unmatched_replies() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->unmatched;
+  size_t unmatched = 0;
+  for (const auto& service : impl_->services) unmatched += service->unmatched_replies();
+  return unmatched;
 }
 
 void ActionClient::send_raw(ActionService service, const RawSample& payload) {
-  RawSample copy = payload;
-  write_sample(impl_->request_writers[static_cast<size_t>(service)], &copy);
+  impl_->service(service).send_raw(payload);
 }
 
 size_t ActionClient::duplicate_replies() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->duplicates;
+  size_t duplicates = 0;
+  for (const auto& service : impl_->services) duplicates += service->duplicate_replies();
+  return duplicates;
 }
 
 size_t ActionClient::servers_seen() const {
-  size_t matched = 0;
-  dds::SubscriptionMatchedStatus status;
-  if (impl_->reply_readers[static_cast<size_t>(ActionService::kSendGoal)]
-          ->get_subscription_matched_status(status) == ReturnCode_t::RETCODE_OK)
-    matched = static_cast<size_t>(std::max(status.current_count, 0));
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  return std::max(matched, impl_->servers.size());
+  std::set<eprosima::fastrtps::rtps::GuidPrefix_t> servers;
+  for (const auto& service : impl_->services) {
+    const auto replied = service->servers_replied();
+    servers.insert(replied.begin(), replied.end());
+  }
+  return std::max(impl_->service(ActionService::kSendGoal).reply_writers_matched(), servers.size());
 }
 
 }  // namespace vnsba::node

@@ -3,362 +3,76 @@
 #include <fastdds/rtps/common/WriteParams.h>
 #include <spdlog/spdlog.h>
 
-#include <cstdio>
+#include <algorithm>
 #include <cstring>
-#include <deque>
 #include <set>
 
-#include "action_raw_type.hpp"
 #include "action_traits.hpp"
-#include "vnsba/node/reply_flow.hpp"
+#include "vnsba/node/raw_type.hpp"
 
 namespace vnsba::node {
 
 namespace {
 
-using eprosima::fastrtps::rtps::GUID_t;
-using eprosima::fastrtps::rtps::SampleIdentity;
-
-constexpr size_t service_index(ActionService service) {
-  return static_cast<size_t>(service);
-}
-
-GuidPrefix prefix_of(const GUID_t& guid) {
-  GuidPrefix prefix;
-  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), prefix.begin());
-  return prefix;
-}
-
-// Bytes as lowercase hex digits, for ids in messages.
-template <size_t N>
-std::string hex(const std::array<uint8_t, N>& bytes) {
-  std::string out;
-  char buf[4];
-  for (uint8_t b : bytes) {
-    std::snprintf(buf, sizeof buf, "%02x", b);
-    out += buf;
-  }
-  return out;
-}
-
-// An action service's reply writer: writer_qos(kStatus)'s, but keeping the last
-// `history_depth` replies, as rclcpp_action's servers keep their last 10, so that a reader that
-// does not acknowledge can never block a write (reply_flow.hpp paces the writes).
-dds::DataWriterQos reply_writer_qos(int32_t history_depth, bool large_samples) {
-  dds::DataWriterQos qos = writer_qos(TopicQos::kStatus, large_samples);
-  qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = history_depth;
-  qos.resource_limits().max_samples = history_depth;
-  qos.resource_limits().max_samples_per_instance = history_depth;
-  // Readers acknowledge when a heartbeat asks them to: the replies' flow waits for those
-  // acknowledgements (reply_flow.hpp), so they are asked for often while replies are unacknowledged
-  // (a writer sends none while everything is acknowledged).
-  qos.reliable_writer_qos().times.heartbeatPeriod = {0, 20'000'000};
-  return qos;
-}
-
-// Feeds a reply writer's gate with its matched readers (per remote participant).
-class MatchedReaders : public dds::DataWriterListener {
- public:
-  MatchedReaders(std::mutex& mutex, std::condition_variable& cv,
-                 ReplyGate<ActionServer::Reply>& gate)
-      : mutex_(mutex), cv_(cv), gate_(gate) {}
-  void on_publication_matched(dds::DataWriter*,
-                              const dds::PublicationMatchedStatus& status) override {
-    if (status.current_count_change == 0) return;
-    GuidPrefix prefix;  // an endpoint's instance handle is its GUID
-    for (size_t i = 0; i < prefix.size(); ++i) prefix[i] = status.last_subscription_handle.value[i];
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      gate_.reader_matched(prefix, status.current_count_change);
-    }
-    cv_.notify_all();
-  }
-
- private:
-  std::mutex& mutex_;
-  std::condition_variable& cv_;
-  ReplyGate<ActionServer::Reply>& gate_;
-};
-
-// Where a reply goes: the client's mapping, its header (rmw_cyclonedds) or the identity to
-// relate the reply to (rmw_fastrtps), and its participant (the reply gate).
-struct ReplyAddress {
-  WireMapping mapping = WireMapping::kSampleIdentity;
-  RequestHeader header{};
-  SampleIdentity related;
-  GuidPrefix prefix{};
-};
-
 // A finished goal's get_result reply message (status and result), encoded once.
 using EncodedResult = std::shared_ptr<const std::vector<uint8_t>>;
 
-// Replies written or given up on in one pass, per service and client.
-using RepliesDone = std::array<std::map<GuidPrefix, size_t>, kActionServices>;
-
-// The replies of an action's three services on their way to the clients: each held until a
-// reply reader of its client's participant is matched (ReplyGate), at most
-// actions.max_pending_replies per client and service, then written as the service's reply
-// writer's flow allows (ReplyFlow), in order per service. hold, take_due, next_deadline and
-// release_pending run under the server's mutex; write_replies on the replier thread without it.
+// The replies of an action's three services on their way to the clients, one ServiceReplies
+// each (service_server.hpp: the reply gate, the per-client cap, the flow), by ActionService.
 class ActionReplies {
  public:
-  using Reply = ActionServer::Reply;
   using Clock = ActionServer::Clock;
+  using Done = std::array<ServiceReplies::Done, kActionServices>;
 
   ActionReplies(const std::string& ros_name, const NodeConfig& config, std::mutex& mutex,
                 std::condition_variable& cv)
       : ros_name_(ros_name),
-        cfg_(config),
-        mutex_(mutex),
-        cv_(cv),
-        gates_{ReplyGate<Reply>(config.reply_wait, kReaderSettle),
-               ReplyGate<Reply>(config.reply_wait, kReaderSettle),
-               ReplyGate<Reply>(config.reply_wait, kReaderSettle)},
-        flows_{ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout),
-               ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout),
-               ReplyFlow(reply_budget(config), config.actions.reply_ack_timeout)} {}
+        services_{
+            ServiceReplies(ros_name, service_name(ActionService::kSendGoal), config, mutex, cv),
+            ServiceReplies(ros_name, service_name(ActionService::kGetResult), config, mutex, cv),
+            ServiceReplies(ros_name, service_name(ActionService::kCancelGoal), config, mutex, cv)} {
+  }
 
   // The service's reply writer on `participant`, of ReplyType's DDS type (`large`: results).
   template <class ReplyType>
   core::Status create_writer(Participant& participant, ActionService service, bool large) {
-    const size_t s = service_index(service);
-    matched_[s] = std::make_unique<MatchedReaders>(mutex_, cv_, gates_[s]);
-    auto writer = participant.writer_on<RawOf<ReplyType>>(service_topic(ros_name_, service, false),
-                                                          reply_writer_qos(kReplyHistory, large),
-                                                          matched_[s].get());
-    if (!writer) return writer.error();
-    writers_[s] = *writer;
-    return core::Status::ok();
+    return at(service).create_writer<ReplyType>(participant,
+                                                service_topic(ros_name_, service, false), large);
   }
-
-  void hold(ActionService service, const ReplyAddress& to, RawSample sample, std::string what);
-  void take_due(Clock::time_point now, bool all, ActionServer::Due& out);
-  // Writes what `due` holds, as ActionServer::write says; returns the replies written or given
-  // up on, for release_pending (under the mutex).
-  RepliesDone write_replies(ActionServer::Due& due, bool stopping, bool give_up);
-  void release_pending(const RepliesDone& done);
-  bool all_written() const { return unwritten_.empty(); }
-  void next_deadline(std::optional<Clock::time_point>& earliest) const;
-  const std::array<dds::DataWriter*, kActionServices>& writers() const { return writers_; }
+  void hold(ActionService service, const ReplyAddress& to, RawSample sample, std::string what) {
+    at(service).hold(to, std::move(sample), std::move(what));
+  }
+  void take_due(Clock::time_point now, bool all, ActionServer::Due& out) {
+    for (size_t s = 0; s < kActionServices; ++s) services_[s].take_due(now, all, out.services[s]);
+  }
+  Done write_replies(ActionServer::Due& due, bool stopping, bool give_up) {
+    Done done;
+    for (size_t s = 0; s < kActionServices; ++s)
+      done[s] = services_[s].write(due.services[s], stopping, give_up);
+    return done;
+  }
+  void release_pending(const Done& done) {
+    for (size_t s = 0; s < kActionServices; ++s) services_[s].release_pending(done[s]);
+  }
+  bool all_written() const {
+    return std::all_of(services_.begin(), services_.end(),
+                       [](const ServiceReplies& service) { return service.all_written(); });
+  }
+  void next_deadline(std::optional<Clock::time_point>& earliest) const {
+    for (const ServiceReplies& service : services_) service.next_deadline(earliest);
+  }
+  std::array<dds::DataWriter*, kActionServices> writers() const {
+    std::array<dds::DataWriter*, kActionServices> out{};
+    for (size_t s = 0; s < kActionServices; ++s) out[s] = services_[s].writer();
+    return out;
+  }
 
  private:
-  static size_t reply_budget(const NodeConfig& config) {
-    return static_cast<size_t>(config.actions.replies_in_flight_mb) << 20;
-  }
-  void warn_dropped(size_t service, const GuidPrefix& client, size_t pending,
-                    const std::string& what);
-  void check_acknowledgements(Clock::time_point now);
-  void warn_stalled(size_t service, const std::vector<std::pair<GuidPrefix, size_t>>& clients);
-  static void assert_liveliness(const ActionServer::Due& due);
-  bool write_now(Reply& reply, Clock::time_point now, bool stopping, bool& waiting);
+  ServiceReplies& at(ActionService service) { return services_[static_cast<size_t>(service)]; }
 
   const std::string& ros_name_;
-  const NodeConfig& cfg_;
-  std::mutex& mutex_;
-  std::condition_variable& cv_;
-  std::array<ReplyGate<Reply>, kActionServices> gates_;  // under mutex_
-  // Per service: replies held (gate, then unwritten_) per client, under mutex_, and the last
-  // warning about dropping one.
-  std::array<std::map<GuidPrefix, size_t>, kActionServices> pending_;
-  std::map<GuidPrefix, Clock::time_point> drop_warned_;
-  std::array<ReplyFlow, kActionServices> flows_;  // the replier thread's
-  std::array<dds::DataWriter*, kActionServices> writers_{};
-  std::array<std::unique_ptr<MatchedReaders>, kActionServices> matched_;
-  // Replies not written yet (their writer's flow said wait, or the write failed), retried first
-  // on the next pass, in order (replier thread). Bounded by pending_'s cap.
-  std::deque<Reply> unwritten_;
+  std::array<ServiceReplies, kActionServices> services_;
 };
-
-// Holds a reply for the replier thread, unless the client has max_pending_replies held by this
-// service already (then it is dropped with a warning, at most one a second per client).
-void ActionReplies::hold(ActionService service, const ReplyAddress& to, RawSample sample,
-                         std::string what) {
-  const size_t s = service_index(service);
-  size_t& pending = pending_[s][to.prefix];
-  if (pending >= static_cast<size_t>(cfg_.actions.max_pending_replies)) {
-    warn_dropped(s, to.prefix, pending, what);
-    return;
-  }
-  ++pending;
-  Reply reply;
-  reply.writer = writers_[s];
-  reply.service = static_cast<int>(s);
-  reply.client = to.prefix;
-  reply.sample = std::move(sample);
-  if (to.mapping == WireMapping::kSampleIdentity) reply.related = to.related;
-  reply.what = std::move(what);
-  gates_[s].hold(to.prefix, std::move(reply), ReplyGate<Reply>::Clock::now());
-}
-
-void ActionReplies::warn_dropped(size_t service, const GuidPrefix& client, size_t pending,
-                                 const std::string& what) {
-  const Clock::time_point now = Clock::now();
-  auto [warned, first] = drop_warned_.try_emplace(client, now);
-  if (!first && now - warned->second < std::chrono::seconds(1)) return;
-  warned->second = now;
-  spdlog::warn(
-      "{}: {} to participant {} dropped: {} {} replies to it wait already "
-      "(actions.max_pending_replies; its reply reader is not matched or not taking them)",
-      ros_name_, what, hex(client), pending, service_name(static_cast<ActionService>(service)));
-}
-
-void ActionReplies::take_due(Clock::time_point now, bool all, ActionServer::Due& out) {
-  const auto release_at = all ? ReplyGate<Reply>::Clock::time_point::max() : now;
-  while (!unwritten_.empty()) {
-    out.replies.push_back(std::move(unwritten_.front()));
-    unwritten_.pop_front();
-  }
-  for (size_t s = 0; s < gates_.size(); ++s) {
-    bool heartbeat = false;
-    for (Reply& reply : gates_[s].release(release_at, nullptr, &heartbeat))
-      out.replies.push_back(std::move(reply));
-    if (heartbeat && writers_[s] != nullptr) out.heartbeats.push_back(writers_[s]);
-  }
-  for (const ReplyFlow& flow : flows_)
-    if (const auto next = flow.next_check(!unwritten_.empty()); next && now >= *next)
-      out.check_flows = true;
-}
-
-RepliesDone ActionReplies::write_replies(ActionServer::Due& due, bool stopping, bool give_up) {
-  const Clock::time_point now = Clock::now();
-  check_acknowledgements(now);
-  assert_liveliness(due);
-  // In order per service: a reply that must wait keeps every later one of its service waiting.
-  std::array<bool, kActionServices> waiting{};
-  RepliesDone done;
-  std::deque<Reply> keep;
-  for (Reply& reply : due.replies) {
-    const int s = reply.service;
-    if (reply.writer == nullptr || write_now(reply, now, stopping, waiting[s])) {
-      ++done[s][reply.client];
-      continue;
-    }
-    if (give_up) {
-      spdlog::error("{}: could not write {}: the shutdown's drain ran out of time", ros_name_,
-                    reply.what);
-      ++done[s][reply.client];
-      continue;
-    }
-    keep.push_back(std::move(reply));
-  }
-  due.replies.clear();
-  // Kept in order, ahead of what the next take_due brings.
-  while (!keep.empty()) {
-    unwritten_.push_front(std::move(keep.back()));
-    keep.pop_back();
-  }
-  return done;
-}
-
-// A writer whose readers have acknowledged every reply written opens its window again; one
-// whose window waited reply_ack_timeout names the clients of the replies in it, once.
-void ActionReplies::check_acknowledgements(Clock::time_point now) {
-  for (size_t s = 0; s < kActionServices; ++s) {
-    ReplyFlow& flow = flows_[s];
-    dds::DataWriter* writer = writers_[s];
-    if (writer == nullptr || flow.unacknowledged_bytes() == 0) continue;
-    if (writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 0)) ==
-        ReturnCode_t::RETCODE_OK) {
-      flow.all_acknowledged();
-    } else if (const auto clients = flow.stalled(now)) {
-      warn_stalled(s, *clients);
-    }
-  }
-}
-
-void ActionReplies::warn_stalled(size_t service,
-                                 const std::vector<std::pair<GuidPrefix, size_t>>& clients) {
-  std::string names;
-  for (size_t i = 0; i < clients.size() && i < 3; ++i)
-    names +=
-        (i ? ", " : "") + hex(clients[i].first) + " (" + std::to_string(clients[i].second) + ")";
-  if (clients.size() > 3) names += " and more";
-  // DDS does not say which reader lags: every participant with a reader on this topic.
-  std::vector<GuidPrefix> readers;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    readers = gates_[service].matched_participants();
-  }
-  std::string readers_text;
-  for (const GuidPrefix& participant : readers)
-    readers_text += (readers_text.empty() ? "" : ", ") + hex(participant);
-  spdlog::warn(
-      "{}: {} replies not acknowledged by every reader within actions.reply_ack_timeout "
-      "({:g} s): a reader does not take its replies (a stopped or overloaded client). "
-      "Replies waiting in it by client participant: {}; participants with a reader of it: "
-      "{}. The others' replies go on without waiting for it, and what only it lacks is "
-      "dropped",
-      ros_name_, service_name(static_cast<ActionService>(service)),
-      static_cast<double>(cfg_.actions.reply_ack_timeout.count()) / 1000.0, names, readers_text);
-}
-
-// A heartbeat that does not count these replies first, as the node does before statuses
-// (Replier::loop): Cyclone DDS's volatile reader skips everything up to the last sequence
-// number of the first heartbeat it accepts from a writer, and a client that discovered the
-// reply writer after the node matched its reader missed the earlier heartbeats. An 885 kB
-// result (14 fragments) was lost so in 7 of 15 runs of the Cyclone client's cancel test.
-// Not enough alone when the heartbeat goes to a multicast group and Fast DDS sends the reply's
-// own heartbeat to the client's unicast locator (reply_gate.hpp): the gate's heartbeats
-// (`due.heartbeats`) go out a settle ahead of such a reply.
-void ActionReplies::assert_liveliness(const ActionServer::Due& due) {
-  std::set<dds::DataWriter*> asserted;
-  for (dds::DataWriter* writer : due.heartbeats)
-    if (asserted.insert(writer).second) writer->assert_liveliness();
-  for (const Reply& reply : due.replies)
-    if (reply.writer != nullptr && asserted.insert(reply.writer).second)
-      reply.writer->assert_liveliness();
-}
-
-// Writes `reply` now if its service is not `waiting` and its flow allows (`stopping`: the flow
-// is not asked); true when written. A reply that must wait, or that the writer refuses, sets
-// `waiting` for the rest of its service in this pass.
-bool ActionReplies::write_now(Reply& reply, Clock::time_point now, bool stopping, bool& waiting) {
-  ReplyFlow& flow = flows_[reply.service];
-  const size_t bytes = reply.sample.size();
-  if (!waiting && !stopping) {
-    const ReplyFlow::Step step = flow.next(bytes, now);
-    if (step == ReplyFlow::Step::kWait) waiting = true;
-    if (step == ReplyFlow::Step::kClearHistory) {
-      size_t removed = 0;
-      reply.writer->clear_history(&removed);
-      flow.history_cleared();
-      spdlog::warn(
-          "{}: {} replies a reader has not acknowledged for actions.reply_ack_timeout "
-          "dropped from the writer's history ({} of them)",
-          ros_name_, service_name(static_cast<ActionService>(reply.service)), removed);
-    }
-  }
-  if (waiting) return false;
-  eprosima::fastrtps::rtps::WriteParams params;
-  if (reply.related) params.related_sample_identity(*reply.related);
-  if (write_sample(reply.writer, &reply.sample, params)) {
-    flow.written(reply.client, bytes, now);
-    return true;
-  }
-  waiting = true;  // refused: tried again on the next pass
-  return false;
-}
-
-void ActionReplies::release_pending(const RepliesDone& done) {
-  for (size_t s = 0; s < kActionServices; ++s)
-    for (const auto& [client, count] : done[s]) {
-      auto it = pending_[s].find(client);
-      if (it == pending_[s].end()) continue;
-      it->second -= std::min(it->second, count);
-      if (it->second == 0) pending_[s].erase(it);
-    }
-}
-
-// The flows' next look (the acknowledgements themselves are looked for every few milliseconds
-// by the replier while replies wait) and the gates' next deadlines.
-void ActionReplies::next_deadline(std::optional<Clock::time_point>& earliest) const {
-  for (const ReplyFlow& flow : flows_)
-    if (auto next = flow.next_check(!unwritten_.empty()); next && (!earliest || *next < *earliest))
-      earliest = next;
-  for (const auto& gate : gates_)
-    if (auto next = gate.next_deadline(); next && (!earliest || *next < *earliest)) earliest = next;
-}
 
 }  // namespace
 
@@ -375,7 +89,7 @@ std::string announced_poses_problem(const RawSample& raw, WireMapping mapping) {
 }
 
 std::string uuid_text(const GoalUuid& id) {
-  return hex(id);
+  return hex_text(id);
 }
 
 class ActionServer::Impl {
@@ -410,21 +124,10 @@ class ActionServer::Impl {
   dds::DataWriter* feedback_writer_ = nullptr;
   bool status_dirty_ = true;         // under mutex_; the first pass publishes the (empty) list
   Clock::time_point last_status_{};  // when the list was last published, under mutex_
-  std::set<GuidPrefix> warned_;      // clients whose undecodable requests were logged, under mutex_
+  RefusedRequests refused_;          // undecodable requests, logged once per client
 
   ReplyAddress address_of(const dds::SampleInfo& info) const {
-    ReplyAddress address;
-    const GUID_t& writer = info.sample_identity.writer_guid();
-    address.prefix = prefix_of(writer);
-    const bool has_related = info.related_sample_identity.writer_guid() != GUID_t::unknown();
-    std::optional<VendorId> vendor;
-    if (vendors_ != nullptr) vendor = vendors_->vendor_of(writer.guidPrefix);
-    address.mapping = choose_mapping(cfg_.actions.reply_mapping, vendor, has_related);
-    // As rmw_fastrtps's server: the request's identity, with the client's reply reader as the
-    // writer GUID when the request names it.
-    address.related = info.sample_identity;
-    if (has_related) address.related.writer_guid() = info.related_sample_identity.writer_guid();
-    return address;
+    return reply_address(info, cfg_.actions.reply_mapping, vendors_);
   }
 
   // A reply for the replier thread (under mutex_).
@@ -440,12 +143,7 @@ class ActionServer::Impl {
   // A request that cannot be decoded: logged once per client, never answered (without its
   // goal id there is nothing to answer, as in rcl_action).
   void refuse(const ReplyAddress& from, ActionService service, const std::string& problem) {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (warned_.size() >= 1000 || !warned_.insert(from.prefix).second) return;
-    }
-    spdlog::warn("{}: a {} request from participant {} dropped: {} (mapping {})", self_.ros_name_,
-                 service_name(service), hex(from.prefix), problem, to_string(from.mapping));
+    refused_.refuse(self_.ros_name_, service_name(service), from, problem);
   }
 
   void on_cancel(RawSample&& raw, const dds::SampleInfo& info);
@@ -611,9 +309,10 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
     goal.identity = identity_of(info, wire::SUBJECT_REQUEST);
     const TimeMsg stamp = hooks_.now();
     bool accepted = false;
+    const bool inactive = hooks_.accepting && !hooks_.accepting();
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      accepted = goals_.accept(goal.id, GoalStamp{stamp.sec(), stamp.nanosec()});
+      accepted = !inactive && goals_.accept(goal.id, GoalStamp{stamp.sec(), stamp.nanosec()});
       typename Traits::SendGoalResponse response;
       response.accepted(accepted);
       response.stamp(stamp);
@@ -623,8 +322,9 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
     }
     cv_.notify_all();
     if (!accepted) {
-      spdlog::warn("{}: goal {} rejected: a goal with this id is running or its result is kept",
-                   self_.ros_name_, uuid_text(goal.id));
+      spdlog::warn("{}: goal {} rejected: {}", self_.ros_name_, uuid_text(goal.id),
+                   inactive ? "the node is inactive (lifecycle: activate it with change_state)"
+                            : "a goal with this id is running or its result is kept");
       return;
     }
     hooks_.on_goal(self_, std::move(goal));
@@ -722,7 +422,7 @@ void ActionServer::take_due(Clock::time_point now, bool all, Due& out) {
 }
 
 bool ActionServer::write(Due& due, bool stopping, bool give_up) {
-  const RepliesDone done = impl_->replies_.write_replies(due, stopping, give_up);
+  const ActionReplies::Done done = impl_->replies_.write_replies(due, stopping, give_up);
   if (due.status && impl_->status_writer_ != nullptr && !impl_->status_writer_->write(&*due.status))
     spdlog::error("{}: could not publish the goal status list", ros_name_);
   {

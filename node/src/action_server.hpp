@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "action_traits.hpp"
+#include "service_server.hpp"
 #include "take_listener.hpp"
 #include "vnsba/node/action_catalog.hpp"
 #include "vnsba/node/action_goals.hpp"
@@ -52,9 +53,6 @@ namespace vnsba::node {
 constexpr uint16_t kNoViapointsGiven = ComputePathThroughPoses::kErrors.code("NO_VIAPOINTS_GIVEN");
 // The longest error_msg a result carries, in bytes (a message that echoes input is cut there).
 constexpr size_t kMaxErrorMessageBytes = 1024;
-// Each reply writer's history (keep last): more replies than a burst leaves unacknowledged at
-// once (their bytes are bounded by the flow, reply_flow.hpp).
-constexpr int32_t kReplyHistory = 10000;
 // The status list is published at most this often (every change in between is in the next one).
 constexpr std::chrono::milliseconds kStatusPeriod{50};
 
@@ -74,6 +72,9 @@ class ActionServer {
     std::function<void()> wake_intake;
     // The node's clock, for the acceptance stamps.
     std::function<TimeMsg()> now;
+    // Whether the node takes goals now (lifecycle: active); a goal sent while it does not is
+    // rejected (accepted false), as Nav2's SimpleActionServer rejects goals while inactive.
+    std::function<bool()> accepting;
   };
 
   // `kind`: the action served (nav2_actions()). `ros_name`: the action's full ROS 2 name
@@ -126,23 +127,15 @@ class ActionServer {
   // The three services' reply writers (null before create), for the shutdown's drain.
   std::array<dds::DataWriter*, kActionServices> reply_writers() const;
 
-  struct Reply {
-    dds::DataWriter* writer = nullptr;
-    int service = 0;  // an ActionService: send_goal 0, get_result 1, cancel_goal 2
-    GuidPrefix client{};
-    RawSample sample;
-    std::optional<eprosima::fastrtps::rtps::SampleIdentity> related;  // rmw_fastrtps
-    std::string what;                                                 // for the log
-  };
   struct Due {
-    std::vector<Reply> replies;
+    // Per service (ActionService): its replies due, its flow's look, its heartbeat.
+    std::array<ServiceReplies::Due, kActionServices> services;
     std::optional<GoalStatusArrayMsg> status;
-    // A reply writer's flow is due a look (its readers' acknowledgements, a reader that does not
-    // acknowledge to report) although no reply is due.
-    bool check_flows = false;
-    // Reply writers to send a heartbeat on now, whether or not a reply goes out on them
-    // (reply_gate.hpp: a fresh requester's settle starts).
-    std::vector<dds::DataWriter*> heartbeats;
+    bool empty() const {
+      for (const auto& service : services)
+        if (!service.empty()) return false;
+      return !status;
+    }
   };
 
  private:

@@ -372,9 +372,14 @@ std::string frame_name_problem(const std::string& s) {
   return "";
 }
 
-// Top level: the DDS domain, ROS 2 naming, the frame and the namespace.
+// Top level: the DDS domain, the node's name and lifecycle, ROS 2 naming, the frame and the
+// namespace.
 void read_naming(Section& top, NodeConfig& c) {
   top.integer("domain_id", c.domain_id, 0, 232);
+  top.text("node_name", c.node_name, "a ROS 2 node name", node_name_problem);
+  top.choice<LifecycleMode>(
+      "lifecycle", c.lifecycle,
+      {{"self_activating", LifecycleMode::kSelfActivating}, {"managed", LifecycleMode::kManaged}});
   top.boolean("ros2_naming", c.ros2_naming);
   top.text("frame_id", c.frame_id, "a frame name", frame_name_problem);
   // ROS 2 namespace of the relative topic names (see normalized_namespace).
@@ -867,6 +872,23 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
 }
 
 }  // namespace
+
+std::string node_name_problem(const std::string& name) {
+  auto is_digit = [](char ch) { return ch >= '0' && ch <= '9'; };
+  auto is_allowed = [&](char ch) {
+    return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || is_digit(ch) || ch == '_';
+  };
+  if (name.empty()) return "a non-empty node name";
+  if (!std::all_of(name.begin(), name.end(), is_allowed))
+    return "a node name of letters, digits and '_' only";
+  if (is_digit(name.front())) return "a node name that does not start with a digit";
+  if (name.size() > 255) return "a node name of at most 255 characters";
+  return "";
+}
+
+std::string node_full_name(const NodeConfig& config) {
+  return "/" + (config.ros_namespace.empty() ? "" : config.ros_namespace + "/") + config.node_name;
+}
 
 // The one maker of a blank NodeConfig (its constructor is private): default.yaml is read onto it.
 struct ConfigReader {

@@ -140,7 +140,8 @@ std::string code_name(uint8_t code) {
                                        "NO_VALID_PATH",
                                        "TIMEOUT",
                                        "CANCELED",
-                                       "INTERNAL_ERROR"};
+                                       "INTERNAL_ERROR",
+                                       "NODE_INACTIVE"};
   return code < sizeof(kNames) / sizeof(kNames[0]) ? kNames[code] : "UNKNOWN";
 }
 

@@ -72,6 +72,7 @@ core::Status FleetRouter::add_action_servers(NodeReaders& readers, const Partici
     hooks.may_take = [&intake, &robot] { return intake.may_take(robot); };
     hooks.wake_intake = [&intake] { intake.wake(); };
     hooks.now = [&time] { return time.now(); };
+    hooks.accepting = [&admission] { return admission.accepting(); };
     auto server = std::make_unique<ActionServer>(kind, ros_topic_name(robot.cfg, action_name),
                                                  robot.cfg, vendors, replier_.mutex(),
                                                  replier_.wake(), std::move(hooks));

@@ -1,5 +1,5 @@
-// vnsba_node [--config FILE] [--domain N] [--namespace NS] [--participant-profile NAME]: the DDS
-// planner node.
+// vnsba_node [--config FILE] [--domain N] [--namespace NS] [--name NAME]
+// [--participant-profile NAME]: the DDS planner node, a ROS 2 managed node (managed_node.hpp).
 //
 // SIGINT and SIGTERM are blocked in every thread and taken by sigwait() in main: no signal
 // handler runs, so nothing unsafe happens in one; the node then drains and exits 0.
@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "vnsba/node/command_line.hpp"
+#include "vnsba/node/managed_node.hpp"
 #include "vnsba/node/planner_node.hpp"
 #include "vnsba/node/process.hpp"
 
@@ -21,6 +22,10 @@ int main(int argc, char** argv) {
                  "DDS domain id 0..232 (overrides ROS_DOMAIN_ID and domain_id)");
   std::optional<std::string> ros_namespace;
   app.add_option("--namespace", ros_namespace, vnsba::node::kNamespaceOptionHelp);
+  std::optional<std::string> node_name;
+  app.add_option("--name", node_name,
+                 "the node's ROS 2 name (overrides node_name): its lifecycle services are "
+                 "/<namespace>/<name>/change_state, ...; e.g. planner_server");
   std::optional<std::string> participant_profile;
   app.add_option("--participant-profile", participant_profile,
                  vnsba::node::kParticipantProfileOptionHelp);
@@ -32,25 +37,33 @@ int main(int argc, char** argv) {
 
   vnsba::node::init_logging("vnsba_node");  // logs go to stderr
   const vnsba::node::StopSignals stop;      // before any thread exists
-  const auto config =
-      vnsba::node::load_config_or_report(config_path, domain, ros_namespace, participant_profile);
+  auto load = [=] {
+    return vnsba::node::load_config_or_report(config_path, domain, ros_namespace,
+                                              participant_profile, node_name);
+  };
+  const auto config = load();
   if (!config) return vnsba::node::kExitUsage;
   if (print_config) {
     std::fputs(vnsba::node::config_as_yaml(*config).c_str(), stdout);
     return 0;
   }
 
-  vnsba::node::PlannerNode node(*config);
+  // Configure reads the config again (lifecycle: managed), with the same flags.
+  vnsba::node::ManagedNode node(*config, load);
   if (vnsba::core::Status status = node.start(); !status.is_ok()) {
     spdlog::critical("could not start: {}", status.message);
     return 1;
   }
   const int received = stop.wait();
   spdlog::info("{} received: draining and shutting down", vnsba::node::StopSignals::name(received));
+  // The work's figures, when it runs (a managed node may be unconfigured or finalized).
+  if (vnsba::node::PlannerNode* planner = node.planner()) {
+    planner->stop();
+    const auto stats = planner->stats();
+    spdlog::info("stopped: {} requests, {} statuses, {} maps accepted, {} rejected",
+                 stats.requests_received, stats.statuses_published, stats.maps_accepted,
+                 stats.maps_rejected);
+  }
   node.stop();
-  const auto stats = node.stats();
-  spdlog::info("stopped: {} requests, {} statuses, {} maps accepted, {} rejected",
-               stats.requests_received, stats.statuses_published, stats.maps_accepted,
-               stats.maps_rejected);
   return 0;
 }

@@ -328,6 +328,10 @@ bool PlannerNode::wait_for_map(std::chrono::milliseconds timeout) const {
   return impl_->maps_.wait_for_map(timeout);
 }
 
+void PlannerNode::set_accepting(bool accepting) {
+  impl_->admission_.set_accepting(accepting);
+}
+
 const NodeConfig& PlannerNode::config() const {
   return impl_->cfg_;
 }

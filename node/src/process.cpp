@@ -63,6 +63,16 @@ bool apply_namespace(NodeConfig& config, const std::optional<std::string>& names
   return true;
 }
 
+bool apply_node_name(NodeConfig& config, const std::optional<std::string>& name_override) {
+  if (!name_override) return true;
+  if (std::string problem = node_name_problem(*name_override); !problem.empty()) {
+    spdlog::error("--name: found \"{}\", expected {}", *name_override, problem);
+    return false;
+  }
+  config.node_name = *name_override;
+  return true;
+}
+
 bool apply_participant_profile(NodeConfig& config,
                                const std::optional<std::string>& profile_override) {
   if (profile_override) config.participant_profile = *profile_override;
@@ -107,7 +117,8 @@ bool apply_environment(NodeConfig& config) {
 std::optional<NodeConfig> load_config_or_report(
     const std::string& given_path, int domain_override,
     const std::optional<std::string>& namespace_override,
-    const std::optional<std::string>& profile_override) {
+    const std::optional<std::string>& profile_override,
+    const std::optional<std::string>& name_override) {
   std::string path = given_path;
   if (path.empty()) {
     const core::Expected<std::string> found = find_default_config();
@@ -126,6 +137,7 @@ std::optional<NodeConfig> load_config_or_report(
   }
   NodeConfig config = std::move(*loaded.config);
   if (!apply_domain(config, domain_override) || !apply_namespace(config, namespace_override) ||
+      !apply_node_name(config, name_override) ||
       !apply_participant_profile(config, profile_override) || !apply_environment(config))
     return std::nullopt;
   spdlog::set_level(spdlog::level::from_str(config.log_level));

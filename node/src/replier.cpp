@@ -38,6 +38,8 @@ struct Replier::DueReplies {
   bool unwritten = false;  // some robot has statuses to write
   // The action servers' replies and status lists due now.
   std::vector<std::pair<ActionServer*, ActionServer::Due>> action_dues;
+  // The plain services' replies due now.
+  std::vector<std::pair<ServiceServerBase*, ServiceServerBase::Due>> service_dues;
   // Status writers whose gate asked for a heartbeat (reply_gate.hpp: a fresh requester).
   std::vector<dds::DataWriter*> status_heartbeats;
 };
@@ -62,6 +64,11 @@ core::Status Replier::add_status_writer(Participant& participant, const Robot& r
 void Replier::add_action_server(const Robot& robot, ActionServer& server, bool created) {
   robots_[robot.index]->actions.push_back(&server);
   if (created) budgeted_.push_back(&server);
+}
+
+void Replier::add_service(ServiceServerBase& service) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  services_.push_back(&service);
 }
 
 void Replier::hold(const Robot& robot, PlanStatusMsg&& msg, const std::string& what, bool is_answer,
@@ -112,6 +119,15 @@ void Replier::wait_for_acknowledgements(Clock::time_point drain_deadline) {
           "within the drain's {} s",
           robot.label(), kDrainTimeout.count());
   }
+  bool services_acknowledged = true;
+  for (const ServiceServerBase* service : services_)
+    if (service->reply_writer() != nullptr)
+      services_acknowledged = acknowledged(service->reply_writer()) && services_acknowledged;
+  if (!services_acknowledged)
+    spdlog::warn(
+        "shutdown: service replies written but not acknowledged by every reader within "
+        "the drain's {} s",
+        kDrainTimeout.count());
 }
 
 void Replier::forget_endpoints() {
@@ -121,6 +137,7 @@ void Replier::forget_endpoints() {
     replies->status_readers.reset();
     replies->actions.clear();
   }
+  services_.clear();
   budgeted_.clear();
 }
 
@@ -155,10 +172,13 @@ Replier::DueReplies Replier::take_due_replies(bool stopping) {
     for (ActionServer* action : replies->actions) {
       ActionServer::Due action_due;
       action->take_due(ReplyClock::now(), stopping, action_due);
-      if (!action_due.replies.empty() || action_due.status || action_due.check_flows ||
-          !action_due.heartbeats.empty())
-        due.action_dues.emplace_back(action, std::move(action_due));
+      if (!action_due.empty()) due.action_dues.emplace_back(action, std::move(action_due));
     }
+  }
+  for (ServiceServerBase* service : services_) {
+    ServiceServerBase::Due service_due;
+    service->take_due(ReplyClock::now(), stopping, service_due);
+    if (!service_due.empty()) due.service_dues.emplace_back(service, std::move(service_due));
   }
   return due;
 }
@@ -229,6 +249,10 @@ auto Replier::next_reply_deadline() const
       if (next_action && (!deadline || *next_action < *deadline)) deadline = next_action;
     }
   }
+  for (const ServiceServerBase* service : services_) {
+    const auto next_service = service->next_deadline();
+    if (next_service && (!deadline || *next_service < *deadline)) deadline = next_service;
+  }
   return deadline;
 }
 
@@ -246,12 +270,14 @@ void Replier::loop() {
       lock.lock();
     }
     forget_results_beyond_budget();
-    if (!due.action_dues.empty()) {
+    if (!due.action_dues.empty() || !due.service_dues.empty()) {
       lock.unlock();
       const bool give_up = stopping && Clock::now() >= drain_deadline;
       bool all_written = true;
       for (auto& [action, action_due] : due.action_dues)
         all_written = action->write(action_due, stopping, give_up) && all_written;
+      for (auto& [service, service_due] : due.service_dues)
+        all_written = service->write(service_due, stopping, give_up) && all_written;
       lock.lock();
       // Statuses released this pass go out below, in the same pass.
       if (!due.unwritten) {

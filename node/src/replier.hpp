@@ -1,4 +1,5 @@
-// The replier thread: writes every robot's plan_status and the action servers' replies, each
+// The replier thread: writes every robot's plan_status, the action servers' replies and the
+// node's plain services' replies (service_server.hpp), each
 // once its requester can read it. A status is held until a status reader of the requesting
 // participant is matched, at most requests.reply_wait (reply_gate.hpp); action replies likewise
 // (action_server.hpp), paced by their flow (reply_flow.hpp). A status is never dropped for a
@@ -20,6 +21,7 @@
 
 #include "action_server.hpp"
 #include "fleet.hpp"
+#include "service_server.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/reply_gate.hpp"
 
@@ -45,6 +47,9 @@ class Replier {
   // An action server of `robot`, whose replies this thread writes. `created`: its kept results
   // count toward actions.kept_results_mb (one that failed to create keeps none).
   void add_action_server(const Robot& robot, ActionServer& server, bool created);
+  // A plain service of the node's (service_server.hpp: lifecycle_msgs, is_path_valid), whose
+  // replies this thread writes; added before start().
+  void add_service(ServiceServerBase& service);
   // The lock and the wake-up the action servers share with this thread (ActionServer's
   // constructor): their reply gates and goals are under the lock.
   std::mutex& mutex() { return mutex_; }
@@ -95,6 +100,7 @@ class Replier {
   const Fleet& fleet_;
   RequestIntake& intake_;
   std::vector<std::unique_ptr<RobotReplies>> robots_;  // by Robot::index
+  std::vector<ServiceServerBase*> services_;           // walked under mutex_
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

@@ -153,6 +153,13 @@ void RequestAdmission::submit(const Robot& robot, Job job) {
     answers_.answer(robot, job, {wire::CANCELED, "node is shutting down"});
     return;
   }
+  if (!accepting_) {
+    const std::string why =
+        "the node is inactive (lifecycle: managed; activate it with change_state to plan)";
+    spdlog::info("request '{}'{}: NODE_INACTIVE", printable(job.id), robot.label());
+    answers_.answer(robot, job, {wire::NODE_INACTIVE, why});
+    return;
+  }
   // Checked before it may touch anything: only a request that would be planned preempts,
   // replaces or queues (see requests.hpp). Checked once: the worker plans it as resolved here.
   const MapInput::ForRequest found = maps_.map_for(robot, job);

@@ -41,6 +41,11 @@ class RequestAdmission {
   // for the first map (MapInput), as if it came now.
   void submit(const Robot& robot, Job job);
 
+  // Whether requests are planned (lifecycle: active). While not, every request and goal_pose
+  // goal is answered NODE_INACTIVE at once (action goals are rejected by their server).
+  void set_accepting(bool accepting) { accepting_ = accepting; }
+  bool accepting() const { return accepting_; }
+
   // plan_request samples, goal_pose goals and action goals taken.
   uint64_t received() const { return received_; }
 
@@ -52,6 +57,7 @@ class RequestAdmission {
   RobotPoses& poses_;
   Answers& answers_;
   std::atomic<uint64_t> received_{0};
+  std::atomic<bool> accepting_{true};
   // Each robot's goal_pose goals so far, for their ids ("goal-7"); by Robot::index.
   std::vector<std::atomic<uint64_t>> goals_;
 

@@ -17,6 +17,10 @@ std::string vendor_name(const VendorId& vendor) {
   return text;
 }
 
+std::string service_topic(const std::string& ros_service_name, bool request) {
+  return std::string(request ? "rq" : "rr") + ros_service_name + (request ? "Request" : "Reply");
+}
+
 WireMapping choose_mapping(ReplyMapping configured, const std::optional<VendorId>& vendor,
                            bool request_has_related_identity) {
   switch (configured) {

@@ -6,6 +6,9 @@
 #   MODE: transient_local | volatile | localhost | debug_layers | fresh_clients, CLIENT
 #         vnsba_cyclone_client; action | action_cancel | action_fresh, CLIENT
 #         vnsba_cyclone_action_client;
+#         lifecycle | lifecycle_self, CLIENT vnsba_cyclone_lifecycle_client: the node managed
+#         (lifecycle: managed, --name cyclone_lifecycle) walked through its lifecycle, or
+#         self-activating and reporting active;
 #         bond, CLIENT vnsba_cyclone_bond_client: the node bonds from start to stop (bond.mode
 #         always), the client plays nav2_lifecycle_manager's side of the bond and freezes the node
 #         (SIGSTOP, then SIGCONT) to see its watchdog fire;
@@ -33,14 +36,16 @@ case "$mode" in
   action) domain=216 durability=transient_local localhost=false ;;
   action_cancel) domain=217 durability=transient_local localhost=false ;;
   action_fresh) domain=222 durability=transient_local localhost=false ;;
+  lifecycle) domain=223 durability=transient_local localhost=false ;;
+  lifecycle_self) domain=224 durability=transient_local localhost=false ;;
   bond) domain=225 durability=transient_local localhost=false ;;
   secure) domain=219 durability=transient_local localhost=false ;;
   secure_open) domain=220 durability=transient_local localhost=false ;;
   secure_other_ca) domain=221 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
-      "fresh_clients, action, action_cancel, action_fresh, bond, secure, secure_open or" \
-      "secure_other_ca" >&2
+      "fresh_clients, action, action_cancel, action_fresh, lifecycle, lifecycle_self, bond," \
+      "secure, secure_open or secure_other_ca" >&2
     exit 2
     ;;
 esac
@@ -53,6 +58,8 @@ case "$mode" in
   # must get its send_goal and get_result replies. Arguments after the mode add to these (the
   # last --fresh wins): --fresh N, --fresh-parallel P.
   action_fresh) client_args=(--domain "$domain" --fresh 40 --fresh-resident) ;;
+  lifecycle) client_args=(--domain "$domain" --node-name cyclone_lifecycle) ;;
+  lifecycle_self) client_args=(--domain "$domain" --node-name cyclone_lifecycle --self-activating) ;;
   # The manager's bond_timeout 2 s (Nav2's default is 4): the watchdog is measured in 2 s.
   bond) client_args=(--domain "$domain" --id vnsba_node --bond-timeout 2 --period 0.1) ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
@@ -110,6 +117,18 @@ requests:
   map_wait: 30
 YAML
 fi
+node_args=()
+if [[ "$mode" == lifecycle* ]]; then
+  # The node under another name (--name), managed or self-activating; requests wait for the map.
+  node_args=(--name cyclone_lifecycle)
+  lifecycle=managed
+  [[ "$mode" == lifecycle_self ]] && lifecycle=self_activating
+  cat >>"$work/node.yaml" <<YAML
+lifecycle: $lifecycle
+requests:
+  map_wait: 20
+YAML
+fi
 if [[ "$mode" == bond ]]; then
   cat >>"$work/node.yaml" <<YAML
 bond:
@@ -159,7 +178,7 @@ YAML
   fi
 fi
 
-"$node_bin" --config "$work/node.yaml" >"$work/node.log" 2>&1 &
+"$node_bin" --config "$work/node.yaml" "${node_args[@]}" >"$work/node.log" 2>&1 &
 node_pid=$!
 # The bond client freezes the node to see the manager's watchdog fire.
 if [[ "$mode" == bond ]]; then client_args+=(--node-pid "$node_pid"); fi

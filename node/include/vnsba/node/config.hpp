@@ -241,8 +241,19 @@ struct PlannerConfig {
   }
 };
 
+// `lifecycle`: how the node goes through ROS 2's managed-node lifecycle (lifecycle.hpp,
+// docs/nav2.md "Lifecycle").
+enum class LifecycleMode {
+  kSelfActivating,  // configures and activates itself at start (DDS users: plans at once)
+  kManaged,         // waits, unconfigured, for change_state (nav2_lifecycle_manager)
+};
+
 struct NodeConfig {
-  int domain_id = 0;             // DDS domain, 0..232 (the --domain flag overrides it)
+  int domain_id = 0;  // DDS domain, 0..232 (the --domain flag overrides it)
+  // `node_name`: the node's ROS 2 name (the --name flag overrides it); its lifecycle services
+  // are /<namespace>/<node_name>/change_state, ... A valid ROS 2 node name (node_name_problem).
+  std::string node_name = "vnsba_node";
+  LifecycleMode lifecycle = LifecycleMode::kSelfActivating;
   bool ros2_naming = true;       // DDS topic = "rt/" + name, as ROS 2 names its topics
   std::string frame_id = "map";  // the frame of slices, requests and paths
   // `namespace`: the ROS 2 namespace of every relative topic name ("robot7": goal_pose is
@@ -411,6 +422,12 @@ inline constexpr const char* kConfigOptionHelp =
 // A ROS 2 name without one leading '/': topics ("/plan" is "plan") and frame ids ("/map" is
 // "map", as tf2 strips it).
 std::string_view without_leading_slash(std::string_view name);
+
+// What is wrong with a ROS 2 node name ("" when valid), as rmw_validate_node_name checks it:
+// non-empty, letters, digits and '_' only, not starting with a digit, at most 255 characters.
+std::string node_name_problem(const std::string& name);
+// The node's full ROS 2 name: "/<namespace>/<node_name>" ("/vnsba_node" without a namespace).
+std::string node_full_name(const NodeConfig& config);
 
 // What is wrong with a discovery.servers entry ("" when it is "a.b.c.d:port").
 std::string discovery_server_problem(const std::string& locator);

@@ -68,6 +68,11 @@ class PlannerNode {
   };
   Stats stats() const;
 
+  // Whether it plans (lifecycle: active; true unless set otherwise): while not, plan_request and
+  // goal_pose goals are answered NODE_INACTIVE and action goals rejected; what was accepted
+  // before goes on and is answered. Any thread, before or after start().
+  void set_accepting(bool accepting);
+
   // True once a slice has been accepted; waits up to `timeout` for one.
   bool wait_for_map(std::chrono::milliseconds timeout) const;
 

@@ -22,13 +22,16 @@ void init_logging(const std::string& program);
 // A set `namespace_override` (the --namespace flag) replaces the config's namespace; a bad one
 // is reported as an error naming --namespace.
 // A set `profile_override` (the --participant-profile flag) replaces dds.participant_profile.
+// A set `name_override` (vnsba_node's --name flag) replaces node_name; a bad one is reported as
+// an error naming --name.
 // A participant profile named either way is looked up in the Fast DDS XML profiles here (dds.hpp,
 // profile_participant_qos): a name no profile has, or a missing or malformed profiles file, is
 // an error naming the key or the flag (or the file).
 std::optional<NodeConfig> load_config_or_report(
     const std::string& path, int domain_override,
     const std::optional<std::string>& namespace_override = std::nullopt,
-    const std::optional<std::string>& profile_override = std::nullopt);
+    const std::optional<std::string>& profile_override = std::nullopt,
+    const std::optional<std::string>& name_override = std::nullopt);
 
 // Every bus tool's --namespace help text.
 inline constexpr const char* kNamespaceOptionHelp =

@@ -51,6 +51,10 @@ constexpr VendorId kVendorCyclone = {0x01, 0x10};
 // "Fast DDS", "Cyclone DDS", else "vendor id 01.02" (the RTPS vendor id a participant announces).
 std::string vendor_name(const VendorId& vendor);
 
+// "rq/<name>Request" or "rr/<name>Reply": a service's DDS topic (both rmw), for its full ROS 2
+// name ("/vnsba_node/get_state", "/compute_path_to_pose/_action/send_goal").
+std::string service_topic(const std::string& ros_service_name, bool request);
+
 // The mapping for one client's request.
 WireMapping choose_mapping(ReplyMapping configured, const std::optional<VendorId>& vendor,
                            bool request_has_related_identity);

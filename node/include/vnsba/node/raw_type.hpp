@@ -1,6 +1,6 @@
-// RawOf, a DDS type whose samples stay serialized bytes: the action server and the action client
-// put the requests and replies of an action's services on the wire as service_wire.hpp encodes
-// them (each action's own types are in action_traits.hpp).
+// RawOf, a DDS type whose samples stay serialized bytes: the service servers and clients (and so
+// the action servers and clients) put the requests and replies of ROS 2 services on the wire as
+// service_wire.hpp encodes them.
 #pragma once
 
 #include <algorithm>
