@@ -66,14 +66,15 @@ class PlannerNode::Impl {
   std::unique_ptr<BondLink> bond_;
   bool started_ = false;
 
- private:
-  // start()'s steps, in order.
-  core::Status create_participant();
-  core::Status create_bond_link();
   // Nav2's createBond() / destroyBond() (nav2_util's LifecycleNode): a bond with the manager,
   // whose id is the node's name.
   void create_bond();
   void destroy_bond();
+
+ private:
+  // start()'s steps, in order.
+  core::Status create_participant();
+  core::Status create_bond_link();
   core::Status add_writers(const Robot& robot);
   core::Status add_node_readers();
   core::Status add_robot_readers(const Robot& robot);
@@ -160,12 +161,9 @@ core::Status PlannerNode::Impl::create_bond_link() {
   return core::Status::ok();
 }
 
-// TODO(lifecycle48): the node's name (node_name, --name) once merged.
-static const char* const kBondIdPlaceholder = "vnsba_node";
-
 void PlannerNode::Impl::create_bond() {
   if (!bond_) return;
-  const std::string id = kBondIdPlaceholder;
+  const std::string id = cfg_.node_name;  // Nav2: bond::Bond("bond", this->get_name(), ...)
   spdlog::info("Creating bond ({}) to lifecycle manager on '{}', a heartbeat every {} s", id,
                dds_topic_name(cfg_, "bond"), cfg_.bond.heartbeat_period.count() / 1000.0);
   bond_->start(
@@ -185,8 +183,11 @@ void PlannerNode::Impl::create_bond() {
 void PlannerNode::Impl::destroy_bond() {
   if (!bond_) return;
   const BondState state = bond_->state();
-  if (state == BondState::kNotStarted || state == BondState::kDead) return;
-  spdlog::info("Destroying bond ({}) to lifecycle manager", kBondIdPlaceholder);
+  // Broken already: by us (awaiting the manager's answer) or for good.
+  if (state == BondState::kNotStarted || state == BondState::kAwaitSisterDeath ||
+      state == BondState::kDead)
+    return;
+  spdlog::info("Destroying bond ({}) to lifecycle manager", cfg_.node_name);
   bond_->break_bond();
 }
 
@@ -330,6 +331,16 @@ bool PlannerNode::wait_for_map(std::chrono::milliseconds timeout) const {
 
 void PlannerNode::set_accepting(bool accepting) {
   impl_->admission_.set_accepting(accepting);
+  // A managed node bonds while active, as Nav2's servers do (createBond() at the end of
+  // on_activate, destroyBond() in on_deactivate: nav2_planner's planner_server.cpp); a
+  // self-activating one only with bond.mode always, which bonded at start().
+  if (impl_->cfg_.bond.mode == BondMode::kManaged &&
+      impl_->cfg_.lifecycle == LifecycleMode::kManaged) {
+    if (accepting)
+      impl_->create_bond();
+    else
+      impl_->destroy_bond();
+  }
 }
 
 const NodeConfig& PlannerNode::config() const {
