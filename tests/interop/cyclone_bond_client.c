@@ -8,10 +8,18 @@
  * and runs this client.
  *
  *   vnsba_cyclone_bond_client --domain N [--namespace NS] --id NAME --node-pid PID
- *                             [--bond-timeout S] [--period S]
+ *                             [--bond-timeout S] [--period S] [--lifecycle]
  *
- * The node runs with bond.mode always (a self-activating node that bonds from start to stop) and
- * bond.heartbeat_period --period. Checks (exit 1 with FAILED lines when one fails, 2 on bad usage):
+ * Without --lifecycle the node runs with bond.mode always (a self-activating node that bonds from
+ * start to stop) and bond.heartbeat_period --period. With --lifecycle it is a managed node named
+ * NAME (lifecycle: managed, --name NAME, bond.mode managed) and the client first makes the
+ * manager's calls (lifecycle_calls.h, rmw_cyclonedds's mapping): get_state unconfigured (1),
+ * configure, get_state inactive (2), activate, get_state active (3), and only then bonds (Nav2's
+ * changeStateForNode); after the checks below for a first bond, deactivate: the node breaks its
+ * bond at once (active=false), get_state inactive; activate again: a new bond with a new instance
+ * of the node; the watchdog on that one; then deactivate, cleanup and shutdown (ids 4, 2, 5) to
+ * finalized (4), as the manager's reset and shutdown.
+ * Checks (exit 1 with FAILED lines when one fails, 2 on bad usage):
  *   - the bond forms within bond_timeout / 2 (the manager's waitUntilFormed);
  *   - every heartbeat of the node carries id NAME, one instance_id other than ours, active true,
  *     heartbeat_period --period; the median gap between them is --period within 40 %;
@@ -34,6 +42,7 @@
 #include "check.h"
 #include "client_common.h"
 #include "dds/dds.h"
+#include "lifecycle_calls.h"
 
 static const TopicSpec kBond = {"bond", &bond_msg_dds__Status__desc, "bond::msg::dds_::Status_",
                                 NULL};
@@ -53,7 +62,8 @@ typedef struct {
   /* What was heard of the sister. */
   char sister[64];
   int heard;
-  int wrong; /* heartbeats of our id whose fields are not what the node must send */
+  int wrong;         /* heartbeats of our id whose fields are not what the node must send */
+  bool sister_broke; /* ended by the sister's active=false */
   double expected_period;
   double gaps[4096];
   int n_gaps;
@@ -79,6 +89,7 @@ static void bond_start(Bond* bond, const char* id, double heartbeat_timeout) {
   bond->next_publish = now_s() + bond->period;
   bond->sister[0] = '\0';
   bond->heard = bond->wrong = bond->n_gaps = 0;
+  bond->sister_broke = false;
 }
 
 static void publish(Bond* bond, bool active) {
@@ -103,10 +114,6 @@ static void bond_spin(Bond* bond, double until, int leave) {
       bond->next_publish += bond->period;
       if (bond->next_publish < now) bond->next_publish = now + bond->period;
     }
-    if (bond->state == kAlive && now - bond->last_heard >= bond->heartbeat_timeout) {
-      bond->state = kDead; /* HeartbeatTimeout */
-      return;
-    }
     void* samples[16] = {NULL};
     dds_sample_info_t infos[16];
     const int n = dds_take(bond->reader, samples, infos, 16, 16);
@@ -122,7 +129,10 @@ static void bond_spin(Bond* bond, double until, int leave) {
           fabs(s->heartbeat_period - bond->expected_period) > 1e-6)
         ++bond->wrong;
       if (!s->active) {
-        if (bond->state != kDead) bond->state = kDead; /* SisterDead */
+        if (bond->state != kDead) {
+          bond->state = kDead; /* SisterDead */
+          bond->sister_broke = true;
+        }
         continue;
       }
       if (bond->state == kDead) continue;
@@ -133,6 +143,11 @@ static void bond_spin(Bond* bond, double until, int leave) {
       if (bond->state == kWaiting) bond->state = kAlive; /* SisterAlive: Connected */
     }
     if (n > 0) dds_return_loan(bond->reader, samples, n);
+    /* After what arrived meanwhile: a heartbeat waiting in the reader is not silence. */
+    if (bond->state == kAlive && now_s() - bond->last_heard >= bond->heartbeat_timeout) {
+      bond->state = kDead; /* HeartbeatTimeout */
+      return;
+    }
     double next = bond->next_publish;
     if (bond->state == kAlive && bond->last_heard + bond->heartbeat_timeout < next)
       next = bond->last_heard + bond->heartbeat_timeout;
@@ -146,10 +161,57 @@ static int compare_doubles(const void* a, const void* b) {
   return x < y ? -1 : x > y;
 }
 
+/* createBondConnection: start, then waitUntilFormed(bond_timeout / 2); then the node's
+ * heartbeats for two seconds: their fields and their period. */
+static void form_and_listen(Bond* bond, const char* id, double bond_timeout, double period) {
+  bond_start(bond, id, bond_timeout);
+  bond_spin(bond, now_s() + bond_timeout / 2, kWaiting);
+  CHECK(bond->state == kAlive, "the bond '%s' did not form within %.2f s", id, bond_timeout / 2);
+  if (bond->state == kAlive)
+    printf("bond '%s' formed with the node's instance %s\n", id, bond->sister);
+  bond_spin(bond, now_s() + 2.0, kAlive);
+  CHECK(bond->state == kAlive, "the bond broke while the node ran");
+  CHECK(bond->wrong == 0, "%d heartbeats of id '%s' had another instance_id or heartbeat_period",
+        bond->wrong, id);
+  CHECK(bond->n_gaps >= 5, "only %d heartbeat gaps in 2 s", bond->n_gaps);
+  if (bond->n_gaps > 0) {
+    qsort(bond->gaps, (size_t)bond->n_gaps, sizeof bond->gaps[0], compare_doubles);
+    const double median = bond->gaps[bond->n_gaps / 2];
+    printf("node heartbeats: %d, median gap %.3f s (heartbeat_period %.3f s)\n", bond->heard,
+           median, period);
+    CHECK(fabs(median - period) <= 0.4 * period, "median heartbeat gap %.3f s, period %.3f s",
+          median, period);
+  }
+}
+
+/* The watchdog: the node frozen, the bond must break after bond_timeout of silence. */
+static void watchdog(Bond* bond, int node_pid, double bond_timeout, double period) {
+  if (kill(node_pid, SIGSTOP) != 0) die("SIGSTOP to the node", DDS_RETCODE_ERROR);
+  const double stopped = now_s();
+  bond_spin(bond, stopped + bond_timeout + 5.0, kAlive);
+  const double broke = now_s() - stopped;
+  kill(node_pid, SIGCONT);
+  CHECK(bond->state == kDead && !bond->sister_broke,
+        "the bond did not break by silence within %.2f s of the node stopping", bond_timeout + 5.0);
+  CHECK(broke >= bond_timeout - period - 0.05 && broke <= bond_timeout + 0.5,
+        "the bond broke %.3f s after the node stopped, bond_timeout %.2f s", broke, bond_timeout);
+  printf("watchdog: the bond broke %.3f s after the node stopped (bond_timeout %.2f s)\n", broke,
+         bond_timeout);
+}
+
+/* Nav2's changeStateForNode without the bond: change_state, then get_state must be `goal`. */
+static void transition(uint8_t id, const char* what, int goal) {
+  const int ok = change_state(id, NULL);
+  CHECK(ok == 1, "%s: change_state answered %d (1 success, 0 failure, -1 no reply)", what, ok);
+  const int state = get_state();
+  CHECK(state == goal, "%s: get_state %d, expected %d", what, state, goal);
+  printf("%s: state %d\n", what, state);
+}
+
 static void usage(void) {
   fprintf(stderr,
           "usage: vnsba_cyclone_bond_client --domain N [--namespace NS] --id NAME --node-pid PID "
-          "[--bond-timeout S] [--period S]\n");
+          "[--bond-timeout S] [--period S] [--lifecycle]\n");
   exit(2);
 }
 
@@ -158,6 +220,7 @@ int main(int argc, char** argv) {
   int node_pid = 0;
   const char* id = NULL;
   double bond_timeout = 2.0, period = 0.1;
+  bool lifecycle = false;
   for (int i = 1; i < argc; ++i) {
     const char* a = argv[i];
     const char* v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -174,6 +237,8 @@ int main(int argc, char** argv) {
     } else if (strcmp(a, "--bond-timeout") == 0 && v) {
       bond_timeout = atof(v);
       ++i;
+    } else if (strcmp(a, "--lifecycle") == 0) {
+      lifecycle = true;
     } else if (strcmp(a, "--period") == 0 && v) {
       period = atof(v);
       ++i;
@@ -193,40 +258,42 @@ int main(int argc, char** argv) {
   const dds_entity_t both[2] = {bond.writer, bond.reader};
   CHECK(wait_matched(both, 2, 20.0) >= 0, "the node's bond writer and reader never matched ours");
 
-  /* createBondConnection: start, then waitUntilFormed(bond_timeout / 2). */
-  bond_start(&bond, id, bond_timeout);
-  bond_spin(&bond, now_s() + bond_timeout / 2, kWaiting);
-  CHECK(bond.state == kAlive, "the bond '%s' did not form within %.2f s", id, bond_timeout / 2);
-  if (bond.state == kAlive)
-    printf("bond '%s' formed with the node's instance %s\n", id, bond.sister);
-
-  /* Heartbeats for two seconds: their fields and their period. */
-  bond_spin(&bond, now_s() + 2.0, kAlive);
-  CHECK(bond.state == kAlive, "the bond broke while the node ran");
-  CHECK(bond.wrong == 0, "%d heartbeats of id '%s' had another instance_id or heartbeat_period",
-        bond.wrong, id);
-  CHECK(bond.n_gaps >= 5, "only %d heartbeat gaps in 2 s", bond.n_gaps);
-  if (bond.n_gaps > 0) {
-    qsort(bond.gaps, (size_t)bond.n_gaps, sizeof bond.gaps[0], compare_doubles);
-    const double median = bond.gaps[bond.n_gaps / 2];
-    printf("node heartbeats: %d, median gap %.3f s (heartbeat_period %.3f s)\n", bond.heard, median,
-           period);
-    CHECK(fabs(median - period) <= 0.4 * period, "median heartbeat gap %.3f s, period %.3f s",
-          median, period);
+  if (lifecycle) {
+    lifecycle_node_name = id;
+    dds_entity_t entities[2 * kServices];
+    for (int i = 0; i < kServices; ++i) {
+      make_service(&lifecycle_services[i], i);
+      entities[2 * i] = lifecycle_services[i].request;
+      entities[2 * i + 1] = lifecycle_services[i].reply;
+    }
+    CHECK(wait_matched(entities, 2 * kServices, 20.0) >= 0,
+          "the node's lifecycle services never matched");
+    CHECK(get_state() == 1, "the managed node is not unconfigured at start");
+    transition(1, "configure", 2);
+    transition(3, "activate", 3);
   }
-
-  /* The watchdog: the node frozen, the bond must break after bond_timeout of silence. */
-  if (kill(node_pid, SIGSTOP) != 0) die("SIGSTOP to the node", DDS_RETCODE_ERROR);
-  const double stopped = now_s();
-  bond_spin(&bond, stopped + bond_timeout + 5.0, kAlive);
-  const double broke = now_s() - stopped;
-  kill(node_pid, SIGCONT);
-  CHECK(bond.state == kDead, "the bond did not break within %.2f s of the node stopping",
-        bond_timeout + 5.0);
-  CHECK(broke >= bond_timeout - period - 0.05 && broke <= bond_timeout + 0.5,
-        "the bond broke %.3f s after the node stopped, bond_timeout %.2f s", broke, bond_timeout);
-  printf("watchdog: the bond broke %.3f s after the node stopped (bond_timeout %.2f s)\n", broke,
-         bond_timeout);
+  form_and_listen(&bond, id, bond_timeout, period);
+  if (lifecycle) {
+    /* deactivate: the node breaks its bond with active=false (destroyBond), at once. */
+    const double asked = now_s();
+    transition(4, "deactivate", 2);
+    bond_spin(&bond, asked + 1.0, kAlive);
+    CHECK(bond.state == kDead && bond.sister_broke,
+          "deactivate: the node's active=false did not end the bond within 1 s");
+    char first[64];
+    snprintf(first, sizeof first, "%s", bond.sister);
+    transition(3, "activate again", 3);
+    form_and_listen(&bond, id, bond_timeout, period);
+    CHECK(strcmp(first, bond.sister) != 0, "the node's second bond has its first instance_id %s",
+          first);
+  }
+  watchdog(&bond, node_pid, bond_timeout, period);
+  if (lifecycle) {
+    /* The manager's reset, then its shutdown's last step. */
+    transition(4, "deactivate", 2);
+    transition(2, "cleanup", 1);
+    transition(5, "shutdown", 4);
+  }
 
   /* A bond of another id: the node never answers it. */
   Bond other;

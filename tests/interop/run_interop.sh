@@ -9,9 +9,11 @@
 #         lifecycle | lifecycle_self, CLIENT vnsba_cyclone_lifecycle_client: the node managed
 #         (lifecycle: managed, --name cyclone_lifecycle) walked through its lifecycle, or
 #         self-activating and reporting active;
-#         bond, CLIENT vnsba_cyclone_bond_client: the node bonds from start to stop (bond.mode
-#         always), the client plays nav2_lifecycle_manager's side of the bond and freezes the node
-#         (SIGSTOP, then SIGCONT) to see its watchdog fire;
+#         bond | bond_lifecycle, CLIENT vnsba_cyclone_bond_client: the node bonds from start to
+#         stop (bond.mode always), or is the managed planner_server (lifecycle: managed, --name
+#         planner_server) that bonds while active; the client plays nav2_lifecycle_manager (its
+#         lifecycle calls, then its side of the bond) and freezes the node (SIGSTOP, then
+#         SIGCONT) to see its watchdog fire;
 #         secure | secure_open | secure_other_ca, CLIENT vnsba_cyclone_client: the node secured
 #         with a keystore of tools/make_keystore.sh, the client secured with an enclave of the
 #         same keystore (it plans: every check of a default run), without security or with an
@@ -39,13 +41,14 @@ case "$mode" in
   lifecycle) domain=223 durability=transient_local localhost=false ;;
   lifecycle_self) domain=224 durability=transient_local localhost=false ;;
   bond) domain=225 durability=transient_local localhost=false ;;
+  bond_lifecycle) domain=226 durability=transient_local localhost=false ;;
   secure) domain=219 durability=transient_local localhost=false ;;
   secure_open) domain=220 durability=transient_local localhost=false ;;
   secure_other_ca) domain=221 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
       "fresh_clients, action, action_cancel, action_fresh, lifecycle, lifecycle_self, bond," \
-      "secure, secure_open or secure_other_ca" >&2
+      "bond_lifecycle, secure, secure_open or secure_other_ca" >&2
     exit 2
     ;;
 esac
@@ -62,6 +65,9 @@ case "$mode" in
   lifecycle_self) client_args=(--domain "$domain" --node-name cyclone_lifecycle --self-activating) ;;
   # The manager's bond_timeout 2 s (Nav2's default is 4): the watchdog is measured in 2 s.
   bond) client_args=(--domain "$domain" --id vnsba_node --bond-timeout 2 --period 0.1) ;;
+  bond_lifecycle)
+    client_args=(--domain "$domain" --id planner_server --bond-timeout 2 --period 0.1 --lifecycle)
+    ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi
@@ -135,6 +141,14 @@ bond:
   mode: always
   heartbeat_period: 0.1
 YAML
+elif [[ "$mode" == bond_lifecycle ]]; then
+  node_args=(--name planner_server)
+  cat >>"$work/node.yaml" <<YAML
+lifecycle: managed
+bond:
+  mode: managed
+  heartbeat_period: 0.1
+YAML
 fi
 if [[ "$localhost" == true ]]; then
   # Cyclone on the loopback interface only; loopback has no multicast, so discovery is unicast
@@ -181,7 +195,7 @@ fi
 "$node_bin" --config "$work/node.yaml" "${node_args[@]}" >"$work/node.log" 2>&1 &
 node_pid=$!
 # The bond client freezes the node to see the manager's watchdog fire.
-if [[ "$mode" == bond ]]; then client_args+=(--node-pid "$node_pid"); fi
+if [[ "$mode" == bond* ]]; then client_args+=(--node-pid "$node_pid"); fi
 status=0
 "$client_bin" "${client_args[@]}" --namespace "$ns" "$@" > >(tee "$work/client.out") || status=$?
 if [[ "$mode" == secure && $status -eq 0 ]] && grep -q "^request ends: " "$work/client.out"; then
