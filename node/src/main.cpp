@@ -56,14 +56,11 @@ int main(int argc, char** argv) {
   }
   const int received = stop.wait();
   spdlog::info("{} received: draining and shutting down", vnsba::node::StopSignals::name(received));
-  // The work's figures, when it runs (a managed node may be unconfigured or finalized).
-  if (vnsba::node::PlannerNode* planner = node.planner()) {
-    planner->stop();
-    const auto stats = planner->stats();
-    spdlog::info("stopped: {} requests, {} statuses, {} maps accepted, {} rejected",
-                 stats.requests_received, stats.statuses_published, stats.maps_accepted,
-                 stats.maps_rejected);
-  }
   node.stop();
+  // The work's figures, when it ran (a managed node may be unconfigured or finalized).
+  if (const auto stats = node.final_stats())
+    spdlog::info("stopped: {} requests, {} statuses, {} maps accepted, {} rejected",
+                 stats->requests_received, stats->statuses_published, stats->maps_accepted,
+                 stats->maps_rejected);
   return 0;
 }

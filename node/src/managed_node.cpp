@@ -76,6 +76,21 @@ class ManagedNode::Impl {
   std::unique_ptr<PlannerNode> planner_;  // the transition thread's (and stop's, once it ended)
   mutable std::mutex planner_mutex_;      // guards planner_ for planner()
 
+  // What the work does at each step: info for a managed node (its manager's steps), debug for a
+  // self-activating one, whose start and stop stay as short in the log as before it had a
+  // lifecycle (each transition is logged at info either way, on_step).
+  template <class... Args>
+  void narrate(spdlog::format_string_t<Args...> format, Args&&... args) const {
+    spdlog::log(
+        cfg_.lifecycle == LifecycleMode::kManaged ? spdlog::level::info : spdlog::level::debug,
+        format, std::forward<Args>(args)...);
+  }
+  std::optional<PlannerNode::Stats> final_stats_;  // set by stop()
+
+  size_t event_readers() const {
+    return events_ == nullptr ? 0 : static_cast<size_t>(matched_readers(events_));
+  }
+
  private:
   // The endpoints: a participant of the node's name, the four services, transition_event.
   core::Status create_endpoints();
@@ -106,6 +121,7 @@ class ManagedNode::Impl {
   std::thread replier_;
   std::thread transitioner_;
   bool first_configure_ = true;
+  std::optional<core::Status> work_error_;  // why the work could not start (configure)
 };
 
 core::Status ManagedNode::Impl::create_endpoints() {
@@ -195,8 +211,8 @@ core::Status ManagedNode::Impl::start() {
     // the lifecycle topics, say).
     spdlog::warn("{}: lifecycle services not served: {}", full_name_, created.message);
   }
-  spdlog::info("{}: lifecycle {}: {}", full_name_, managed ? "managed" : "self_activating",
-               managed ? "unconfigured, waiting for change_state" : "configuring and activating");
+  narrate("{}: lifecycle {}: {}", full_name_, managed ? "managed" : "self_activating",
+          managed ? "unconfigured, waiting for change_state" : "configuring and activating");
   if (managed) return core::Status::ok();
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -208,6 +224,11 @@ core::Status ManagedNode::Impl::start() {
     const ChangeOutcome outcome = machine_.change(
         step, [this](LifecycleState state, LifecycleState) { return on_transition(state); });
     if (!outcome.succeeded()) {
+      // What the work said, as vnsba_node said it before it had a lifecycle.
+      if (work_error_) {
+        status = *work_error_;
+        break;
+      }
       status =
           core::Status::error(core::StatusCode::kInternalError,
                               std::string("lifecycle ") +
@@ -270,7 +291,7 @@ CallbackResult ManagedNode::Impl::on_transition(LifecycleState state) {
     case LifecycleState::kActivating:
       if (planner_ == nullptr) return CallbackResult::kError;
       planner_->set_accepting(true);
-      spdlog::info("{}: active: planning plan_request, goal_pose and action goals", full_name_);
+      narrate("{}: active: planning plan_request, goal_pose and action goals", full_name_);
       return CallbackResult::kSuccess;
     case LifecycleState::kDeactivating:
       if (planner_ == nullptr) return CallbackResult::kError;
@@ -328,14 +349,14 @@ CallbackResult ManagedNode::Impl::configure() {
   planner->set_accepting(false);
   if (core::Status status = planner->start(); !status.is_ok()) {
     spdlog::error("{}: configure failed: {}; still unconfigured", full_name_, status.message);
+    work_error_ = std::move(status);
     return CallbackResult::kFailure;
   }
   {
     std::lock_guard<std::mutex> lock(planner_mutex_);
     planner_ = std::move(planner);
   }
-  spdlog::info("{}: configured: readers and writers created, not planning until activated",
-               full_name_);
+  narrate("{}: configured: readers and writers created, not planning until activated", full_name_);
   return CallbackResult::kSuccess;
 }
 
@@ -350,7 +371,7 @@ void ManagedNode::Impl::release_work(const char* why) {
   if (planner == nullptr) return;
   planner->stop();
   planner.reset();
-  spdlog::info("{}: {}: map, planners, readers and writers released", full_name_, why);
+  narrate("{}: {}: map, planners, readers and writers released", full_name_, why);
 }
 
 void ManagedNode::Impl::on_step(const LifecycleEdge& edge) {
@@ -409,6 +430,13 @@ void ManagedNode::Impl::stop() {
   }
   cv_.notify_all();
   if (transitioner_.joinable()) transitioner_.join();  // a running transition ends first
+  {
+    std::lock_guard<std::mutex> lock(planner_mutex_);
+    if (planner_ != nullptr) {
+      planner_->stop();
+      final_stats_ = planner_->stats();
+    }
+  }
   release_work("stop");
   if (participant_) participant_->delete_readers();  // no more requests
   if (replier_.joinable()) replier_.join();          // writes what is held
@@ -434,6 +462,10 @@ void ManagedNode::stop() {
   impl_->stop();
 }
 
+std::optional<PlannerNode::Stats> ManagedNode::final_stats() const {
+  return impl_->final_stats_;
+}
+
 LifecycleState ManagedNode::state() const {
   return impl_->machine_.state();
 }
@@ -441,6 +473,10 @@ LifecycleState ManagedNode::state() const {
 PlannerNode* ManagedNode::planner() {
   std::lock_guard<std::mutex> lock(impl_->planner_mutex_);
   return impl_->planner_.get();
+}
+
+size_t ManagedNode::event_readers() const {
+  return impl_->event_readers();
 }
 
 const std::string& ManagedNode::full_name() const {

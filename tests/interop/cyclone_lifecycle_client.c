@@ -175,6 +175,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   printf("lifecycle endpoints of %s matched\n", lifecycle_node_name);
+  /* Discovery is not symmetric: the node's transition_event writer may match this reader a
+   * little after this reader matched it, and the topic is volatile (as rcl's), so an event
+   * published in between would never arrive. The node matches within milliseconds here; 1 s is
+   * far beyond it. */
+  dds_sleepfor(DDS_SECS(1));
   const dds_entity_t work[] = {map_writer, bus.request, bus.status};
 
   if (self_activating) {

@@ -14,6 +14,7 @@
 #include "lifecycle_msgs/srv/GetAvailableStatesPubSubTypes.h"
 #include "lifecycle_msgs/srv/GetAvailableTransitionsPubSubTypes.h"
 #include "lifecycle_msgs/srv/GetStatePubSubTypes.h"
+#include "log_capture.hpp"
 #include "vnsba/node/action_client.hpp"
 #include "vnsba/node/managed_node.hpp"
 #include "vnsba/node/service_client.hpp"
@@ -101,7 +102,8 @@ struct LifecycleRun {
     for (;;) {
       node::dds::SubscriptionMatchedStatus matched;
       events_reader->get_subscription_matched_status(matched);
-      if (matched.current_count > 0) return true;
+      // Both sides: the node's writer must have matched our reader as well.
+      if (matched.current_count > 0 && node->event_readers() > 0) return true;
       if (std::chrono::steady_clock::now() > end) return false;
       std::this_thread::sleep_for(10ms);
     }
@@ -282,6 +284,23 @@ TEST(LifecycleNode, ConcurrentChangeStatesRunOneTransitionAtATime) {
   EXPECT_EQ(succeeded, 1);
   EXPECT_EQ(run.state(), 2);
   EXPECT_EQ(run.take_events(2), (LifecycleEvents{{1, 1, 10}, {10, 10, 2}}));
+}
+
+TEST(LifecycleNode, MalformedRequestsAreDroppedWithOneLinePerClientAndServiceGoesOn) {
+  LogCapture log;
+  LifecycleRun run("lcbadreq", WireMapping::kSampleIdentity);
+  ASSERT_TRUE(run.node->start().is_ok());
+  ASSERT_TRUE(run.wait_for_services());
+  // A Transition whose label announces 2^31 bytes in a 12-byte sample: not decodable.
+  node::RawSample garbage;
+  garbage.bytes = {0, 1, 0, 0, 1, 0, 0, 0, 0xff, 0xff, 0xff, 0x7f};
+  for (int i = 0; i < 3; ++i) run.change_state->send_raw(garbage);
+  // Answered in order after them: a valid change_state and get_state.
+  EXPECT_EQ(run.change(1), std::optional<bool>(true));
+  EXPECT_EQ(run.state(), 2);
+  EXPECT_EQ(log.matching({"change_state request from participant", "dropped"}).size(), 1u);
+  EXPECT_EQ(run.change_state->unmatched_replies(), 0u);  // nothing answered the garbage
+  run.node->stop();
 }
 
 TEST(LifecycleNode, SelfActivatingReportsActiveAndPlans) {

@@ -34,10 +34,9 @@
 #include "vnsba/core/status.hpp"
 #include "vnsba/node/config.hpp"
 #include "vnsba/node/lifecycle.hpp"
+#include "vnsba/node/planner_node.hpp"
 
 namespace vnsba::node {
-
-class PlannerNode;
 
 class ManagedNode {
  public:
@@ -53,12 +52,21 @@ class ManagedNode {
   // Creates the lifecycle participant and endpoints and starts their thread; self_activating:
   // then configures and activates (the error of either is returned, nothing left running).
   core::Status start();
-  // Ends the work (shutdown's), then the lifecycle endpoints. Idempotent.
+  // Ends the transition in progress, then the work (shutdown's), then the lifecycle endpoints.
+  // Idempotent.
   void stop();
+  // The work's figures as stop() ended it; nullopt when no work ran then (unconfigured or
+  // finalized).
+  std::optional<PlannerNode::Stats> final_stats() const;
 
   LifecycleState state() const;
-  // The work while configured (null when unconfigured or finalized), for tests and stats.
+  // The work while configured (null when unconfigured or finalized), for tests. A transition
+  // may delete it: only while no change_state can arrive (tests that drive the node).
   PlannerNode* planner();
+  // Readers matched by the transition_event writer now: the topic is volatile, so an event
+  // published before a reader is matched never reaches it (a client that needs every event
+  // waits for this, as for PlannerNode::Stats::status_readers).
+  size_t event_readers() const;
   // The node's full ROS 2 name ("/vnsba_node"), its services' prefix.
   const std::string& full_name() const;
 
