@@ -60,8 +60,8 @@ class PlannerNode::Impl {
   RequestAdmission admission_{cfg_, fleet_, intake_, maps_, queues_, poses_, answers_};
   PlanningWorkers workers_{cfg_, worker_count_, fleet_, queues_, maps_, answers_, debug_, time_};
   FleetRouter router_{cfg_, fleet_, admission_, intake_, replier_, time_};
-  // The heartbeat Nav2's lifecycle manager watches (bond.*): made with the participant unless
-  // bond.mode is off; a bond runs on it while the node is active (bond.mode managed) or from
+  // The heartbeat Nav2's lifecycle manager watches (bond.*): made with the participant where a
+  // bond may run; a bond runs on it while a managed node is active (bond.mode managed) or from
   // start to stop (always).
   std::unique_ptr<BondLink> bond_;
   bool started_ = false;
@@ -153,7 +153,12 @@ core::Status PlannerNode::Impl::start() {
 }
 
 core::Status PlannerNode::Impl::create_bond_link() {
-  if (cfg_.bond.mode == BondMode::kOff) return core::Status::ok();
+  // Only where a bond may run: a self-activating node under bond.mode managed never bonds, and
+  // gets no bond endpoints nor thread (a DDS user's node is as before).
+  const bool may_bond =
+      cfg_.bond.mode == BondMode::kAlways ||
+      (cfg_.bond.mode == BondMode::kManaged && cfg_.lifecycle == LifecycleMode::kManaged);
+  if (!may_bond) return core::Status::ok();
   // bondcpp's topic "bond" is relative: under the node's namespace (rt/<namespace>/bond).
   auto link = BondLink::create(*participant_, dds_topic_name(cfg_, "bond"));
   if (!link) return link.error();
