@@ -4,6 +4,7 @@
 //                   [--yaw RAD] [--planner NAME] [--id ID] [--wait SECONDS] [--min-readers N]
 //   vnsba_send_goal --action [to_pose | through_poses] [--start X Y] --goal X Y [--goal X Y ...]
 //                   [--yaw RAD] [--planner NAME] [--mapping fastrtps | cyclonedds]
+//                   [--distro humble | jazzy | kilted]
 //                   [--cancel-after SECONDS] [--wait SECONDS] [--config FILE] [--domain N] ...
 //
 // Without --action it publishes one vnsba_msgs/PlanRequest (start and goal in metres, in the
@@ -27,6 +28,8 @@
 // goal. --mapping is how replies are tied to requests: fastrtps (rmw_fastrtps's sample identity)
 // or cyclonedds (rmw_cyclonedds's request header); left out, the config's actions.reply_mapping
 // when it forces one, else fastrtps (what a node on `auto` answers a Fast DDS client with).
+// --distro is the ROS 2 distribution whose wire types the goal and result use (left out, the
+// config's ros.distro); a Humble result has no error_code, so the line's error_code is 0 there.
 // --cancel-after S cancels the goal S seconds after it was accepted. The result is one line:
 //
 //   <goal_id> <status> <error_code> <error_name> <length_m> <poses> <planning_time_us>
@@ -463,7 +466,8 @@ int ActionGoalRun::run(node::Participant& bus, const GoalRequest& request,
 
 // The client, and the wait for a server; the exit code when none matched.
 std::optional<int> ActionGoalRun::connect(node::Participant& bus, int min_servers) {
-  auto created = node::ActionClient::create(bus, action_name_, action_.kind, mapping_);
+  auto created =
+      node::ActionClient::create(bus, action_name_, action_.kind, mapping_, config_.ros_distro);
   if (!created) {
     spdlog::error("{}", created.error().message);
     return kDdsFailure;
@@ -764,7 +768,7 @@ struct CommandLine {
   double yaw = 0.0;
   double wait_seconds = 10.0;
   int min_readers = 1;
-  std::optional<std::string> action, mapping_name;
+  std::optional<std::string> action, mapping_name, distro_name;
   std::optional<double> cancel_after;
   bool id_given = false;  // --id was on the command line
 };
@@ -855,6 +859,12 @@ void add_options(CLI::App& app, CommandLine& line) {
                  "cyclonedds) (default: the config's actions.reply_mapping if it names one, "
                  "else fastrtps)")
       ->check(CLI::IsMember({"fastrtps", "cyclonedds"}))
+      ->needs(action_option);
+  app.add_option("--distro", line.distro_name,
+                 "with --action: the ROS 2 distribution whose wire types the goal and its result "
+                 "use, humble, jazzy or kilted (default: the config's ros.distro; the node must "
+                 "serve the same)")
+      ->check(CLI::IsMember({"humble", "jazzy", "kilted"}))
       ->needs(action_option);
   app.add_option("--cancel-after", line.cancel_after,
                  "with --action: cancel the goal this many seconds after it was accepted, in "
@@ -972,7 +982,10 @@ int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
   const std::optional<node::NodeConfig> loaded = node::load_config_or_report(
       line.config_path, line.domain.value_or(-1), line.ros_namespace, line.participant_profile);
   if (!loaded) return kBadInput;
-  const node::NodeConfig& config = *loaded;
+  node::NodeConfig config = *loaded;
+  if (line.distro_name)  // --distro over ros.distro (the option's check took only known names)
+    for (const node::RosDistro distro : node::kRosDistros)
+      if (*line.distro_name == node::distro_name(distro)) config.ros_distro = distro;
   // Our own chatter stays quiet unless the config asks for debug detail: stdout is the one
   // result line, stderr only says what went wrong.
   const auto configured_level = spdlog::level::from_str(config.log_level);

@@ -88,47 +88,46 @@ class ActionClient::Impl {
   }
 };
 
-template <class Traits>
+template <class Traits, class Wire>
 class ActionClient::ImplOf final : public ActionClient::Impl {
  public:
   core::Status create(Participant& participant) override {
-    if (auto s = add_service<typename Traits::SendGoalRequestType,
-                             typename Traits::SendGoalResponseType>(participant,
-                                                                    ActionService::kSendGoal);
+    if (auto s =
+            add_service<typename Wire::SendGoalRequestType, typename Wire::SendGoalResponseType>(
+                participant, ActionService::kSendGoal);
         !s.is_ok())
       return s;
-    if (auto s = add_service<typename Traits::GetResultRequestType,
-                             typename Traits::GetResultResponseType>(participant,
-                                                                     ActionService::kGetResult);
+    if (auto s =
+            add_service<typename Wire::GetResultRequestType, typename Wire::GetResultResponseType>(
+                participant, ActionService::kGetResult);
         !s.is_ok())
       return s;
     if (auto s = add_service<CancelRequestType, CancelResponseType>(participant,
                                                                     ActionService::kCancelGoal);
         !s.is_ok())
       return s;
-    return add_topic_readers<typename Traits::FeedbackMessageType>(participant);
+    return add_topic_readers<typename Wire::FeedbackMessageType>(participant);
   }
 
   int64_t send_goal(const GoalUuid& id, const ActionGoalSpec& spec) override {
-    typename Traits::SendGoalRequest request;
+    typename Wire::SendGoalRequest request;
     request.goal_id().uuid(id);
     Traits::write_goal(spec, request.goal());
     return this->request(ActionService::kSendGoal, request);
   }
   std::optional<bool> wait_accepted(int64_t request, Duration timeout) override {
-    auto reply =
-        wait<typename Traits::SendGoalResponse>(ActionService::kSendGoal, request, timeout);
+    auto reply = wait<typename Wire::SendGoalResponse>(ActionService::kSendGoal, request, timeout);
     if (!reply) return std::nullopt;
     return reply->accepted();
   }
   int64_t request_result(const GoalUuid& id) override {
-    typename Traits::GetResultRequest request;
+    typename Wire::GetResultRequest request;
     request.goal_id().uuid(id);
     return this->request(ActionService::kGetResult, request);
   }
   std::optional<ActionResultReply> wait_result(int64_t request, Duration timeout) override {
     auto reply =
-        wait<typename Traits::GetResultResponse>(ActionService::kGetResult, request, timeout);
+        wait<typename Wire::GetResultResponse>(ActionService::kGetResult, request, timeout);
     if (!reply) return std::nullopt;
     ActionResultReply out;
     out.status = static_cast<GoalState>(reply->status());
@@ -161,10 +160,14 @@ GoalUuid ActionClient::random_id() {
 core::Expected<std::unique_ptr<ActionClient>> ActionClient::create(Participant& participant,
                                                                    const std::string& ros_name,
                                                                    ActionKind kind,
-                                                                   WireMapping mapping) {
+                                                                   WireMapping mapping,
+                                                                   RosDistro distro) {
   std::unique_ptr<ActionClient> client(
-      new ActionClient(with_action_traits(kind, [](auto traits) -> std::unique_ptr<Impl> {
-        return std::make_unique<ImplOf<decltype(traits)>>();
+      new ActionClient(with_action_traits(kind, [&](auto traits) -> std::unique_ptr<Impl> {
+        using Traits = decltype(traits);
+        return with_action_wire<Traits>(distro, [](auto wire) -> std::unique_ptr<Impl> {
+          return std::make_unique<ImplOf<Traits, decltype(wire)>>();
+        });
       })));
   Impl& impl = *client->impl_;
   impl.name = ros_name;

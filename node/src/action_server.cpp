@@ -76,15 +76,28 @@ class ActionReplies {
 
 }  // namespace
 
-std::string announced_poses_problem(const RawSample& raw, WireMapping mapping) {
-  const size_t at = 4 + (mapping == WireMapping::kRequestHeader ? 16 : 0) + 16;
+std::string announced_poses_problem(const RawSample& raw, WireMapping mapping, bool after_a_header,
+                                    size_t leading_bytes, const char* list) {
+  // Offsets in bytes from the sample's start: the 4-byte encapsulation, the request header,
+  // the leading bytes (a goal id); CDR aligns from the end of the encapsulation.
+  size_t at = 4 + (mapping == WireMapping::kRequestHeader ? 16 : 0) + leading_bytes;
+  if (after_a_header) {  // stamp (8), then frame_id (length 4, characters), aligned to 4
+    at += 8;
+    if (raw.bytes.size() < at + 4) return "";  // too short: decoding says so
+    uint32_t frame_bytes = 0;
+    std::memcpy(&frame_bytes, raw.bytes.data() + at, 4);
+    if (raw.bytes[1] == 0) frame_bytes = __builtin_bswap32(frame_bytes);  // big-endian CDR
+    if (frame_bytes > raw.bytes.size()) return "";                        // decoding says so
+    at += 4 + frame_bytes;
+    at = 4 + (at - 4 + 3) / 4 * 4;
+  }
   if (raw.bytes.size() < at + 4) return "";  // too short: decoding says so
   uint32_t count = 0;
   std::memcpy(&count, raw.bytes.data() + at, 4);
   if (raw.bytes[1] == 0) count = __builtin_bswap32(count);  // big-endian CDR
   const size_t room = (raw.bytes.size() - at - 4) / 68;
   if (count <= room) return "";
-  return "goals: announces " + std::to_string(count) + " poses in " +
+  return std::string(list) + ": announces " + std::to_string(count) + " poses in " +
          std::to_string(raw.bytes.size()) + " bytes (at most " + std::to_string(room) + " fit)";
 }
 
@@ -111,6 +124,8 @@ class ActionServer::Impl {
       Participant& participant, std::vector<std::unique_ptr<TakingListener>>& listeners,
       std::vector<std::pair<TakingListener*, dds::DataReader*>>& inputs) = 0;
   virtual EncodedResult encode_result(GoalState state, const ActionOutcome& outcome) const = 0;
+  // Whether the distribution's result carries error_code and error_msg (Humble's does not).
+  virtual bool result_has_error_code() const = 0;
 
   ActionServer& self_;
   const NodeConfig& cfg_;
@@ -230,7 +245,7 @@ void ActionServer::Impl::take_status(Clock::time_point now, bool all, Due& out) 
   out.status = std::move(msg);
 }
 
-template <class Traits>
+template <class Traits, class Wire>
 class ActionServer::ImplOf final : public ActionServer::Impl {
  public:
   using Impl::Impl;
@@ -246,14 +261,15 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
   EncodedResult encode_result(GoalState state, const ActionOutcome& outcome) const override {
     return encode_message(result_response(state, outcome));
   }
+  bool result_has_error_code() const override { return kResultHasErrorCode<typename Wire::Result>; }
 
  private:
   core::Status create_writers(Participant& participant) {
-    if (auto s = replies_.create_writer<typename Traits::SendGoalResponseType>(
+    if (auto s = replies_.create_writer<typename Wire::SendGoalResponseType>(
             participant, ActionService::kSendGoal, false);
         !s.is_ok())
       return s;
-    if (auto s = replies_.create_writer<typename Traits::GetResultResponseType>(
+    if (auto s = replies_.create_writer<typename Wire::GetResultResponseType>(
             participant, ActionService::kGetResult, true);
         !s.is_ok())
       return s;
@@ -261,7 +277,7 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
                                                             false);
         !s.is_ok())
       return s;
-    return create_topic_writers<typename Traits::FeedbackMessageType>(participant);
+    return create_topic_writers<typename Wire::FeedbackMessageType>(participant);
   }
 
   // Goals are taken by the node's intake thread, as requests are (bounded by the robot's
@@ -272,13 +288,13 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
     auto take_goal = [this](RawSample&& raw, const dds::SampleInfo& info) {
       on_send_goal(std::move(raw), info);
     };
-    if (auto s = add_request_reader<typename Traits::SendGoalRequestType>(
+    if (auto s = add_request_reader<typename Wire::SendGoalRequestType>(
             participant, ActionService::kSendGoal,
             make_intake_listener<RawSample>(take_goal, hooks_.may_take, hooks_.wake_intake),
             listeners, &inputs);
         !s.is_ok())
       return s;
-    if (auto s = add_request_reader<typename Traits::GetResultRequestType>(
+    if (auto s = add_request_reader<typename Wire::GetResultRequestType>(
             participant, ActionService::kGetResult,
             make_listener<RawSample>([this](RawSample&& raw, const dds::SampleInfo& info) {
               on_get_result(std::move(raw), info);
@@ -296,8 +312,10 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
 
   void on_send_goal(RawSample&& raw, const dds::SampleInfo& info) {
     ReplyAddress from = address_of(info);
-    typename Traits::SendGoalRequest request;
-    if (std::string problem = Traits::goal_bytes_problem(raw, from.mapping); !problem.empty())
+    typename Wire::SendGoalRequest request;
+    if (std::string problem =
+            Traits::template goal_bytes_problem<typename Wire::Goal>(raw, from.mapping);
+        !problem.empty())
       return refuse(from, ActionService::kSendGoal, problem);
     if (std::string problem = decode_request(raw, from.mapping, request, from.header);
         !problem.empty())
@@ -313,7 +331,7 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       accepted = !inactive && goals_.accept(goal.id, GoalStamp{stamp.sec(), stamp.nanosec()});
-      typename Traits::SendGoalResponse response;
+      typename Wire::SendGoalResponse response;
       response.accepted(accepted);
       response.stamp(stamp);
       hold(ActionService::kSendGoal, from, response,
@@ -332,7 +350,7 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
 
   void on_get_result(RawSample&& raw, const dds::SampleInfo& info) {
     ReplyAddress from = address_of(info);
-    typename Traits::GetResultRequest request;
+    typename Wire::GetResultRequest request;
     if (std::string problem = decode_request(raw, from.mapping, request, from.header);
         !problem.empty())
       return refuse(from, ActionService::kGetResult, problem);
@@ -352,9 +370,9 @@ class ActionServer::ImplOf final : public ActionServer::Impl {
     cv_.notify_all();
   }
 
-  typename Traits::GetResultResponse result_response(GoalState state,
-                                                     const ActionOutcome& outcome) const {
-    typename Traits::GetResultResponse response;
+  typename Wire::GetResultResponse result_response(GoalState state,
+                                                   const ActionOutcome& outcome) const {
+    typename Wire::GetResultResponse response;
     response.status(static_cast<int8_t>(state));
     Traits::write_result(outcome, response.result());
     return response;
@@ -365,9 +383,13 @@ ActionServer::ActionServer(ActionKind kind, std::string ros_name, const NodeConf
                            const ParticipantWatch* vendors, std::mutex& reply_mutex,
                            std::condition_variable& reply_cv, Hooks hooks)
     : kind_(kind), ros_name_(std::move(ros_name)) {
+  // One server for every distribution: the action's wire types are config.ros_distro's.
   impl_ = with_action_traits(kind, [&](auto traits) -> std::unique_ptr<Impl> {
-    return std::make_unique<ImplOf<decltype(traits)>>(*this, config, vendors, reply_mutex, reply_cv,
-                                                      std::move(hooks));
+    using Traits = decltype(traits);
+    return with_action_wire<Traits>(config.ros_distro, [&](auto wire) -> std::unique_ptr<Impl> {
+      return std::make_unique<ImplOf<Traits, decltype(wire)>>(*this, config, vendors, reply_mutex,
+                                                              reply_cv, std::move(hooks));
+    });
   });
 }
 
@@ -402,6 +424,14 @@ void ActionServer::finish(const GoalUuid& id, ActionOutcome outcome) {
       outcome.error_msg.pop_back();
     outcome.error_msg += "...";
   }
+  // What the distribution's result cannot carry (Humble: no error_code, no error_msg; the client
+  // sees ABORTED and an empty path) is said in the log beside the plan's own line.
+  if (outcome.error_code != 0 && !impl_->result_has_error_code())
+    spdlog::info("{}: goal {} ends {} with error_code {}{}{}, which the {} result cannot carry",
+                 ros_name_, uuid_text(id),
+                 outcome.state == GoalState::kCanceled ? "CANCELED" : "ABORTED", outcome.error_code,
+                 outcome.error_msg.empty() ? "" : ": ", outcome.error_msg,
+                 distro_name(impl_->cfg_.ros_distro));
   // Encoded before the lock: a result of 100,000 poses takes milliseconds.
   const EncodedResult result = impl_->encode_result(outcome.state, outcome);
   const size_t bytes = result->size() + kKeptResultOverheadBytes;

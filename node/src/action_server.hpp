@@ -143,7 +143,7 @@ class ActionServer {
   // out), and the part of it that is one action's own (ImplOf<Traits>: its endpoints' types,
   // send_goal and get_result).
   class Impl;
-  template <class Traits>
+  template <class Traits, class Wire>
   class ImplOf;
   std::unique_ptr<Impl> impl_;
   ActionKind kind_;

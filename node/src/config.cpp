@@ -347,7 +347,8 @@ std::vector<std::pair<const char*, std::string*>> topic_keys(TopicNames& t) {
           {"tf_static", &t.tf_static},
           {"clock", &t.clock},
           {"compute_path_to_pose", &t.compute_path_to_pose},
-          {"compute_path_through_poses", &t.compute_path_through_poses}};
+          {"compute_path_through_poses", &t.compute_path_through_poses},
+          {"is_path_valid", &t.is_path_valid}};
 }
 // The topics.* keys that name actions: ROS 2 derives longer names from them (kActionSuffix).
 const std::set<std::string> kActionKeys = {"compute_path_to_pose", "compute_path_through_poses"};
@@ -799,6 +800,15 @@ void read_dds(Section& top, NodeConfig& c) {
   dds.finish();
 }
 
+// ros: which ROS 2 distribution's wire types the node speaks.
+void read_ros(Section& top, NodeConfig& c) {
+  Section ros = top.child("ros");
+  std::vector<std::pair<std::string, RosDistro>> distros;
+  for (const RosDistro distro : kRosDistros) distros.emplace_back(distro_name(distro), distro);
+  ros.choice<RosDistro>("distro", c.ros_distro, distros);
+  ros.finish();
+}
+
 // debug: when the debug topics are published.
 void read_debug(Section& top, NodeConfig& c) {
   Section debug = top.child("debug");
@@ -864,6 +874,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   read_discovery(top, c);
   read_security(top, c);
   read_dds(top, c);
+  read_ros(top, c);
   read_debug(top, c);
   read_log_level(top, c);
   read_slicer(top, c);

@@ -462,6 +462,37 @@ PoseCheck check_pose(const PoseStampedMsg& pose, const std::string& field,
   return out;
 }
 
+std::vector<Eigen::Vector2d> path_positions(const PathMsg& path, const std::string& expected_frame,
+                                            size_t max_poses, std::string& problem) {
+  problem.clear();
+  auto wrong_frame = [&](const std::string& field, const std::string& frame) {
+    problem = field + ".frame_id is '" + printable(frame) + "', the map's frame is '" +
+              expected_frame + "'";
+  };
+  const std::string& frame = path.header().frame_id();
+  if (!frame.empty() && !same_frame(frame, expected_frame)) {
+    wrong_frame("path.header", frame);
+    return {};
+  }
+  if (path.poses().size() > max_poses) {
+    problem = "path.poses: " + std::to_string(path.poses().size()) + " poses, at most " +
+              std::to_string(max_poses) + " (actions.max_result_poses)";
+    return {};
+  }
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(path.poses().size());
+  for (size_t i = 0; i < path.poses().size(); ++i) {
+    const PoseStampedMsg& pose = path.poses()[i];
+    const std::string& pose_frame = pose.header().frame_id();
+    if (!pose_frame.empty() && !same_frame(pose_frame, expected_frame)) {
+      wrong_frame("path.poses[" + std::to_string(i) + "].header", pose_frame);
+      return {};
+    }
+    out.emplace_back(pose.pose().position().x(), pose.pose().position().y());
+  }
+  return out;
+}
+
 PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& frame,
                            const TimeMsg& stamp) {
   PoseStampedMsg msg;

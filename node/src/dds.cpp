@@ -624,7 +624,7 @@ std::string guid_prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefi
 void ParticipantWatch::on_participant_discovery(
     dds::DomainParticipant* participant,
     eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) {
-  refused_.on_participant_discovery(participant, info);
+  if (report_refused_) refused_.on_participant_discovery(participant, info);
   using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
   const std::string key = guid_prefix_text(info.info.m_guid.guidPrefix);
   std::lock_guard<std::mutex> lock(mutex_);

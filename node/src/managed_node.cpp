@@ -94,6 +94,8 @@ class ManagedNode::Impl {
  private:
   // The endpoints: a participant of the node's name, the four services, transition_event.
   core::Status create_endpoints();
+  // Deletes them (a self-activating node whose endpoints could not all be made).
+  void drop_endpoints();
   // The transition in `request`, on the transition thread; answered when it ends.
   void run_change(const ReplyAddress& from, lsrv::ChangeState_Request_ request);
   CallbackResult on_transition(LifecycleState state);
@@ -125,9 +127,12 @@ class ManagedNode::Impl {
 };
 
 core::Status ManagedNode::Impl::create_endpoints() {
-  // No status topics to watch: the watch gives each client's vendor (the reply mapping).
+  // The watch gives each client's vendor (the reply mapping) and the incompatible-QoS warnings;
+  // a peer that security refuses is reported by the work's participant (ParticipantWatch), once,
+  // as before the node had a lifecycle.
   watch_ = std::make_unique<ParticipantWatch>(std::set<std::string>{},
                                               [](const std::string&, const std::string&) {});
+  watch_->leave_refused_peers_unreported();
   auto participant =
       Participant::create(cfg_.domain_id, cfg_.node_name, watch_.get(), cfg_.localhost_only,
                           with_default_enclave(cfg_.security, kNodeEnclave), cfg_.discovery_servers,
@@ -199,18 +204,30 @@ core::Status ManagedNode::Impl::create_endpoints() {
   return get_available_transitions_->create(*participant_, listeners_);
 }
 
+void ManagedNode::Impl::drop_endpoints() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    services_.clear();
+  }
+  if (participant_) participant_->shutdown();  // readers first: no listener runs after this
+  participant_.reset();
+  events_ = nullptr;
+}
+
 core::Status ManagedNode::Impl::start() {
   core::Status created = create_endpoints();
-  // A request taken while the endpoints were made waits in its reply gate or in pending_.
-  replier_ = std::thread([this] { serve_replies(); });
-  transitioner_ = std::thread([this] { transitions(); });
   const bool managed = cfg_.lifecycle == LifecycleMode::kManaged;
   if (!created.is_ok()) {
     if (managed) return created;
     // A self-activating node plans without them (a secured node whose permissions do not list
-    // the lifecycle topics, say).
+    // the lifecycle topics, say); its participant goes, so that it takes no part in discovery
+    // or security handshakes.
     spdlog::warn("{}: lifecycle services not served: {}", full_name_, created.message);
+    drop_endpoints();
   }
+  // A request taken while the endpoints were made waits in its reply gate or in pending_.
+  replier_ = std::thread([this] { serve_replies(); });
+  transitioner_ = std::thread([this] { transitions(); });
   narrate("{}: lifecycle {}: {}", full_name_, managed ? "managed" : "self_activating",
           managed ? "unconfigured, waiting for change_state" : "configuring and activating");
   if (managed) return core::Status::ok();

@@ -41,6 +41,12 @@ class NodeReaders {
     return server.create(*participant_, listeners_, intake);
   }
 
+  // A plain service's reply writer and request reader (ServiceServer::create).
+  template <class Server>
+  core::Status add_service(Server& server) {
+    return server.create(*participant_, listeners_);
+  }
+
   // Once the participant is gone: the listeners go.
   void clear() {
     listeners_.clear();

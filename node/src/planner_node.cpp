@@ -12,6 +12,7 @@
 #include "fleet_router.hpp"
 #include "map_input.hpp"
 #include "node_readers.hpp"
+#include "path_validity_service.hpp"
 #include "planning_workers.hpp"
 #include "replier.hpp"
 #include "request_admission.hpp"
@@ -60,6 +61,7 @@ class PlannerNode::Impl {
   RequestAdmission admission_{cfg_, fleet_, intake_, maps_, queues_, poses_, answers_};
   PlanningWorkers workers_{cfg_, worker_count_, fleet_, queues_, maps_, answers_, debug_, time_};
   FleetRouter router_{cfg_, fleet_, admission_, intake_, replier_, time_};
+  PathValidityService path_validity_{cfg_, maps_, poses_};
   // The heartbeat Nav2's lifecycle manager watches (bond.*): made with the participant where a
   // bond may run; a bond runs on it while a managed node is active (bond.mode managed) or from
   // start to stop (always).
@@ -130,6 +132,11 @@ core::Status PlannerNode::Impl::start() {
     if (core::Status s = add_robot_readers(robot); !s.is_ok()) return s;
     if (cfg_.actions.enabled)
       if (core::Status s = router_.add_action_servers(readers_, participant_watch_.get(), robot);
+          !s.is_ok())
+        return s;
+    // planner_server serves is_path_valid beside its actions.
+    if (cfg_.actions.enabled)
+      if (core::Status s = path_validity_.add(readers_, participant_watch_.get(), robot, replier_);
           !s.is_ok())
         return s;
   }
@@ -288,6 +295,7 @@ void PlannerNode::Impl::stop() {
   debug_.forget_writers();
   replier_.forget_endpoints();
   router_.release();
+  path_validity_.release();
   intake_.forget_readers();
   readers_.clear();
 }

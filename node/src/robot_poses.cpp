@@ -80,6 +80,15 @@ void RobotPoses::start_of(const Robot& robot, Job& job) {
   }
 }
 
+std::optional<Eigen::Vector2d> RobotPoses::position_of(const Robot& robot) {
+  Job job;
+  start_of(robot, job);
+  if (!job.missing_start.empty()) return std::nullopt;
+  const PoseCheck pose = check_pose(job.start, "robot_pose", cfg_.frame_id);
+  if (!pose.status.ok()) return std::nullopt;
+  return Eigen::Vector2d(pose.x, pose.y);
+}
+
 void RobotPoses::start_from_transforms(const Robot& robot, Job& job) {
   TransformTree::Lookup found;
   {

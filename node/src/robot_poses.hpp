@@ -35,6 +35,9 @@ class RobotPoses {
 
   // The start of a goal of `robot`: job.start, or job.missing_start saying what is missing.
   void start_of(const Robot& robot, Job& job);
+  // Where `robot` is (x, y metres in frame_id), taken as a goal's start is: nullopt when there is
+  // no pose yet, or it is in another frame or not finite (is_path_valid then checks every pose).
+  std::optional<Eigen::Vector2d> position_of(const Robot& robot);
 
  private:
   struct LastPose {

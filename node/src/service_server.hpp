@@ -241,6 +241,12 @@ class ServiceServer final : public ServiceServerBase {
     return core::Status::ok();
   }
 
+  // A request whose bytes `problem` refuses (its text, "" to decode it) is dropped undecoded, as
+  // an undecodable one is: a list announcing more elements than its bytes hold would otherwise
+  // be allocated first (is_path_valid's poses). Set before create().
+  using BytesProblem = std::function<std::string(const RawSample&, WireMapping)>;
+  void refuse_before_decoding(BytesProblem problem) { bytes_problem_ = std::move(problem); }
+
   // Holds `response` for the replier thread; `what` names it in logs.
   void reply(const ReplyAddress& to, const Response& response, std::string what) {
     {
@@ -253,6 +259,9 @@ class ServiceServer final : public ServiceServerBase {
  private:
   void on_sample(RawSample&& raw, const dds::SampleInfo& info) {
     ReplyAddress from = reply_address(info, cfg_.actions.reply_mapping, vendors_);
+    if (bytes_problem_)
+      if (std::string problem = bytes_problem_(raw, from.mapping); !problem.empty())
+        return refused_.refuse(owner_of(ros_name_), short_name_of(ros_name_), from, problem);
     Request request;
     if (std::string problem = decode_request(raw, from.mapping, request, from.header);
         !problem.empty())
@@ -261,6 +270,7 @@ class ServiceServer final : public ServiceServerBase {
   }
 
   OnRequest on_request_;
+  BytesProblem bytes_problem_;
 };
 
 }  // namespace vnsba::node

@@ -8,7 +8,8 @@
 #         vnsba_cyclone_action_client;
 #         lifecycle | lifecycle_self, CLIENT vnsba_cyclone_lifecycle_client: the node managed
 #         (lifecycle: managed, --name cyclone_lifecycle) walked through its lifecycle, or
-#         self-activating and reporting active;
+#         self-activating and reporting active; distro_kilted | distro_humble, CLIENT
+#         vnsba_cyclone_distro_client (the node with that ros.distro);
 #         bond | bond_lifecycle, CLIENT vnsba_cyclone_bond_client: the node bonds from start to
 #         stop (bond.mode always), or is the managed planner_server (lifecycle: managed, --name
 #         planner_server) that bonds while active; the client plays nav2_lifecycle_manager (its
@@ -45,10 +46,12 @@ case "$mode" in
   secure) domain=219 durability=transient_local localhost=false ;;
   secure_open) domain=220 durability=transient_local localhost=false ;;
   secure_other_ca) domain=221 durability=transient_local localhost=false ;;
+  distro_kilted) domain=227 durability=transient_local localhost=false ;;
+  distro_humble) domain=228 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
       "fresh_clients, action, action_cancel, action_fresh, lifecycle, lifecycle_self, bond," \
-      "bond_lifecycle, secure, secure_open or secure_other_ca" >&2
+      "bond_lifecycle, secure, secure_open, secure_other_ca, distro_kilted or distro_humble" >&2
     exit 2
     ;;
 esac
@@ -68,6 +71,7 @@ case "$mode" in
   bond_lifecycle)
     client_args=(--domain "$domain" --id planner_server --bond-timeout 2 --period 0.1 --lifecycle)
     ;;
+  distro_*) client_args=(--domain "$domain" --distro "${mode#distro_}") ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
 if [[ "$mode" == debug_layers ]]; then client_args+=(--debug-layers); fi
@@ -110,6 +114,16 @@ map:
 network:
   localhost_only: $localhost
 YAML
+if [[ "$mode" == distro_* ]]; then
+  # The distribution whose types the node serves; goal_tolerance 0 as for the actions (a goal in
+  # the wall is refused, not moved).
+  cat >>"$work/node.yaml" <<YAML
+ros:
+  distro: ${mode#distro_}
+planner:
+  goal_tolerance: 0
+YAML
+fi
 if [[ "$mode" == action* ]]; then
   # goal_tolerance 0: a goal in a wall cell is GOAL_OCCUPIED, not moved to the free cell beside
   # it. action_cancel's A* plans on its 2000 x 2000 maze take 0.3-0.6 s here: a budget (s) they

@@ -53,7 +53,7 @@ inline node::NodeConfig test_config(const std::string& tag) {
        {&t.projected_map, &t.goal_pose, &t.robot_pose, &t.plan_request, &t.plan, &t.plan_status,
         &t.planner_debug, &t.octomap, &t.plan_raw, &t.plan_pruned, &t.expansions_forward,
         &t.expansions_backward, &t.meeting_point, &t.tf, &t.tf_static, &t.clock,
-        &t.compute_path_to_pose, &t.compute_path_through_poses}) {
+        &t.compute_path_to_pose, &t.compute_path_through_poses, &t.is_path_valid}) {
     *name = p + std::string(node::without_leading_slash(*name));
   }
   cfg.planner.settings.max_planning_time = std::chrono::seconds(10);

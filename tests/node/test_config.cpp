@@ -1256,3 +1256,23 @@ TEST(Config, DdsParticipantProfileIsAName) {
 
 }  // namespace
 }  // namespace vnsba::node
+
+TEST(Config, RosDistroIsJazzyHumbleOrKiltedAndRefusedByName) {
+  EXPECT_EQ(parse_config("").config->ros_distro, vnsba::node::RosDistro::kJazzy);
+  EXPECT_EQ(parse_config("ros: {distro: humble}\n").config->ros_distro,
+            vnsba::node::RosDistro::kHumble);
+  EXPECT_EQ(parse_config("ros: {distro: kilted}\n").config->ros_distro,
+            vnsba::node::RosDistro::kKilted);
+  EXPECT_EQ(parse_config("ros: {distro: jazzy}\n").config->ros_distro,
+            vnsba::node::RosDistro::kJazzy);
+  // An unknown distribution names the key and every allowed value, beside the file's other
+  // errors (all reported at once).
+  const ConfigResult r = parse_config("ros: {distro: iron}\ndebug: {publish: maybe}\n");
+  EXPECT_FALSE(r.config.has_value());
+  EXPECT_TRUE(HasError(r, "ros.distro", {"\"iron\"", "humble, jazzy, kilted"}));
+  EXPECT_TRUE(HasError(r, "debug.publish", {"\"maybe\""}));
+  // config_as_yaml prints it and it loads back.
+  const ConfigResult kilted = parse_config("ros: {distro: kilted}\n");
+  EXPECT_EQ(parse_config(config_as_yaml(*kilted.config)).config->ros_distro,
+            vnsba::node::RosDistro::kKilted);
+}

@@ -423,6 +423,40 @@ TEST_F(SendGoalAction, AGoalInAWallIsAbortedWithNav2sCodeAndExitsOne) {
   EXPECT_NE(leg_output.find("leg 2 of 2"), std::string::npos) << leg_output;
 }
 
+// Issue 48: --distro speaks the distribution's types. A Kilted node's through_poses goal (a
+// nav_msgs/Goals) succeeds; a Humble node's failed goal is ABORTED with no error code (its result
+// has none: the line shows 0).
+TEST_F(SendGoalAction, DistroKiltedSendsItsGoalsMessage) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node(
+      "sga_kilted", [](node::NodeConfig& cfg) { cfg.ros_distro = node::RosDistro::kKilted; }));
+  std::vector<std::string> args =
+      action_args("through_poses", {0.55, 0.55}, {{3.55, 0.55}, {0.55, 2.55}});
+  args.insert(args.end(), {"--distro", "kilted"});
+  const auto [code, output] = run_to_exit(kSendGoal, args);
+  ASSERT_EQ(code, 0) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "SUCCEEDED");
+  EXPECT_GT(line->poses, 2u);
+}
+TEST_F(SendGoalAction, DistroHumbleResultsCarryNoErrorCode) {
+  ASSERT_NO_FATAL_FAILURE(start_action_node(
+      "sga_humble", [](node::NodeConfig& cfg) { cfg.ros_distro = node::RosDistro::kHumble; }));
+  std::vector<std::string> args = action_args("to_pose", {0.55, 0.55}, {{2.05, 1.05}});
+  args.insert(args.end(), {"--distro", "humble"});
+  const auto [code, output] = run_to_exit(kSendGoal, args);
+  EXPECT_EQ(code, 1) << output;
+  const auto line = find_action_line(output);
+  ASSERT_TRUE(line) << output;
+  EXPECT_EQ(line->status, "ABORTED");
+  EXPECT_EQ(line->error_code, 0);
+  EXPECT_EQ(line->poses, 0u);
+  args = action_args("to_pose", {0.55, 0.55}, {{3.55, 0.55}});
+  args.insert(args.end(), {"--distro", "humble"});
+  const auto [ok_code, ok_output] = run_to_exit(kSendGoal, args);
+  EXPECT_EQ(ok_code, 0) << ok_output;
+}
+
 // Each leg of a through_poses goal starts where the last ended: the joined path is the legs'
 // plan_request paths end to end (the shared pose counted once).
 TEST_F(SendGoalAction, ThroughPosesIsItsLegsPlannedOneByOne) {

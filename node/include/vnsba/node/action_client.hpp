@@ -16,6 +16,7 @@
 #include "vnsba/core/status.hpp"
 #include "vnsba/node/action_catalog.hpp"
 #include "vnsba/node/action_goals.hpp"
+#include "vnsba/node/config.hpp"
 #include "vnsba/node/convert.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/service_wire.hpp"
@@ -32,10 +33,12 @@ class ActionClient {
  public:
   using Duration = std::chrono::milliseconds;
   // `kind`: the action called (nav2_actions()); `ros_name`: its full name, e.g.
-  // "/compute_path_to_pose".
+  // "/compute_path_to_pose"; `distro`: the ROS 2 distribution whose wire types it speaks (a
+  // Humble result carries no error_code: the reply's stays 0).
   static core::Expected<std::unique_ptr<ActionClient>> create(Participant& participant,
                                                               const std::string& ros_name,
-                                                              ActionKind kind, WireMapping mapping);
+                                                              ActionKind kind, WireMapping mapping,
+                                                              RosDistro distro = RosDistro::kJazzy);
   ~ActionClient();
 
   // Until the three services' request readers and reply writers and the status and feedback
@@ -85,7 +88,7 @@ class ActionClient {
   // What every action's client does (replies, statuses, cancel_goal), and the part that is one
   // action's own (ImplOf<Traits>: its endpoints' types, send_goal and get_result).
   class Impl;
-  template <class Traits>
+  template <class Traits, class Wire>
   class ImplOf;
   explicit ActionClient(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;

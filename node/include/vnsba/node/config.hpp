@@ -42,6 +42,9 @@ struct TopicNames {
   // <name>/_action/, per rcl_action), served while actions.enabled.
   std::string compute_path_to_pose = "compute_path_to_pose";
   std::string compute_path_through_poses = "compute_path_through_poses";
+  // Nav2's planner_server service nav2_msgs/srv/IsPathValid (a ROS 2 service name: the DDS
+  // topics rq/<name>Request and rr/<name>Reply), served while actions.enabled.
+  std::string is_path_valid = "is_path_valid";
 };
 
 // How a service reply (an action's send_goal, get_result, cancel_goal) is tied to its request
@@ -146,6 +149,24 @@ enum class SecurityStrategy {
   kEnforce,     // a security setup that fails stops the executable; never an open participant
   kPermissive,  // as SROS2: no keystore, enclave or file there runs unsecured, with a warning
 };
+// ros.distro: the ROS 2 distribution whose wire types the node serves and its tools speak
+// (nav2_msgs' actions and services differ between them: docs/nav2.md "Distributions").
+enum class RosDistro { kHumble, kJazzy, kKilted };
+// Every distribution in the order above, and its name as ros.distro and --distro spell it.
+inline constexpr RosDistro kRosDistros[] = {RosDistro::kHumble, RosDistro::kJazzy,
+                                            RosDistro::kKilted};
+inline constexpr const char* distro_name(RosDistro distro) {
+  switch (distro) {
+    case RosDistro::kHumble:
+      return "humble";
+    case RosDistro::kKilted:
+      return "kilted";
+    case RosDistro::kJazzy:
+      break;
+  }
+  return "jazzy";
+}
+
 struct SecurityConfig {
   bool enable = false;   // security.enable (ROS_SECURITY_ENABLE=true turns it on too)
   std::string keystore;  // security.keystore: the keystore directory (ROS_SECURITY_KEYSTORE)
@@ -341,6 +362,8 @@ struct NodeConfig {
   // (FASTRTPS_DEFAULT_PROFILES_FILE, DEFAULT_FASTRTPS_PROFILES.xml) every participant of the
   // executable starts from; empty = the default profile. The node's rules go on top (dds.hpp).
   std::string participant_profile;
+  // ros.distro: the ROS 2 distribution whose nav2_msgs types go on the wire (Jazzy by default).
+  RosDistro ros_distro = RosDistro::kJazzy;
 
  private:
   // No configuration is made from nothing: every NodeConfig starts from config/default.yaml

@@ -157,6 +157,14 @@ struct PoseCheck {
 PoseCheck check_pose(const PoseStampedMsg& pose, const std::string& field,
                      const std::string& expected_frame);
 
+// The positions (x, y metres) of a path to check (is_path_valid), in its order: "" in `problem`
+// when the path is in `expected_frame` (its header's frame_id, and each pose's that is not
+// empty, same_frame; an empty one is the map's, as in goals) and lists at most `max_poses`
+// poses; otherwise `problem` says which field is at fault and the positions are empty. A
+// position that is not finite stays so (the check finds it off the map).
+std::vector<Eigen::Vector2d> path_positions(const PathMsg& path, const std::string& expected_frame,
+                                            size_t max_poses, std::string& problem);
+
 // A pose message at (x, y) metres with heading `yaw` radians.
 PoseStampedMsg to_pose_msg(double x, double y, double yaw, const std::string& frame,
                            const TimeMsg& stamp);

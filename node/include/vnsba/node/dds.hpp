@@ -92,8 +92,12 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   void onParticipantAuthentication(
       dds::DomainParticipant*,
       eprosima::fastrtps::rtps::ParticipantAuthenticationInfo&& info) override {
-    refused_.on_participant_authentication(info);
+    if (report_refused_) refused_.on_participant_authentication(info);
   }
+  // Refused peers go unreported by this watch (call before the participant is created): a
+  // second participant of the same identity in the process (the lifecycle's, managed_node.hpp)
+  // refuses the same peers the first one reports.
+  void leave_refused_peers_unreported() { report_refused_ = false; }
   void on_publisher_discovery(dds::DomainParticipant* participant,
                               eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override;
   void on_requested_incompatible_qos(dds::DataReader* reader,
@@ -120,6 +124,7 @@ class ParticipantWatch : public dds::DomainParticipantListener {
   FixHint fix_;
   std::atomic<size_t> incompatible_qos_{0};
   RefusedPeers refused_;
+  bool report_refused_ = true;
   void report_incompatible(const std::string& topic, bool ours_reads, uint32_t policy_id,
                            int32_t new_endpoints);
 };

@@ -1,0 +1,183 @@
+// ros.distro over loopback, with real participants: a node serving Humble's or Kilted's
+// nav2_msgs types and ActionClients of the same distribution, in both rmw mappings. Oracles:
+// a brute-force walk of the path over the map's cells, the goals on the path in order, and the
+// fields the distribution's result has (Humble's carries no error_code: it reads 0).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bus_client.hpp"
+#include "vnsba/node/action_client.hpp"
+#include "vnsba/node/planner_node.hpp"
+
+namespace vnsba::test {
+namespace {
+
+using node::ActionClient;
+using node::ActionGoalSpec;
+using node::ActionKind;
+using node::GoalState;
+using node::RosDistro;
+using node::WireMapping;
+
+// 30 x 20 cells of 0.1 m: a wall at x = 15 with a gap at y 8..11, a block at (22..25, 3..6).
+core::OccupancyGrid distro_map() {
+  core::OccupancyGrid g;
+  g.width = 30;
+  g.height = 20;
+  g.resolution = 0.1;
+  g.data.assign(static_cast<size_t>(g.width * g.height), core::kOccupancyFree);
+  auto set = [&](int x, int y) { g.data[static_cast<size_t>(y * g.width + x)] = 100; };
+  for (int y = 0; y < g.height; ++y)
+    if (y < 8 || y > 11) set(15, y);
+  for (int x = 22; x <= 25; ++x)
+    for (int y = 3; y <= 6; ++y) set(x, y);
+  return g;
+}
+
+// Every point of every segment, 1/64 cell apart, in a free cell of `g`.
+bool distro_path_free(const core::OccupancyGrid& g, const node::PathMsg& path) {
+  const auto& poses = path.poses();
+  auto free_at = [&](double x, double y) {
+    const int cx = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
+    const int cy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
+    return cx >= 0 && cy >= 0 && cx < g.width && cy < g.height && g.at(cx, cy) < 65;
+  };
+  for (size_t i = 0; i + 1 < poses.size(); ++i) {
+    const auto& a = poses[i].pose().position();
+    const auto& b = poses[i + 1].pose().position();
+    const double len = std::hypot(b.x() - a.x(), b.y() - a.y()) / g.resolution;
+    const int n = std::max(2, static_cast<int>(std::ceil(len * 64)) + 1);
+    for (int k = 0; k < n; ++k) {
+      const double t = static_cast<double>(k) / (n - 1);
+      if (!free_at(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()))) return false;
+    }
+  }
+  return !poses.empty();
+}
+
+node::PoseStampedMsg map_pose(double x, double y) {
+  return node::to_pose_msg(x, y, 0.0, "map", node::now_msg());
+}
+
+struct DistroParam {
+  RosDistro distro;
+  WireMapping mapping;
+};
+
+struct DistroRun {
+  DistroRun(const std::string& tag, DistroParam param)
+      : cfg(configure(tag, param)), node(cfg), client(cfg) {
+    participant = node::Participant::create(cfg.domain_id, "vnsba_distro_client").value();
+    to_pose = ActionClient::create(*participant,
+                                   node::ros_topic_name(cfg, cfg.topics.compute_path_to_pose),
+                                   ActionKind::kComputePathToPose, param.mapping, param.distro)
+                  .value();
+    through = ActionClient::create(
+                  *participant, node::ros_topic_name(cfg, cfg.topics.compute_path_through_poses),
+                  ActionKind::kComputePathThroughPoses, param.mapping, param.distro)
+                  .value();
+  }
+  ~DistroRun() {
+    node.stop();
+    to_pose.reset();
+    through.reset();
+    participant->shutdown();
+  }
+  static node::NodeConfig configure(const std::string& tag, DistroParam param) {
+    node::NodeConfig cfg = test_config(tag);
+    cfg.ros_distro = param.distro;
+    cfg.actions.reply_mapping = param.mapping == WireMapping::kRequestHeader
+                                    ? node::ReplyMapping::kCycloneDds
+                                    : node::ReplyMapping::kAuto;
+    return cfg;
+  }
+  bool start(const core::OccupancyGrid& grid) {
+    const core::Status s = node.start();
+    EXPECT_TRUE(s.is_ok()) << s.message;
+    if (!s.is_ok() || !client.wait_for_match(node)) return false;
+    client.publish_slice(grid);
+    return node.wait_for_map(20s) && to_pose->wait_for_server(10s) && through->wait_for_server(10s);
+  }
+  node::NodeConfig cfg = paper_test_config();
+  node::PlannerNode node;
+  BusClient client;
+  std::unique_ptr<node::Participant> participant;
+  std::unique_ptr<ActionClient> to_pose;
+  std::unique_ptr<ActionClient> through;
+};
+
+class Distros : public ::testing::TestWithParam<DistroParam> {};
+
+std::string distro_param_name(const ::testing::TestParamInfo<DistroParam>& info) {
+  return std::string(node::distro_name(info.param.distro)) +
+         (info.param.mapping == WireMapping::kRequestHeader ? "RequestHeader" : "SampleIdentity");
+}
+
+TEST_P(Distros, BothActionsPlanAndFailWithTheFieldsOfTheDistribution) {
+  const DistroParam param = GetParam();
+  DistroRun run(std::string("distro_") + node::distro_name(param.distro), param);
+  const core::OccupancyGrid grid = distro_map();
+  ASSERT_TRUE(run.start(grid));
+  const bool has_error_code = param.distro != RosDistro::kHumble;
+
+  ActionGoalSpec spec;
+  spec.start = map_pose(0.55, 0.45);
+  spec.use_start = true;
+  spec.goals = {map_pose(2.75, 1.45)};
+  const auto ok = run.to_pose->plan(ActionClient::random_id(), spec, 15s);
+  ASSERT_TRUE(ok.has_value()) << "no result";
+  EXPECT_EQ(ok->status, GoalState::kSucceeded) << ok->error_msg;
+  EXPECT_TRUE(distro_path_free(grid, ok->path));
+  ASSERT_GE(ok->path.poses().size(), 2u);
+  EXPECT_NEAR(ok->path.poses().back().pose().position().x(), 2.75, 1e-9);
+  EXPECT_NEAR(ok->path.poses().back().pose().position().y(), 1.45, 1e-9);
+
+  // A goal in the block: ABORTED; GOAL_OCCUPIED (206) where the result has the field.
+  spec.goals = {map_pose(2.35, 0.45)};
+  const auto occupied = run.to_pose->plan(ActionClient::random_id(), spec, 15s);
+  ASSERT_TRUE(occupied.has_value());
+  EXPECT_EQ(occupied->status, GoalState::kAborted);
+  EXPECT_EQ(occupied->error_code, has_error_code ? 206 : 0);
+  EXPECT_EQ(occupied->error_msg.empty(), !has_error_code);
+  EXPECT_TRUE(occupied->path.poses().empty());
+
+  // Through poses (Kilted's goal is a nav_msgs/Goals): every goal on the path, in order.
+  ActionGoalSpec through;
+  through.start = map_pose(0.55, 0.45);
+  through.use_start = true;
+  through.goals = {map_pose(1.05, 1.55), map_pose(2.05, 1.65), map_pose(2.85, 0.35)};
+  const auto legs = run.through->plan(ActionClient::random_id(), through, 15s);
+  ASSERT_TRUE(legs.has_value());
+  EXPECT_EQ(legs->status, GoalState::kSucceeded) << legs->error_msg;
+  EXPECT_TRUE(distro_path_free(grid, legs->path));
+  size_t from = 0;
+  for (const auto& goal : through.goals) {
+    bool found = false;
+    for (; from < legs->path.poses().size() && !found; ++from) {
+      const auto& p = legs->path.poses()[from].pose().position();
+      found =
+          std::hypot(p.x() - goal.pose().position().x(), p.y() - goal.pose().position().y()) < 1e-9;
+    }
+    EXPECT_TRUE(found) << "goal (" << goal.pose().position().x() << ", "
+                       << goal.pose().position().y() << ") not on the path after the previous one";
+  }
+  // No goal: NO_VIAPOINTS_GIVEN (309) where the result has the field.
+  through.goals.clear();
+  const auto none = run.through->plan(ActionClient::random_id(), through, 15s);
+  ASSERT_TRUE(none.has_value());
+  EXPECT_EQ(none->status, GoalState::kAborted);
+  EXPECT_EQ(none->error_code, has_error_code ? 309 : 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    RosDistros, Distros,
+    ::testing::Values(DistroParam{RosDistro::kHumble, WireMapping::kSampleIdentity},
+                      DistroParam{RosDistro::kHumble, WireMapping::kRequestHeader},
+                      DistroParam{RosDistro::kKilted, WireMapping::kSampleIdentity},
+                      DistroParam{RosDistro::kKilted, WireMapping::kRequestHeader},
+                      DistroParam{RosDistro::kJazzy, WireMapping::kSampleIdentity}),
+    distro_param_name);
+
+}  // namespace
+}  // namespace vnsba::test
