@@ -68,8 +68,11 @@ case "$mode" in
   lifecycle_self) client_args=(--domain "$domain" --node-name cyclone_lifecycle --self-activating) ;;
   # The manager's bond_timeout 2 s (Nav2's default is 4): the watchdog is measured in 2 s.
   bond) client_args=(--domain "$domain" --id vnsba_node --bond-timeout 2 --period 0.1) ;;
+  # Nav2's default bond_timeout, 4 s: the first bond forms with endpoints the node creates at
+  # configure, on a participant Cyclone discovers then; the manager waits half of it (2 s) for
+  # the first heartbeat, and 1 s was once too short here.
   bond_lifecycle)
-    client_args=(--domain "$domain" --id planner_server --bond-timeout 2 --period 0.1 --lifecycle)
+    client_args=(--domain "$domain" --id planner_server --bond-timeout 4 --period 0.1 --lifecycle)
     ;;
   distro_*) client_args=(--domain "$domain" --distro "${mode#distro_}") ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;

@@ -155,7 +155,9 @@ TEST_P(BringupMappings, LifecycleManagersCallsBondAndAGoal) {
 // The watchdog: the node frozen, the manager's bond breaks after bond_timeout of silence, not
 // before; the node continued, the manager's reset takes it back to unconfigured.
 TEST_P(BringupMappings, FrozenNodeBreaksTheManagersBondWithinBondTimeout) {
-  const auto bond_timeout = 1500ms;
+  // Nav2's default bond_timeout: the manager waits half of it for the first heartbeat, which
+  // comes from endpoints the node created at configure, on a participant discovered then.
+  const auto bond_timeout = 4000ms;
   Bringup run(GetParam() == WireMapping::kRequestHeader ? "watch_c" : "watch_f", GetParam(),
               bond_timeout);
   ASSERT_TRUE(run.manager->wait_for_services(20s)) << run.node.output();
@@ -199,13 +201,13 @@ TEST(LifecycleTool, GetStartupWatchSetShutdown) {
   EXPECT_EQ(code, 0) << out;
   EXPECT_NE(out.find("unconfigured 1"), std::string::npos) << out;
 
-  ChildProcess watch(kLifecycleTool, tool({"--bond-timeout", "1.5", "startup", "--watch"}));
+  ChildProcess watch(kLifecycleTool, tool({"--bond-timeout", "4", "startup", "--watch"}));
   ASSERT_TRUE(watch.wait_for_output("bond formed with planner_server", 30s))
       << watch.output() << run.node.output();
   EXPECT_NE(watch.output().find("configure: done"), std::string::npos);
   EXPECT_NE(watch.output().find("activate: done"), std::string::npos);
   run.node.signal(SIGSTOP);
-  const bool broke = watch.wait_for_output("bond broken: server planner_server is down", 5s);
+  const bool broke = watch.wait_for_output("bond broken: server planner_server is down", 8s);
   run.node.signal(SIGCONT);
   ASSERT_TRUE(broke) << watch.output();
   EXPECT_EQ(watch.wait(), 5) << watch.output();
