@@ -735,6 +735,16 @@ void read_actions(Section& top, NodeConfig& c) {
   actions.finish();
 }
 
+// bond: the lifecycle manager's heartbeat (BondConfig).
+void read_bond(Section& top, NodeConfig& c) {
+  Section bond = top.child("bond");
+  bond.choice<BondMode>(
+      "mode", c.bond.mode,
+      {{"managed", BondMode::kManaged}, {"always", BondMode::kAlways}, {"off", BondMode::kOff}});
+  read_milliseconds(bond, "heartbeat_period", c.bond.heartbeat_period, 60.0, 0.01);
+  bond.finish();
+}
+
 // network: which interfaces DDS uses.
 void read_network(Section& top, NodeConfig& c) {
   Section network = top.child("network");
@@ -859,6 +869,7 @@ void read_config(const YAML::Node& root, NodeConfig& c, Errors& errors, Settings
   read_planner(top, c);
   read_requests(top, c);
   read_actions(top, c);
+  read_bond(top, c);
   read_network(top, c);
   read_discovery(top, c);
   read_security(top, c);

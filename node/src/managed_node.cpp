@@ -269,9 +269,8 @@ void ManagedNode::Impl::transitions() {
     auto [from, request] = std::move(*pending_);
     pending_.reset();
     lock.unlock();
-    run_change(from, std::move(request));
+    run_change(from, std::move(request));  // clears changing_ before it replies
     lock.lock();
-    changing_ = false;
   }
 }
 
@@ -289,6 +288,13 @@ void ManagedNode::Impl::run_change(const ReplyAddress& from, lsrv::ChangeState_R
     spdlog::info("{}: change_state {}: {} (state {} -> {})", full_name_,
                  outcome.transition ? outcome.transition->label : "?", to_string(outcome.result),
                  state_label(before), state_label(outcome.state));
+  // Free for the next change before the reply goes out: a manager that asks again as soon as it
+  // has the reply (nav2_lifecycle_manager: get_state, then the next transition) is not refused
+  // as busy (a Cyclone DDS client was, between the reply and the end of this function).
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    changing_ = false;
+  }
   lsrv::ChangeState_Response_ response;
   response.success(outcome.succeeded());
   change_state_->reply(from, response, "a change_state reply");

@@ -18,6 +18,7 @@
 #include "request_admission.hpp"
 #include "request_intake.hpp"
 #include "robot_poses.hpp"
+#include "vnsba/node/bond_link.hpp"
 #include "vnsba/node/dds.hpp"
 #include "vnsba/node/security.hpp"
 #include "vnsba/node/time_source.hpp"
@@ -61,11 +62,21 @@ class PlannerNode::Impl {
   PlanningWorkers workers_{cfg_, worker_count_, fleet_, queues_, maps_, answers_, debug_, time_};
   FleetRouter router_{cfg_, fleet_, admission_, intake_, replier_, time_};
   PathValidityService path_validity_{cfg_, maps_, poses_};
+  // The heartbeat Nav2's lifecycle manager watches (bond.*): made with the participant where a
+  // bond may run; a bond runs on it while a managed node is active (bond.mode managed) or from
+  // start to stop (always).
+  std::unique_ptr<BondLink> bond_;
   bool started_ = false;
+
+  // Nav2's createBond() / destroyBond() (nav2_util's LifecycleNode): a bond with the manager,
+  // whose id is the node's name.
+  void create_bond();
+  void destroy_bond();
 
  private:
   // start()'s steps, in order.
   core::Status create_participant();
+  core::Status create_bond_link();
   core::Status add_writers(const Robot& robot);
   core::Status add_node_readers();
   core::Status add_robot_readers(const Robot& robot);
@@ -116,6 +127,7 @@ core::Status PlannerNode::Impl::start() {
     if (core::Status s = add_writers(robot); !s.is_ok()) return s;
   // Then the readers: the node's own, then each robot's and its action servers.
   if (core::Status s = add_node_readers(); !s.is_ok()) return s;
+  if (core::Status s = create_bond_link(); !s.is_ok()) return s;
   for (const Robot& robot : fleet_) {
     if (core::Status s = add_robot_readers(robot); !s.is_ok()) return s;
     if (cfg_.actions.enabled)
@@ -143,7 +155,52 @@ core::Status PlannerNode::Impl::start() {
   intake_.start();
   started_ = true;
   log_started();
+  if (cfg_.bond.mode == BondMode::kAlways) create_bond();
   return core::Status::ok();
+}
+
+core::Status PlannerNode::Impl::create_bond_link() {
+  // Only where a bond may run: a self-activating node under bond.mode managed never bonds, and
+  // gets no bond endpoints nor thread (a DDS user's node is as before).
+  const bool may_bond =
+      cfg_.bond.mode == BondMode::kAlways ||
+      (cfg_.bond.mode == BondMode::kManaged && cfg_.lifecycle == LifecycleMode::kManaged);
+  if (!may_bond) return core::Status::ok();
+  // bondcpp's topic "bond" is relative: under the node's namespace (rt/<namespace>/bond).
+  auto link = BondLink::create(*participant_, dds_topic_name(cfg_, "bond"));
+  if (!link) return link.error();
+  bond_ = std::move(link).value();
+  return core::Status::ok();
+}
+
+void PlannerNode::Impl::create_bond() {
+  if (!bond_) return;
+  const std::string id = cfg_.node_name;  // Nav2: bond::Bond("bond", this->get_name(), ...)
+  spdlog::info("Creating bond ({}) to lifecycle manager on '{}', a heartbeat every {} s", id,
+               dds_topic_name(cfg_, "bond"), cfg_.bond.heartbeat_period.count() / 1000.0);
+  bond_->start(
+      id, BondTimings::nav2_managed_node(cfg_.bond.heartbeat_period),
+      [id](const std::string& sister) {
+        spdlog::info("bond ({}) formed with the lifecycle manager (instance {})", id, sister);
+      },
+      // Nav2's managed nodes do nothing when the manager's side breaks: their bond ignores the
+      // manager's silence (SisterSilence::kIgnored), and the manager's active=false (its
+      // deactivate) just ends the bond. The manager drives the node's state through the
+      // lifecycle services; the node keeps its state. Logged only.
+      [id](BondEnd why) {
+        spdlog::info("bond ({}) with the lifecycle manager ended: {}", id, bond_end_name(why));
+      });
+}
+
+void PlannerNode::Impl::destroy_bond() {
+  if (!bond_) return;
+  const BondState state = bond_->state();
+  // Broken already: by us (awaiting the manager's answer) or for good.
+  if (state == BondState::kNotStarted || state == BondState::kAwaitSisterDeath ||
+      state == BondState::kDead)
+    return;
+  spdlog::info("Destroying bond ({}) to lifecycle manager", cfg_.node_name);
+  bond_->break_bond();
 }
 
 // The watch on other writers of our status topics, and the participant.
@@ -212,6 +269,10 @@ void PlannerNode::Impl::log_started() const {
 }
 
 void PlannerNode::Impl::stop() {
+  // Nav2's LifecycleNode breaks its bond before its context shuts down (on_rcl_preshutdown):
+  // the manager hears active=false rather than silence.
+  destroy_bond();
+  if (bond_) bond_->close();
   // Every request taken from here on is answered CANCELED at once; what the readers still hold
   // is taken and answered so, then the readers go: nothing the bus delivered goes unanswered.
   intake_.stop();
@@ -283,6 +344,16 @@ bool PlannerNode::wait_for_map(std::chrono::milliseconds timeout) const {
 
 void PlannerNode::set_accepting(bool accepting) {
   impl_->admission_.set_accepting(accepting);
+  // A managed node bonds while active, as Nav2's servers do (createBond() at the end of
+  // on_activate, destroyBond() in on_deactivate: nav2_planner's planner_server.cpp); a
+  // self-activating one only with bond.mode always, which bonded at start().
+  if (impl_->cfg_.bond.mode == BondMode::kManaged &&
+      impl_->cfg_.lifecycle == LifecycleMode::kManaged) {
+    if (accepting)
+      impl_->create_bond();
+    else
+      impl_->destroy_bond();
+  }
 }
 
 const NodeConfig& PlannerNode::config() const {

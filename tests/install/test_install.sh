@@ -61,7 +61,7 @@ missing=$(comm -23 <(echo "$installed") <(echo "$built"))
 rm -rf "$fresh"
 
 cmake --install "$build" --prefix "$prefix" >/dev/null
-for tool in vnsba_plan vnsba_node vnsba_slicer vnsba_recorder vnsba_send_goal vnsba_make_keystore; do
+for tool in vnsba_plan vnsba_node vnsba_slicer vnsba_recorder vnsba_send_goal vnsba_lifecycle vnsba_make_keystore; do
   [[ -x "$prefix/bin/$tool" ]] || fail "$tool not installed in bin/"
 done
 for file in default.yaml paper.yaml scenes/geb079.bt scenes/ATTRIBUTION.md; do

@@ -32,139 +32,9 @@
 #include "check.h"
 #include "client_common.h"
 #include "dds/dds.h"
+#include "lifecycle_calls.h"
 #include "lifecycle_msgs/msg/TransitionEvent.h"
 #include "lifecycle_requests.h"
-
-enum { kChangeState, kGetState, kGetStates, kGetTransitions, kServices };
-static const char* const kServiceNames[kServices] = {
-    "change_state", "get_state", "get_available_states", "get_available_transitions"};
-static const char* const kSrvNames[kServices] = {"ChangeState", "GetState", "GetAvailableStates",
-                                                 "GetAvailableTransitions"};
-static const dds_topic_descriptor_t* const kWrapped[kServices][2] = {
-    {&vnsba_interop_lifecycle_ChangeStateRequest_desc,
-     &vnsba_interop_lifecycle_ChangeStateReply_desc},
-    {&vnsba_interop_lifecycle_GetStateRequest_desc, &vnsba_interop_lifecycle_GetStateReply_desc},
-    {&vnsba_interop_lifecycle_GetAvailableStatesRequest_desc,
-     &vnsba_interop_lifecycle_GetAvailableStatesReply_desc},
-    {&vnsba_interop_lifecycle_GetAvailableTransitionsRequest_desc,
-     &vnsba_interop_lifecycle_GetAvailableTransitionsReply_desc}};
-
-static const char* node_name = NULL;
-
-/* One service client, as rmw_cyclonedds makes it. */
-typedef struct {
-  char request_name[200], reply_name[200]; /* ROS names relative to the namespace */
-  char request_type[128], reply_type[128];
-  dds_topic_descriptor_t request_desc, reply_desc;
-  TopicSpec request_spec, reply_spec;
-  dds_entity_t request, reply;
-  uint64_t guid; /* the request writer's instance handle */
-} Service;
-static Service services[kServices];
-/* rmw_cyclonedds numbers every request of the process with one counter. */
-static int64_t last_sequence = 0;
-
-static void make_service(Service* s, int which) {
-  memset(s, 0, sizeof *s);
-  snprintf(s->request_name, sizeof s->request_name, "%s/%sRequest", node_name,
-           kServiceNames[which]);
-  snprintf(s->reply_name, sizeof s->reply_name, "%s/%sReply", node_name, kServiceNames[which]);
-  snprintf(s->request_type, sizeof s->request_type, "lifecycle_msgs::srv::dds_::%s_Request_",
-           kSrvNames[which]);
-  snprintf(s->reply_type, sizeof s->reply_type, "lifecycle_msgs::srv::dds_::%s_Response_",
-           kSrvNames[which]);
-  memcpy(&s->request_desc, kWrapped[which][0], sizeof s->request_desc);
-  s->request_desc.m_typename = s->request_type;
-  memcpy(&s->reply_desc, kWrapped[which][1], sizeof s->reply_desc);
-  s->reply_desc.m_typename = s->reply_type;
-  s->request_spec = (TopicSpec){s->request_name, &s->request_desc, s->request_type, "rq/"};
-  s->reply_spec = (TopicSpec){s->reply_name, &s->reply_desc, s->reply_type, "rr/"};
-  s->request = writer(&s->request_spec, qos_of(false, 10)); /* services_default */
-  s->reply = reader(&s->reply_spec, qos_of(false, 10));
-  dds_instance_handle_t handle = 0;
-  if (dds_get_instance_handle(s->request, &handle) != DDS_RETCODE_OK) die("instance handle", -1);
-  s->guid = handle;
-}
-
-/* Writes `sample` (a wrapped request) with its header; returns the sequence number. */
-static int64_t write_request(Service* s, void* sample) {
-  vnsba_interop_lifecycle_RequestHeader* h = sample;
-  h->guid = s->guid;
-  h->seq = ++last_sequence;
-  const dds_return_t rc = dds_write(s->request, sample);
-  CHECK(rc == DDS_RETCODE_OK, "writing rq/.../%s: %s", s->request_name, dds_strretcode(-rc));
-  return h->seq;
-}
-
-/* Takes the reply carrying (s->guid, seq) within `timeout` s; `copy` copies what is needed out
- * of it into `out`. Any other reply is the server's mistake (only this client asks here). */
-typedef void (*CopyReply)(const void* sample, void* out);
-static bool wait_reply(Service* s, int64_t seq, CopyReply copy, void* out, double timeout) {
-  const double end = now_s() + timeout;
-  for (;;) {
-    void* samples[8] = {NULL};
-    dds_sample_info_t infos[8];
-    const int n = dds_take(s->reply, samples, infos, 8, 8);
-    bool found = false;
-    for (int i = 0; i < n; ++i) {
-      if (!infos[i].valid_data) continue;
-      const vnsba_interop_lifecycle_RequestHeader* h = samples[i];
-      if (h->guid == s->guid && h->seq == seq && !found) {
-        copy(samples[i], out);
-        found = true;
-      } else {
-        CHECK(false,
-              "rr/.../%s: a reply with header (0x%016" PRIx64 ", %" PRId64
-              "), expected (0x%016" PRIx64 ", %" PRId64 ")",
-              s->reply_name, h->guid, h->seq, s->guid, seq);
-      }
-    }
-    if (n > 0) dds_return_loan(s->reply, samples, n);
-    if (found) return true;
-    if (now_s() >= end) {
-      CHECK(false, "rr/.../%s: no reply to request %" PRId64 " within %.0f s", s->reply_name, seq,
-            timeout);
-      return false;
-    }
-    if (n <= 0) wait_data(s->reply, end);
-  }
-}
-
-static void copy_success(const void* sample, void* out) {
-  *(int*)out = ((const vnsba_interop_lifecycle_ChangeStateReply*)sample)->message.success ? 1 : 0;
-}
-
-/* change_state to transition `id` (or `label` when not NULL); 1 success, 0 not, -1 no reply. */
-static int change_state(uint8_t id, const char* label) {
-  vnsba_interop_lifecycle_ChangeStateRequest request;
-  memset(&request, 0, sizeof request);
-  request.message.transition.id = id;
-  request.message.transition.label = (char*)(label ? label : "");
-  int success = -1;
-  wait_reply(&services[kChangeState], write_request(&services[kChangeState], &request),
-             copy_success, &success, 30.0);
-  return success;
-}
-
-typedef struct {
-  int id;
-  char label[32];
-} StateReply;
-static void copy_state(const void* sample, void* out) {
-  const vnsba_interop_lifecycle_GetStateReply* r = sample;
-  StateReply* s = out;
-  s->id = r->message.current_state.id;
-  snprintf(s->label, sizeof s->label, "%s", r->message.current_state.label);
-}
-
-static int get_state(void) {
-  vnsba_interop_lifecycle_GetStateRequest request;
-  memset(&request, 0, sizeof request);
-  StateReply reply = {-1, ""};
-  wait_reply(&services[kGetState], write_request(&services[kGetState], &request), copy_state,
-             &reply, 10.0);
-  return reply.id;
-}
 
 typedef struct {
   int n;
@@ -198,8 +68,9 @@ static void check_transitions(const char* what, const int* want, int n) {
   vnsba_interop_lifecycle_GetAvailableTransitionsRequest request;
   memset(&request, 0, sizeof request);
   IdList got = {-1, {0}};
-  wait_reply(&services[kGetTransitions], write_request(&services[kGetTransitions], &request),
-             copy_transitions, &got, 10.0);
+  wait_reply(&lifecycle_services[kGetTransitions],
+             write_request(&lifecycle_services[kGetTransitions], &request), copy_transitions, &got,
+             10.0);
   check_ids(what, &got, want, n);
 }
 
@@ -259,7 +130,7 @@ int main(int argc, char** argv) {
     } else if (strcmp(arg, "--namespace") == 0 && value) {
       ros_namespace = argv[++i];
     } else if (strcmp(arg, "--node-name") == 0 && value) {
-      node_name = argv[++i];
+      lifecycle_node_name = argv[++i];
     } else if (strcmp(arg, "--self-activating") == 0) {
       self_activating = true;
     } else {
@@ -270,7 +141,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (domain < 0 || node_name == NULL) {
+  if (domain < 0 || lifecycle_node_name == NULL) {
     fprintf(stderr, "%s: --domain 0..232 and --node-name are required\n", argv[0]);
     return 2;
   }
@@ -278,8 +149,8 @@ int main(int argc, char** argv) {
   participant = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
   if (participant < 0) die("cannot create the participant", participant);
 
-  for (int s = 0; s < kServices; ++s) make_service(&services[s], s);
-  snprintf(events_name, sizeof events_name, "%s/transition_event", node_name);
+  for (int s = 0; s < kServices; ++s) make_service(&lifecycle_services[s], s);
+  snprintf(events_name, sizeof events_name, "%s/transition_event", lifecycle_node_name);
   kEvents = (TopicSpec){events_name, &lifecycle_msgs_msg_dds__TransitionEvent__desc,
                         "lifecycle_msgs::msg::dds_::TransitionEvent_", NULL};
   events = reader(&kEvents, ros_default_qos());
@@ -295,15 +166,15 @@ int main(int argc, char** argv) {
   dds_entity_t lifecycle_entities[2 * kServices + 1];
   int n = 0;
   for (int s = 0; s < kServices; ++s) {
-    lifecycle_entities[n++] = services[s].request;
-    lifecycle_entities[n++] = services[s].reply;
+    lifecycle_entities[n++] = lifecycle_services[s].request;
+    lifecycle_entities[n++] = lifecycle_services[s].reply;
   }
   lifecycle_entities[n++] = events;
   if (wait_matched(lifecycle_entities, n, 20.0) < 0) {
     fprintf(stderr, "FAILED: the node's lifecycle endpoints did not match within 20 s\n");
     return 1;
   }
-  printf("lifecycle endpoints of %s matched\n", node_name);
+  printf("lifecycle endpoints of %s matched\n", lifecycle_node_name);
   /* Discovery is not symmetric: the node's transition_event writer may match this reader a
    * little after this reader matched it, and the topic is volatile (as rcl's), so an event
    * published in between would never arrive. The node matches within milliseconds here; 1 s is
@@ -330,8 +201,8 @@ int main(int argc, char** argv) {
     vnsba_interop_lifecycle_GetAvailableStatesRequest request;
     memset(&request, 0, sizeof request);
     IdList got = {-1, {0}};
-    wait_reply(&services[kGetStates], write_request(&services[kGetStates], &request), copy_states,
-               &got, 10.0);
+    wait_reply(&lifecycle_services[kGetStates],
+               write_request(&lifecycle_services[kGetStates], &request), copy_states, &got, 10.0);
     check_ids("get_available_states", &got, (const int[]){0, 1, 2, 3, 4, 10, 11, 12, 13, 14, 15},
               11);
   }

@@ -10,6 +10,11 @@
 #         (lifecycle: managed, --name cyclone_lifecycle) walked through its lifecycle, or
 #         self-activating and reporting active; distro_kilted | distro_humble, CLIENT
 #         vnsba_cyclone_distro_client (the node with that ros.distro);
+#         bond | bond_lifecycle, CLIENT vnsba_cyclone_bond_client: the node bonds from start to
+#         stop (bond.mode always), or is the managed planner_server (lifecycle: managed, --name
+#         planner_server) that bonds while active; the client plays nav2_lifecycle_manager (its
+#         lifecycle calls, then its side of the bond) and freezes the node (SIGSTOP, then
+#         SIGCONT) to see its watchdog fire;
 #         secure | secure_open | secure_other_ca, CLIENT vnsba_cyclone_client: the node secured
 #         with a keystore of tools/make_keystore.sh, the client secured with an enclave of the
 #         same keystore (it plans: every check of a default run), without security or with an
@@ -36,6 +41,8 @@ case "$mode" in
   action_fresh) domain=222 durability=transient_local localhost=false ;;
   lifecycle) domain=223 durability=transient_local localhost=false ;;
   lifecycle_self) domain=224 durability=transient_local localhost=false ;;
+  bond) domain=225 durability=transient_local localhost=false ;;
+  bond_lifecycle) domain=226 durability=transient_local localhost=false ;;
   secure) domain=219 durability=transient_local localhost=false ;;
   secure_open) domain=220 durability=transient_local localhost=false ;;
   secure_other_ca) domain=221 durability=transient_local localhost=false ;;
@@ -43,8 +50,8 @@ case "$mode" in
   distro_humble) domain=228 durability=transient_local localhost=false ;;
   *)
     echo "mode: found '$mode', expected transient_local, volatile, localhost, debug_layers," \
-      "fresh_clients, action, action_cancel, action_fresh, lifecycle, lifecycle_self, secure," \
-      "secure_open, secure_other_ca, distro_kilted or distro_humble" >&2
+      "fresh_clients, action, action_cancel, action_fresh, lifecycle, lifecycle_self, bond," \
+      "bond_lifecycle, secure, secure_open, secure_other_ca, distro_kilted or distro_humble" >&2
     exit 2
     ;;
 esac
@@ -59,6 +66,14 @@ case "$mode" in
   action_fresh) client_args=(--domain "$domain" --fresh 40 --fresh-resident) ;;
   lifecycle) client_args=(--domain "$domain" --node-name cyclone_lifecycle) ;;
   lifecycle_self) client_args=(--domain "$domain" --node-name cyclone_lifecycle --self-activating) ;;
+  # The manager's bond_timeout 2 s (Nav2's default is 4): the watchdog is measured in 2 s.
+  bond) client_args=(--domain "$domain" --id vnsba_node --bond-timeout 2 --period 0.1) ;;
+  # Nav2's default bond_timeout, 4 s: the first bond forms with endpoints the node creates at
+  # configure, on a participant Cyclone discovers then; the manager waits half of it (2 s) for
+  # the first heartbeat, and 1 s was once too short here.
+  bond_lifecycle)
+    client_args=(--domain "$domain" --id planner_server --bond-timeout 4 --period 0.1 --lifecycle)
+    ;;
   distro_*) client_args=(--domain "$domain" --distro "${mode#distro_}") ;;
   *) client_args=(--domain "$domain" --map-durability "$durability") ;;
 esac
@@ -137,6 +152,21 @@ requests:
   map_wait: 20
 YAML
 fi
+if [[ "$mode" == bond ]]; then
+  cat >>"$work/node.yaml" <<YAML
+bond:
+  mode: always
+  heartbeat_period: 0.1
+YAML
+elif [[ "$mode" == bond_lifecycle ]]; then
+  node_args=(--name planner_server)
+  cat >>"$work/node.yaml" <<YAML
+lifecycle: managed
+bond:
+  mode: managed
+  heartbeat_period: 0.1
+YAML
+fi
 if [[ "$localhost" == true ]]; then
   # Cyclone on the loopback interface only; loopback has no multicast, so discovery is unicast
   # to the node's well-known ports on 127.0.0.1 (Peer), as for a ROS 2 system on rmw_cyclonedds
@@ -181,6 +211,8 @@ fi
 
 "$node_bin" --config "$work/node.yaml" "${node_args[@]}" >"$work/node.log" 2>&1 &
 node_pid=$!
+# The bond client freezes the node to see the manager's watchdog fire.
+if [[ "$mode" == bond* ]]; then client_args+=(--node-pid "$node_pid"); fi
 status=0
 "$client_bin" "${client_args[@]}" --namespace "$ns" "$@" > >(tee "$work/client.out") || status=$?
 if [[ "$mode" == secure && $status -eq 0 ]] && grep -q "^request ends: " "$work/client.out"; then

@@ -55,6 +55,21 @@ enum class ReplyMapping {
   kCycloneDds,  // rmw_cyclonedds: a 16-byte header (client id, sequence) before the payload
 };
 
+// bond.*: the heartbeat Nav2's lifecycle manager watches (bond/msg/Status on the topic `bond`,
+// resolved under `namespace`; vnsba/node/bond.hpp, bond_link.hpp, docs/nav2.md "Bringup").
+enum class BondMode {
+  kManaged,  // a managed node bonds while active (activate to deactivate), as Nav2's servers do;
+             // a self-activating node never does
+  kAlways,   // also a self-activating node, from start to stop (a watchdog without lifecycle)
+  kOff,      // never (Nav2's bond_heartbeat_period <= 0; the manager needs bond_timeout 0 then)
+};
+struct BondConfig {
+  BondMode mode = BondMode::kManaged;
+  // bond.heartbeat_period, seconds in [0.01, 60]: Nav2's bond_heartbeat_period parameter (Jazzy
+  // and Kilted default 0.1 s; Humble fixes 0.1 s).
+  std::chrono::milliseconds heartbeat_period{100};
+};
+
 // actions.*: the Nav2 action servers.
 struct ActionConfig {
   bool enabled = true;
@@ -314,6 +329,7 @@ struct NodeConfig {
   int workers = 0;
 
   ActionConfig actions;
+  BondConfig bond;
 
   DebugPublishing debug = DebugPublishing::kAuto;
   std::string log_level = "info";  // trace, debug, info, warn, error, critical, off
