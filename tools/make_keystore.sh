@@ -167,6 +167,15 @@ action_topics() {
   printf '%s' "${out#,}"
 }
 
+# The DDS topics of ROS 2 service NAME on one side: "server out" or "client in" its reply
+# rr/<name>Reply, "server in" or "client out" its request rq/<name>Request.
+service_topics() {
+  case "$2" in
+    "server out" | "client in") printf 'rr/%sReply' "$1" ;;
+    "server in" | "client out") printf 'rq/%sRequest' "$1" ;;
+  esac
+}
+
 # The subject of a certificate as DDS Security compares it (RFC 2253: "CN=/vnsba/node").
 subject_of() { openssl x509 -in "$1" -noout -subject -nameopt RFC2253 | sed 's/^subject=//'; }
 
@@ -290,6 +299,21 @@ for action in compute_path_to_pose compute_path_through_poses; do
   send_goal_out+=",$(action_topics "$action" "client out")"
   send_goal_in+=",$(action_topics "$action" "client in")"
 done
+# is_path_valid (nav2_msgs/srv/IsPathValid) and, under the node's name (node_name: vnsba_node),
+# its lifecycle services and transition_event; the bond's heartbeats go both ways. vnsba_send_goal
+# calls is_path_valid; vnsba_lifecycle (the same enclave) plays the lifecycle manager.
+services="is_path_valid"
+for s in change_state get_state get_available_states get_available_transitions; do
+  services+=" vnsba_node/$s"
+done
+for s in $services; do
+  node_out+=",$(service_topics "$s" "server out")"
+  node_in+=",$(service_topics "$s" "server in")"
+  send_goal_out+=",$(service_topics "$s" "client out")"
+  send_goal_in+=",$(service_topics "$s" "client in")"
+done
+node_out+=",vnsba_node/transition_event,bond" node_in+=",bond"
+send_goal_out+=",bond" send_goal_in+=",vnsba_node/transition_event,bond"
 enclave /vnsba/node "$node_out" "$node_in" ordered
 enclave /vnsba/slicer projected_map octomap_binary ordered
 enclave /vnsba/recorder - "projected_map,plan_request,goal_pose,robot_pose,plan,plan_status,planner_debug" ordered

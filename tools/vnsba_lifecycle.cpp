@@ -167,9 +167,7 @@ int run(int argc, char** argv, const node::StopSignals& signals) {
   const node::NodeConfig& config = *loaded;
 
   auto participant =
-      node::Participant::create(config.domain_id, "vnsba_lifecycle", nullptr, config.localhost_only,
-                                node::with_default_enclave(config.security, node::kSendGoalEnclave),
-                                config.discovery_servers, config.participant_profile);
+      node::Participant::create_configured(config, "vnsba_lifecycle", node::kSendGoalEnclave);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

@@ -640,9 +640,7 @@ int main(int argc, char** argv) {
   const node::StopSignals stop;
 
   auto participant =
-      node::Participant::create(config.domain_id, "vnsba_recorder", nullptr, config.localhost_only,
-                                node::with_default_enclave(config.security, node::kRecorderEnclave),
-                                config.discovery_servers, config.participant_profile);
+      node::Participant::create_configured(config, "vnsba_recorder", node::kRecorderEnclave);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

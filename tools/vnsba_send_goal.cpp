@@ -996,9 +996,7 @@ int send_goal(int argc, char** argv, const node::StopSignals& stop_signals) {
 
   Budget budget(line.wait_seconds, stop_signals);
   auto participant =
-      node::Participant::create(config.domain_id, "vnsba_send_goal", nullptr, config.localhost_only,
-                                node::with_default_enclave(config.security, node::kSendGoalEnclave),
-                                config.discovery_servers, config.participant_profile);
+      node::Participant::create_configured(config, "vnsba_send_goal", node::kSendGoalEnclave);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

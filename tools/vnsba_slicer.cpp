@@ -293,9 +293,7 @@ int main(int argc, char** argv) {
   const node::StopSignals stop;
 
   auto participant =
-      node::Participant::create(config.domain_id, "vnsba_slicer", nullptr, config.localhost_only,
-                                node::with_default_enclave(config.security, node::kSlicerEnclave),
-                                config.discovery_servers, config.participant_profile);
+      node::Participant::create_configured(config, "vnsba_slicer", node::kSlicerEnclave);
   if (!participant) {
     spdlog::error("{}", participant.error().message);
     return kDdsFailure;

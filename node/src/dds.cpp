@@ -507,6 +507,14 @@ core::Expected<std::unique_ptr<Participant>> Participant::create(
   return self;
 }
 
+core::Expected<std::unique_ptr<Participant>> Participant::create_configured(
+    const NodeConfig& config, const std::string& name, const std::string& default_enclave,
+    dds::DomainParticipantListener* listener) {
+  return create(config.domain_id, name, listener, config.localhost_only,
+                with_default_enclave(config.security, default_enclave), config.discovery_servers,
+                config.participant_profile);
+}
+
 core::Expected<dds::Topic*> Participant::make_topic(const std::string& topic_name,
                                                     dds::TypeSupport type) {
   const std::string type_name = type.get_type_name();

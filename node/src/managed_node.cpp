@@ -134,9 +134,7 @@ core::Status ManagedNode::Impl::create_endpoints() {
                                               [](const std::string&, const std::string&) {});
   watch_->leave_refused_peers_unreported();
   auto participant =
-      Participant::create(cfg_.domain_id, cfg_.node_name, watch_.get(), cfg_.localhost_only,
-                          with_default_enclave(cfg_.security, kNodeEnclave), cfg_.discovery_servers,
-                          cfg_.participant_profile);
+      Participant::create_configured(cfg_, cfg_.node_name, kNodeEnclave, watch_.get());
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
   auto events = participant_->writer_on<lmsg::TransitionEvent_PubSubType>(

@@ -222,9 +222,7 @@ core::Status PlannerNode::Impl::create_participant() {
         return qos_fix(topic, policy);
       });
   auto participant =
-      Participant::create(cfg_.domain_id, "vnsba_node", participant_watch_.get(),
-                          cfg_.localhost_only, with_default_enclave(cfg_.security, kNodeEnclave),
-                          cfg_.discovery_servers, cfg_.participant_profile);
+      Participant::create_configured(cfg_, "vnsba_node", kNodeEnclave, participant_watch_.get());
   if (!participant) return participant.error();
   participant_ = std::move(participant).value();
   readers_.use(*participant_);

@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
     lifecycle_node_name = id;
     dds_entity_t entities[2 * kServices];
     for (int i = 0; i < kServices; ++i) {
-      make_service(&lifecycle_services[i], i);
+      make_lifecycle_service(&lifecycle_services[i], i);
       entities[2 * i] = lifecycle_services[i].request;
       entities[2 * i + 1] = lifecycle_services[i].reply;
     }

@@ -149,7 +149,7 @@ int main(int argc, char** argv) {
   participant = dds_create_participant((dds_domainid_t)domain, NULL, NULL);
   if (participant < 0) die("cannot create the participant", participant);
 
-  for (int s = 0; s < kServices; ++s) make_service(&lifecycle_services[s], s);
+  for (int s = 0; s < kServices; ++s) make_lifecycle_service(&lifecycle_services[s], s);
   snprintf(events_name, sizeof events_name, "%s/transition_event", lifecycle_node_name);
   kEvents = (TopicSpec){events_name, &lifecycle_msgs_msg_dds__TransitionEvent__desc,
                         "lifecycle_msgs::msg::dds_::TransitionEvent_", NULL};

@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <map>
 #include <mutex>
@@ -334,5 +336,37 @@ struct Running {
     return node.wait_for_map(10s);
   }
 };
+
+// An open `width` x `height` map of `resolution`-metre cells, every cell free.
+inline core::OccupancyGrid free_room(int width, int height, double resolution) {
+  core::OccupancyGrid g;
+  g.width = width;
+  g.height = height;
+  g.resolution = resolution;
+  g.data.assign(static_cast<size_t>(width) * static_cast<size_t>(height), core::kOccupancyFree);
+  return g;
+}
+
+// The oracle of a planned path: every point of every segment, sampled 1/64 cell apart, lies in a
+// free cell of `g` (the grid the node was given), and the path is not empty.
+inline bool path_free(const core::OccupancyGrid& g, const node::PathMsg& path) {
+  const auto& poses = path.poses();
+  auto free_at = [&](double x, double y) {
+    const int cx = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
+    const int cy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
+    return cx >= 0 && cy >= 0 && cx < g.width && cy < g.height && g.at(cx, cy) < 65;
+  };
+  for (size_t i = 0; i + 1 < poses.size(); ++i) {
+    const auto& a = poses[i].pose().position();
+    const auto& b = poses[i + 1].pose().position();
+    const double len = std::hypot(b.x() - a.x(), b.y() - a.y()) / g.resolution;
+    const int n = std::max(2, static_cast<int>(std::ceil(len * 64)) + 1);
+    for (int k = 0; k < n; ++k) {
+      const double t = static_cast<double>(k) / (n - 1);
+      if (!free_at(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()))) return false;
+    }
+  }
+  return !poses.empty();
+}
 
 }  // namespace vnsba::test

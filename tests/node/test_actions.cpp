@@ -50,27 +50,6 @@ core::OccupancyGrid office() {
   return g;
 }
 
-// Every point of every segment, sampled 1/64 cell apart, lies in a free cell of `g`.
-bool path_free(const core::OccupancyGrid& g, const node::PathMsg& path) {
-  const auto& poses = path.poses();
-  auto free_at = [&](double x, double y) {
-    const int cx = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
-    const int cy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
-    return cx >= 0 && cy >= 0 && cx < g.width && cy < g.height && g.at(cx, cy) < 65;
-  };
-  for (size_t i = 0; i + 1 < poses.size(); ++i) {
-    const auto& a = poses[i].pose().position();
-    const auto& b = poses[i + 1].pose().position();
-    const double len = std::hypot(b.x() - a.x(), b.y() - a.y()) / g.resolution;
-    const int n = std::max(2, static_cast<int>(std::ceil(len * 64)) + 1);
-    for (int k = 0; k < n; ++k) {
-      const double t = static_cast<double>(k) / (n - 1);
-      if (!free_at(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()))) return false;
-    }
-  }
-  return !poses.empty();
-}
-
 node::PoseStampedMsg pose(double x, double y, const std::string& frame = "map") {
   return node::to_pose_msg(x, y, 0.0, frame, node::now_msg());
 }

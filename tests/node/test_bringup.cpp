@@ -28,16 +28,6 @@ using node::WireMapping;
 const std::string kLifecycleTool = VNSBA_LIFECYCLE_BINARY;
 #endif
 
-// An open 30 x 20 map of 0.1 m cells.
-core::OccupancyGrid bringup_room() {
-  core::OccupancyGrid g;
-  g.width = 30;
-  g.height = 20;
-  g.resolution = 0.1;
-  g.data.assign(static_cast<size_t>(g.width * g.height), core::kOccupancyFree);
-  return g;
-}
-
 // The node as a process named planner_server, managed, in a namespace of this test's own, and
 // the manager's side on a participant of the test.
 struct Bringup {
@@ -112,7 +102,7 @@ TEST_P(BringupMappings, LifecycleManagersCallsBondAndAGoal) {
   Bringup run(GetParam() == WireMapping::kRequestHeader ? "bring_c" : "bring_f", GetParam());
   ASSERT_TRUE(run.manager->wait_for_services(20s)) << run.node.output();
   EXPECT_EQ(run.manager->get_state(), LifecycleState::kUnconfigured);
-  run.bus.publish_slice(bringup_room());  // latched: the node reads it once configured
+  run.bus.publish_slice(free_room(30, 20, 0.1));  // latched: the node reads it once configured
 
   // startup(): configure, activate (the bond formed within bond_timeout / 2).
   ASSERT_EQ(run.manager->change_state(LifecycleTransition::kConfigure), ManagerStep::kDone)

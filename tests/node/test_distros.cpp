@@ -35,27 +35,6 @@ core::OccupancyGrid distro_map() {
   return g;
 }
 
-// Every point of every segment, 1/64 cell apart, in a free cell of `g`.
-bool distro_path_free(const core::OccupancyGrid& g, const node::PathMsg& path) {
-  const auto& poses = path.poses();
-  auto free_at = [&](double x, double y) {
-    const int cx = static_cast<int>(std::floor((x - g.origin_x) / g.resolution));
-    const int cy = static_cast<int>(std::floor((y - g.origin_y) / g.resolution));
-    return cx >= 0 && cy >= 0 && cx < g.width && cy < g.height && g.at(cx, cy) < 65;
-  };
-  for (size_t i = 0; i + 1 < poses.size(); ++i) {
-    const auto& a = poses[i].pose().position();
-    const auto& b = poses[i + 1].pose().position();
-    const double len = std::hypot(b.x() - a.x(), b.y() - a.y()) / g.resolution;
-    const int n = std::max(2, static_cast<int>(std::ceil(len * 64)) + 1);
-    for (int k = 0; k < n; ++k) {
-      const double t = static_cast<double>(k) / (n - 1);
-      if (!free_at(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()))) return false;
-    }
-  }
-  return !poses.empty();
-}
-
 node::PoseStampedMsg map_pose(double x, double y) {
   return node::to_pose_msg(x, y, 0.0, "map", node::now_msg());
 }
@@ -128,7 +107,7 @@ TEST_P(Distros, BothActionsPlanAndFailWithTheFieldsOfTheDistribution) {
   const auto ok = run.to_pose->plan(ActionClient::random_id(), spec, 15s);
   ASSERT_TRUE(ok.has_value()) << "no result";
   EXPECT_EQ(ok->status, GoalState::kSucceeded) << ok->error_msg;
-  EXPECT_TRUE(distro_path_free(grid, ok->path));
+  EXPECT_TRUE(path_free(grid, ok->path));
   ASSERT_GE(ok->path.poses().size(), 2u);
   EXPECT_NEAR(ok->path.poses().back().pose().position().x(), 2.75, 1e-9);
   EXPECT_NEAR(ok->path.poses().back().pose().position().y(), 1.45, 1e-9);
@@ -150,7 +129,7 @@ TEST_P(Distros, BothActionsPlanAndFailWithTheFieldsOfTheDistribution) {
   const auto legs = run.through->plan(ActionClient::random_id(), through, 15s);
   ASSERT_TRUE(legs.has_value());
   EXPECT_EQ(legs->status, GoalState::kSucceeded) << legs->error_msg;
-  EXPECT_TRUE(distro_path_free(grid, legs->path));
+  EXPECT_TRUE(path_free(grid, legs->path));
   size_t from = 0;
   for (const auto& goal : through.goals) {
     bool found = false;

@@ -27,16 +27,6 @@ namespace lmsg = lifecycle_msgs::msg::dds_;
 using node::ServiceClient;
 using node::WireMapping;
 
-// An open 30 x 20 map of 0.1 m cells.
-core::OccupancyGrid lifecycle_room() {
-  core::OccupancyGrid g;
-  g.width = 30;
-  g.height = 20;
-  g.resolution = 0.1;
-  g.data.assign(static_cast<size_t>(g.width * g.height), core::kOccupancyFree);
-  return g;
-}
-
 struct LifecycleRun {
   LifecycleRun(const std::string& tag, WireMapping mapping) : cfg(configure(tag, mapping)) {
     node = std::make_unique<node::ManagedNode>(cfg, [this] { return reread(); });
@@ -187,7 +177,7 @@ TEST_P(LifecycleBothMappings, WalkUnconfiguredActiveInactiveFinalized) {
   EXPECT_EQ(run.transitions(), (std::vector<int>{2, 3, 6}));
   ASSERT_NE(run.node->planner(), nullptr);
   ASSERT_TRUE(bus.wait_for_match(*run.node->planner()));
-  bus.publish_slice(lifecycle_room());
+  bus.publish_slice(free_room(30, 20, 0.1));
   ASSERT_TRUE(run.node->planner()->wait_for_map(20s));
   ASSERT_TRUE(run.action->wait_for_server(10s));
 
@@ -322,7 +312,7 @@ TEST(LifecycleNode, SelfActivatingReportsActiveAndPlans) {
   BusClient bus(cfg);
   ASSERT_NE(managed.planner(), nullptr);
   ASSERT_TRUE(bus.wait_for_match(*managed.planner()));
-  bus.publish_slice(lifecycle_room());
+  bus.publish_slice(free_room(30, 20, 0.1));
   ASSERT_TRUE(managed.planner()->wait_for_map(20s));
   auto planned = bus.wait_status_for(bus.publish_request("s1", 0.5, 0.5, 2.5, 1.5));
   ASSERT_TRUE(planned);

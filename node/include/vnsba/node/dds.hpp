@@ -147,6 +147,12 @@ class Participant {
       bool localhost_only = false, const SecurityConfig& security = {},
       const std::vector<std::string>& discovery_servers = {},
       const std::string& participant_profile = "");
+  // The participant of a process run from `config`: its domain, localhost_only, security (with
+  // `default_enclave` unless the config names an enclave), discovery servers and participant
+  // profile. `name`: the participant's name; `listener` as create's.
+  static core::Expected<std::unique_ptr<Participant>> create_configured(
+      const NodeConfig& config, const std::string& name, const std::string& default_enclave,
+      dds::DomainParticipantListener* listener = nullptr);
   ~Participant();
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
