@@ -1079,6 +1079,25 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   };
 
   same_int("", "domain_id", c.domain_id, d.domain_id);
+  same_text("", "node_name", c.node_name, d.node_name);
+  const char* const lifecycle_modes[] = {"self_activating", "managed"};
+  same_text("", "lifecycle", std::string(lifecycle_modes[static_cast<int>(c.lifecycle)]),
+            std::string(lifecycle_modes[static_cast<int>(d.lifecycle)]));
+  const char* const bond_modes[] = {"managed", "always", "off"};
+  same_text("bond", "mode", std::string(bond_modes[static_cast<int>(c.bond.mode)]),
+            std::string(bond_modes[static_cast<int>(d.bond.mode)]));
+  {
+    const auto v = find("bond", "heartbeat_period");
+    if (scalar(v, "bond.heartbeat_period")) {
+      if (c.bond.heartbeat_period.count() != std::llround(v->as<double>() * 1000.0))
+        p->push_back("bond.heartbeat_period: field differs from the file's value");
+    } else if (c.bond.heartbeat_period != d.bond.heartbeat_period) {
+      p->push_back("bond.heartbeat_period: absent but not the default");
+    }
+  }
+  same_text("ros", "distro", std::string(node::distro_name(c.ros_distro)),
+            std::string(node::distro_name(d.ros_distro)));
+  same_text("topics", "is_path_valid", c.topics.is_path_valid, d.topics.is_path_valid);
   same_bool("", "ros2_naming", c.ros2_naming, d.ros2_naming);
   same_text("", "frame_id", c.frame_id, d.frame_id);
   {
@@ -1305,19 +1324,20 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
       c.workers <= node::kMaxWorkers && !c.frame_id.empty() && !c.base_frame.empty() &&
       node::without_leading_slash(c.base_frame) != node::without_leading_slash(c.frame_id) &&
       c.transform_tolerance_s >= 0 && c.transform_tolerance_s <= 60 && c.reply_wait.count() >= 0 &&
-      c.reply_wait.count() <= 10000 && c.actions.result_timeout.count() >= 0 &&
-      c.actions.result_timeout.count() <= 86400000 && c.actions.max_results >= 1 &&
-      c.actions.max_results <= 100000 && c.actions.kept_results_mb >= 1 &&
-      c.actions.kept_results_mb <= 65536 && c.actions.max_result_poses >= 1 &&
-      c.actions.max_result_poses <= 10000000 && c.actions.max_goal_poses >= 1 &&
-      c.actions.max_goal_poses <= 100000 && c.actions.replies_in_flight_mb >= 1 &&
-      c.actions.replies_in_flight_mb <= 4096 && c.actions.reply_ack_timeout.count() >= 50 &&
-      c.actions.reply_ack_timeout.count() <= 60000 && c.actions.max_pending_replies >= 1 &&
-      c.actions.max_pending_replies <= 100000 && c.actions.status_finished_goals >= 0 &&
-      c.actions.status_finished_goals <= 100000 && std::isfinite(c.slicer.z_min) &&
-      std::isfinite(c.slicer.z_max) && c.slicer.z_min <= c.slicer.z_max &&
-      std::isfinite(c.slicer.resolution) && c.slicer.resolution >= 0 &&
-      std::isfinite(c.map.inflation_radius) &&
+      c.bond.heartbeat_period.count() >= 10 && c.bond.heartbeat_period.count() <= 60000 &&
+      !c.node_name.empty() && c.reply_wait.count() <= 10000 &&
+      c.actions.result_timeout.count() >= 0 && c.actions.result_timeout.count() <= 86400000 &&
+      c.actions.max_results >= 1 && c.actions.max_results <= 100000 &&
+      c.actions.kept_results_mb >= 1 && c.actions.kept_results_mb <= 65536 &&
+      c.actions.max_result_poses >= 1 && c.actions.max_result_poses <= 10000000 &&
+      c.actions.max_goal_poses >= 1 && c.actions.max_goal_poses <= 100000 &&
+      c.actions.replies_in_flight_mb >= 1 && c.actions.replies_in_flight_mb <= 4096 &&
+      c.actions.reply_ack_timeout.count() >= 50 && c.actions.reply_ack_timeout.count() <= 60000 &&
+      c.actions.max_pending_replies >= 1 && c.actions.max_pending_replies <= 100000 &&
+      c.actions.status_finished_goals >= 0 && c.actions.status_finished_goals <= 100000 &&
+      std::isfinite(c.slicer.z_min) && std::isfinite(c.slicer.z_max) &&
+      c.slicer.z_min <= c.slicer.z_max && std::isfinite(c.slicer.resolution) &&
+      c.slicer.resolution >= 0 && std::isfinite(c.map.inflation_radius) &&
       (c.map.inflation_radius == 0 || c.map.inflation_radius >= c.map.robot_radius) &&
       std::isfinite(c.map.cost_scaling_factor) && c.map.cost_scaling_factor >= 0 &&
       core::kCostWeightRange.contains(s.cost_weight.value_or(0)) &&
@@ -1329,9 +1349,9 @@ void check_config_against_yaml(const node::NodeConfig& c, const YAML::Node& root
   if (!in_range) p->push_back("an accepted value is outside its documented range");
 
   // Every key of the file is known, given once, and has a value.
-  const std::set<std::string> sections = {"topics",   "map",       "planner", "requests",
-                                          "actions",  "debug",     "slicer",  "network",
-                                          "security", "discovery", "dds"};
+  const std::set<std::string> sections = {"topics",    "map",    "planner", "requests", "actions",
+                                          "debug",     "slicer", "network", "bond",     "security",
+                                          "discovery", "dds",    "ros"};
   auto walk = [&](const YAML::Node& map, const std::string& prefix) {
     std::set<std::string> seen;
     for (const auto& kv : map) {
