@@ -11,6 +11,7 @@
 #include <random>
 #include <thread>
 
+#include "action_run.hpp"
 #include "bus_client.hpp"
 #include "log_capture.hpp"
 #include "nav2_msgs/action/ComputePathToPosePubSubTypes.h"
@@ -63,57 +64,6 @@ ActionGoalSpec to_pose(double sx, double sy, double gx, double gy,
   spec.use_start = true;
   return spec;
 }
-
-struct ActionRun {
-  ActionRun(const std::string& tag, WireMapping mapping, node::NodeConfig cfg_in = {})
-      : cfg(configure(tag, mapping, std::move(cfg_in))), node(cfg), client(cfg) {
-    participant = node::Participant::create(cfg.domain_id, "vnsba_action_client").value();
-    to_pose = ActionClient::create(*participant,
-                                   node::ros_topic_name(cfg, cfg.topics.compute_path_to_pose),
-                                   ActionKind::kComputePathToPose, mapping)
-                  .value();
-    through = ActionClient::create(*participant,
-                                   node::ros_topic_name(cfg, cfg.topics.compute_path_through_poses),
-                                   ActionKind::kComputePathThroughPoses, mapping)
-                  .value();
-  }
-  ~ActionRun() {
-    node.stop();
-    to_pose.reset();
-    through.reset();
-    participant->shutdown();
-  }
-  static node::NodeConfig configure(const std::string& tag, WireMapping mapping,
-                                    node::NodeConfig base) {
-    node::NodeConfig cfg = test_config(tag);
-    cfg.planner = base.planner;
-    if (!cfg.planner.settings.max_planning_time)
-      cfg.planner.settings.max_planning_time = std::chrono::seconds(10);
-    cfg.map = base.map;
-    cfg.preempt = base.preempt;
-    cfg.queue_capacity = base.queue_capacity;
-    cfg.actions = base.actions;
-    // A Fast DDS client is announced as eProsima's: the node would answer it in rmw_fastrtps's
-    // mapping. Told so, it answers every client in rmw_cyclonedds's.
-    cfg.actions.reply_mapping = mapping == WireMapping::kRequestHeader
-                                    ? node::ReplyMapping::kCycloneDds
-                                    : node::ReplyMapping::kAuto;
-    return cfg;
-  }
-  bool start(const core::OccupancyGrid& grid) {
-    const core::Status s = node.start();
-    EXPECT_TRUE(s.is_ok()) << s.message;
-    if (!s.is_ok() || !client.wait_for_match(node)) return false;
-    client.publish_slice(grid);
-    return node.wait_for_map(20s) && to_pose->wait_for_server(10s) && through->wait_for_server(10s);
-  }
-  node::NodeConfig cfg = paper_test_config();
-  node::PlannerNode node;
-  BusClient client;
-  std::unique_ptr<node::Participant> participant;
-  std::unique_ptr<ActionClient> to_pose;
-  std::unique_ptr<ActionClient> through;
-};
 
 class BothMappings : public ::testing::TestWithParam<WireMapping> {};
 

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "action_run.hpp"
 #include "bus_client.hpp"
 #include "vnsba/node/action_client.hpp"
 #include "vnsba/node/planner_node.hpp"
@@ -44,48 +45,6 @@ struct DistroParam {
   WireMapping mapping;
 };
 
-struct DistroRun {
-  DistroRun(const std::string& tag, DistroParam param)
-      : cfg(configure(tag, param)), node(cfg), client(cfg) {
-    participant = node::Participant::create(cfg.domain_id, "vnsba_distro_client").value();
-    to_pose = ActionClient::create(*participant,
-                                   node::ros_topic_name(cfg, cfg.topics.compute_path_to_pose),
-                                   ActionKind::kComputePathToPose, param.mapping, param.distro)
-                  .value();
-    through = ActionClient::create(
-                  *participant, node::ros_topic_name(cfg, cfg.topics.compute_path_through_poses),
-                  ActionKind::kComputePathThroughPoses, param.mapping, param.distro)
-                  .value();
-  }
-  ~DistroRun() {
-    node.stop();
-    to_pose.reset();
-    through.reset();
-    participant->shutdown();
-  }
-  static node::NodeConfig configure(const std::string& tag, DistroParam param) {
-    node::NodeConfig cfg = test_config(tag);
-    cfg.ros_distro = param.distro;
-    cfg.actions.reply_mapping = param.mapping == WireMapping::kRequestHeader
-                                    ? node::ReplyMapping::kCycloneDds
-                                    : node::ReplyMapping::kAuto;
-    return cfg;
-  }
-  bool start(const core::OccupancyGrid& grid) {
-    const core::Status s = node.start();
-    EXPECT_TRUE(s.is_ok()) << s.message;
-    if (!s.is_ok() || !client.wait_for_match(node)) return false;
-    client.publish_slice(grid);
-    return node.wait_for_map(20s) && to_pose->wait_for_server(10s) && through->wait_for_server(10s);
-  }
-  node::NodeConfig cfg = paper_test_config();
-  node::PlannerNode node;
-  BusClient client;
-  std::unique_ptr<node::Participant> participant;
-  std::unique_ptr<ActionClient> to_pose;
-  std::unique_ptr<ActionClient> through;
-};
-
 class Distros : public ::testing::TestWithParam<DistroParam> {};
 
 std::string distro_param_name(const ::testing::TestParamInfo<DistroParam>& info) {
@@ -95,7 +54,9 @@ std::string distro_param_name(const ::testing::TestParamInfo<DistroParam>& info)
 
 TEST_P(Distros, BothActionsPlanAndFailWithTheFieldsOfTheDistribution) {
   const DistroParam param = GetParam();
-  DistroRun run(std::string("distro_") + node::distro_name(param.distro), param);
+  node::NodeConfig base = paper_test_config();
+  base.ros_distro = param.distro;
+  ActionRun run(std::string("distro_") + node::distro_name(param.distro), param.mapping, base);
   const core::OccupancyGrid grid = distro_map();
   ASSERT_TRUE(run.start(grid));
   const bool has_error_code = param.distro != RosDistro::kHumble;
