@@ -39,26 +39,13 @@ namespace {
 // i / 8 of the line only when words are stored little-endian.
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "bit grids are read as bytes");
 
-constexpr uint64_t kAllBits = ~uint64_t{0};
 // Longest span (cells) that one unaligned 8-byte load covers from any starting cell: 64 bits
 // minus up to 7 bits before the span's first cell in its byte.
 constexpr int32_t kShortSpanCells = 57;
 
-// Whether any of cells lo..hi (inclusive, 0 <= lo <= hi < line length) of a bit line is blocked.
-inline bool span_blocked(const uint64_t* line, int32_t lo, int32_t hi) {
-  const int32_t first = lo >> 6, last = hi >> 6;           // word indices
-  const uint64_t from_lo = kAllBits << (lo & 63);          // bits lo % 64 .. 63
-  const uint64_t up_to_hi = kAllBits >> (63 - (hi & 63));  // bits 0 .. hi % 64
-  if (first == last) return (line[first] & from_lo & up_to_hi) != 0;
-  if ((line[first] & from_lo) != 0) return true;
-  for (int32_t w = first + 1; w < last; ++w)
-    if (line[w] != 0) return true;
-  return (line[last] & up_to_hi) != 0;
-}
-
-// The same for a span of at most kShortSpanCells cells, without a branch on the cells: one
-// unaligned load of the 8 bytes from lo's byte on (past the end of a line they run into the next
-// line or the grid's spare word, and bits past hi are shifted out).
+// BlockedBits::span_blocked for a span of at most kShortSpanCells cells, without a branch on the
+// cells: one unaligned load of the 8 bytes from lo's byte on (past the end of a line they run into
+// the next line or the grid's spare word, and bits past hi are shifted out).
 inline bool short_span_blocked(const unsigned char* line, int32_t lo, int32_t hi) {
   uint64_t window;
   std::memcpy(&window, line + (lo >> 3), sizeof window);
@@ -233,7 +220,7 @@ struct SpanFree {
     if constexpr (kShortSpans) {
       return !short_span_blocked(line, lo, hi);
     } else {
-      return !span_blocked(reinterpret_cast<const uint64_t*>(line), lo, hi);
+      return !BlockedBits::span_blocked(reinterpret_cast<const uint64_t*>(line), lo, hi);
     }
   }
 };
@@ -356,7 +343,8 @@ std::optional<double> max_cost_along(const GridMap& map, const Point2& a, const 
   const bool clear = walk_lines(
       walk->first, walk->second, policy,
       [&](const unsigned char* line, int32_t v, int32_t lo, int32_t hi) {
-        if (span_blocked(reinterpret_cast<const uint64_t*>(line), lo, hi)) return false;
+        if (BlockedBits::span_blocked(reinterpret_cast<const uint64_t*>(line), lo, hi))
+          return false;
         if (costs != nullptr)
           for (int32_t u = lo; u <= hi; ++u)
             highest =

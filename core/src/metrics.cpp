@@ -11,6 +11,37 @@
 
 namespace vnsba::core {
 
+namespace {
+
+// The index of a leg that is one of the 8 moves of a grid path or zero, 0..8 (x and y each -1, 0
+// or 1); -1 for any other leg.
+int unit_leg_index(const Point2& leg) {
+  const auto unit = [](double v) { return v == -1.0 || v == 0.0 || v == 1.0; };
+  if (!unit(leg.x()) || !unit(leg.y())) return -1;
+  return static_cast<int>(leg.x() + 1.0) * 3 + static_cast<int>(leg.y() + 1.0);
+}
+
+// |heading_change_between(in, out)| for every pair of unit legs (the turns of a grid path), by
+// the same function: the same numbers without an atan2 a turn.
+struct UnitTurnTable {
+  double change[9][9];
+  UnitTurnTable() {
+    for (int in = 0; in < 9; ++in)
+      for (int out = 0; out < 9; ++out)
+        change[in][out] = std::abs(heading_change_between(Point2(in / 3 - 1, in % 3 - 1),
+                                                          Point2(out / 3 - 1, out % 3 - 1)));
+  }
+};
+
+double absolute_heading_change(const Point2& in, const Point2& out) {
+  static const UnitTurnTable unit_turns;
+  const int from = unit_leg_index(in), to = unit_leg_index(out);
+  if (from >= 0 && to >= 0) return unit_turns.change[from][to];
+  return std::abs(heading_change_between(in, out));
+}
+
+}  // namespace
+
 TurnStats turn_stats(const std::vector<Point2>& polyline) {
   TurnStats stats;
   if (polyline.size() < 3) return stats;
@@ -20,7 +51,7 @@ TurnStats turn_stats(const std::vector<Point2>& polyline) {
     // Straight on along equal legs (most vertices of a grid path): heading_change_between gives
     // 0 (or NaN where the legs' products overflow), no turn either way.
     if (out.x() == in.x() && out.y() == in.y()) continue;
-    const double change = std::abs(heading_change_between(in, out));
+    const double change = absolute_heading_change(in, out);
     in = out;
     if (change > kTurnEpsilonRad) {
       ++stats.turns;
@@ -346,11 +377,18 @@ class ClearanceScan {
         static_cast<int32_t>(std::clamp(std::ceil(low_v - 0.5), 0.0, f.line_count - 1.0));
     const int32_t v1 =
         static_cast<int32_t>(std::clamp(std::floor(high_v - 0.5), -1.0, f.line_count - 1.0));
-    for (int32_t v = v0; v <= v1; ++v) measure_line(f, v);
+    // Most of a band in open space holds no blocked cell: a block of lines whose cells in reach
+    // are all free is passed over with a word or two a line, without the line's arithmetic.
+    for (int32_t first = v0; first <= v1; first += kBlockLines) {
+      const int32_t last = std::min(v1, first + kBlockLines - 1);
+      if (block_is_free(f, first, last)) continue;
+      for (int32_t v = first; v <= last; ++v) measure_line(f, v);
+    }
   }
 
  private:
   static constexpr double kHalfDiagonal = kSqrt2 / 2;
+  static constexpr int32_t kBlockLines = 8;
 
   double reach() const { return std::min(best_, bound_) + kHalfDiagonal + 1e-9; }  // cells
 
@@ -361,6 +399,9 @@ class ClearanceScan {
     return every_blocked_is_obstacle_ || map_.is_obstacle(map_.layer(cell_at(f, v, u)));
   }
 
+  std::optional<std::pair<double, double>> line_span(const ClearanceScanFrame& f, int32_t v,
+                                                     double r) const;
+  bool block_is_free(const ClearanceScanFrame& f, int32_t first, int32_t last) const;
   void measure_line(const ClearanceScanFrame& f, int32_t v);
   void consider(const ClearanceScanFrame& f, int32_t v, int32_t u);
 
@@ -370,9 +411,12 @@ class ClearanceScan {
   double best_ = std::numeric_limits<double>::infinity();
 };
 
-// Line v of the band: the cells within reach of the part of the segment in reach of the line.
-void ClearanceScan::measure_line(const ClearanceScanFrame& f, int32_t v) {
-  const double r = reach();
+// The cells of line v (as u, unclipped to the map: [first, last]) whose centres lie within r of
+// the part of the segment within r of the line's centres across the lines; nullopt when no part
+// is. As v moves one way both ends move one way (that part of a straight segment slides along
+// it), and the cells only grow with r.
+std::optional<std::pair<double, double>> ClearanceScan::line_span(const ClearanceScanFrame& f,
+                                                                  int32_t v, double r) const {
   const double centre_v = v + 0.5;
   // The part of the segment within r of this line's centres across the lines, as t.
   double t0 = 0.0, t1 = 1.0;
@@ -382,25 +426,43 @@ void ClearanceScan::measure_line(const ClearanceScanFrame& f, int32_t v) {
     if (t0 > t1) std::swap(t0, t1);
     t0 = std::max(t0, 0.0);
     t1 = std::min(t1, 1.0);
-    if (t0 > t1) return;
+    if (t0 > t1) return std::nullopt;
   } else if (std::abs(f.a_v - centre_v) > r) {
-    return;
+    return std::nullopt;
   }
   const double ua = f.a_u + t0 * f.ab_u, ub = f.a_u + t1 * f.ab_u;
-  const double first = std::ceil(std::min(ua, ub) - r - 0.5);
-  const double last = std::floor(std::max(ua, ub) + r - 0.5);
+  return std::pair{std::ceil(std::min(ua, ub) - r - 0.5), std::floor(std::max(ua, ub) + r - 0.5)};
+}
+
+// Whether no cell that measure_line could look at on lines first..last is blocked: every line's
+// cells lie within the first and the last line's together (line_span moves one way; the reach
+// only shrinks as distances are measured). Unsure (false) where either end line has none.
+bool ClearanceScan::block_is_free(const ClearanceScanFrame& f, int32_t first, int32_t last) const {
+  const double r = reach();
+  const auto first_span = line_span(f, first, r);
+  const auto last_span = line_span(f, last, r);
+  if (!first_span || !last_span) return false;
+  const double low = std::max(std::min(first_span->first, last_span->first), 0.0);
+  const double high = std::min(std::max(first_span->second, last_span->second), f.last_u);
+  if (low > high) return true;  // beside the map
+  const int32_t u0 = static_cast<int32_t>(low), u1 = static_cast<int32_t>(high);
+  for (int32_t v = first; v <= last; ++v)
+    if (BlockedBits::span_blocked(f.bit_lines.line(v), u0, u1)) return false;
+  return true;
+}
+
+// Line v of the band: the cells within reach of the part of the segment in reach of the line.
+void ClearanceScan::measure_line(const ClearanceScanFrame& f, int32_t v) {
+  const auto span = line_span(f, v, reach());
+  if (!span) return;
+  const auto [first, last] = *span;
   if (last < 0.0 || first > f.last_u) return;
   const int32_t u0 = static_cast<int32_t>(std::max(first, 0.0));
   const int32_t u1 = static_cast<int32_t>(std::min(last, f.last_u));
   // Most lines of a path's band hold no blocked cell at all: one or two words say so.
   const uint64_t* line = f.bit_lines.line(v);
-  uint64_t any = 0;
-  for (int32_t word = u0 >> 6; word <= u1 >> 6 && any == 0; ++word) {
-    const int32_t from = std::max(u0, word << 6) & 63;
-    const int32_t to = std::min(u1, (word << 6) + 63) & 63;
-    any = line[word] & (~uint64_t{0} << from) & (~uint64_t{0} >> (63 - to));
-  }
-  if (any == 0) return;
+  if (!BlockedBits::span_blocked(line, u0, u1)) return;
+  const double centre_v = v + 0.5;
   // Along a line the distance from the segment to square u is convex in u (the distance
   // between two convex sets as one slides), least at u_near: the square the segment meets
   // on the line's centre, or, where it stays on one side of it, the square nearest its end
@@ -474,8 +536,10 @@ class ClearanceBesideObstacle {
   }
 
  private:
+  // From the bit rows, which the search has just read (the byte layers only where inflation or
+  // blocked unknown cells may share the blocked bits).
   bool is_obstacle_cell(int32_t x, int32_t y) const {
-    return map_.in_bounds(x, y) && map_.blocked(x, y) &&
+    return map_.in_bounds(x, y) && rows_.blocked(y, x) &&
            (every_blocked_is_obstacle_ || map_.is_obstacle(map_.layer({x, y})));
   }
 
@@ -513,6 +577,7 @@ class ClearanceBesideObstacle {
   }
 
   const GridMap& map_;
+  BlockedBits rows_ = map_.blocked_rows();
   bool every_blocked_is_obstacle_;
   double touching_ = std::numeric_limits<double>::infinity();  // cells: the least measured
 };
@@ -566,44 +631,66 @@ double farthest_map_point(const GridMap& map, const std::vector<Point2>& vertice
   return farthest;
 }
 
+// Whether the run of `steps` unit moves (dx, dy) from `from` (both ends in the map) is one of
+// CornerPolicy::kNever's: every cell free, and both cells beside each diagonal move's corner free.
+// From the bit lines the search has just read: an axis run is one span of a row or a column.
+bool free_run_without_corner_cuts(const GridMap& map, const Cell& from, int32_t dx, int32_t dy,
+                                  int32_t steps) {
+  const Cell to{from.x + dx * steps, from.y + dy * steps};
+  if (dy == 0)
+    return !BlockedBits::span_blocked(map.blocked_rows().line(from.y), std::min(from.x, to.x),
+                                      std::max(from.x, to.x));
+  if (dx == 0)
+    return !BlockedBits::span_blocked(map.blocked_columns().line(from.x), std::min(from.y, to.y),
+                                      std::max(from.y, to.y));
+  const BlockedBits rows = map.blocked_rows();
+  if (rows.blocked(from.y, from.x)) return false;
+  for (Cell c = from; c != to; c = {c.x + dx, c.y + dy}) {
+    // The move c -> c + (dx, dy): its end, and the two cells beside its corner.
+    if (rows.blocked(c.y + dy, c.x + dx) ||
+        !detail::corner_passable(rows.blocked(c.y, c.x + dx), rows.blocked(c.y + dy, c.x),
+                                 CornerPolicy::kNever))
+      return false;
+  }
+  return true;
+}
+
 // clearance_beside_obstacle of the cells' centres, on a path of moves that cut no corner (each
 // step to one of the 8 neighbours, free and in the map, a diagonal one with both cells beside its
 // corner free: CornerPolicy::kNever's moves, whose runs have that line of sight, checked here a
-// byte a cell instead of a walk a run); nullopt for any other path. Its runs are
-// merge_collinear_runs': a unit step continues the run when it is the run's step.
+// run at a time on the bit lines instead of a line-of-sight walk a run); nullopt for any other
+// path. Its runs are merge_collinear_runs': a unit step continues the run when it is the run's
+// step.
 std::optional<double> grid_path_clearance_beside_obstacle(const GridMap& map,
                                                           const std::vector<Cell>& cells) {
-  if (cells.size() < 2 || !map.in_bounds(cells.front())) return std::nullopt;
-  // The cells' blocked bytes on the padded layout: a walk of unit steps onto free cells from a
-  // cell in the map stays in the map (the layout's border is blocked), so no bounds checks.
-  const uint8_t* blocked = map.blocked_data();
-  const int64_t stride = map.stride();
-  int64_t at = map.padded_index(cells.front());
-  if (blocked[at] != 0) return std::nullopt;
+  if (cells.size() < 2) return std::nullopt;
   ClearanceBesideObstacle beside(map);
-  Cell run_from = cells.front();
-  int32_t run_dx = 0, run_dy = 0;  // the run's step, (0, 0) before the first
-  int64_t run_step = 0;            // the run's step on the padded layout
+  size_t run_start = 0;  // the index of the run's first cell
+  // The run's step; before the first, none a step can equal, so that the first step is checked.
+  int32_t run_dx = 2, run_dy = 2;
+  // Each run is checked and fed when the next begins, the last one after the loop.
+  const auto end_run = [&](size_t last) {
+    const Cell& from = cells[run_start];
+    const Cell& to = cells[last];
+    if (!map.in_bounds(from) || !map.in_bounds(to) ||
+        !free_run_without_corner_cuts(map, from, run_dx, run_dy,
+                                      static_cast<int32_t>(last - run_start)))
+      return false;
+    beside.add_run_with_line_of_sight(from, to);
+    return true;
+  };
   for (size_t i = 1; i < cells.size(); ++i) {
     const int32_t dx = cells[i].x - cells[i - 1].x, dy = cells[i].y - cells[i - 1].y;
-    if (dx != run_dx || dy != run_dy) {  // a new run (checked once, not a step at a time)
-      if (dx < -1 || dx > 1 || dy < -1 || dy > 1 || (dx == 0 && dy == 0)) return std::nullopt;
-      if (i > 1) {
-        beside.add_run_with_line_of_sight(run_from, cells[i - 1]);
-        run_from = cells[i - 1];
-      }
-      run_dx = dx;
-      run_dy = dy;
-      run_step = dy * stride + dx;
+    if (dx == run_dx && dy == run_dy) continue;
+    if (dx < -1 || dx > 1 || dy < -1 || dy > 1 || (dx == 0 && dy == 0)) return std::nullopt;
+    if (i > 1) {
+      if (!end_run(i - 1)) return std::nullopt;
+      run_start = i - 1;
     }
-    if (dx != 0 && dy != 0 &&
-        !detail::corner_passable(blocked[at + dx] != 0, blocked[at + dy * stride] != 0,
-                                 CornerPolicy::kNever))
-      return std::nullopt;
-    at += run_step;
-    if (blocked[at] != 0) return std::nullopt;
+    run_dx = dx;
+    run_dy = dy;
   }
-  beside.add_run_with_line_of_sight(run_from, cells.back());
+  if (!end_run(cells.size() - 1)) return std::nullopt;
   return beside.clearance();
 }
 

@@ -1852,6 +1852,47 @@ int count_turns(const std::vector<Point2>& polyline) {
   return turns;
 }
 
+// turn_stats against atan2 at every vertex between two legs of some length: on grid walks (unit
+// legs, straight runs, repeated points; the turns it takes from a table) exactly, and on
+// polylines with legs of any length.
+TEST(TurnStats, EqualsTheAtan2OfEveryVertex) {
+  std::mt19937 rng(2024);
+  int unit_turns = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const bool grid_walk = trial % 2 == 0;
+    std::vector<Point2> polyline = {Point2(0.5, 0.5)};
+    std::uniform_real_distribution<double> leg(-3.0, 3.0);
+    for (int run = 0; run < 1 + static_cast<int>(rng() % 8); ++run) {
+      const Point2 step =
+          grid_walk ? Point2(static_cast<int>(rng() % 3) - 1.0, static_cast<int>(rng() % 3) - 1.0)
+                    : Point2(leg(rng), leg(rng));
+      for (int k = 0; k < 1 + static_cast<int>(rng() % 4); ++k)
+        polyline.push_back(polyline.back() + step);
+    }
+    int turns = 0;
+    double total_deg = 0.0;
+    for (size_t i = 1; i + 1 < polyline.size(); ++i) {
+      const Point2 a = polyline[i] - polyline[i - 1], b = polyline[i + 1] - polyline[i];
+      // A repeated point (a zero leg) turns nowhere (atan2 would read -0 as a reversal).
+      if (a.squaredNorm() == 0.0 || b.squaredNorm() == 0.0) continue;
+      const double change = std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)));
+      if (change > core::kTurnEpsilonRad) {
+        ++turns;
+        total_deg += change * 180.0 / M_PI;
+      }
+    }
+    const core::TurnStats stats = core::turn_stats(polyline);
+    ASSERT_EQ(stats.turns, turns) << "trial " << trial;
+    if (grid_walk) {
+      ASSERT_EQ(stats.total_angle_deg, total_deg) << "trial " << trial;
+      unit_turns += turns;
+    } else {
+      ASSERT_NEAR(stats.total_angle_deg, total_deg, 1e-9 * std::max(1.0, total_deg));
+    }
+  }
+  EXPECT_GT(unit_turns, 300);
+}
+
 // Every planner, corner policy, cost weight and post-processing, from and to random points inside
 // random free cells: the final path's first and last points are the requested points (to 1e-12,
 // in cells and in metres), every segment passes the sampled line-of-sight oracle, the path costs

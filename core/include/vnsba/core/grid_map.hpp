@@ -96,6 +96,19 @@ struct BlockedBits {
   bool blocked(int32_t line_index, int32_t cell) const {
     return (line(line_index)[cell >> 6] >> (cell & 63)) & 1;
   }
+  // Whether any of cells lo..hi (inclusive, 0 <= lo <= hi < line length) of a bit line is
+  // blocked: a word or two of masks for the spans a walk or a scan reads.
+  static bool span_blocked(const uint64_t* line, int32_t lo, int32_t hi) {
+    constexpr uint64_t kAllBits = ~uint64_t{0};
+    const int32_t first = lo >> 6, last = hi >> 6;           // word indices
+    const uint64_t from_lo = kAllBits << (lo & 63);          // bits lo % 64 .. 63
+    const uint64_t up_to_hi = kAllBits >> (63 - (hi & 63));  // bits 0 .. hi % 64
+    if (first == last) return (line[first] & from_lo & up_to_hi) != 0;
+    if ((line[first] & from_lo) != 0) return true;
+    for (int32_t w = first + 1; w < last; ++w)
+      if (line[w] != 0) return true;
+    return (line[last] & up_to_hi) != 0;
+  }
 };
 
 // Why a cell is blocked or not: the one classification of cells (docs/algorithm.md, sections 1
