@@ -202,9 +202,11 @@ bool segment_clearance_at_least(const GridMap& map, const Point2& a, const Point
 
 namespace {
 
-// Without inflation, and with unknown cells free or obstacles, every blocked bit is an obstacle.
-bool every_blocked_cell_is_an_obstacle(const GridBuildOptions& built) {
-  return built.robot_radius <= 0.0 && (built.allow_unknown || built.inflate_unknown);
+// Without inflation, and without blocked unknown cells that are not obstacles (none in the map, or
+// unknown cells free or inflated), every blocked bit is an obstacle: the bit lines tell obstacles
+// without the byte layers.
+bool every_blocked_cell_is_an_obstacle(const GridMap& map) {
+  return map.build_options().robot_radius <= 0.0 && !map.has_blocked_non_obstacles();
 }
 
 // The highest u in [from, to] of a bit line whose bit is set and is_obstacle(u) holds; -1 when
@@ -246,7 +248,7 @@ int32_t first_obstacle_in(const uint64_t* line, int32_t from, int32_t to,
 double nearest_obstacle_distance(const GridMap& map, const Cell& c, double within) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   if (!map.has_obstacles() || !map.in_bounds(c)) return kInfinity;
-  const bool every_blocked_is_obstacle = every_blocked_cell_is_an_obstacle(map.build_options());
+  const bool every_blocked_is_obstacle = every_blocked_cell_is_an_obstacle(map);
   const BlockedBits rows = map.blocked_rows();
   const int64_t w = map.width(), h = map.height();
   int64_t best = std::numeric_limits<int64_t>::max();  // cells^2
@@ -363,7 +365,7 @@ class ClearanceScan {
   ClearanceScan(const GridMap& map, double bound)
       : map_(map),
         bound_(bound),
-        every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map.build_options())) {}
+        every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map)) {}
 
   double best() const { return best_; }  // cells; +inf until something was measured
 
@@ -514,8 +516,7 @@ constexpr double kFirstScanReachCells = 1.5;
 class ClearanceBesideObstacle {
  public:
   explicit ClearanceBesideObstacle(const GridMap& map)
-      : map_(map),
-        every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map.build_options())) {}
+      : map_(map), every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map)) {}
 
   // The run of cell centres from `from` to `to` (in the map, along an axis or a diagonal, or one
   // cell); false, and no answer, when it has no line of sight without cutting a corner.
