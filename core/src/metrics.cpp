@@ -209,6 +209,21 @@ bool every_blocked_cell_is_an_obstacle(const GridMap& map) {
   return map.build_options().robot_radius <= 0.0 && !map.has_blocked_non_obstacles();
 }
 
+// Whether a blocked cell (a set bit) is an obstacle (GridMap::is_obstacle): the bit alone says so
+// where every blocked cell is one, the byte layer otherwise.
+class BlockedCellIsObstacle {
+ public:
+  explicit BlockedCellIsObstacle(const GridMap& map)
+      : map_(map), every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map)) {}
+  bool operator()(const Cell& c) const {
+    return every_blocked_is_obstacle_ || map_.is_obstacle(map_.layer(c));
+  }
+
+ private:
+  const GridMap& map_;
+  bool every_blocked_is_obstacle_;
+};
+
 // The highest u in [from, to] of a bit line whose bit is set and is_obstacle(u) holds; -1 when
 // none. A word at a time: the set bits are the blocked cells, is_obstacle tells them apart.
 template <class IsObstacle>
@@ -248,7 +263,7 @@ int32_t first_obstacle_in(const uint64_t* line, int32_t from, int32_t to,
 double nearest_obstacle_distance(const GridMap& map, const Cell& c, double within) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   if (!map.has_obstacles() || !map.in_bounds(c)) return kInfinity;
-  const bool every_blocked_is_obstacle = every_blocked_cell_is_an_obstacle(map);
+  const BlockedCellIsObstacle obstacle(map);
   const BlockedBits rows = map.blocked_rows();
   const int64_t w = map.width(), h = map.height();
   int64_t best = std::numeric_limits<int64_t>::max();  // cells^2
@@ -263,9 +278,7 @@ double nearest_obstacle_distance(const GridMap& map, const Cell& c, double withi
     for (int32_t y = y0; y <= y1; ++y) {
       const int64_t dy = y - c.y;
       if (dy * dy >= best) continue;
-      const auto is_obstacle = [&](int32_t x) {
-        return every_blocked_is_obstacle || map.is_obstacle(map.layer({x, y}));
-      };
+      const auto is_obstacle = [&](int32_t x) { return obstacle({x, y}); };
       const uint64_t* line = rows.line(y);
       if (const int32_t x = last_obstacle_in(line, x0, c.x, is_obstacle); x >= 0)
         best = std::min(best, int64_t{c.x - x} * (c.x - x) + dy * dy);
@@ -362,10 +375,7 @@ ClearanceScanFrame clearance_scan_frame(const GridMap& map, const Point2& a, con
 // bound (which only narrows the bands).
 class ClearanceScan {
  public:
-  ClearanceScan(const GridMap& map, double bound)
-      : map_(map),
-        bound_(bound),
-        every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map)) {}
+  ClearanceScan(const GridMap& map, double bound) : map_(map), bound_(bound), obstacle_(map) {}
 
   double best() const { return best_; }  // cells; +inf until something was measured
 
@@ -397,9 +407,6 @@ class ClearanceScan {
   Cell cell_at(const ClearanceScanFrame& f, int32_t v, int32_t u) const {
     return f.columns ? Cell{v, u} : Cell{u, v};
   }
-  bool is_obstacle_at(const ClearanceScanFrame& f, int32_t v, int32_t u) const {
-    return every_blocked_is_obstacle_ || map_.is_obstacle(map_.layer(cell_at(f, v, u)));
-  }
 
   std::optional<std::pair<double, double>> line_span(const ClearanceScanFrame& f, int32_t v,
                                                      double r) const;
@@ -409,7 +416,7 @@ class ClearanceScan {
 
   const GridMap& map_;
   double bound_;  // cells: an upper bound of the result
-  bool every_blocked_is_obstacle_;
+  BlockedCellIsObstacle obstacle_;
   double best_ = std::numeric_limits<double>::infinity();
 };
 
@@ -473,7 +480,7 @@ void ClearanceScan::measure_line(const ClearanceScanFrame& f, int32_t v) {
   const double t_near = f.ab_v != 0.0 ? std::clamp((centre_v - f.a_v) * f.per_v, 0.0, 1.0) : 0.0;
   const int32_t u_near = static_cast<int32_t>(std::clamp(
       std::floor(f.a_u + t_near * f.ab_u), static_cast<double>(u0), static_cast<double>(u1)));
-  const auto is_obstacle = [&](int32_t u) { return is_obstacle_at(f, v, u); };
+  const auto is_obstacle = [&](int32_t u) { return obstacle_(cell_at(f, v, u)); };
   if (const int32_t u = last_obstacle_in(line, u0, u_near, is_obstacle); u >= 0) consider(f, v, u);
   if (u_near < u1) {
     if (const int32_t u = first_obstacle_in(line, u_near + 1, u1, is_obstacle); u >= 0)
@@ -515,19 +522,14 @@ constexpr double kFirstScanReachCells = 1.5;
 // (the scan measures then) when one is not such a run or no such square lies beside them.
 class ClearanceBesideObstacle {
  public:
-  explicit ClearanceBesideObstacle(const GridMap& map)
-      : map_(map), every_blocked_is_obstacle_(every_blocked_cell_is_an_obstacle(map)) {}
+  explicit ClearanceBesideObstacle(const GridMap& map) : map_(map), obstacle_(map) {}
 
   // The run of cell centres from `from` to `to` (in the map, along an axis or a diagonal, or one
   // cell); false, and no answer, when it has no line of sight without cutting a corner.
   bool add_run(const Cell& from, const Cell& to) {
     if (!line_of_sight(map_, from, to, CornerPolicy::kNever)) return false;
-    add_run_with_line_of_sight(from, to);
-    return true;
-  }
-  // The same for a run known to have that line of sight.
-  void add_run_with_line_of_sight(const Cell& from, const Cell& to) {
     if (touching_ > kStraightRunFloor) look_beside(from, to);
+    return true;
   }
 
   // The clearance of the runs fed, when they are all such runs and one passes an obstacle side on.
@@ -540,8 +542,7 @@ class ClearanceBesideObstacle {
   // From the bit rows, which the search has just read (the byte layers only where inflation or
   // blocked unknown cells may share the blocked bits).
   bool is_obstacle_cell(int32_t x, int32_t y) const {
-    return map_.in_bounds(x, y) && rows_.blocked(y, x) &&
-           (every_blocked_is_obstacle_ || map_.is_obstacle(map_.layer({x, y})));
+    return map_.in_bounds(x, y) && rows_.blocked(y, x) && obstacle_({x, y});
   }
 
   void look_beside(const Cell& from, const Cell& to) {
@@ -567,8 +568,7 @@ class ClearanceBesideObstacle {
     for (const int32_t side : {v - 1, v + 1}) {
       if (side < 0 || side >= line_count) continue;
       const auto is_obstacle = [&](int32_t u) {
-        return every_blocked_is_obstacle_ ||
-               map_.is_obstacle(map_.layer(columns ? Cell{side, u} : Cell{u, side}));
+        return obstacle_(columns ? Cell{side, u} : Cell{u, side});
       };
       if (const int32_t u = first_obstacle_in(lines.line(side), u0, u1, is_obstacle); u >= 0) {
         columns ? measure(side, u) : measure(u, side);
@@ -579,7 +579,7 @@ class ClearanceBesideObstacle {
 
   const GridMap& map_;
   BlockedBits rows_ = map_.blocked_rows();
-  bool every_blocked_is_obstacle_;
+  BlockedCellIsObstacle obstacle_;
   double touching_ = std::numeric_limits<double>::infinity();  // cells: the least measured
 };
 
@@ -632,36 +632,9 @@ double farthest_map_point(const GridMap& map, const std::vector<Point2>& vertice
   return farthest;
 }
 
-// Whether the run of `steps` unit moves (dx, dy) from `from` (both ends in the map) is one of
-// CornerPolicy::kNever's: every cell free, and both cells beside each diagonal move's corner free.
-// From the bit lines the search has just read: an axis run is one span of a row or a column.
-bool free_run_without_corner_cuts(const GridMap& map, const Cell& from, int32_t dx, int32_t dy,
-                                  int32_t steps) {
-  const Cell to{from.x + dx * steps, from.y + dy * steps};
-  if (dy == 0)
-    return !BlockedBits::span_blocked(map.blocked_rows().line(from.y), std::min(from.x, to.x),
-                                      std::max(from.x, to.x));
-  if (dx == 0)
-    return !BlockedBits::span_blocked(map.blocked_columns().line(from.x), std::min(from.y, to.y),
-                                      std::max(from.y, to.y));
-  const BlockedBits rows = map.blocked_rows();
-  if (rows.blocked(from.y, from.x)) return false;
-  for (Cell c = from; c != to; c = {c.x + dx, c.y + dy}) {
-    // The move c -> c + (dx, dy): its end, and the two cells beside its corner.
-    if (rows.blocked(c.y + dy, c.x + dx) ||
-        !detail::corner_passable(rows.blocked(c.y, c.x + dx), rows.blocked(c.y + dy, c.x),
-                                 CornerPolicy::kNever))
-      return false;
-  }
-  return true;
-}
-
-// clearance_beside_obstacle of the cells' centres, on a path of moves that cut no corner (each
-// step to one of the 8 neighbours, free and in the map, a diagonal one with both cells beside its
-// corner free: CornerPolicy::kNever's moves, whose runs have that line of sight, checked here a
-// run at a time on the bit lines instead of a line-of-sight walk a run); nullopt for any other
-// path. Its runs are merge_collinear_runs': a unit step continues the run when it is the run's
-// step.
+// clearance_beside_obstacle of the cells' centres, on a path of unit moves (each step to one of
+// the 8 neighbours), found run by run without making the polyline; nullopt for any other path.
+// Its runs are merge_collinear_runs': a unit step continues the run when it is the run's step.
 std::optional<double> grid_path_clearance_beside_obstacle(const GridMap& map,
                                                           const std::vector<Cell>& cells) {
   if (cells.size() < 2) return std::nullopt;
@@ -670,16 +643,7 @@ std::optional<double> grid_path_clearance_beside_obstacle(const GridMap& map,
   // The run's step; before the first, none a step can equal, so that the first step is checked.
   int32_t run_dx = 2, run_dy = 2;
   // Each run is checked and fed when the next begins, the last one after the loop.
-  const auto end_run = [&](size_t last) {
-    const Cell& from = cells[run_start];
-    const Cell& to = cells[last];
-    if (!map.in_bounds(from) || !map.in_bounds(to) ||
-        !free_run_without_corner_cuts(map, from, run_dx, run_dy,
-                                      static_cast<int32_t>(last - run_start)))
-      return false;
-    beside.add_run_with_line_of_sight(from, to);
-    return true;
-  };
+  const auto end_run = [&](size_t last) { return beside.add_run(cells[run_start], cells[last]); };
   for (size_t i = 1; i < cells.size(); ++i) {
     const int32_t dx = cells[i].x - cells[i - 1].x, dy = cells[i].y - cells[i - 1].y;
     if (dx == run_dx && dy == run_dy) continue;
