@@ -165,7 +165,7 @@ core::Expected<std::unique_ptr<ActionClient>> ActionClient::create(Participant& 
   std::unique_ptr<ActionClient> client(
       new ActionClient(with_action_traits(kind, [&](auto traits) -> std::unique_ptr<Impl> {
         using Traits = decltype(traits);
-        return with_action_wire<Traits>(distro, [](auto wire) -> std::unique_ptr<Impl> {
+        return with_wire<Traits>(distro, [](auto wire) -> std::unique_ptr<Impl> {
           return std::make_unique<ImplOf<Traits, decltype(wire)>>();
         });
       })));

@@ -386,7 +386,7 @@ ActionServer::ActionServer(ActionKind kind, std::string ros_name, const NodeConf
   // One server for every distribution: the action's wire types are config.ros_distro's.
   impl_ = with_action_traits(kind, [&](auto traits) -> std::unique_ptr<Impl> {
     using Traits = decltype(traits);
-    return with_action_wire<Traits>(config.ros_distro, [&](auto wire) -> std::unique_ptr<Impl> {
+    return with_wire<Traits>(config.ros_distro, [&](auto wire) -> std::unique_ptr<Impl> {
       return std::make_unique<ImplOf<Traits, decltype(wire)>>(*this, config, vendors, reply_mutex,
                                                               reply_cv, std::move(hooks));
     });

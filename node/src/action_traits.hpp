@@ -142,7 +142,7 @@ std::string announced_poses_problem(const RawSample& raw, WireMapping mapping,
 
 // An action's wire types per distribution: each traits type has `template <RosDistro> struct
 // Wire` (Jazzy's types by default, a specialization where a distribution differs), and the server
-// and client pick one when they are made (with_action_wire).
+// and client pick one when they are made (with_wire).
 
 // The result of an action that plans a path (path, planning_time, and error_code, error_msg where
 // the distribution has them), as both of Nav2's planner actions have it.
@@ -253,10 +253,10 @@ struct ComputePathThroughPoses::Wire<RosDistro::kKilted> {
   VNSBA_NAV2_ACTION_DDS_TYPES(nav2_msgs_kilted, ComputePathThroughPoses);
 };
 
-// `f(Wire{})` with the wire types of `Traits`'s action in `distro`; what `f` returns (the same
-// type for every distribution).
+// `f(Wire{})` with the wire types of `Traits`'s action or service in `distro`; what `f` returns
+// (the same type for every distribution).
 template <class Traits, class F>
-decltype(auto) with_action_wire(RosDistro distro, F&& f) {
+decltype(auto) with_wire(RosDistro distro, F&& f) {
   switch (distro) {
     case RosDistro::kHumble:
       return f(typename Traits::template Wire<RosDistro::kHumble>{});

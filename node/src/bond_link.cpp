@@ -44,7 +44,7 @@ class BondLink::Impl {
     if (!writer) return writer.error();
     writer_ = *writer;
     listener_ = make_listener<BondStatusMsg>(
-        [this](BondStatusMsg&& msg, const dds::SampleInfo&) { on_status(heartbeat_of(msg)); });
+        [this](BondStatusMsg&& msg, const dds::SampleInfo&) { on_status(msg); });
     auto reader =
         participant.reader_on<bond::msg::dds_::Status_PubSubType>(dds_topic, rqos, listener_.get());
     if (!reader) return reader.error();
@@ -118,12 +118,14 @@ class BondLink::Impl {
   }
 
  private:
-  void on_status(const BondHeartbeat& heard) {
+  void on_status(const BondStatusMsg& msg) {
     Announcement announce;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!bond_) return;
-      announce = handle(bond_->on_status(heard, Clock::now()));
+      // The bond topic carries every server's heartbeats and our own (every 0.1 s each): only
+      // those of our bond's id wake anyone.
+      if (!bond_ || msg.id() != bond_->id()) return;
+      announce = handle(bond_->on_status(heartbeat_of(msg), Clock::now()));
     }
     announce();  // before the waiters wake: whoever waited for the state sees its callback done
     changed_.notify_all();

@@ -63,17 +63,7 @@ core::Status PathValidityService::add(NodeReaders& readers, const ParticipantWat
     replier.add_service(*server);
     servers_.push_back(std::move(server));
   };
-  switch (cfg_.ros_distro) {
-    case RosDistro::kKilted:
-      make(IsPathValid::Wire<RosDistro::kKilted>{});
-      break;
-    case RosDistro::kHumble:
-      make(IsPathValid::Wire<RosDistro::kHumble>{});
-      break;
-    case RosDistro::kJazzy:
-      make(IsPathValid::Wire<RosDistro::kJazzy>{});
-      break;
-  }
+  with_wire<IsPathValid>(cfg_.ros_distro, make);
   return created;
 }
 

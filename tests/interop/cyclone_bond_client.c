@@ -61,6 +61,8 @@ typedef struct {
   double next_publish;
   /* What was heard of the sister. */
   char sister[64];
+  char former_sister[64]; /* the previous bond's sister: its leftover active=false heartbeats
+                             are not this bond's */
   int heard;
   int wrong;         /* heartbeats of our id whose fields are not what the node must send */
   bool sister_broke; /* ended by the sister's active=false */
@@ -87,6 +89,10 @@ static void bond_start(Bond* bond, const char* id, double heartbeat_timeout) {
   bond->period = 0.10;
   bond->state = kWaiting;
   bond->next_publish = now_s() + bond->period;
+  /* The node goes on sending the broken bond's active=false heartbeats for a while (bondcpp's
+     wait for an answer): the new bond must not take one of them for its sister's death (a
+     second bond that reused the first instance_id still shows, in its active heartbeats). */
+  snprintf(bond->former_sister, sizeof bond->former_sister, "%s", bond->sister);
   bond->sister[0] = '\0';
   bond->heard = bond->wrong = bond->n_gaps = 0;
   bond->sister_broke = false;
@@ -122,6 +128,9 @@ static void bond_spin(Bond* bond, double until, int leave) {
       const bond_msg_dds__Status_* s = samples[i];
       /* bondcpp's filter: our id, not our instance. */
       if (strcmp(s->id, bond->id) != 0 || strcmp(s->instance_id, bond->instance_id) == 0) continue;
+      if (!s->active && bond->former_sister[0] != '\0' &&
+          strcmp(s->instance_id, bond->former_sister) == 0)
+        continue;
       const double at = now_s();
       if (bond->sister[0] == '\0')
         snprintf(bond->sister, sizeof bond->sister, "%s", s->instance_id);

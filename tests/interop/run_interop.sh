@@ -233,6 +233,8 @@ if [[ "$mode" == secure && $status -eq 0 ]] && grep -q "^request ends: " "$work/
     echo "same request from both vendors' secured clients: $cyclone_plan"
   fi
 fi
+# A node left frozen (a bond run whose client died during the SIGSTOP) must run to hear SIGTERM.
+kill -CONT "$node_pid" 2>/dev/null || true
 kill -TERM "$node_pid" 2>/dev/null || true
 node_status=0
 wait "$node_pid" || node_status=$?

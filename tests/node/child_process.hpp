@@ -67,11 +67,27 @@ class ChildProcess {
   pid_t pid() const { return pid_; }
   void signal(int sig) const { kill(pid_, sig); }
 
-  // Waits for the exit; returns the exit code (128 + signal when killed by one).
-  int wait() {
+  // Waits for the exit; returns the exit code (128 + signal when killed by one). A child still
+  // running after `deadline` (a hung shutdown) is killed with SIGKILL, which ends it even when
+  // stopped: the wait ends and the test sees 128 + SIGKILL rather than hanging until ctest's
+  // timeout.
+  int wait(std::chrono::milliseconds deadline = std::chrono::seconds(120)) {
     if (exit_code_ >= 0) return exit_code_;
     int status = 0;
-    waitpid(pid_, &status, 0);
+    const auto end = std::chrono::steady_clock::now() + deadline;
+    pid_t done = waitpid(pid_, &status, WNOHANG);
+    while (done == 0 && std::chrono::steady_clock::now() < end) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      done = waitpid(pid_, &status, WNOHANG);
+    }
+    if (done == 0) {
+      kill(pid_, SIGKILL);
+      done = waitpid(pid_, &status, 0);
+    }
+    if (done != pid_) {  // not our child any more (reaped elsewhere): nothing to report
+      exit_code_ = 127;
+      return exit_code_;
+    }
     exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return exit_code_;
   }

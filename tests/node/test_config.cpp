@@ -1254,17 +1254,15 @@ TEST(Config, DdsParticipantProfileIsAName) {
   EXPECT_TRUE(HasError(parse_config("dds: {profile: a}\n"), "dds.profile"));
 }
 
-}  // namespace
-}  // namespace vnsba::node
-
 TEST(Config, RosDistroIsJazzyHumbleOrKiltedAndRefusedByName) {
-  EXPECT_EQ(parse_config("").config->ros_distro, vnsba::node::RosDistro::kJazzy);
-  EXPECT_EQ(parse_config("ros: {distro: humble}\n").config->ros_distro,
-            vnsba::node::RosDistro::kHumble);
-  EXPECT_EQ(parse_config("ros: {distro: kilted}\n").config->ros_distro,
-            vnsba::node::RosDistro::kKilted);
-  EXPECT_EQ(parse_config("ros: {distro: jazzy}\n").config->ros_distro,
-            vnsba::node::RosDistro::kJazzy);
+  for (const auto& [text, distro] :
+       {std::pair{"", RosDistro::kJazzy}, std::pair{"ros: {distro: humble}\n", RosDistro::kHumble},
+        std::pair{"ros: {distro: kilted}\n", RosDistro::kKilted},
+        std::pair{"ros: {distro: jazzy}\n", RosDistro::kJazzy}}) {
+    const ConfigResult parsed = parse_config(text);
+    ASSERT_TRUE(parsed.config.has_value()) << text;
+    EXPECT_EQ(parsed.config->ros_distro, distro) << text;
+  }
   // An unknown distribution names the key and every allowed value, beside the file's other
   // errors (all reported at once).
   const ConfigResult r = parse_config("ros: {distro: iron}\ndebug: {publish: maybe}\n");
@@ -1273,6 +1271,11 @@ TEST(Config, RosDistroIsJazzyHumbleOrKiltedAndRefusedByName) {
   EXPECT_TRUE(HasError(r, "debug.publish", {"\"maybe\""}));
   // config_as_yaml prints it and it loads back.
   const ConfigResult kilted = parse_config("ros: {distro: kilted}\n");
-  EXPECT_EQ(parse_config(config_as_yaml(*kilted.config)).config->ros_distro,
-            vnsba::node::RosDistro::kKilted);
+  ASSERT_TRUE(kilted.config.has_value());
+  const ConfigResult reloaded = parse_config(config_as_yaml(*kilted.config));
+  ASSERT_TRUE(reloaded.config.has_value());
+  EXPECT_EQ(reloaded.config->ros_distro, RosDistro::kKilted);
 }
+
+}  // namespace
+}  // namespace vnsba::node
